@@ -1,0 +1,160 @@
+//! Test-only helper: validate the workspace's WGSL with naga, without a GPU, and read a
+//! module's constants so a test can tie them to the Rust definition they were made from.
+//!
+//! Every crate that exports WGSL uses this from its unit tests (as a dev-dependency), so
+//! that a shader that does not parse or validate fails `cargo test`, not a device.
+//!
+//! ```
+//! let src = "const VIS_PRIMITIVE_BITS_MAX: u32 = 16u;\n\
+//!            fn twice(x: u32) -> u32 { return x * 2u; }";
+//! let module = shadercheck::validate(src, shadercheck::Caps::CORE).expect("valid WGSL");
+//! assert_eq!(shadercheck::const_u32(&module, "VIS_PRIMITIVE_BITS_MAX"), Some(16));
+//! ```
+
+use naga::valid::{Capabilities, ValidationFlags, Validator};
+
+/// Which optional capabilities the validator allows: a shader written for the fallback
+/// path is validated with [`Caps::CORE`] to prove that it needs none of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Caps(Capabilities);
+
+impl Caps {
+    /// What every wgpu adapter has: naga's defaults.
+    pub const CORE: Caps =
+        Caps(Capabilities::MULTISAMPLED_SHADING.union(Capabilities::CUBE_ARRAY_TEXTURES));
+    /// CORE plus subgroup operations in compute and fragment stages (`Features::SUBGROUP`).
+    pub const SUBGROUP: Caps = Caps(Self::CORE.0.union(Capabilities::SUBGROUP));
+    /// CORE plus `@builtin(primitive_index)` (`Features::PRIMITIVE_INDEX`).
+    pub const PRIMITIVE_INDEX: Caps = Caps(Self::CORE.0.union(Capabilities::PRIMITIVE_INDEX));
+    /// CORE plus per-vertex fragment inputs (`Features::SHADER_PER_VERTEX`).
+    pub const PER_VERTEX: Caps = Caps(Self::CORE.0.union(Capabilities::PER_VERTEX));
+    /// CORE plus 64-bit integers and their atomic min/max.
+    pub const INT64: Caps = Caps(
+        Self::CORE
+            .0
+            .union(Capabilities::SHADER_INT64)
+            .union(Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
+    );
+    /// CORE plus `f16` (`Features::SHADER_F16`).
+    pub const F16: Caps = Caps(Self::CORE.0.union(Capabilities::SHADER_FLOAT16));
+    /// Everything naga knows.
+    pub const ALL: Caps = Caps(Capabilities::all());
+
+    /// Both capability sets.
+    #[must_use]
+    pub const fn union(self, other: Caps) -> Caps {
+        Caps(self.0.union(other.0))
+    }
+}
+
+/// Parse and validate `source`, returning the module or a readable report (with the
+/// offending source line) naming what failed.
+pub fn validate(source: &str, caps: Caps) -> Result<naga::Module, String> {
+    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
+    Validator::new(ValidationFlags::all(), caps.0)
+        .validate(&module)
+        .map_err(|e| format!("{}", WithSource(&e, source)))?;
+    Ok(module)
+}
+
+/// Like [`validate`], but panics with the report: for use directly in `#[test]`s.
+#[track_caller]
+pub fn assert_valid(name: &str, source: &str, caps: Caps) -> naga::Module {
+    match validate(source, caps) {
+        Ok(m) => m,
+        Err(report) => panic!("WGSL module `{name}` failed naga validation:\n{report}"),
+    }
+}
+
+struct WithSource<'a>(&'a naga::WithSpan<naga::valid::ValidationError>, &'a str);
+
+impl core::fmt::Display for WithSource<'_> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        writeln!(f, "{:?}", self.0.as_inner())?;
+        for (span, label) in self.0.spans() {
+            let loc = span.location(self.1);
+            let line = self
+                .1
+                .lines()
+                .nth(loc.line_number.saturating_sub(1) as usize)
+                .unwrap_or("");
+            writeln!(f, "  at line {}: {label}\n    {line}", loc.line_number)?;
+        }
+        Ok(())
+    }
+}
+
+fn literal(module: &naga::Module, name: &str) -> Option<naga::Literal> {
+    let (_, c) = module
+        .constants
+        .iter()
+        .find(|(_, c)| c.name.as_deref() == Some(name))?;
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(l) => Some(l),
+        _ => None,
+    }
+}
+
+/// The value of a module-scope `const NAME: u32 = ...;` (or a non-negative `i32`), if the
+/// module declares it with a literal value. Give shared constants an explicit type: naga
+/// drops untyped (abstract) constants that nothing uses.
+pub fn const_u32(module: &naga::Module, name: &str) -> Option<u32> {
+    match literal(module, name)? {
+        naga::Literal::U32(v) => Some(v),
+        naga::Literal::I32(v) => u32::try_from(v).ok(),
+        naga::Literal::AbstractInt(v) => u32::try_from(v).ok(),
+        _ => None,
+    }
+}
+
+/// The value of a module-scope `const NAME: f32 = ...;`, if declared with a literal.
+pub fn const_f32(module: &naga::Module, name: &str) -> Option<f32> {
+    match literal(module, name)? {
+        naga::Literal::F32(v) => Some(v),
+        naga::Literal::AbstractFloat(v) => Some(v as f32),
+        _ => None,
+    }
+}
+
+/// Names of all module-scope constants, for tests that check every WGSL constant has a
+/// Rust counterpart.
+pub fn const_names(module: &naga::Module) -> Vec<String> {
+    module
+        .constants
+        .iter()
+        .filter_map(|(_, c)| c.name.clone())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_subgroup_ops_without_the_capability() {
+        let src = "@compute @workgroup_size(32) fn main(@builtin(subgroup_invocation_id) l: u32) {\n\
+                   let b = subgroupBallot(l == 0u);\n}";
+        assert!(validate(src, Caps::CORE).is_err());
+        assert!(validate(src, Caps::SUBGROUP).is_ok());
+    }
+
+    #[test]
+    fn reports_parse_errors_with_the_line() {
+        let err = validate("fn f() -> u32 { return 1.0; }", Caps::CORE).unwrap_err();
+        assert!(err.contains("return"), "{err}");
+    }
+
+    #[test]
+    fn reads_constants() {
+        let m = assert_valid(
+            "t",
+            "const A: u32 = 7u; const B: f32 = 0.5; const C: i32 = 3; const E: i32 = -1;",
+            Caps::CORE,
+        );
+        assert_eq!(const_u32(&m, "A"), Some(7));
+        assert_eq!(const_f32(&m, "B"), Some(0.5));
+        assert_eq!(const_u32(&m, "C"), Some(3));
+        assert_eq!(const_u32(&m, "D"), None);
+        assert_eq!(const_u32(&m, "E"), None, "negative values are not u32");
+    }
+}

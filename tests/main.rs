@@ -1,0 +1,4 @@
+//! The workspace's cross-crate tests, one module per topic. Run with
+//! `cargo test -p integration`.
+
+mod fuzz_regressions;
