@@ -1,0 +1,212 @@
+//! Devices: the headless helper, the optional features the renderer asks for, and the
+//! paths those features select.
+
+use crate::error::{Error, Result};
+
+/// Optional features the renderer uses when the adapter has them. None is required: each
+/// missing one selects a fallback path (see [`ActivePaths`]).
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
+    .union(wgpu::Features::PRIMITIVE_INDEX)
+    .union(wgpu::Features::SHADER_PER_VERTEX)
+    .union(wgpu::Features::SHADER_BARYCENTRICS)
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::SHADER_F16)
+    .union(wgpu::Features::SHADER_INT64)
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+
+/// How the laydown's fragment shader learns which triangle it is shading.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PrimitiveIdPath {
+    /// `@builtin(primitive_index)` (`Features::PRIMITIVE_INDEX`; on Vulkan it needs
+    /// `geometryShader`). No mesh preprocessing.
+    Builtin,
+    /// HFW's XOR scheme: three per-vertex payloads whose XOR is the primitive ID, read with
+    /// `@interpolate(per_vertex)` (`Features::SHADER_PER_VERTEX`). Order-independent.
+    PerVertexXor,
+    /// A flat payload on the provoking (first) vertex: works on every adapter; meshes are
+    /// preprocessed by `visbuf`'s provoking-vertex encoder.
+    ProvokingVertex,
+}
+
+impl PrimitiveIdPath {
+    /// Every path, best first.
+    pub const ALL: [PrimitiveIdPath; 3] =
+        [PrimitiveIdPath::Builtin, PrimitiveIdPath::PerVertexXor, PrimitiveIdPath::ProvokingVertex];
+
+    /// The device features this path needs.
+    pub fn required_features(self) -> wgpu::Features {
+        match self {
+            PrimitiveIdPath::Builtin => wgpu::Features::PRIMITIVE_INDEX,
+            PrimitiveIdPath::PerVertexXor => wgpu::Features::SHADER_PER_VERTEX,
+            PrimitiveIdPath::ProvokingVertex => wgpu::Features::empty(),
+        }
+    }
+
+    /// The best path a device with `features` supports.
+    pub fn best_for(features: wgpu::Features) -> PrimitiveIdPath {
+        Self::ALL
+            .into_iter()
+            .find(|p| features.contains(p.required_features()))
+            .unwrap_or(PrimitiveIdPath::ProvokingVertex)
+    }
+
+    /// A short name for tables and CLI flags.
+    pub fn name(self) -> &'static str {
+        match self {
+            PrimitiveIdPath::Builtin => "builtin",
+            PrimitiveIdPath::PerVertexXor => "xor",
+            PrimitiveIdPath::ProvokingVertex => "provoking",
+        }
+    }
+}
+
+/// Which implementation of each optional technique a device gets.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ActivePaths {
+    /// How the laydown gets primitive IDs.
+    pub primitive_id: PrimitiveIdPath,
+    /// Subgroup (wave) operations for aggregated appends, with the adapter's subgroup size
+    /// range; `None` selects the workgroup-atomic fallback.
+    pub subgroup_size: Option<(u32, u32)>,
+    /// Timestamp queries around passes (`TIMESTAMP_QUERY`).
+    pub timestamps: bool,
+    /// Timestamps between passes inside one encoder (`TIMESTAMP_QUERY_INSIDE_ENCODERS`).
+    pub timestamps_inside_encoders: bool,
+    /// `f16` in shaders (`SHADER_F16`).
+    pub f16: bool,
+}
+
+impl ActivePaths {
+    /// The paths a device with `features` (and `info`'s subgroup sizes) gets.
+    pub fn for_device(features: wgpu::Features, info: &wgpu::AdapterInfo) -> Self {
+        Self {
+            primitive_id: PrimitiveIdPath::best_for(features),
+            subgroup_size: features
+                .contains(wgpu::Features::SUBGROUP)
+                .then_some((info.subgroup_min_size, info.subgroup_max_size)),
+            timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            timestamps_inside_encoders: features
+                .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
+            f16: features.contains(wgpu::Features::SHADER_F16),
+        }
+    }
+}
+
+/// Options for [`headless`].
+#[derive(Clone, Debug)]
+pub struct HeadlessOptions {
+    /// Features not to request even where the adapter has them: how tests select the
+    /// fallback paths on a capable adapter.
+    pub disable_features: wgpu::Features,
+    /// Turn on the backend's own validation (Vulkan validation layers, where installed) in
+    /// addition to wgpu's, which is always on.
+    pub backend_validation: bool,
+}
+
+impl Default for HeadlessOptions {
+    fn default() -> Self {
+        Self { disable_features: wgpu::Features::empty(), backend_validation: false }
+    }
+}
+
+/// A device the renderer made for itself, with what it found out about it.
+pub struct GpuContext {
+    /// The wgpu instance.
+    pub instance: wgpu::Instance,
+    /// The adapter chosen.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's name, backend, driver and subgroup sizes.
+    pub info: wgpu::AdapterInfo,
+    /// The paths the enabled features select.
+    pub paths: ActivePaths,
+}
+
+impl GpuContext {
+    /// One line naming the adapter and backend, for every printed figure.
+    pub fn adapter_line(&self) -> String {
+        adapter_line(&self.info)
+    }
+}
+
+/// "NVIDIA H100 80GB HBM3 (Vulkan, driver 580.x)": the adapter line printed beside figures.
+pub fn adapter_line(info: &wgpu::AdapterInfo) -> String {
+    let driver = if info.driver_info.is_empty() {
+        info.driver.clone()
+    } else {
+        format!("{} {}", info.driver, info.driver_info)
+    };
+    format!("{} ({:?}, {:?}, {})", info.name, info.backend, info.device_type, driver.trim())
+}
+
+/// Creates a device without a window: the high-performance adapter first, any adapter
+/// (such as lavapipe) otherwise. Requests every optional feature of
+/// [`OPTIONAL_FEATURES`] the adapter has (minus `options.disable_features`) and the
+/// adapter's own limits, and reports the paths they select.
+pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    if options.backend_validation {
+        desc.flags |= wgpu::InstanceFlags::VALIDATION;
+    }
+    let instance = wgpu::Instance::new(desc);
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        compatible_surface: None,
+        apply_limit_buckets: false,
+    }))
+    .or_else(|first| {
+        pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::None,
+            force_fallback_adapter: true,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|_| first)
+    })
+    .map_err(|e| Error::NoAdapter { reason: e.to_string() })?;
+
+    let features = adapter.features() & OPTIONAL_FEATURES & !options.disable_features;
+    let info = adapter.get_info();
+    let limits = adapter.limits();
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("gpu-driven headless device"),
+        required_features: features,
+        required_limits: limits,
+        experimental_features: wgpu::ExperimentalFeatures::disabled(),
+        memory_hints: wgpu::MemoryHints::Performance,
+        trace: wgpu::Trace::Off,
+    }))
+    .map_err(|e| Error::RequestDevice(e.to_string()))?;
+    let paths = ActivePaths::for_device(device.features(), &info);
+    Ok(GpuContext { instance, adapter, device, queue, info, paths })
+}
+
+/// Runs `f` inside validation and out-of-memory error scopes on `device`, turning what they
+/// catch into [`Error`]s instead of wgpu's default panic.
+pub fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    let validation = pollster::block_on(validation.pop());
+    let oom = pollster::block_on(oom.pop());
+    if let Some(e) = oom {
+        return Err(Error::OutOfMemory(e.to_string()));
+    }
+    if let Some(e) = validation {
+        return Err(Error::Validation(e.to_string()));
+    }
+    out
+}
+
+/// Blocks until the GPU has finished all submitted work.
+pub fn wait_idle(device: &wgpu::Device) -> Result<()> {
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map(|_| ())
+        .map_err(|e| Error::Poll(e.to_string()))
+}

@@ -1,0 +1,663 @@
+//! Procedural demo scenes, deterministic from a seed: "forest" (alpha-tested foliage cards,
+//! grass tufts, trees and rocks over a terrain: many instances, several foliage materials)
+//! and "grass" (a tall-grass field of very high vertex density).
+//!
+//! Everything here is generated, no assets are loaded: a terrain height field, meshes built
+//! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
+
+use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
+
+use crate::scene::{
+    AlbedoLayer, Batch, Camera, Lighting, Material, MaterialId, Mesh, MeshId, PointLight, Scene, ShaderKind,
+};
+
+/// Which demo scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DemoScene {
+    /// Dense alpha-tested foliage over a terrain, with trees and rocks.
+    Forest,
+    /// A field of tall grass: very high vertex density.
+    Grass,
+}
+
+impl DemoScene {
+    /// Both scenes.
+    pub const ALL: [DemoScene; 2] = [DemoScene::Forest, DemoScene::Grass];
+
+    /// The scene's name, as the CLI spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            DemoScene::Forest => "forest",
+            DemoScene::Grass => "grass",
+        }
+    }
+}
+
+/// Options for [`build`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DemoOptions {
+    /// The scene.
+    pub scene: DemoScene,
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Multiplies instance counts (1.0: the default, which renders in seconds on lavapipe).
+    pub density: f32,
+}
+
+impl Default for DemoOptions {
+    fn default() -> Self {
+        Self { scene: DemoScene::Forest, seed: 1, density: 1.0 }
+    }
+}
+
+/// Builds a demo scene.
+pub fn build(options: &DemoOptions) -> Scene {
+    match options.scene {
+        DemoScene::Forest => forest(options.seed, options.density.max(0.0)),
+        DemoScene::Grass => grass(options.seed, options.density.max(0.0)),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Random numbers and noise (integer hashing; deterministic on every platform).
+
+/// SplitMix64.
+#[derive(Clone, Debug)]
+struct Rng(u64);
+
+impl Rng {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.f32()
+    }
+}
+
+fn hash2(x: i32, y: i32, seed: u32) -> u32 {
+    let mut h = (x as u32).wrapping_mul(0x8da6_b343) ^ (y as u32).wrapping_mul(0xd816_3841) ^ seed.wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2c1b_3c6d);
+    h ^= h >> 12;
+    h = h.wrapping_mul(0x297a_2d39);
+    h ^ (h >> 15)
+}
+
+fn lattice(x: i32, y: i32, seed: u32) -> f32 {
+    hash2(x, y, seed) as f32 / u32::MAX as f32
+}
+
+/// Smooth value noise in [0, 1], period `period` lattice cells (tileable when `period > 0`).
+fn value_noise(p: Vec2, seed: u32, period: i32) -> f32 {
+    let i = p.floor();
+    let f = p - i;
+    let u = f * f * (Vec2::splat(3.0) - 2.0 * f);
+    let (x0, y0) = (i.x as i32, i.y as i32);
+    let wrap = |v: i32| if period > 0 { v.rem_euclid(period) } else { v };
+    let l = |dx: i32, dy: i32| lattice(wrap(x0 + dx), wrap(y0 + dy), seed);
+    let a = l(0, 0) + (l(1, 0) - l(0, 0)) * u.x;
+    let b = l(0, 1) + (l(1, 1) - l(0, 1)) * u.x;
+    a + (b - a) * u.y
+}
+
+fn fbm(p: Vec2, seed: u32, octaves: u32, period: i32) -> f32 {
+    let (mut sum, mut amp, mut norm, mut freq) = (0.0, 0.5, 0.0, 1.0);
+    for o in 0..octaves {
+        let per = if period > 0 { period * freq as i32 } else { 0 };
+        sum += amp * value_noise(p * freq, seed.wrapping_add(o * 101), per);
+        norm += amp;
+        amp *= 0.5;
+        freq *= 2.0;
+    }
+    sum / norm
+}
+
+/// Terrain height (metres) at world (x, z).
+fn terrain_height(x: f32, z: f32, seed: u32) -> f32 {
+    let p = Vec2::new(x, z) / 24.0;
+    (fbm(p, seed, 4, 0) - 0.5) * 6.0 + 0.6 * (x * 0.05).sin() * (z * 0.04).cos()
+}
+
+// ---------------------------------------------------------------------------------------
+// Mesh building.
+
+#[derive(Default)]
+struct MeshBuilder {
+    mesh: Mesh,
+}
+
+impl MeshBuilder {
+    fn new(name: &str) -> Self {
+        Self { mesh: Mesh { name: name.to_owned(), ..Mesh::default() } }
+    }
+
+    fn vertex(&mut self, p: Vec3, n: Vec3, uv: Vec2) -> u16 {
+        let i = self.mesh.positions.len();
+        self.mesh.positions.push(p);
+        self.mesh.normals.push(n.normalize_or(Vec3::Y));
+        self.mesh.uvs.push(uv);
+        self.mesh.tangents.push(Vec4::ZERO);
+        u16::try_from(i).expect("demo meshes stay under 64k vertices")
+    }
+
+    fn tri(&mut self, a: u16, b: u16, c: u16) {
+        self.mesh.indices.extend_from_slice(&[a, b, c]);
+    }
+
+    /// A quad a-b-c-d (counter-clockwise seen from the front).
+    fn quad(&mut self, a: u16, b: u16, c: u16, d: u16) {
+        self.tri(a, b, c);
+        self.tri(a, c, d);
+    }
+
+    /// A double-sided card: centre `o`, right `r` and up `u` half-extents, uv rect.
+    fn card(&mut self, o: Vec3, r: Vec3, u: Vec3, uv0: Vec2, uv1: Vec2, bend: Vec3) {
+        let n = r.cross(u).normalize_or(Vec3::Z);
+        let top_n = (n + bend * 0.5).normalize_or(n);
+        for side in [1.0f32, -1.0] {
+            let nn = n * side;
+            let tn = top_n * side;
+            let a = self.vertex(o - r - u, nn, Vec2::new(uv0.x, uv1.y));
+            let b = self.vertex(o + r - u, nn, Vec2::new(uv1.x, uv1.y));
+            let c = self.vertex(o + r + u + bend, tn, Vec2::new(uv1.x, uv0.y));
+            let d = self.vertex(o - r + u + bend, tn, Vec2::new(uv0.x, uv0.y));
+            if side > 0.0 {
+                self.quad(a, b, c, d);
+            } else {
+                self.quad(b, a, d, c);
+            }
+        }
+    }
+
+    /// Computes tangents from positions and UVs (per-triangle, accumulated, orthonormalised
+    /// against the normal; handedness in w).
+    fn finish(mut self) -> Mesh {
+        let m = &mut self.mesh;
+        let mut tan = vec![Vec3::ZERO; m.positions.len()];
+        let mut bit = vec![Vec3::ZERO; m.positions.len()];
+        for t in m.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0] as usize, t[1] as usize, t[2] as usize];
+            let (e1, e2) = (m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+            let (d1, d2) = (m.uvs[b] - m.uvs[a], m.uvs[c] - m.uvs[a]);
+            let det = d1.x * d2.y - d2.x * d1.y;
+            if det.abs() < 1e-12 {
+                continue;
+            }
+            let s = (e1 * d2.y - e2 * d1.y) / det;
+            let bt = (e2 * d1.x - e1 * d2.x) / det;
+            for i in [a, b, c] {
+                tan[i] += s;
+                bit[i] += bt;
+            }
+        }
+        for i in 0..m.positions.len() {
+            let n = m.normals[i];
+            let t = (tan[i] - n * n.dot(tan[i])).normalize_or(n.any_orthonormal_vector());
+            let w = if n.cross(t).dot(bit[i]) < 0.0 { -1.0 } else { 1.0 };
+            m.tangents[i] = t.extend(w);
+        }
+        self.mesh
+    }
+}
+
+fn terrain_mesh(size: f32, cells: u32, seed: u32) -> Mesh {
+    let mut b = MeshBuilder::new("terrain");
+    let h = |x: f32, z: f32| terrain_height(x, z, seed);
+    for j in 0..=cells {
+        for i in 0..=cells {
+            let x = (i as f32 / cells as f32 - 0.5) * size;
+            let z = (j as f32 / cells as f32 - 0.5) * size;
+            let e = 0.25;
+            let n = Vec3::new(h(x - e, z) - h(x + e, z), 2.0 * e, h(x, z - e) - h(x, z + e));
+            b.vertex(Vec3::new(x, h(x, z), z), n, Vec2::new(x, z) / 4.0);
+        }
+    }
+    let w = cells + 1;
+    for j in 0..cells {
+        for i in 0..cells {
+            let v = |i: u32, j: u32| (j * w + i) as u16;
+            b.quad(v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
+        }
+    }
+    b.finish()
+}
+
+fn trunk_mesh() -> Mesh {
+    let mut b = MeshBuilder::new("trunk");
+    let (segs, rings, height) = (10u32, 8u32, 9.0f32);
+    for r in 0..=rings {
+        let t = r as f32 / rings as f32;
+        let radius = 0.32 * (1.0 - 0.75 * t);
+        for s in 0..=segs {
+            let a = s as f32 / segs as f32 * std::f32::consts::TAU;
+            let n = Vec3::new(a.cos(), 0.25, a.sin());
+            b.vertex(Vec3::new(a.cos() * radius, t * height, a.sin() * radius), n, Vec2::new(s as f32 / segs as f32 * 2.0, t * 6.0));
+        }
+    }
+    for r in 0..rings {
+        for s in 0..segs {
+            let v = |s: u32, r: u32| (r * (segs + 1) + s) as u16;
+            b.quad(v(s, r), v(s + 1, r), v(s + 1, r + 1), v(s, r + 1));
+        }
+    }
+    b.finish()
+}
+
+/// Leaf cards scattered over an ellipsoid crown, facing outwards.
+fn canopy_mesh(rng: &mut Rng, cards: u32) -> Mesh {
+    let mut b = MeshBuilder::new("canopy");
+    for _ in 0..cards {
+        let dir = Vec3::new(rng.range(-1.0, 1.0), rng.range(-0.6, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::Y);
+        let centre = Vec3::new(0.0, 7.5, 0.0) + dir * Vec3::new(2.6, 2.4, 2.6) * rng.range(0.35, 1.0);
+        let out = dir;
+        let r = out.cross(Vec3::Y).normalize_or(Vec3::X) * 0.75;
+        let u = r.cross(out).normalize_or(Vec3::Y) * 0.75;
+        let q = Quat::from_axis_angle(out, rng.range(0.0, std::f32::consts::TAU));
+        let cell = (rng.f32() * 4.0) as u32;
+        let uv0 = Vec2::new((cell % 2) as f32 * 0.5, (cell / 2) as f32 * 0.5);
+        b.card(centre, q * r, q * u, uv0, uv0 + Vec2::splat(0.5), out * 0.15);
+    }
+    b.finish()
+}
+
+/// A fern / bush: cards around a centre, leaning outwards.
+fn bush_mesh(rng: &mut Rng, fronds: u32) -> Mesh {
+    let mut b = MeshBuilder::new("bush");
+    for k in 0..fronds {
+        let a = (k as f32 + rng.f32() * 0.5) / fronds as f32 * std::f32::consts::TAU;
+        let out = Vec3::new(a.cos(), 0.0, a.sin());
+        let lean = rng.range(0.35, 0.8);
+        let up = (Vec3::Y + out * lean).normalize() * 0.45;
+        let r = out.cross(Vec3::Y).normalize() * 0.22;
+        b.card(out * 0.25 + up, r, up, Vec2::ZERO, Vec2::ONE, out * 0.2);
+    }
+    b.finish()
+}
+
+/// A grass tuft: crossed cards with the grass layer.
+fn tuft_mesh(rng: &mut Rng, cards: u32, height: f32) -> Mesh {
+    let mut b = MeshBuilder::new("grass tuft");
+    for k in 0..cards {
+        let a = k as f32 / cards as f32 * std::f32::consts::PI + rng.range(0.0, 0.3);
+        let r = Vec3::new(a.cos(), 0.0, a.sin()) * 0.35;
+        let off = Vec3::new(rng.range(-0.15, 0.15), 0.0, rng.range(-0.15, 0.15));
+        let u = Vec3::Y * height * 0.5;
+        b.card(off + u, r, u, Vec2::ZERO, Vec2::ONE, Vec3::new(rng.range(-0.1, 0.1), 0.0, rng.range(-0.1, 0.1)));
+    }
+    b.finish()
+}
+
+/// A field patch of individual curved blades (geometry, alpha-tested tips).
+fn blade_patch_mesh(rng: &mut Rng, blades: u32, segments: u32, extent: f32, height: f32) -> Mesh {
+    let mut b = MeshBuilder::new("grass blades");
+    for _ in 0..blades {
+        let base = Vec3::new(rng.range(-extent, extent), 0.0, rng.range(-extent, extent));
+        let a = rng.range(0.0, std::f32::consts::TAU);
+        let side = Vec3::new(a.cos(), 0.0, a.sin());
+        let face = side.cross(Vec3::Y);
+        let h = height * rng.range(0.6, 1.2);
+        let bend = face * rng.range(0.1, 0.5) * h;
+        let width = rng.range(0.025, 0.05);
+        let u0 = rng.f32() * 0.75;
+        let mut prev: Option<(u16, u16)> = None;
+        for s in 0..=segments {
+            let t = s as f32 / segments as f32;
+            let centre = base + Vec3::Y * h * t + bend * t * t;
+            let w = width * (1.0 - t * 0.85);
+            let tangent = (Vec3::Y * h + bend * 2.0 * t).normalize();
+            let n = side.cross(tangent).normalize_or(face);
+            let l = b.vertex(centre - side * w, n, Vec2::new(u0, 1.0 - t));
+            let r = b.vertex(centre + side * w, n, Vec2::new(u0 + 0.25, 1.0 - t));
+            if let Some((pl, pr)) = prev {
+                b.quad(pl, pr, r, l);
+            }
+            prev = Some((l, r));
+        }
+    }
+    b.finish()
+}
+
+/// A rock: an icosphere with hashed radial displacement.
+fn rock_mesh(seed: u32) -> Mesh {
+    let mut b = MeshBuilder::new("rock");
+    let (rings, segs) = (8u32, 12u32);
+    for r in 0..=rings {
+        let v = r as f32 / rings as f32;
+        let theta = v * std::f32::consts::PI;
+        for s in 0..=segs {
+            let u = s as f32 / segs as f32;
+            let phi = u * std::f32::consts::TAU;
+            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let k = if s == segs { 0 } else { s };
+            let bump = 0.75 + 0.5 * lattice(k as i32, r as i32, seed);
+            let p = d * bump * Vec3::new(1.0, 0.6, 0.9);
+            b.vertex(p, d, Vec2::new(u * 3.0, v * 2.0));
+        }
+    }
+    for r in 0..rings {
+        for s in 0..segs {
+            let v = |s: u32, r: u32| (r * (segs + 1) + s) as u16;
+            b.quad(v(s, r), v(s + 1, r), v(s + 1, r + 1), v(s, r + 1));
+        }
+    }
+    b.finish()
+}
+
+// ---------------------------------------------------------------------------------------
+// Albedo layers.
+
+const LAYER_SIZE: u32 = 256;
+
+fn srgb(c: Vec3) -> [u8; 3] {
+    let e = |x: f32| {
+        let x = x.clamp(0.0, 1.0);
+        let s = if x <= 0.003_130_8 { x * 12.92 } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+        (s * 255.0 + 0.5) as u8
+    };
+    [e(c.x), e(c.y), e(c.z)]
+}
+
+fn paint(f: impl Fn(Vec2) -> (Vec3, f32)) -> AlbedoLayer {
+    let n = LAYER_SIZE;
+    let mut texels = Vec::with_capacity((n * n) as usize);
+    for y in 0..n {
+        for x in 0..n {
+            let uv = Vec2::new((x as f32 + 0.5) / n as f32, (y as f32 + 0.5) / n as f32);
+            let (c, a) = f(uv);
+            let [r, g, b] = srgb(c);
+            texels.push([r, g, b, (a.clamp(0.0, 1.0) * 255.0 + 0.5) as u8]);
+        }
+    }
+    AlbedoLayer { size: n, texels }
+}
+
+/// Tileable noise over the unit square with `cells` lattice cells per side.
+fn tile_noise(uv: Vec2, cells: i32, seed: u32) -> f32 {
+    fbm(uv * cells as f32, seed, 4, cells)
+}
+
+fn ground_layer() -> AlbedoLayer {
+    paint(|uv| {
+        let n = tile_noise(uv, 8, 11);
+        let m = tile_noise(uv, 32, 12);
+        let dirt = Vec3::new(0.23, 0.16, 0.09);
+        let moss = Vec3::new(0.10, 0.17, 0.05);
+        (dirt.lerp(moss, (n * 1.6 - 0.4).clamp(0.0, 1.0)) * (0.7 + 0.6 * m), 1.0)
+    })
+}
+
+fn bark_layer() -> AlbedoLayer {
+    paint(|uv| {
+        let stripes = tile_noise(Vec2::new(uv.x * 4.0, uv.y * 0.25), 16, 21);
+        let c = Vec3::new(0.16, 0.11, 0.07) * (0.55 + 0.9 * stripes);
+        (c, 1.0)
+    })
+}
+
+fn leaf_layer() -> AlbedoLayer {
+    // Four leaf clusters in a 2x2 atlas; each cell a few elliptic leaves.
+    paint(|uv| {
+        let cell = (uv * 2.0).fract();
+        let id = ((uv.y * 2.0) as u32) * 2 + (uv.x * 2.0) as u32;
+        let mut alpha: f32 = 0.0;
+        let mut shade: f32 = 0.0;
+        for k in 0..7u32 {
+            let h = hash2(k as i32, id as i32, 77);
+            let c = Vec2::new(0.2 + 0.6 * ((h & 0xff) as f32 / 255.0), 0.2 + 0.6 * (((h >> 8) & 0xff) as f32 / 255.0));
+            let ang = ((h >> 16) & 0xff) as f32 / 255.0 * std::f32::consts::PI;
+            let d = cell - c;
+            let (s, co) = ang.sin_cos();
+            let q = Vec2::new(d.x * co + d.y * s, -d.x * s + d.y * co);
+            let e = (q.x / 0.2).powi(2) + (q.y / 0.08).powi(2);
+            if e < 1.0 {
+                alpha = 1.0;
+                shade = shade.max(1.0 - e * 0.5 + 0.3 * (q.y.abs() < 0.006) as u32 as f32);
+            }
+        }
+        let c = Vec3::new(0.07, 0.19, 0.04).lerp(Vec3::new(0.16, 0.29, 0.06), tile_noise(uv, 16, 31)) * (0.6 + 0.5 * shade);
+        (c, alpha)
+    })
+}
+
+fn fern_layer() -> AlbedoLayer {
+    paint(|uv| {
+        // A central rib along v with leaflets either side, narrowing to the tip (v = 0).
+        let x = (uv.x - 0.5) * 2.0;
+        let t = 1.0 - uv.y;
+        let width = 0.9 * (1.0 - t).powf(0.6) * t.powf(0.15);
+        let leaflet = ((uv.y * 22.0).fract() - 0.5).abs() * 2.0;
+        let inside = x.abs() < width * (0.55 + 0.45 * (1.0 - leaflet)) && x.abs() > 0.0;
+        let rib = x.abs() < 0.03;
+        let c = Vec3::new(0.05, 0.16, 0.03) * (0.8 + 0.5 * (1.0 - x.abs()));
+        (c, if inside || rib { 1.0 } else { 0.0 })
+    })
+}
+
+fn grass_layer() -> AlbedoLayer {
+    paint(|uv| {
+        // Vertical blades of varying height across u; 1 at the base (v = 1).
+        let mut alpha: f32 = 0.0;
+        let mut tone: f32 = 0.0;
+        for k in 0..14u32 {
+            let h = hash2(k as i32, 3, 99);
+            let x0 = (h & 0xffff) as f32 / 65535.0;
+            let height = 0.45 + 0.55 * ((h >> 16) as f32 / 65535.0);
+            let t = 1.0 - uv.y;
+            if t > height {
+                continue;
+            }
+            let lean = (t / height).powi(2) * 0.08 * if h & 1 == 0 { 1.0 } else { -1.0 };
+            let w = 0.022 * (1.0 - t / height);
+            if (uv.x - x0 - lean).abs() < w {
+                alpha = 1.0;
+                tone = tone.max(0.5 + 0.5 * t / height);
+            }
+        }
+        let c = Vec3::new(0.09, 0.2, 0.04).lerp(Vec3::new(0.3, 0.33, 0.1), tone * tone);
+        (c, alpha)
+    })
+}
+
+fn blade_layer() -> AlbedoLayer {
+    paint(|uv| {
+        // Four blade colour variants across u; alpha cut into a pointed tip near v = 0.
+        let variant = (uv.x * 4.0) as u32;
+        let x = (uv.x * 4.0).fract();
+        let t = 1.0 - uv.y;
+        let tip = 1.0 - ((x - 0.5).abs() * 2.0) > (t - 0.85).max(0.0) / 0.15;
+        let base = [Vec3::new(0.10, 0.22, 0.05), Vec3::new(0.15, 0.25, 0.06), Vec3::new(0.22, 0.27, 0.08), Vec3::new(0.08, 0.18, 0.05)];
+        let c = base[variant as usize % 4] * (0.55 + 0.7 * t);
+        (c, if tip { 1.0 } else { 0.0 })
+    })
+}
+
+fn rock_layer() -> AlbedoLayer {
+    paint(|uv| {
+        let n = tile_noise(uv, 8, 41);
+        let m = tile_noise(uv, 32, 42);
+        (Vec3::splat(0.22 + 0.2 * n) * Vec3::new(1.0, 0.98, 0.94) * (0.8 + 0.4 * m), 1.0)
+    })
+}
+
+fn material(name: &str, shader: ShaderKind, layer: u32, roughness: f32) -> Material {
+    Material {
+        name: name.to_owned(),
+        shader,
+        albedo_layer: layer,
+        tint: Vec3::ONE,
+        alpha_cutoff: 0.5,
+        roughness,
+        specular: 0.3,
+    }
+}
+
+fn place(x: f32, z: f32, seed: u32, rng: &mut Rng, scale: f32) -> Affine3A {
+    let y = terrain_height(x, z, seed);
+    Affine3A::from_scale_rotation_translation(
+        Vec3::splat(scale),
+        Quat::from_rotation_y(rng.range(0.0, std::f32::consts::TAU)),
+        Vec3::new(x, y, z),
+    )
+}
+
+fn count(n: f32, density: f32) -> usize {
+    (n * density).round().max(0.0) as usize
+}
+
+fn forest(seed: u64, density: f32) -> Scene {
+    let mut rng = Rng(seed);
+    let tseed = seed as u32;
+    let size = 160.0;
+    let meshes = vec![
+        terrain_mesh(size, 160, tseed),
+        trunk_mesh(),
+        canopy_mesh(&mut rng, 220),
+        bush_mesh(&mut rng, 9),
+        tuft_mesh(&mut rng, 4, 0.7),
+        rock_mesh(tseed ^ 0x55),
+        canopy_mesh(&mut rng, 160),
+    ];
+    let albedo_layers =
+        vec![ground_layer(), bark_layer(), leaf_layer(), fern_layer(), grass_layer(), rock_layer()];
+    let materials = vec![
+        material("ground", ShaderKind::Opaque, 0, 0.9),
+        material("bark", ShaderKind::Opaque, 1, 0.8),
+        material("leaves", ShaderKind::AlphaTested, 2, 0.6),
+        material("fern", ShaderKind::AlphaTested, 3, 0.6),
+        material("grass", ShaderKind::AlphaTested, 4, 0.7),
+        material("rock", ShaderKind::Opaque, 5, 0.7),
+        Material { tint: Vec3::new(1.15, 1.05, 0.8), ..material("leaves (autumn)", ShaderKind::AlphaTested, 2, 0.6) },
+    ];
+    // The camera looks along +Z from the south edge; instances fill a wedge in front of it.
+    let camera = Camera {
+        position: Vec3::new(0.0, terrain_height(0.0, -50.0, tseed) + 1.7, -50.0),
+        target: Vec3::new(0.0, terrain_height(0.0, -30.0, tseed) + 1.2, -30.0),
+        fov_y: 60f32.to_radians(),
+        near: 0.1,
+    };
+    let scatter = |n: usize, scale: (f32, f32), rng: &mut Rng| -> Vec<Affine3A> {
+        (0..n)
+            .map(|_| {
+                let x = rng.range(-size * 0.45, size * 0.45);
+                let z = rng.range(-size * 0.3, size * 0.48);
+                let s = rng.range(scale.0, scale.1);
+                place(x, z, tseed, rng, s)
+            })
+            .collect()
+    };
+    let trees = scatter(count(260.0, density), (0.8, 1.3), &mut rng);
+    let (green, autumn): (Vec<_>, Vec<_>) = trees.iter().enumerate().partition(|(i, _)| i % 5 != 0);
+    let green: Vec<Affine3A> = green.into_iter().map(|(_, t)| *t).collect();
+    let autumn: Vec<Affine3A> = autumn.into_iter().map(|(_, t)| *t).collect();
+    let batches = vec![
+        Batch { mesh: MeshId(0), material: MaterialId(0), instances: vec![Affine3A::IDENTITY] },
+        Batch { mesh: MeshId(1), material: MaterialId(1), instances: trees.clone() },
+        Batch { mesh: MeshId(2), material: MaterialId(2), instances: green },
+        Batch { mesh: MeshId(6), material: MaterialId(6), instances: autumn },
+        Batch { mesh: MeshId(3), material: MaterialId(3), instances: scatter(count(3000.0, density), (0.7, 1.4), &mut rng) },
+        Batch { mesh: MeshId(4), material: MaterialId(4), instances: scatter(count(12000.0, density), (0.8, 1.3), &mut rng) },
+        Batch { mesh: MeshId(5), material: MaterialId(5), instances: scatter(count(300.0, density), (0.4, 1.6), &mut rng) },
+    ];
+    let lighting = Lighting {
+        point_lights: vec![
+            PointLight { position: camera.target + Vec3::new(-3.0, 1.5, 4.0), color: Vec3::new(4.0, 2.2, 0.8), radius: 9.0 },
+            PointLight { position: camera.target + Vec3::new(5.0, 1.0, 12.0), color: Vec3::new(0.8, 2.0, 4.0), radius: 10.0 },
+        ],
+        ..Lighting::default()
+    };
+    Scene { meshes, materials, albedo_layers, batches, camera, lighting }
+}
+
+fn grass(seed: u64, density: f32) -> Scene {
+    let mut rng = Rng(seed ^ 0x6772_6173_73);
+    let tseed = seed as u32;
+    let size = 120.0;
+    let patch = 2.0;
+    let meshes = vec![
+        terrain_mesh(size, 96, tseed),
+        blade_patch_mesh(&mut rng, 96, 4, patch * 0.5, 1.1),
+        blade_patch_mesh(&mut rng, 96, 4, patch * 0.5, 0.8),
+        rock_mesh(tseed ^ 0x99),
+    ];
+    let albedo_layers = vec![ground_layer(), blade_layer(), rock_layer()];
+    let materials = vec![
+        material("ground", ShaderKind::Opaque, 0, 0.9),
+        material("tall grass", ShaderKind::AlphaTested, 1, 0.6),
+        Material { tint: Vec3::new(1.2, 1.1, 0.75), ..material("dry grass", ShaderKind::AlphaTested, 1, 0.6) },
+        material("rock", ShaderKind::Opaque, 2, 0.7),
+    ];
+    let camera = Camera {
+        position: Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.6, -40.0),
+        target: Vec3::new(0.0, terrain_height(0.0, -20.0, tseed) + 0.8, -20.0),
+        fov_y: 60f32.to_radians(),
+        near: 0.1,
+    };
+    // Patches on a jittered grid over the wedge in front of the camera.
+    let side = (44.0 * density.sqrt()).round().max(1.0) as i32;
+    let (mut tall, mut dry) = (Vec::new(), Vec::new());
+    for j in 0..side {
+        for i in 0..side {
+            let x = (i as f32 - side as f32 * 0.5) * patch * 1.5 * 44.0 / side as f32 * 0.9;
+            let z = -38.0 + j as f32 * patch * 1.5 * 44.0 / side as f32 * 0.9;
+            let jitter = Vec2::new(rng.range(-0.4, 0.4), rng.range(-0.4, 0.4));
+            let s = rng_scale(&mut rng);
+            let t = place(x + jitter.x, z + jitter.y, tseed, &mut rng, s);
+            if lattice(i / 3, j / 3, tseed) < 0.3 { dry.push(t) } else { tall.push(t) }
+        }
+    }
+    let rocks = (0..count(60.0, density))
+        .map(|_| {
+            let (x, z) = (rng.range(-40.0, 40.0), rng.range(-35.0, 40.0));
+            let s = rng.range(0.5, 1.5);
+            place(x, z, tseed, &mut rng, s)
+        })
+        .collect();
+    let batches = vec![
+        Batch { mesh: MeshId(0), material: MaterialId(0), instances: vec![Affine3A::IDENTITY] },
+        Batch { mesh: MeshId(1), material: MaterialId(1), instances: tall },
+        Batch { mesh: MeshId(2), material: MaterialId(2), instances: dry },
+        Batch { mesh: MeshId(3), material: MaterialId(3), instances: rocks },
+    ];
+    Scene { meshes, materials, albedo_layers, batches, camera, lighting: Lighting::default() }
+}
+
+fn rng_scale(rng: &mut Rng) -> f32 {
+    rng.range(0.85, 1.2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn demo_scenes_validate_and_are_deterministic() {
+        for scene in DemoScene::ALL {
+            let o = DemoOptions { scene, seed: 7, density: 0.2 };
+            let a = build(&o);
+            a.validate().unwrap_or_else(|e| panic!("{}: {e}", scene.name()));
+            assert!(a.instance_count() > 10, "{}", scene.name());
+            assert_eq!(a, build(&o), "{} is not deterministic", scene.name());
+        }
+    }
+
+    #[test]
+    fn alpha_tested_layers_have_holes_and_opaque_layers_do_not() {
+        let s = build(&DemoOptions { scene: DemoScene::Forest, seed: 1, density: 0.05 });
+        for m in &s.materials {
+            let layer = &s.albedo_layers[m.albedo_layer as usize];
+            let holes = layer.texels.iter().filter(|t| t[3] < 128).count();
+            match m.shader {
+                ShaderKind::AlphaTested => assert!(holes > layer.texels.len() / 10, "{}", m.name),
+                ShaderKind::Opaque => assert_eq!(holes, 0, "{}", m.name),
+            }
+        }
+    }
+}

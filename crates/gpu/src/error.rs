@@ -1,0 +1,204 @@
+//! The renderer's error type.
+
+use std::fmt;
+
+/// Everything the renderer can fail with. Device loss and out-of-memory are errors here,
+/// never panics; so are scene limits from the talks (each names the limit and the item).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// No adapter was found. The message says how to get one.
+    NoAdapter {
+        /// What wgpu said.
+        reason: String,
+    },
+    /// The adapter refused the device request.
+    RequestDevice(String),
+    /// wgpu reported a validation error: a bug in the renderer, or a scene that breaks a
+    /// device limit the renderer did not check.
+    Validation(String),
+    /// The device ran out of memory.
+    OutOfMemory(String),
+    /// The device was lost (driver reset, GPU removed).
+    DeviceLost(String),
+    /// Waiting for the GPU failed or timed out.
+    Poll(String),
+    /// Reading a buffer back failed.
+    Map(String),
+    /// The scene breaks a limit or refers to something that does not exist.
+    Scene(SceneError),
+    /// A device limit is too small for the request.
+    DeviceLimit {
+        /// The wgpu limit's name.
+        limit: &'static str,
+        /// What the request needs.
+        needed: u64,
+        /// What the device has.
+        available: u64,
+    },
+    /// Writing an image failed.
+    Image(String),
+}
+
+/// A scene that cannot be rendered as given.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum SceneError {
+    /// A mesh has more primitives than 16-bit indices and the vis-buffer ID allow.
+    TooManyPrimitives {
+        /// The mesh's name.
+        mesh: String,
+        /// Its primitive count.
+        primitives: usize,
+        /// The limit (65 536).
+        limit: usize,
+    },
+    /// A mesh has more vertices than 16-bit indices can address.
+    TooManyVertices {
+        /// The mesh's name.
+        mesh: String,
+        /// Its vertex count.
+        vertices: usize,
+        /// The limit (65 536).
+        limit: usize,
+    },
+    /// A mesh's index count is not a multiple of three.
+    IndexCountNotTriangles {
+        /// The mesh's name.
+        mesh: String,
+        /// Its index count.
+        indices: usize,
+    },
+    /// An index refers past the mesh's vertices.
+    IndexOutOfRange {
+        /// The mesh's name.
+        mesh: String,
+        /// Position in the index array.
+        at: usize,
+        /// The index found.
+        index: u32,
+        /// The mesh's vertex count.
+        vertices: usize,
+    },
+    /// Attribute arrays of a mesh differ in length.
+    AttributeLength {
+        /// The mesh's name.
+        mesh: String,
+        /// Which attribute.
+        attribute: &'static str,
+        /// Its length.
+        len: usize,
+        /// The position count.
+        expected: usize,
+    },
+    /// A float in the scene is NaN or infinite.
+    NonFinite {
+        /// Where it was found.
+        what: String,
+    },
+    /// A batch refers to a mesh or material that does not exist.
+    UnknownReference {
+        /// The batch's index.
+        batch: usize,
+        /// "mesh" or "material".
+        kind: &'static str,
+        /// The id it used.
+        id: usize,
+    },
+    /// A material uses a texture layer that does not exist.
+    UnknownTextureLayer {
+        /// The material's name.
+        material: String,
+        /// The layer it used.
+        layer: u32,
+        /// How many layers the scene has.
+        layers: usize,
+    },
+    /// Texture layers differ in size, or a layer's pixel count does not match its size.
+    TextureSize {
+        /// The layer.
+        layer: usize,
+        /// What is wrong.
+        detail: String,
+    },
+    /// The micro-batch / pass builder refused the scene (a limit from the talk).
+    Tiling(String),
+    /// A primitive-ID encoder refused a mesh.
+    Encoding(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::NoAdapter { reason } => write!(
+                f,
+                "no GPU adapter found ({reason}). The renderer runs on any Vulkan driver; \
+                 without a GPU install Mesa's software driver: \
+                 `apt-get install -y mesa-vulkan-drivers libvulkan1` (Debian/Ubuntu, lavapipe). \
+                 On NVIDIA, install the driver's Vulkan ICD or set VK_DRIVER_FILES to nvidia_icd.json"
+            ),
+            Error::RequestDevice(s) => write!(f, "the adapter refused the device request: {s}"),
+            Error::Validation(s) => write!(f, "wgpu validation error: {s}"),
+            Error::OutOfMemory(s) => write!(f, "the GPU ran out of memory: {s}"),
+            Error::DeviceLost(s) => write!(f, "the GPU device was lost: {s}"),
+            Error::Poll(s) => write!(f, "waiting for the GPU failed: {s}"),
+            Error::Map(s) => write!(f, "reading a GPU buffer back failed: {s}"),
+            Error::Scene(e) => write!(f, "scene error: {e}"),
+            Error::DeviceLimit { limit, needed, available } => write!(
+                f,
+                "the device limit `{limit}` is {available}, but the request needs {needed}"
+            ),
+            Error::Image(s) => write!(f, "writing an image failed: {s}"),
+        }
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneError::TooManyPrimitives { mesh, primitives, limit } => write!(
+                f,
+                "mesh `{mesh}` has {primitives} primitives, over the limit of {limit} per geometry \
+                 (16-bit indices; the vis-buffer primitive field); split it"
+            ),
+            SceneError::TooManyVertices { mesh, vertices, limit } => write!(
+                f,
+                "mesh `{mesh}` has {vertices} vertices, over the {limit} that 16-bit indices address; split it"
+            ),
+            SceneError::IndexCountNotTriangles { mesh, indices } => {
+                write!(f, "mesh `{mesh}` has {indices} indices, not a multiple of 3")
+            }
+            SceneError::IndexOutOfRange { mesh, at, index, vertices } => write!(
+                f,
+                "mesh `{mesh}`: index {index} at position {at} is out of range ({vertices} vertices)"
+            ),
+            SceneError::AttributeLength { mesh, attribute, len, expected } => write!(
+                f,
+                "mesh `{mesh}`: {attribute} has {len} entries, expected {expected} (one per position)"
+            ),
+            SceneError::NonFinite { what } => write!(f, "{what} is NaN or infinite"),
+            SceneError::UnknownReference { batch, kind, id } => {
+                write!(f, "batch {batch} refers to {kind} {id}, which does not exist")
+            }
+            SceneError::UnknownTextureLayer { material, layer, layers } => write!(
+                f,
+                "material `{material}` uses albedo layer {layer}, but the scene has {layers} layers"
+            ),
+            SceneError::TextureSize { layer, detail } => write!(f, "albedo layer {layer}: {detail}"),
+            SceneError::Tiling(s) => write!(f, "micro batches and passes: {s}"),
+            SceneError::Encoding(s) => write!(f, "primitive-ID encoding: {s}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+impl std::error::Error for SceneError {}
+
+impl From<SceneError> for Error {
+    fn from(e: SceneError) -> Self {
+        Error::Scene(e)
+    }
+}
+
+/// Shorthand for the renderer's results.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,25 @@
+//! The complete wgpu renderer of the workspace: visibility-buffer laydown, GPU
+//! classification into loose-tile wave commands, compute material resolve into a G-buffer,
+//! deferred lighting, and HZD's depth-equal baseline that it replaces. Every format and
+//! algorithm comes from the small crates; this crate owns devices, buffers, pipelines and
+//! passes.
+//!
+//! ```no_run
+//! use gpu::{context, demo};
+//!
+//! let ctx = context::headless(&context::HeadlessOptions::default())?;
+//! let scene = demo::build(&demo::DemoOptions::default());
+//! println!("{} on {}", scene.instance_count(), ctx.adapter_line());
+//! # Ok::<(), gpu::Error>(())
+//! ```
+
+pub mod context;
+pub mod demo;
+pub mod error;
+pub mod image;
+pub mod readback;
+pub mod scene;
+pub mod timing;
+pub mod upload;
+
+pub use error::{Error, Result, SceneError};

@@ -1,0 +1,231 @@
+//! The scene on the GPU: one vertex storage buffer and one 16-bit index buffer for all
+//! meshes, the instance and material tables, and the albedo texture array with its mips.
+//!
+//! Vertex data is pulled from storage buffers in every shader (no vertex buffers): the
+//! laydown, the baseline and the compute resolve read the same [`GpuVertex`] records.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use crate::scene::{AlbedoLayer, Scene};
+
+/// One vertex as the shaders pull it (WGSL `GpuVertex`): 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuVertex {
+    /// Object-space position (metres).
+    pub position: [f32; 3],
+    /// Texture coordinate u.
+    pub u: f32,
+    /// Object-space unit normal.
+    pub normal: [f32; 3],
+    /// Texture coordinate v.
+    pub v: f32,
+    /// Object-space tangent, handedness in w.
+    pub tangent: [f32; 4],
+}
+const _: () = assert!(size_of::<GpuVertex>() == 48);
+
+/// One material (WGSL `GpuMaterial`): 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuMaterial {
+    /// Linear RGB tint.
+    pub tint: [f32; 3],
+    /// Albedo array layer.
+    pub albedo_layer: u32,
+    /// Alpha-test cutoff (0 for opaque materials: nothing is discarded).
+    pub alpha_cutoff: f32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// Specular intensity.
+    pub specular: f32,
+    /// `ShaderKind::id`.
+    pub shader: u32,
+}
+const _: () = assert!(size_of::<GpuMaterial>() == 32);
+
+/// WGSL declarations of the structs above; kept beside them (a test checks the sizes
+/// naga computes against `size_of`).
+pub const SCENE_WGSL: &str = r"
+struct GpuVertex {
+    position: vec3<f32>,
+    u: f32,
+    normal: vec3<f32>,
+    v: f32,
+    tangent: vec4<f32>,
+}
+
+struct GpuMaterial {
+    tint: vec3<f32>,
+    albedo_layer: u32,
+    alpha_cutoff: f32,
+    roughness: f32,
+    specular: f32,
+    shader: u32,
+}
+";
+
+/// Creates a storage buffer initialised with `data` (at least 4 bytes: wgpu refuses empty
+/// bindings).
+pub fn storage_buffer(device: &wgpu::Device, label: &str, data: &[u8], extra: wgpu::BufferUsages) -> wgpu::Buffer {
+    let padded;
+    let contents = if data.len() < 4 {
+        padded = [0u8; 4];
+        &padded[..]
+    } else {
+        data
+    };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC | extra,
+    })
+}
+
+/// Converts scene materials to their GPU rows.
+pub fn gpu_materials(scene: &Scene) -> Vec<GpuMaterial> {
+    scene
+        .materials
+        .iter()
+        .map(|m| GpuMaterial {
+            tint: m.tint.to_array(),
+            albedo_layer: m.albedo_layer,
+            alpha_cutoff: match m.shader {
+                crate::scene::ShaderKind::AlphaTested => m.alpha_cutoff,
+                crate::scene::ShaderKind::Opaque => 0.0,
+            },
+            roughness: m.roughness,
+            specular: m.specular,
+            shader: m.shader.id(),
+        })
+        .collect()
+}
+
+/// Mip chain of one layer, box-filtered in linear space for colour; alpha is filtered and
+/// then rescaled so the fraction of texels passing the cutoff 0.5 stays that of the top
+/// level (foliage does not thin out with distance).
+pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
+    let to_lin = |c: u8| {
+        let s = f32::from(c) / 255.0;
+        if s <= 0.040_45 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) }
+    };
+    let to_srgb = |x: f32| {
+        let x = x.clamp(0.0, 1.0);
+        let s = if x <= 0.003_130_8 { x * 12.92 } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+        (s * 255.0 + 0.5) as u8
+    };
+    let coverage = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len().max(1) as f32;
+    let top_cov = coverage(&layer.texels);
+    let mut levels = vec![layer.texels.clone()];
+    let mut size = layer.size as usize;
+    while size > 1 {
+        let prev = levels.last().expect("at least one level");
+        let half = size / 2;
+        let mut next = Vec::with_capacity(half * half);
+        for y in 0..half {
+            for x in 0..half {
+                let mut c = Vec3::ZERO;
+                let mut a = 0.0;
+                let mut wsum = 0.0;
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let p = prev[(2 * y + dy) * size + 2 * x + dx];
+                    let w = f32::from(p[3]) / 255.0 + 1e-3;
+                    c += Vec3::new(to_lin(p[0]), to_lin(p[1]), to_lin(p[2])) * w;
+                    wsum += w;
+                    a += f32::from(p[3]) / 255.0;
+                }
+                let c = c / wsum;
+                next.push([to_srgb(c.x), to_srgb(c.y), to_srgb(c.z), (a / 4.0 * 255.0 + 0.5) as u8]);
+            }
+        }
+        // Alpha-to-coverage preserving scale (Castaño): find the scale that keeps coverage.
+        if top_cov > 0.0 && top_cov < 1.0 {
+            let (mut lo, mut hi) = (0.0f32, 8.0f32);
+            for _ in 0..16 {
+                let mid = 0.5 * (lo + hi);
+                let cov = next.iter().filter(|p| f32::from(p[3]) * mid >= 127.5).count() as f32 / next.len() as f32;
+                if cov < top_cov { lo = mid } else { hi = mid }
+            }
+            for p in &mut next {
+                p[3] = (f32::from(p[3]) * hi).min(255.0) as u8;
+            }
+        }
+        levels.push(next);
+        size = half;
+    }
+    levels
+}
+
+/// Uploads the albedo layers as an `Rgba8UnormSrgb` 2D array with a full mip chain.
+pub fn albedo_texture(device: &wgpu::Device, queue: &wgpu::Queue, layers: &[AlbedoLayer]) -> wgpu::Texture {
+    let size = layers.first().map_or(1, |l| l.size);
+    let count = layers.len().max(1) as u32;
+    let mip_level_count = size.max(1).ilog2() + 1;
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("albedo array"),
+        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: count },
+        mip_level_count,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (z, layer) in layers.iter().enumerate() {
+        for (mip, texels) in mip_chain(layer).iter().enumerate() {
+            let s = (size >> mip).max(1);
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: mip as u32,
+                    origin: wgpu::Origin3d { x: 0, y: 0, z: z as u32 },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(texels),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * s), rows_per_image: Some(s) },
+                wgpu::Extent3d { width: s, height: s, depth_or_array_layers: 1 },
+            );
+        }
+    }
+    texture
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wgsl_structs_match_rust_sizes() {
+        let m = shadercheck::assert_valid("SCENE_WGSL", SCENE_WGSL, shadercheck::Caps::CORE);
+        let mut layouter = naga_layouter_sizes(&m);
+        layouter.sort();
+        assert_eq!(
+            layouter,
+            vec![("GpuMaterial".to_string(), size_of::<GpuMaterial>() as u32), ("GpuVertex".to_string(), size_of::<GpuVertex>() as u32)]
+        );
+    }
+
+    fn naga_layouter_sizes(m: &naga::Module) -> Vec<(String, u32)> {
+        m.types
+            .iter()
+            .filter_map(|(_, t)| match &t.inner {
+                naga::TypeInner::Struct { span, .. } => Some((t.name.clone()?, *span)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn mips_keep_alpha_coverage() {
+        let layer = crate::demo::build(&crate::demo::DemoOptions { density: 0.01, ..Default::default() }).albedo_layers[2].clone();
+        let chain = mip_chain(&layer);
+        assert_eq!(chain.len() as u32, layer.size.ilog2() + 1);
+        let cov = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len() as f32;
+        let top = cov(&chain[0]);
+        for (i, level) in chain.iter().enumerate().take(6) {
+            assert!((cov(level) - top).abs() < 0.08, "mip {i}: coverage {} vs {top}", cov(level));
+        }
+    }
+}
