@@ -17,6 +17,7 @@ pub mod context;
 pub mod demo;
 pub mod error;
 pub mod image;
+pub mod kernel;
 pub mod readback;
 pub mod scene;
 pub mod timing;
