@@ -1,0 +1,126 @@
+//! Wave-level patterns for GPU-driven rendering: how every pass of this project appends to
+//! a buffer with one atomic per wave instead of one per thread, and how the static-scene
+//! query writes its batches. A CPU model (the reference) and WGSL twins.
+//!
+//! - [`Wave`], [`LaneMask`], [`PerLane`]: a wave of 8, 16, 32 or 64 lanes with an active
+//!   mask; `ballot`, popcount, the prefix count of set bits below a lane (the talk's
+//!   `MaskBitCnt`), the first active lane, broadcasts, sums.
+//! - [`Wave::aggregated_append`] / [`Wave::reserve`]: the aggregated atomic of Horizon Zero
+//!   Dawn's query ("Aside: Aggregated atomics", after Adinetz 2014): the first active lane
+//!   adds the wave's popcount to a shared [`Counter`], broadcasts the old value, and each
+//!   lane writes at old + its prefix count. [`CountedAtomicU32`] counts the atomics.
+//! - [`Wave::batch_output`]: HZD's run-grouped batch output ("GPU compute thread:
+//!   Batching"): instances append in lane order, the first visible lane of each run writes
+//!   one [`WaveBatch`] header.
+//! - [`compact`] / [`batch_compact`]: the same over a whole stream of items, and under the
+//!   `parallel` feature `parallel::par_compact` and friends over many threads with a real
+//!   shared `AtomicU32`.
+//!
+//! Lane `i` is bit `i` of a [`LaneMask`]; slots are element indices into the output
+//! buffer (not bytes). Counters wrap at `u32::MAX` like WGSL's `atomicAdd`; writes whose
+//! slot lies outside the output are dropped and reported, as robust buffer access does.
+//!
+//! Source: Will Vale, "Decima: Visibility in Horizon Zero Dawn" (aggregated atomics,
+//! batching during the query); Adinetz, "Optimized filtering with warp-aggregated atomics"
+//! (NVIDIA, 2014); Far Cry 5's water tile counts with ballot (one atomic per 8x8 group).
+//!
+//! # Example: the talk's eight-lane append
+//!
+//! ```
+//! use wave::{CountedAtomicU32, LaneMask, Wave, WaveWidth};
+//!
+//! // Lanes 1, 2, 4 and 7 want to write (the coloured boxes of the diagram).
+//! let wave = Wave::with_active(WaveWidth::W8, LaneMask(0b1001_0110)).unwrap();
+//! let counter = CountedAtomicU32::new(5); // other waves already appended 5 items
+//! let mut out = [0u32; 16];
+//! let append = wave.aggregated_append(&counter, &mut out, |lane| 100 + lane);
+//! assert_eq!((append.base, append.count), (5, 4));
+//! assert_eq!(out[5..9], [101, 102, 104, 107]); // compact, in lane order
+//! assert_eq!(counter.atomic_ops(), 1); // one atomic for the whole wave
+//! ```
+#![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
+
+#[cfg(any(test, feature = "std"))]
+extern crate std;
+
+mod append;
+mod batch;
+mod counter;
+mod mask;
+mod wave;
+
+pub use append::{Append, Compaction, RangeReservation, Reservation, compact, compact_per_item};
+pub use batch::{Batch, BatchCompaction, BatchOutput, WaveBatch, batch_compact};
+pub use counter::{CountedAtomicU32, Counter};
+pub use mask::{LaneMask, Lanes, WAVE_WIDTH_MAX, WaveWidth};
+pub use wave::{PerLane, Wave};
+
+use core::fmt;
+
+/// Everything that can go wrong in this crate; each variant names the limit and the value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum WaveError {
+    /// A wave width other than 8, 16, 32 or 64 lanes.
+    UnsupportedWidth {
+        /// The lane count asked for.
+        lanes: u32,
+    },
+    /// An active mask with lanes at or past the wave's width.
+    MaskOutsideWidth {
+        /// The wave's width.
+        width: WaveWidth,
+        /// The offending mask.
+        mask: LaneMask,
+    },
+    /// A per-lane value count that does not match the wave's width.
+    LaneCount {
+        /// The wave's width.
+        width: WaveWidth,
+        /// The number of values (or lanes) given.
+        values: usize,
+    },
+    /// A wave's total append does not fit the `u32` counter.
+    AppendTooLarge {
+        /// The total the wave asked for.
+        total: u64,
+    },
+    /// A run would advance the `u32` counter past `u32::MAX` (slots would repeat).
+    CounterOverflow {
+        /// The counter's start value.
+        start: u32,
+        /// The most items the run could append.
+        items: usize,
+    },
+}
+
+impl fmt::Display for WaveError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            WaveError::UnsupportedWidth { lanes } => {
+                write!(f, "wave width {lanes} unsupported (8, 16, 32 or 64 lanes)")
+            }
+            WaveError::MaskOutsideWidth { width, mask } => write!(
+                f,
+                "active mask {:#x} has lanes outside the wave's {width}",
+                mask.0
+            ),
+            WaveError::LaneCount { width, values } => {
+                write!(f, "{values} per-lane values for a wave of {width}")
+            }
+            WaveError::AppendTooLarge { total } => write!(
+                f,
+                "wave append of {total} items exceeds the u32 counter (max {})",
+                u32::MAX
+            ),
+            WaveError::CounterOverflow { start, items } => write!(
+                f,
+                "counter at {start} plus up to {items} items would pass u32::MAX"
+            ),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for WaveError {}
