@@ -16,10 +16,12 @@
 pub mod context;
 pub mod demo;
 pub mod error;
+pub mod frame;
 pub mod image;
 pub mod kernel;
 pub mod readback;
 pub mod scene;
+pub mod shaders;
 pub mod timing;
 pub mod upload;
 

@@ -1,0 +1,59 @@
+// gpu: per-frame constants and the per-instance record shared by every pass.
+// Rust twins: gpu::frame::FrameUniforms and gpu::frame::GpuInstance (sizes checked by tests).
+//
+// Positions are camera-relative: instance transforms already have the camera position
+// subtracted, and `view_proj` holds only the camera's rotation and projection (reversed Z,
+// infinite far plane). World = camera-relative + camera_position.
+
+struct FrameUniforms {
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    prev_view_proj: mat4x4<f32>,
+    camera_position: vec4<f32>,
+    // width, height, 1/width, 1/height (pixels)
+    viewport: vec4<f32>,
+    // xyz: unit direction towards the sun; w: unused
+    sun_direction: vec4<f32>,
+    sun_color: vec4<f32>,
+    ambient: vec4<f32>,
+    sky: vec4<f32>,
+    point_light_count: u32,
+    // log2 scale applied to texture gradients in the resolve (mip bias)
+    mip_bias: f32,
+    // the depth-equal baseline and the laydown must produce identical depths
+    frame_index: u32,
+    pad0: u32,
+}
+
+// One instance: object-to-camera-relative 3x4 transform (rows), and where it sits in the
+// vis buffer: its micro batch, instance field, the mesh's primitive bits, its material.
+struct GpuInstance {
+    row0: vec4<f32>,
+    row1: vec4<f32>,
+    row2: vec4<f32>,
+    micro_batch: u32,
+    instance_field: u32,
+    primitive_bits: u32,
+    material: u32,
+}
+
+struct GpuPointLight {
+    // xyz: camera-relative position; w: radius (metres)
+    position_radius: vec4<f32>,
+    color: vec4<f32>,
+}
+
+fn gpu_transform_point(inst: GpuInstance, p: vec3<f32>) -> vec3<f32> {
+    let h = vec4<f32>(p, 1.0);
+    return vec3<f32>(dot(inst.row0, h), dot(inst.row1, h), dot(inst.row2, h));
+}
+
+fn gpu_transform_direction(inst: GpuInstance, d: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(inst.row0.xyz, d), dot(inst.row1.xyz, d), dot(inst.row2.xyz, d));
+}
+
+// Normals transform with the inverse transpose; instance transforms are rotation and
+// uniform scale, so the transform's linear part followed by a normalize is exact.
+fn gpu_transform_normal(inst: GpuInstance, n: vec3<f32>) -> vec3<f32> {
+    return normalize(gpu_transform_direction(inst, n));
+}
