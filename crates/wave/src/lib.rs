@@ -49,12 +49,17 @@ mod batch;
 mod counter;
 mod mask;
 mod wave;
+pub mod wgsl;
 
 pub use append::{Append, Compaction, RangeReservation, Reservation, compact, compact_per_item};
 pub use batch::{Batch, BatchCompaction, BatchOutput, WaveBatch, batch_compact};
 pub use counter::{CountedAtomicU32, Counter};
 pub use mask::{LaneMask, Lanes, WAVE_WIDTH_MAX, WaveWidth};
 pub use wave::{PerLane, Wave};
+pub use wgsl::{
+    NO_SLOT, SUBGROUP_MODULE, WAVE_SUBGROUP_WGSL, WAVE_WGSL, WAVE_WORKGROUP_WGSL, WG_BALLOT_WORDS,
+    WG_INVOCATIONS_MAX, WORKGROUP_MODULE,
+};
 
 use core::fmt;
 
