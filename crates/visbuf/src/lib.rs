@@ -53,6 +53,8 @@ compile_error!("visbuf needs float math: enable the `std` (default) or `libm` fe
 
 mod error;
 pub mod id;
+mod math;
+pub mod vertex;
 mod wgsl;
 
 pub use error::Error;
@@ -64,4 +66,5 @@ pub use id::{
     VisFields, VisId, VisIdRanges, VisLayout, VisbufIdRange, instance_index,
     micro_batch_ids_needed, split_instance,
 };
-pub use wgsl::ID_WGSL;
+pub use vertex::{Slot, Vertex, VertexCore, VisbufVertex, ZFromW};
+pub use wgsl::{ID_WGSL, VERTEX_WGSL, WGSL};

@@ -4,10 +4,21 @@
 /// Vis-buffer ID pack/unpack in WGSL. See the crate docs' WGSL table.
 pub const ID_WGSL: &str = include_str!("wgsl/id.wgsl");
 
+/// The 32-byte transformed vertex in WGSL: decode (and encode, for the vertex-transform
+/// pass). See the crate docs' WGSL table.
+pub const VERTEX_WGSL: &str = include_str!("wgsl/vertex.wgsl");
+
+/// Every module above, concatenated in dependency order (each may use the ones before it).
+pub const WGSL: &str = concat!(
+    include_str!("wgsl/id.wgsl"),
+    include_str!("wgsl/vertex.wgsl")
+);
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::id::*;
+    use alloc::vec::Vec;
     use shadercheck::{Caps, assert_valid, const_u32};
 
     #[test]
@@ -45,25 +56,95 @@ mod tests {
     }
 
     #[test]
-    fn every_wgsl_name_is_prefixed() {
-        for (name, src) in [("ID_WGSL", ID_WGSL)] {
-            for line in src.lines() {
-                let t = line.trim_start();
-                for kw in ["fn ", "const ", "struct "] {
-                    if let Some(rest) = t.strip_prefix(kw) {
-                        let lower = rest.to_ascii_lowercase();
-                        assert!(lower.starts_with("visbuf"), "{name}: unprefixed `{t}`");
-                    }
-                }
-                assert!(
-                    !t.starts_with('@'),
-                    "{name}: attributes (bindings/entry points) not allowed: `{t}`"
+    fn vertex_wgsl_is_valid_core_wgsl_and_its_constants_match_rust() {
+        use crate::vertex::*;
+        let m = assert_valid("visbuf VERTEX_WGSL", VERTEX_WGSL, Caps::CORE);
+        assert_eq!(
+            shadercheck::const_f32(&m, "VISBUF_UV_SCALE"),
+            Some(UV_SCALE)
+        );
+        assert_eq!(shadercheck::const_f32(&m, "VISBUF_UV_MAX"), Some(UV_MAX));
+        assert_eq!(
+            shadercheck::const_f32(&m, "VISBUF_HALF_MAX"),
+            Some(HALF_MAX)
+        );
+        assert_eq!(
+            shadercheck::const_f32(&m, "VISBUF_SNORM10_MAX"),
+            Some(511.0)
+        );
+        assert_eq!(
+            const_u32(&m, "VISBUF_SNORM_W_SHIFT"),
+            Some(SNORM_10_10_10_2_W_SHIFT)
+        );
+        assert_eq!(
+            const_u32(&m, "VISBUF_VERTEX_WORDS"),
+            Some((size_of::<VisbufVertex>() / 4) as u32)
+        );
+        // The WGSL struct has the Rust struct's size (8 x 4 bytes, no padding).
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("VisbufVertex"))
+            .expect("struct VisbufVertex");
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => {
+                assert_eq!(*span as usize, size_of::<VisbufVertex>());
+                let names: Vec<_> = members.iter().map(|m| m.name.clone().unwrap()).collect();
+                assert_eq!(
+                    names,
+                    [
+                        "hpos_xy",
+                        "hpos_w",
+                        "uv",
+                        "color",
+                        "normal",
+                        "tangent",
+                        "prev_hpos_xy",
+                        "prev_hpos_w_extra"
+                    ]
                 );
+                let offsets: Vec<_> = members.iter().map(|m| m.offset).collect();
+                assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
+            }
+            other => panic!("VisbufVertex is {other:?}"),
+        }
+    }
+
+    /// Every module, with the capability set it is validated under.
+    const MODULES: &[(&str, &str)] = &[("ID_WGSL", ID_WGSL), ("VERTEX_WGSL", VERTEX_WGSL)];
+
+    #[test]
+    fn modules_are_binding_free_prefixed_and_concatenate() {
+        let mut all = alloc::string::String::new();
+        for (name, src) in MODULES {
+            let m = assert_valid(name, src, Caps::CORE);
+            assert!(
+                m.global_variables.is_empty(),
+                "{name}: has bindings / module-scope vars"
+            );
+            assert!(m.entry_points.is_empty(), "{name}: has entry points");
+            for (_, f) in m.functions.iter() {
+                let n = f.name.as_deref().unwrap_or("");
                 assert!(
-                    !t.starts_with("var"),
-                    "{name}: module-scope var not allowed: `{t}`"
+                    n.starts_with("visbuf_"),
+                    "{name}: function `{n}` not prefixed"
                 );
             }
+            for n in shadercheck::const_names(&m) {
+                assert!(n.starts_with("VISBUF_"), "{name}: const `{n}` not prefixed");
+            }
+            for (_, t) in m.types.iter() {
+                if let Some(n) = t.name.as_deref()
+                    && matches!(t.inner, naga::TypeInner::Struct { .. })
+                {
+                    assert!(n.starts_with("Visbuf"), "{name}: struct `{n}` not prefixed");
+                }
+            }
+            all.push_str(src);
         }
+        // The gpu crate concatenates them in front of its passes: together they must
+        // still validate (no duplicate names).
+        assert_valid("all visbuf WGSL", &all, Caps::CORE);
+        assert_eq!(all, WGSL);
     }
 }
