@@ -113,22 +113,10 @@ impl Wave {
         &self,
         counter: &C,
         out: &mut [T],
-        mut value: impl FnMut(u32) -> T,
+        value: impl FnMut(u32) -> T,
     ) -> Append {
         let r = self.reserve(counter);
-        let mut stored = 0;
-        for lane in r.lanes {
-            let item = value(lane);
-            if let Some(dst) = r.slot(lane).and_then(|s| out.get_mut(s as usize)) {
-                *dst = item;
-                stored += 1;
-            }
-        }
-        Append {
-            base: r.base,
-            count: r.count(),
-            stored,
-        }
+        write_reserved(&r, &mut { out }, value)
     }
 
     /// The baseline the aggregated append replaces: every active lane does its own atomic
@@ -195,6 +183,54 @@ impl Wave {
     }
 }
 
+/// Where appended items go: a slice, or (under `parallel`) a buffer shared by threads that
+/// hold disjoint slots.
+pub(crate) trait Sink<T> {
+    /// Writes `value` at `slot`; false (and nothing written) if `slot` is outside.
+    fn put(&mut self, slot: u32, value: T) -> bool;
+}
+
+impl<T> Sink<T> for &mut [T] {
+    fn put(&mut self, slot: u32, value: T) -> bool {
+        match self.get_mut(slot as usize) {
+            Some(dst) => {
+                *dst = value;
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+impl<T, S: Sink<T>> Sink<T> for &mut S {
+    fn put(&mut self, slot: u32, value: T) -> bool {
+        (**self).put(slot, value)
+    }
+}
+
+/// Writes `value(lane)` to each reserved lane's slot, lowest lane first, counting those
+/// that fit.
+pub(crate) fn write_reserved<T>(
+    r: &Reservation,
+    out: &mut impl Sink<T>,
+    mut value: impl FnMut(u32) -> T,
+) -> Append {
+    let mut stored = 0;
+    for lane in r.lanes {
+        let item = value(lane);
+        if let Some(slot) = r.slot(lane)
+            && out.put(slot, item)
+        {
+            stored += 1;
+        }
+    }
+    Append {
+        base: r.base,
+        count: r.count(),
+        stored,
+    }
+}
+
 /// What a stream compaction did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Compaction {
@@ -204,6 +240,30 @@ pub struct Compaction {
     pub stored: usize,
     /// Waves run (`ceil(items / width)`).
     pub waves: usize,
+    /// Atomic operations issued on the counter: one per wave with a selected item for the
+    /// aggregated append, one per selected item for the baseline.
+    pub atomic_ops: usize,
+}
+
+impl Compaction {
+    /// Adds one wave's append.
+    pub(crate) fn add_wave(&mut self, a: &Append, atomic_ops: usize) {
+        self.selected += a.count as usize;
+        self.stored += a.stored as usize;
+        self.waves += 1;
+        self.atomic_ops += atomic_ops;
+    }
+
+    /// Sums two runs (for parallel reductions).
+    #[must_use]
+    pub fn merge(self, other: Compaction) -> Compaction {
+        Compaction {
+            selected: self.selected + other.selected,
+            stored: self.stored + other.stored,
+            waves: self.waves + other.waves,
+            atomic_ops: self.atomic_ops + other.atomic_ops,
+        }
+    }
 }
 
 /// Stream compaction as a compute dispatch would do it, sequentially: the items are cut
@@ -217,7 +277,7 @@ pub struct Compaction {
 /// let mut out = vec![0; 100];
 /// let counter = CountedAtomicU32::new(0);
 /// let c = compact(WaveWidth::W32, &items, |&x| x % 3 == 0, &counter, &mut out);
-/// assert_eq!((c.selected, c.stored, c.waves), (34, 34, 4));
+/// assert_eq!((c.selected, c.stored, c.waves, c.atomic_ops), (34, 34, 4, 4));
 /// assert_eq!(counter.atomic_ops(), 4);
 /// assert!(out[..34].iter().copied().eq((0..100).step_by(3)));
 /// ```
@@ -232,9 +292,7 @@ pub fn compact<T: Copy, C: Counter + ?Sized>(
     for chunk in items.chunks(width.len()) {
         let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
         let a = wave.aggregated_append(counter, out, |lane| chunk[lane as usize]);
-        c.selected += a.count as usize;
-        c.stored += a.stored as usize;
-        c.waves += 1;
+        c.add_wave(&a, usize::from(a.count > 0));
     }
     c
 }
@@ -251,9 +309,7 @@ pub fn compact_per_item<T: Copy, C: Counter + ?Sized>(
     for chunk in items.chunks(width.len()) {
         let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
         let a = wave.per_lane_append(counter, out, |lane| chunk[lane as usize]);
-        c.selected += a.count as usize;
-        c.stored += a.stored as usize;
-        c.waves += 1;
+        c.add_wave(&a, a.count as usize);
     }
     c
 }
@@ -377,7 +433,14 @@ mod tests {
             let mut out2 = vec![u32::MAX; items.len()];
             let r2 = compact_per_item(width, &items, |x| x % 3 == 1, &c2, &mut out2);
             assert_eq!(out, out2);
-            assert_eq!(r, r2);
+            assert_eq!(
+                (r.selected, r.stored, r.waves),
+                (r2.selected, r2.stored, r2.waves)
+            );
+            assert_eq!(
+                (r.atomic_ops, r2.atomic_ops),
+                (waves_with_hits, expect.len())
+            );
             assert_eq!(c2.atomic_ops(), expect.len());
         }
     }

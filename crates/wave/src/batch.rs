@@ -16,6 +16,7 @@
 //! A batch never spans waves, so the longest batch is the wave width, as in the talk; a
 //! run of one DrawableSetup that crosses a wave boundary becomes one batch per wave.
 
+use crate::append::{Sink, write_reserved};
 use crate::{Append, Counter, LaneMask, PerLane, Wave, WaveWidth};
 
 /// The generic part of a batch header (the talk's DrawableSetupBatch "pointer to
@@ -157,6 +158,37 @@ impl Wave {
         batch_counter: &C2,
         batches: &mut [B],
         instance: impl FnMut(u32) -> T,
+        accumulate: impl FnMut(&mut A, u32),
+        header: impl FnMut(&Batch<A>) -> B,
+    ) -> BatchOutput
+    where
+        A: Copy + Default,
+        C1: Counter + ?Sized,
+        C2: Counter + ?Sized,
+    {
+        self.batch_into(
+            group_end,
+            visible,
+            instance_counter,
+            instances,
+            batch_counter,
+            batches,
+            instance,
+            accumulate,
+            header,
+        )
+    }
+
+    /// [`batch_output_with`](Self::batch_output_with) into any [`Sink`]s.
+    pub(crate) fn batch_into<T, B, A, C1, C2>(
+        &self,
+        group_end: LaneMask,
+        visible: LaneMask,
+        instance_counter: &C1,
+        mut instances: impl Sink<T>,
+        batch_counter: &C2,
+        mut batches: impl Sink<B>,
+        instance: impl FnMut(u32) -> T,
         mut accumulate: impl FnMut(&mut A, u32),
         mut header: impl FnMut(&Batch<A>) -> B,
     ) -> BatchOutput
@@ -171,7 +203,7 @@ impl Wave {
 
         // Instances: one aggregated append over the visible lanes.
         let reservation = visible_wave.reserve(instance_counter);
-        let inst = write_reserved(&reservation, instances, instance);
+        let inst = write_reserved(&reservation, &mut instances, instance);
 
         // The per-wave scratch (the talk's LDS): one slot per group, at most one group per lane.
         let mut acc = [A::default(); 64];
@@ -188,7 +220,7 @@ impl Wave {
 
         // Headers: the first visible lane of each group appends one, again aggregated.
         let header_reservation = self.restrict(leaders).reserve(batch_counter);
-        let hdr = write_reserved(&header_reservation, batches, |lane| {
+        let hdr = write_reserved(&header_reservation, &mut batches, |lane| {
             let g = ends.count_below(lane);
             let group_lanes = lanes[g as usize];
             header(&Batch {
@@ -203,27 +235,6 @@ impl Wave {
             instances: inst,
             batches: hdr,
         }
-    }
-}
-
-/// Writes `value(lane)` to each reserved lane's slot that fits `out`.
-fn write_reserved<T>(
-    r: &crate::Reservation,
-    out: &mut [T],
-    mut value: impl FnMut(u32) -> T,
-) -> Append {
-    let mut stored = 0;
-    for lane in r.lanes {
-        let item = value(lane);
-        if let Some(dst) = r.slot(lane).and_then(|s| out.get_mut(s as usize)) {
-            *dst = item;
-            stored += 1;
-        }
-    }
-    Append {
-        base: r.base,
-        count: r.count(),
-        stored,
     }
 }
 
@@ -249,6 +260,18 @@ impl BatchCompaction {
         self.batches += o.batches.count as usize;
         self.batches_stored += o.batches.stored as usize;
         self.waves += 1;
+    }
+
+    /// Sums two runs (for parallel reductions).
+    #[must_use]
+    pub fn merge(self, o: BatchCompaction) -> BatchCompaction {
+        BatchCompaction {
+            instances: self.instances + o.instances,
+            instances_stored: self.instances_stored + o.instances_stored,
+            batches: self.batches + o.batches,
+            batches_stored: self.batches_stored + o.batches_stored,
+            waves: self.waves + o.waves,
+        }
     }
 }
 

@@ -48,6 +48,8 @@ mod append;
 mod batch;
 mod counter;
 mod mask;
+#[cfg(feature = "parallel")]
+pub mod parallel;
 mod wave;
 pub mod wgsl;
 
