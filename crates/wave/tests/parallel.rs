@@ -30,7 +30,7 @@ fn tagged(n: usize, seed: u64) -> Vec<u64> {
 }
 
 fn keep(x: &u64) -> bool {
-    (x >> 32) % 3 == 0
+    (x >> 32).is_multiple_of(3)
 }
 
 /// Each wave's kept items must sit consecutively, in lane order, somewhere in `out`.
