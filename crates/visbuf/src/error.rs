@@ -100,13 +100,20 @@ pub enum Error {
         /// Vertices in the mesh.
         vertex_count: u32,
     },
-    /// Packed 16:16 indices (payload:vertex) need every original vertex index below
-    /// [`MAX_PACKED_VERTICES`](crate::MAX_PACKED_VERTICES).
-    TooManyVerticesForPackedIndices {
+    /// A geometry has more vertices than 16-bit indices reach
+    /// ([`MAX_VERTICES_PER_GEOMETRY`](crate::MAX_VERTICES_PER_GEOMETRY)).
+    TooManyVertices {
         /// Vertices in the mesh.
         count: u32,
         /// The limit.
         limit: u32,
+    },
+    /// Vertex data shorter than the mesh's vertex count.
+    VertexDataTooShort {
+        /// Entries given.
+        len: usize,
+        /// Entries needed.
+        needed: u32,
     },
     /// A float input is NaN or infinite where a finite value is needed.
     NonFinite {
@@ -187,9 +194,13 @@ impl fmt::Display for Error {
                 f,
                 "triangle {triangle} refers to vertex {index}, but the mesh has {vertex_count} vertices"
             ),
-            Error::TooManyVerticesForPackedIndices { count, limit } => write!(
+            Error::TooManyVertices { count, limit } => write!(
                 f,
-                "mesh has {count} vertices, more than MAX_PACKED_VERTICES = {limit} for 16:16 packed indices"
+                "geometry has {count} vertices, more than MAX_VERTICES_PER_GEOMETRY = {limit} (16-bit indices)"
+            ),
+            Error::VertexDataTooShort { len, needed } => write!(
+                f,
+                "vertex data has {len} entries, the mesh needs {needed}"
             ),
             Error::NonFinite { field } => write!(f, "{field} is not finite"),
             Error::ValueOutOfRange {

@@ -51,12 +51,17 @@ extern crate std;
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("visbuf needs float math: enable the `std` (default) or `libm` feature");
 
+pub mod encode;
 mod error;
 pub mod id;
 mod math;
 pub mod vertex;
 mod wgsl;
 
+pub use encode::{
+    MAX_PACKED_VERTICES, MAX_VERTICES_PER_GEOMETRY, PrimitiveIdMesh, encode_provoking,
+    encode_provoking_greedy, encode_xor, encode_xor_greedy,
+};
 pub use error::Error;
 pub use id::{
     MAX_INSTANCES_PER_MICRO_BATCH, MAX_PRIMITIVE_BITS, MAX_PRIMITIVES_PER_GEOMETRY,
