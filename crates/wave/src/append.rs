@@ -216,9 +216,10 @@ pub(crate) fn write_reserved<T>(
     mut value: impl FnMut(u32) -> T,
 ) -> Append {
     let mut stored = 0;
-    for lane in r.lanes {
+    // Lane k of the mask (in lane order) writes at base + k: MaskBitCnt, incrementally.
+    for (k, lane) in r.lanes.iter().enumerate() {
         let item = value(lane);
-        if let Some(slot) = r.slot(lane)
+        if let Some(slot) = r.base.checked_add(k as u32)
             && out.put(slot, item)
         {
             stored += 1;
