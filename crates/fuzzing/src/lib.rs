@@ -16,11 +16,17 @@
 //! }
 //! ```
 
+mod wave;
+pub use wave::*;
+
 /// A fuzz target body: takes arbitrary bytes, panics only on a real defect.
 pub type Body = fn(&[u8]);
 
 /// Every fuzz target, by the name of its file in `fuzz/fuzz_targets/`.
-pub const TARGETS: &[(&str, Body)] = &[];
+pub const TARGETS: &[(&str, Body)] = &[
+    ("wave_append", wave_append),
+    ("wave_batch", wave_batch),
+];
 
 /// Reads little-endian words from fuzz input, yielding zeros once it runs out, so a body
 /// can pull as many fields as it needs from any input length.
