@@ -17,6 +17,7 @@ pub mod context;
 pub mod demo;
 pub mod error;
 pub mod frame;
+pub mod geometry;
 pub mod image;
 pub mod kernel;
 pub mod readback;
