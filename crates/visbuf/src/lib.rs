@@ -51,6 +51,7 @@ extern crate std;
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("visbuf needs float math: enable the `std` (default) or `libm` feature");
 
+pub mod bary;
 pub mod encode;
 mod error;
 pub mod id;
