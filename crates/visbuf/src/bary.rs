@@ -143,7 +143,8 @@ fn edges(clip: [Vec4; 3], q: Vec2) -> Option<(Vec3, Vec3, Vec3)> {
     }
     let (e, ex, ey) = (Vec3::from(e), Vec3::from(ex), Vec3::from(ey));
     let sum = e.element_sum();
-    if !(sum.abs() >= DEGENERATE_EPSILON) || !(ex.is_finite() && ey.is_finite()) {
+    let ok = sum.abs() >= DEGENERATE_EPSILON && ex.is_finite() && ey.is_finite();
+    if !ok {
         return None;
     }
     Some((e, ex, ey))

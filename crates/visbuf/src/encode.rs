@@ -156,7 +156,7 @@ fn validate<I: Copy + Into<u32>>(indices: &[I], vertex_count: u32) -> Result<u32
             limit: MAX_VERTICES_PER_GEOMETRY,
         });
     }
-    if indices.len() % 3 != 0 {
+    if !indices.len().is_multiple_of(3) {
         return Err(Error::IndexCountNotMultipleOf3 { len: indices.len() });
     }
     let triangles = indices.len() / 3;

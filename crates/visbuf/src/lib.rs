@@ -56,6 +56,7 @@ pub mod encode;
 mod error;
 pub mod id;
 mod math;
+pub mod ray;
 pub mod vertex;
 mod wgsl;
 
@@ -73,4 +74,4 @@ pub use id::{
     micro_batch_ids_needed, split_instance,
 };
 pub use vertex::{Slot, Vertex, VertexCore, VisbufVertex, ZFromW};
-pub use wgsl::{ID_WGSL, VERTEX_WGSL, WGSL};
+pub use wgsl::{BARY_WGSL, ID_WGSL, RAY_WGSL, VERTEX_WGSL, WGSL};

@@ -8,10 +8,18 @@ pub const ID_WGSL: &str = include_str!("wgsl/id.wgsl");
 /// pass). See the crate docs' WGSL table.
 pub const VERTEX_WGSL: &str = include_str!("wgsl/vertex.wgsl");
 
-/// Every module above, concatenated in dependency order (each may use the ones before it).
+/// Barycentrics, their derivatives, attribute interpolation and mip selection in WGSL.
+pub const BARY_WGSL: &str = include_str!("wgsl/bary.wgsl");
+
+/// The watertight ray-triangle fallback and the pixel ray in WGSL.
+pub const RAY_WGSL: &str = include_str!("wgsl/ray.wgsl");
+
+/// Every module above, concatenated (none depends on another).
 pub const WGSL: &str = concat!(
     include_str!("wgsl/id.wgsl"),
-    include_str!("wgsl/vertex.wgsl")
+    include_str!("wgsl/vertex.wgsl"),
+    include_str!("wgsl/bary.wgsl"),
+    include_str!("wgsl/ray.wgsl")
 );
 
 #[cfg(test)]
@@ -111,7 +119,26 @@ mod tests {
     }
 
     /// Every module, with the capability set it is validated under.
-    const MODULES: &[(&str, &str)] = &[("ID_WGSL", ID_WGSL), ("VERTEX_WGSL", VERTEX_WGSL)];
+    const MODULES: &[(&str, &str)] = &[
+        ("ID_WGSL", ID_WGSL),
+        ("VERTEX_WGSL", VERTEX_WGSL),
+        ("BARY_WGSL", BARY_WGSL),
+        ("RAY_WGSL", RAY_WGSL),
+    ];
+
+    #[test]
+    fn bary_wgsl_constants_match_rust() {
+        let m = assert_valid("visbuf BARY_WGSL", BARY_WGSL, Caps::CORE);
+        let f = |n| shadercheck::const_f32(&m, n);
+        assert_eq!(
+            f("VISBUF_DEGENERATE_EPSILON"),
+            Some(crate::bary::DEGENERATE_EPSILON)
+        );
+        assert_eq!(f("VISBUF_DEGENERATE_EPSILON"), Some(2f32.powi(-40)));
+        assert_eq!(f("VISBUF_MIN_MAGNITUDE"), Some(2f32.powi(-100)));
+        assert_eq!(f("VISBUF_F32_MAX"), Some(f32::MAX));
+        assert_eq!(f("VISBUF_F32_MIN_POSITIVE"), Some(f32::MIN_POSITIVE));
+    }
 
     #[test]
     fn modules_are_binding_free_prefixed_and_concatenate() {
@@ -134,8 +161,10 @@ mod tests {
                 assert!(n.starts_with("VISBUF_"), "{name}: const `{n}` not prefixed");
             }
             for (_, t) in m.types.iter() {
+                // naga's predeclared result types (`__frexp_result_f32`, ...) are builtins.
                 if let Some(n) = t.name.as_deref()
                     && matches!(t.inner, naga::TypeInner::Struct { .. })
+                    && !n.starts_with("__")
                 {
                     assert!(n.starts_with("Visbuf"), "{name}: struct `{n}` not prefixed");
                 }
