@@ -17,8 +17,10 @@
 //! ```
 
 mod framealloc;
+mod visbuf;
 mod wave;
 pub use framealloc::*;
+pub use visbuf::*;
 pub use wave::*;
 
 /// A fuzz target body: takes arbitrary bytes, panics only on a real defect.
@@ -28,6 +30,10 @@ pub type Body = fn(&[u8]);
 pub const TARGETS: &[(&str, Body)] = &[
     ("framealloc_pool_ops", framealloc_pool_ops),
     ("framealloc_stream_ops", framealloc_stream_ops),
+    ("visbuf_id_decode", visbuf_id_decode),
+    ("visbuf_vertex_decode", visbuf_vertex_decode),
+    ("visbuf_encode_provoking", visbuf_encode_provoking),
+    ("visbuf_encode_xor", visbuf_encode_xor),
     ("wave_append", wave_append),
     ("wave_batch", wave_batch),
 ];
