@@ -2,3 +2,5 @@
 //! `cargo test -p integration`.
 
 mod fuzz_regressions;
+mod gpu_common;
+mod gpu_visbuf;
