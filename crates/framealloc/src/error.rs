@@ -16,7 +16,8 @@ pub enum Error {
         id: AllocId,
         /// Blocks in the pool, all live.
         blocks: u32,
-        /// Table walks made before giving up (1 when not waiting).
+        /// Rounds of walking the table before giving up: 1 when not waiting, else 1 +
+        /// the number of waits. (A round repeats its walk while FreeID moves under it.)
         attempts: u32,
     },
     /// The ID is at or before FreeID: the GPU has already passed it, so a block tagged with
@@ -131,7 +132,7 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "no free block for allocation {id}: all {blocks} blocks are live \
-                 (after {attempts} table walks)"
+                 (after {attempts} rounds of table walks)"
             ),
             Error::IdRetired { id, free_id } => write!(
                 f,

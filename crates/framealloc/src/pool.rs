@@ -197,7 +197,7 @@ pub struct Stall {
     /// The FreeID the failed walk used. The next walk can only succeed once FreeID has
     /// moved past it.
     pub free_id: AllocId,
-    /// Walks made so far, from 1.
+    /// Rounds of walking made so far, from 1.
     pub attempt: u32,
 }
 
@@ -231,10 +231,10 @@ impl Wait for NoWait {
 }
 
 /// Busy-wait with exponential back-off (`core::hint::spin_loop`), up to `max_attempts`
-/// walks. For no_std consumers that advance FreeID from another core or an interrupt.
+/// rounds of walking. For no_std consumers that advance FreeID from another core or an interrupt.
 #[derive(Clone, Copy, Debug)]
 pub struct Spin {
-    /// Walks before giving up.
+    /// Rounds of walking before giving up.
     pub max_attempts: u32,
 }
 
@@ -486,7 +486,9 @@ impl BlockPool {
     }
 
     /// Claims a free block for `id`; when every block is live, asks `wait` whether to wait
-    /// and walk again. Gives up with [`Error::Exhausted`] when `wait` returns false, and
+    /// and walk again. A round of walking ends only after a full walk under an unchanged
+    /// FreeID found nothing, so exhaustion is never reported merely because FreeID advanced
+    /// during a walk. Gives up with [`Error::Exhausted`] when `wait` returns false, and
     /// with [`Error::IdRetired`] if FreeID passes `id` while waiting.
     pub fn allocate_with<W: Wait + ?Sized>(
         &self,
@@ -496,10 +498,22 @@ impl BlockPool {
         let mut attempt = 0u32;
         loop {
             attempt = attempt.saturating_add(1);
-            let free = self.free_id.0.load(Ordering::Acquire);
+            let mut free = self.free_id.0.load(Ordering::Acquire);
             Self::check_id(id, free)?;
-            if let Some(block) = self.walk(id, free) {
-                return Ok(block);
+            loop {
+                if let Some(block) = self.walk(id, free) {
+                    return Ok(block);
+                }
+                // A walk judges slots by its FreeID snapshot. If FreeID moved meanwhile
+                // (the walking thread was preempted while others allocated and freed
+                // round the table), blocks may have freed behind it: walk again before
+                // calling the pool exhausted. Each repeat means the consumer progressed.
+                let now = self.free_id.0.load(Ordering::Acquire);
+                if now == free {
+                    break;
+                }
+                free = now;
+                Self::check_id(id, free)?;
             }
             let stall = Stall {
                 id,
