@@ -132,7 +132,7 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "no free block for allocation {id}: all {blocks} blocks are live \
-                 (after {attempts} rounds of table walks)"
+                 (walk rounds: {attempts})"
             ),
             Error::IdRetired { id, free_id } => write!(
                 f,
