@@ -1,0 +1,320 @@
+//! GPU stream compaction of 16M items at 1/3 density through this crate's WGSL: one atomic
+//! per thread, one per subgroup (the subgroup path), one per workgroup (the fallback), and
+//! a floor without any atomic, timed with timestamp queries. Prints the adapter, the
+//! median time per dispatch, ns per item, and atomics per item (counted in a separate run).
+//!
+//! `cargo run --release -p wave --example gpu_append_timing`
+//!
+//! This is the measurement REFERENCES.md asks for ("whether NVIDIA's Vulkan driver
+//! aggregates per-thread atomics is undocumented: measure per-thread vs per-wave vs
+//! per-workgroup"); the `gpu` crate owns the renderer's own passes and their timings.
+
+use wave::{SUBGROUP_MODULE, WORKGROUP_MODULE};
+
+const N: u32 = 1 << 24;
+const REPS: u32 = 30;
+
+struct Variant {
+    name: &'static str,
+    module: &'static str,
+    workgroup: u32,
+    builtins: &'static str,
+    body: &'static str,
+    needs_subgroups: bool,
+}
+
+const VARIANTS: &[Variant] = &[
+    Variant {
+        name: "per_thread_atomic",
+        module: "",
+        workgroup: 64,
+        builtins: "",
+        body: "if (keep) { let s = atomicAdd(&counters[0], 1u); if (COUNT) { atomicAdd(&counters[1], 1u); } items[s] = x; }",
+        needs_subgroups: false,
+    },
+    Variant {
+        // The same, with the counter's index unknown to the compiler (always 0 at run
+        // time): a driver that aggregates only provably uniform addresses cannot here.
+        name: "per_thread_atomic_dynamic_index",
+        module: "",
+        workgroup: 64,
+        builtins: "",
+        body: "let k = min(arrayLength(&input) >> 30u, 1u);
+    if (keep) { let s = atomicAdd(&counters[k], 1u); if (COUNT) { atomicAdd(&counters[2], 1u); } items[s] = x; }",
+        needs_subgroups: false,
+    },
+    Variant {
+        name: "subgroup_aggregated",
+        module: SUBGROUP_MODULE,
+        workgroup: 64,
+        builtins: ", @builtin(subgroup_invocation_id) sg_lane: u32",
+        body: "let a = wave_sg_append_begin(keep, sg_lane);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
+    let s = wave_sg_append_end(a, old);
+    if (s != WAVE_NO_SLOT) { items[s] = x; }",
+        needs_subgroups: true,
+    },
+    Variant {
+        name: "workgroup_aggregated_64",
+        module: WORKGROUP_MODULE,
+        workgroup: 64,
+        builtins: "",
+        body: "let a = wave_wg_append_begin(keep, li);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
+    let s = wave_wg_append_end(a, old);
+    if (s != WAVE_NO_SLOT) { items[s] = x; }",
+        needs_subgroups: false,
+    },
+    Variant {
+        name: "workgroup_aggregated_256",
+        module: WORKGROUP_MODULE,
+        workgroup: 256,
+        builtins: "",
+        body: "let a = wave_wg_append_begin(keep, li);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
+    let s = wave_wg_append_end(a, old);
+    if (s != WAVE_NO_SLOT) { items[s] = x; }",
+        needs_subgroups: false,
+    },
+    Variant {
+        name: "floor_no_atomic_uncompacted",
+        module: "",
+        workgroup: 64,
+        builtins: "",
+        // Touches the counter once per dispatch so the bindings match the other variants.
+        body: "if (keep) { items[i] = x; } if (i == 0u) { atomicAdd(&counters[1], 0u); }",
+        needs_subgroups: false,
+    },
+];
+
+fn source(v: &Variant, count: bool) -> String {
+    format!(
+        "{module}
+const COUNT: bool = {count};
+@group(0) @binding(0) var<storage, read> input: array<u32>;
+@group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
+@group(0) @binding(2) var<storage, read_write> items: array<u32>;
+@compute @workgroup_size({wg})
+fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>,
+        @builtin(local_invocation_index) li: u32{builtins}) {{
+    let i = (wid.y * nwg.x + wid.x) * {wg}u + li;
+    let x = input[i];
+    let keep = x % 3u == 0u;
+    {body}
+}}",
+        module = v.module,
+        wg = v.workgroup,
+        builtins = v.builtins,
+        body = v.body,
+    )
+}
+
+fn main() {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        compatible_surface: None,
+        apply_limit_buckets: false,
+    }))
+    .expect("an adapter");
+    let wanted = wgpu::Features::SUBGROUP | wgpu::Features::TIMESTAMP_QUERY;
+    let features = adapter.features() & wanted;
+    assert!(
+        features.contains(wgpu::Features::TIMESTAMP_QUERY),
+        "timestamps needed"
+    );
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: None,
+        required_features: features,
+        required_limits: adapter.limits(),
+        experimental_features: wgpu::ExperimentalFeatures::disabled(),
+        memory_hints: wgpu::MemoryHints::Performance,
+        trace: wgpu::Trace::Off,
+    }))
+    .expect("device");
+    let info = adapter.get_info();
+    println!(
+        "adapter: {} ({:?}, driver {} {}), subgroup sizes {}..{}",
+        info.name,
+        info.backend,
+        info.driver,
+        info.driver_info,
+        info.subgroup_min_size,
+        info.subgroup_max_size
+    );
+
+    // 16M pseudo-random words; a third pass `x % 3 == 0`.
+    let mut s = 0x2545_f491u32;
+    let input: Vec<u32> = (0..N)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 17;
+            s ^= s << 5;
+            s
+        })
+        .collect();
+    let kept = input.iter().filter(|&&x| x % 3 == 0).count() as u32;
+    println!(
+        "{N} items, {kept} kept (density {:.4})",
+        f64::from(kept) / f64::from(N)
+    );
+
+    let usage =
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC;
+    let buf = |size: u64| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage,
+            mapped_at_creation: false,
+        })
+    };
+    let input_buf = buf(u64::from(N) * 4);
+    queue.write_buffer(&input_buf, 0, bytemuck::cast_slice(&input));
+    let counters = buf(16);
+    let items = buf(u64::from(N) * 4);
+    let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: None,
+        ty: wgpu::QueryType::Timestamp,
+        count: 2 * REPS,
+    });
+    let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: u64::from(2 * REPS) * 8,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = |src: &wgpu::Buffer, size: u64| -> Vec<u8> {
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+        queue.submit([enc.finish()]);
+        staging
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .expect("poll");
+        let v = staging
+            .slice(..)
+            .get_mapped_range()
+            .expect("mapped")
+            .to_vec();
+        staging.unmap();
+        v
+    };
+    let period = f64::from(queue.get_timestamp_period());
+
+    println!("| variant | workgroup | median ms | min ms | max ms | ns/item | atomics/item |");
+    println!("| --- | --- | --- | --- | --- | --- | --- |");
+    for v in VARIANTS {
+        if v.needs_subgroups && !features.contains(wgpu::Features::SUBGROUP) {
+            println!("| {} | - | no SUBGROUP on this adapter | | |", v.name);
+            continue;
+        }
+        let groups = N / v.workgroup;
+        let (gx, gy) = (4096, groups / 4096);
+        let pipeline = |count: bool| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(v.name),
+                source: wgpu::ShaderSource::Wgsl(source(v, count).into()),
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(v.name),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let run = |p: &wgpu::ComputePipeline, reps: u32, timed: bool| {
+            let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &p.get_bind_group_layout(0),
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: input_buf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: counters.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: items.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut enc = device.create_command_encoder(&Default::default());
+            for r in 0..reps {
+                enc.clear_buffer(&counters, 0, None);
+                let tw = wgpu::ComputePassTimestampWrites {
+                    query_set: &queries,
+                    beginning_of_pass_write_index: Some(2 * r),
+                    end_of_pass_write_index: Some(2 * r + 1),
+                };
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: None,
+                    timestamp_writes: timed.then_some(tw),
+                });
+                pass.set_pipeline(p);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(gx, gy, 1);
+            }
+            if timed {
+                enc.resolve_query_set(&queries, 0..2 * reps, &resolve, 0);
+            }
+            queue.submit([enc.finish()]);
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .expect("poll");
+        };
+        // Count the atomics once, then check the counter of a timed run.
+        let counting = pipeline(true);
+        run(&counting, 1, false);
+        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counters, 16));
+        let atomics = if v.name.ends_with("dynamic_index") {
+            c[2]
+        } else {
+            c[1]
+        };
+        let timed = pipeline(false);
+        run(&timed, 2, false); // warm-up
+        run(&timed, REPS, true);
+        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counters, 16));
+        if v.name.starts_with("floor") {
+            assert_eq!(c[0], 0);
+        } else {
+            assert_eq!(c[0], kept, "{}: every kept item appended", v.name);
+        }
+        let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&read(&resolve, u64::from(2 * REPS) * 8));
+        let mut ms: Vec<f64> = ts
+            .chunks(2)
+            .map(|p| (p[1].wrapping_sub(p[0])) as f64 * period / 1e6)
+            .collect();
+        ms.sort_by(f64::total_cmp);
+        let median = ms[ms.len() / 2];
+        println!(
+            "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.5} |",
+            v.name,
+            v.workgroup,
+            median,
+            ms[0],
+            ms[ms.len() - 1],
+            median * 1e6 / f64::from(N),
+            f64::from(atomics) / f64::from(N)
+        );
+    }
+}
