@@ -81,8 +81,8 @@ impl Wave {
         PerLane::from_fn(self.width(), |lane| ends.count_below(lane))
     }
 
-    /// Run-grouped batch output with [`WaveBatch`] headers: see [`batch_output_with`]
-    /// (`Self::batch_output_with`) for the arguments.
+    /// Run-grouped batch output with [`WaveBatch`] headers: see
+    /// [`batch_output_with`](Self::batch_output_with) for the arguments.
     ///
     /// The talk's "batches of one": every group-end bit set, four visible lanes, four
     /// batches of one instance each.

@@ -5,8 +5,9 @@ use core::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
 /// A shared append counter: `atomic_add` adds `value` and returns the value before the add,
 /// wrapping at `u32::MAX` like WGSL's `atomicAdd` on an `atomic<u32>`.
 ///
-/// Implemented for [`AtomicU32`] (a plain counter) and [`CountedAtomicU32`] (which also
-/// counts the atomic operations, so tests and benches can assert how many were issued).
+/// Implemented for [`AtomicU32`] (a plain counter), [`core::cell::Cell<u32>`] (single
+/// thread) and [`CountedAtomicU32`] (which also counts the atomic operations, so tests
+/// and benches can assert how many were issued).
 /// Implement it for your own type to model another memory (for example a per-tile counter
 /// in an array).
 pub trait Counter {
@@ -19,6 +20,16 @@ impl Counter for AtomicU32 {
         // Relaxed: the counter only hands out disjoint slots; the writes into them are
         // published by whatever joins the threads (rayon's join, a GPU pass boundary).
         self.fetch_add(value, Ordering::Relaxed)
+    }
+}
+
+/// A single-threaded counter (a CPU twin that runs its waves one after another needs no
+/// atomic). Wraps like the others.
+impl Counter for core::cell::Cell<u32> {
+    fn atomic_add(&self, value: u32) -> u32 {
+        let old = self.get();
+        self.set(old.wrapping_add(value));
+        old
     }
 }
 
@@ -79,5 +90,29 @@ impl Counter for CountedAtomicU32 {
     fn atomic_add(&self, value: u32) -> u32 {
         self.ops.fetch_add(1, Ordering::Relaxed);
         self.value.fetch_add(value, Ordering::Relaxed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::cell::Cell;
+
+    #[test]
+    fn every_counter_returns_the_old_value_and_wraps() {
+        fn check(c: &impl Counter) {
+            assert_eq!(c.atomic_add(5), u32::MAX - 2);
+            assert_eq!(c.atomic_add(1), 2);
+            assert_eq!(c.atomic_add(0), 3);
+        }
+        check(&AtomicU32::new(u32::MAX - 2));
+        check(&Cell::new(u32::MAX - 2));
+        let counted = CountedAtomicU32::new(u32::MAX - 2);
+        check(&counted);
+        check(&&AtomicU32::new(u32::MAX - 2));
+        assert_eq!(counted.atomic_ops(), 3);
+        let mut counted = counted;
+        counted.reset(9);
+        assert_eq!((counted.value(), counted.atomic_ops()), (9, 0));
     }
 }
