@@ -9,7 +9,10 @@
 //! | [`WAVE_WORKGROUP_WGSL`] | core | the fallback: `wave_wg_ballot` (workgroup-shared `atomicOr`), `wave_wg_append_*`, `wave_wg_broadcast_leader`, and the run-grouped batch output `wave_wg_batch_begin` / `wave_wg_batch_headers_begin` |
 //!
 //! Each snippet after the first needs [`WAVE_WGSL`] in front of it; [`SUBGROUP_MODULE`]
-//! and [`WORKGROUP_MODULE`] are those concatenations, ready to prepend.
+//! and [`WORKGROUP_MODULE`] are those concatenations, ready to prepend. For a pass that
+//! should run on either kind of adapter, [`module_for`] picks [`PASS_MODULE_SUBGROUP`] or
+//! [`PASS_MODULE_FALLBACK`], which also bind the path-neutral `wave_append_begin`,
+//! `wave_append_n_begin` and `wave_append_end` to one path.
 //!
 //! # The call-site pattern
 //!
@@ -18,12 +21,14 @@
 //! binding, an array element per tile). Both paths have the same shape:
 //!
 //! ```wgsl
-//! let a = wave_sg_append_begin(keep, sg_lane);    // fallback: wave_wg_append_begin(keep, li)
+//! let a = wave_append_begin(keep, li);     // li: @builtin(local_invocation_index)
 //! var old = 0u;
 //! if (a.total != 0u) { old = atomicAdd(&counter, a.total); }   // the leader only
-//! let slot = wave_sg_append_end(a, old);          // fallback: wave_wg_append_end(a, old)
+//! let slot = wave_append_end(a, old);
 //! if (slot < arrayLength(&out)) { out[slot] = item; }
 //! ```
+//!
+//! (`wave_sg_append_*` and `wave_wg_append_*` name a path explicitly.)
 //!
 //! The subgroup functions are subgroup operations and the workgroup ones contain barriers:
 //! call them from every invocation (uniform control flow) with the predicate as an
@@ -74,6 +79,60 @@ pub const WORKGROUP_MODULE: &str = concat!(
     "\n",
     include_str!("wgsl/workgroup.wgsl")
 );
+
+/// Everything for an adapter with `Features::SUBGROUP`: both paths, the batch output, and
+/// the path-neutral `wave_append_begin` / `wave_append_n_begin` / `wave_append_end` bound
+/// to the subgroup path. See [`module_for`].
+pub const PASS_MODULE_SUBGROUP: &str = concat!(
+    include_str!("wgsl/common.wgsl"),
+    "\n",
+    include_str!("wgsl/subgroup.wgsl"),
+    "\n",
+    include_str!("wgsl/workgroup.wgsl"),
+    "\n",
+    include_str!("wgsl/select_subgroup.wgsl")
+);
+
+/// Everything for an adapter without subgroups (core WGSL): the workgroup path, the batch
+/// output, and `wave_append_*` bound to the workgroup path. See [`module_for`].
+pub const PASS_MODULE_FALLBACK: &str = concat!(
+    include_str!("wgsl/common.wgsl"),
+    "\n",
+    include_str!("wgsl/workgroup.wgsl"),
+    "\n",
+    include_str!("wgsl/select_workgroup.wgsl")
+);
+
+/// The module to prepend to a pass written against the path-neutral `wave_append_*`
+/// functions: [`PASS_MODULE_SUBGROUP`] when the device has `wgpu::Features::SUBGROUP`,
+/// else [`PASS_MODULE_FALLBACK`]. The pass passes `@builtin(local_invocation_index)` as
+/// the id on both paths, so its source is the same.
+///
+/// ```
+/// let pass = "
+/// @group(0) @binding(0) var<storage, read_write> counter: atomic<u32>;
+/// @group(0) @binding(1) var<storage, read_write> out: array<u32>;
+/// @compute @workgroup_size(64)
+/// fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+///     let a = wave_append_begin(id.x % 3u == 0u, li);
+///     var old = 0u;
+///     if (a.total != 0u) { old = atomicAdd(&counter, a.total); }
+///     let slot = wave_append_end(a, old);
+///     if (slot < arrayLength(&out)) { out[slot] = id.x; }
+/// }";
+/// for subgroups in [true, false] {
+///     let src = format!("{}\n{pass}", wave::module_for(subgroups));
+///     assert!(src.contains("fn wave_append_begin"));
+/// }
+/// ```
+#[must_use]
+pub const fn module_for(subgroups: bool) -> &'static str {
+    if subgroups {
+        PASS_MODULE_SUBGROUP
+    } else {
+        PASS_MODULE_FALLBACK
+    }
+}
 
 #[cfg(test)]
 mod tests {
@@ -137,6 +196,31 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, {builtin}) {{
     }
 
     #[test]
+    fn one_pass_source_validates_on_both_paths() {
+        let pass = "
+@group(0) @binding(0) var<storage, read_write> counter: atomic<u32>;
+@group(0) @binding(1) var<storage, read_write> out: array<u32>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let a = wave_append_begin(id.x % 3u == 0u, li);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counter, a.total); }
+    let slot = wave_append_end(a, old);
+    if (slot < arrayLength(&out)) { out[slot] = id.x; }
+    let n = wave_append_n_begin(id.x % 4u, li);
+    var old_n = 0u;
+    if (n.total != 0u) { old_n = atomicAdd(&counter, n.total); }
+    let first = wave_append_end(n, old_n);
+    if (first < arrayLength(&out)) { out[first] = id.x; }
+}";
+        let sg = format!("{}\n{pass}", module_for(true));
+        assert_valid("pass on the subgroup path", &sg, Caps::SUBGROUP);
+        assert!(validate(&sg, Caps::CORE).is_err());
+        let wg = format!("{}\n{pass}", module_for(false));
+        assert_valid("pass on the fallback", &wg, Caps::CORE);
+    }
+
+    #[test]
     fn both_paths_concatenate_into_one_module() {
         let both = format!("{WAVE_WGSL}\n{WAVE_SUBGROUP_WGSL}\n{WAVE_WORKGROUP_WGSL}");
         assert_valid("both paths", &both, Caps::SUBGROUP);
@@ -191,8 +275,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 
     #[test]
     fn every_item_is_prefixed_and_there_are_no_bindings_or_entry_points() {
-        let both = format!("{WAVE_WGSL}\n{WAVE_SUBGROUP_WGSL}\n{WAVE_WORKGROUP_WGSL}");
-        let m = assert_valid("both paths", &both, Caps::SUBGROUP);
+        let m = assert_valid("PASS_MODULE_SUBGROUP", PASS_MODULE_SUBGROUP, Caps::SUBGROUP);
         assert!(m.entry_points.is_empty());
         for (_, f) in m.functions.iter() {
             let name = f.name.as_deref().unwrap_or("");

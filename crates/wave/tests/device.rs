@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 
 use wave::{
     CountedAtomicU32, LaneMask, NO_SLOT, SUBGROUP_MODULE, WORKGROUP_MODULE, Wave, WaveBatch,
-    WaveWidth,
+    WaveWidth, module_for,
 };
 
 struct Gpu {
@@ -305,6 +305,56 @@ fn workgroup_fallback_append_matches_the_cpu_model() {
         "@builtin(local_invocation_index) li: u32",
     );
     check_compaction(&gpu, &src, |_| WaveWidth::W64);
+}
+
+/// One pass source, written against the path-neutral `wave_append_*`, on both paths.
+#[test]
+fn one_pass_source_runs_on_both_paths() {
+    let Some(gpu) = gpu() else { return };
+    let pass = "
+@group(0) @binding(0) var<storage, read> input: array<u32>;
+@group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
+@group(0) @binding(2) var<storage, read_write> items: array<u32>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let n = arrayLength(&input);
+    var x = 0u;
+    if (gid.x < n) { x = input[gid.x]; }
+    let a = wave_append_begin(gid.x < n && x % 3u == 0u, li);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); atomicAdd(&counters[1], 1u); }
+    let slot = wave_append_end(a, old);
+    if (slot < n) { items[slot] = x; }
+}";
+    let input = words(N, 4242);
+    let mut kept: Vec<u32> = input
+        .iter()
+        .copied()
+        .filter(|x| x.is_multiple_of(3))
+        .collect();
+    kept.sort_unstable();
+    let workgroups_with_hits = input
+        .chunks(64)
+        .filter(|c| c.iter().any(|x| x.is_multiple_of(3)))
+        .count();
+    for subgroups in [false, true] {
+        if subgroups && !gpu.has_subgroups() {
+            continue;
+        }
+        let src = format!("{}\n{pass}", module_for(subgroups));
+        let out = gpu.run(&src, &input, &[2, N], N.div_ceil(64) as u32);
+        assert_eq!(out[0][0] as usize, kept.len(), "subgroups {subgroups}");
+        let mut got = out[1][..kept.len()].to_vec();
+        got.sort_unstable();
+        assert_eq!(got, kept, "subgroups {subgroups}");
+        let atomics = out[0][1] as usize;
+        if subgroups {
+            let widest = gpu.info.subgroup_min_size.max(1) as usize;
+            assert!(atomics >= workgroups_with_hits && atomics <= N.div_ceil(widest.min(64)));
+        } else {
+            assert_eq!(atomics, workgroups_with_hits);
+        }
+    }
 }
 
 /// Variable amounts (x % 5 items per invocation): ranges disjoint and covering [0, total),

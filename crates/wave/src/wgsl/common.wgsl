@@ -1,12 +1,14 @@
 // wave: common part (core WGSL, no capability needed). Concatenate in front of
 // `subgroup.wgsl` and/or `workgroup.wgsl`.
 //
-// An aggregated append is three steps at the call site, the same for both paths:
+// An aggregated append is three steps at the call site, the same for both paths
+// (`li` is @builtin(local_invocation_index); `wave_append_*` are bound to the subgroup or
+// the workgroup path by the module the pass is prepended with, `wave::module_for`):
 //
-//   let a = wave_sg_append_begin(keep, sg_lane);          // or wave_wg_append_begin(keep, li)
+//   let a = wave_append_begin(keep, li);         // or wave_sg_append_begin / wave_wg_append_begin
 //   var old = 0u;
 //   if (a.total != 0u) { old = atomicAdd(&counter, a.total); }   // one atomic per wave
-//   let slot = wave_sg_append_end(a, old);                // or wave_wg_append_end(a, old)
+//   let slot = wave_append_end(a, old);          // or wave_sg_append_end / wave_wg_append_end
 //   if (slot < arrayLength(&out)) { out[slot] = item; }
 //
 // The atomic stays at the call site because naga accepts no storage or workgroup pointer
