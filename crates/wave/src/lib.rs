@@ -15,6 +15,15 @@
 //! - [`compact`] / [`batch_compact`]: the same over a whole stream of items, and under the
 //!   `parallel` feature `parallel::par_compact` and friends over many threads with a real
 //!   shared `AtomicU32`.
+//! - [`wgsl`]: the WGSL twins, binding-free snippets prefixed `wave_`: the subgroup path
+//!   (`subgroupBallot`, `subgroupExclusiveAdd`, `subgroupBroadcastFirst`), the fallback for
+//!   adapters without subgroups (a workgroup ballot from workgroup-shared atomics, then one
+//!   global atomic per workgroup), and the run-grouped batch output with its per-group
+//!   workgroup-memory accumulation. [`module_for`] picks the path for a device. Validated
+//!   by naga in unit tests; `tests/device.rs` runs them on a device against this model.
+//!
+//! Features: `std` (default; `std::error::Error`), `parallel` (rayon). Without either the
+//! crate is `no_std` and allocation-free.
 //!
 //! Lane `i` is bit `i` of a [`LaneMask`]; slots are element indices into the output
 //! buffer (not bytes). Counters wrap at `u32::MAX` like WGSL's `atomicAdd`; writes whose
