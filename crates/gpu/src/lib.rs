@@ -13,6 +13,7 @@
 //! # Ok::<(), gpu::Error>(())
 //! ```
 
+pub mod binding;
 pub mod context;
 pub mod demo;
 pub mod error;
@@ -20,9 +21,13 @@ pub mod frame;
 pub mod geometry;
 pub mod image;
 pub mod kernel;
+pub mod laydown;
+pub mod plan;
 pub mod readback;
+pub mod renderer;
 pub mod scene;
 pub mod shaders;
+pub mod targets;
 pub mod timing;
 pub mod upload;
 
