@@ -291,7 +291,7 @@ pub fn compact<T: Copy, C: Counter + ?Sized>(
 ) -> Compaction {
     let mut c = Compaction::default();
     for chunk in items.chunks(width.len()) {
-        let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
+        let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &mut keep));
         let a = wave.aggregated_append(counter, out, |lane| chunk[lane as usize]);
         c.add_wave(&a, usize::from(a.count > 0));
     }
@@ -308,7 +308,7 @@ pub fn compact_per_item<T: Copy, C: Counter + ?Sized>(
 ) -> Compaction {
     let mut c = Compaction::default();
     for chunk in items.chunks(width.len()) {
-        let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
+        let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &mut keep));
         let a = wave.per_lane_append(counter, out, |lane| chunk[lane as usize]);
         c.add_wave(&a, a.count as usize);
     }
@@ -319,6 +319,17 @@ pub fn compact_per_item<T: Copy, C: Counter + ?Sized>(
 pub(crate) fn launched(width: WaveWidth, len: usize) -> Wave {
     // `len <= width` by construction (chunks of `width`), so this cannot fail.
     Wave::new(width).restrict(LaneMask::first_lanes(len as u32))
+}
+
+/// `ballot(pred(item))` over a chunk of `len <= width` items, one lane per item, `pred`
+/// called once per item in lane order: the same mask as
+/// `launched(width, len).ballot(..)`, built without iterating set bits.
+pub(crate) fn chunk_ballot<T>(chunk: &[T], mut pred: impl FnMut(&T) -> bool) -> LaneMask {
+    let mut bits = 0u64;
+    for (lane, item) in chunk.iter().enumerate().take(64) {
+        bits |= u64::from(pred(item)) << lane;
+    }
+    LaneMask(bits)
 }
 
 #[cfg(test)]

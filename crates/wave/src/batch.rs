@@ -309,8 +309,8 @@ pub fn batch_compact<T: Copy, C1: Counter + ?Sized, C2: Counter + ?Sized>(
     let mut r = BatchCompaction::default();
     for chunk in items.chunks(width.len()) {
         let wave = crate::append::launched(width, chunk.len());
-        let ends = wave.ballot(|l| group_end(&chunk[l as usize]));
-        let vis = wave.ballot(|l| visible(&chunk[l as usize]));
+        let ends = crate::append::chunk_ballot(chunk, &mut group_end);
+        let vis = crate::append::chunk_ballot(chunk, &mut visible);
         let o = wave.batch_output(
             ends,
             vis,

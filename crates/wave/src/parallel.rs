@@ -21,7 +21,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 
 use rayon::prelude::*;
 
-use crate::append::{Sink, launched};
+use crate::append::{Sink, chunk_ballot, launched};
 use crate::{BatchCompaction, Compaction, WaveBatch, WaveError, WaveWidth};
 
 /// An output buffer that threads holding disjoint slots write into.
@@ -105,7 +105,7 @@ where
     Ok(items
         .par_chunks(width.len())
         .map(|chunk| {
-            let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
+            let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &keep));
             let r = wave.reserve(counter);
             let mut sink = shared;
             let a = crate::append::write_reserved(&r, &mut sink, |lane| chunk[lane as usize]);
@@ -136,7 +136,7 @@ where
     Ok(items
         .par_chunks(width.len())
         .map(|chunk| {
-            let wave = launched(width, chunk.len()).branch(|lane| keep(&chunk[lane as usize]));
+            let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &keep));
             let mut sink = shared;
             let mut a = crate::Append::default();
             for lane in wave.active() {
@@ -184,8 +184,8 @@ where
         .par_chunks(width.len())
         .map(|chunk| {
             let wave = launched(width, chunk.len());
-            let ends = wave.ballot(|l| group_end(&chunk[l as usize]));
-            let vis = wave.ballot(|l| visible(&chunk[l as usize]));
+            let ends = chunk_ballot(chunk, &group_end);
+            let vis = chunk_ballot(chunk, &visible);
             let o = wave.batch_into(
                 ends,
                 vis,
