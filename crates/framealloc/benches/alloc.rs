@@ -5,19 +5,22 @@
 //! - `block_pair/*`: one thread, one allocate + free per iteration. framealloc's "free" is
 //!   the FreeID advance past the block's ID (what the consumer does when the GPU passes the
 //!   marker). `empty` starts from an empty pool; `quarter_free` keeps 66 of the 88 blocks
-//!   live, scattered, so allocation has to search.
+//!   live, scattered, so allocation has to search. `ring64` keeps 64 blocks in flight and
+//!   frees the oldest each time (a streaming pipeline a few frames deep).
 //! - `block_pair_2t/*`: two threads, each doing `iters` allocate + free pairs on the same
 //!   pool at once; the time is the wall time of the slower thread, so time / 2 is the
 //!   aggregate cost per pair. framealloc takes IDs from one shared counter and each thread
 //!   advances FreeID to its own ID (FreeID is monotonic, so the larger wins); an
 //!   allocation whose ID the other thread has already retired is retried with a new ID and
 //!   counted as extra work, not as a pair. Baselines share one `Mutex`.
-//! - `suballoc/*`: suballocations inside one 256 KiB block (a 64-byte command at the front
-//!   and 1 KiB of its data at the back, until full, then reset), against offset-allocator
-//!   managing the block.
+//! - `suballoc/*`: suballocations inside one 256 KiB block: per iteration a 64-byte
+//!   command at the front and 1 KiB of its data at the back, plus their share of releasing
+//!   them (the bump allocator resets when the block is full; offset-allocator managing the
+//!   same block frees every allocation then).
 //!
 //! Reproduce: `cargo bench -p framealloc --bench alloc`.
 
+use std::collections::VecDeque;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Barrier, Mutex};
@@ -89,6 +92,67 @@ fn framealloc_pair(pool: &BlockPool, id: &mut AllocId) {
     let b = pool.try_allocate(*id).unwrap();
     black_box(b.offset());
     pool.advance_free_id(*id).unwrap();
+}
+
+/// Blocks in flight in the `ring` variant: the GPU frees each block `RING` allocations
+/// after it was made, as a streaming pipeline a few frames deep does.
+const RING: u32 = 64;
+
+/// `ring`: allocate a block, free the one allocated `RING` allocations ago.
+fn block_ring(c: &mut Criterion) {
+    let mut g = c.benchmark_group(format!("block_pair/ring{RING}"));
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("framealloc", |b| {
+        b.iter_custom(|iters| {
+            let pool = BlockPool::new(PoolConfig::KZ2).unwrap();
+            let mut id = pool.free_id();
+            for _ in 0..RING {
+                id = id.next();
+                pool.try_allocate(id).unwrap();
+            }
+            let t = Instant::now();
+            for _ in 0..iters {
+                id = id.next();
+                let b = pool.try_allocate(id).unwrap();
+                black_box(b.offset());
+                pool.advance_free_id(id.sub(RING)).unwrap();
+            }
+            t.elapsed()
+        })
+    });
+    g.bench_function("offset_allocator", |b| {
+        b.iter_custom(|iters| {
+            let mut a = offset_pool(false);
+            let mut ring: VecDeque<_> = (0..RING)
+                .map(|_| a.allocate(KZ2_BLOCK_BYTES).unwrap())
+                .collect();
+            let t = Instant::now();
+            for _ in 0..iters {
+                let x = a.allocate(black_box(KZ2_BLOCK_BYTES)).unwrap();
+                black_box(x.offset);
+                ring.push_back(x);
+                a.free(ring.pop_front().unwrap());
+            }
+            t.elapsed()
+        })
+    });
+    g.bench_function("mutex_vec", |b| {
+        b.iter_custom(|iters| {
+            let list = Mutex::new(free_list(false));
+            let mut ring: VecDeque<u32> = (0..RING)
+                .map(|_| list.lock().unwrap().pop().unwrap())
+                .collect();
+            let t = Instant::now();
+            for _ in 0..iters {
+                let i = list.lock().unwrap().pop().unwrap();
+                black_box(i as u64 * KZ2_BLOCK_BYTES as u64);
+                ring.push_back(i);
+                list.lock().unwrap().push(ring.pop_front().unwrap());
+            }
+            t.elapsed()
+        })
+    });
+    g.finish();
 }
 
 fn block_pair(c: &mut Criterion) {
@@ -248,5 +312,5 @@ fn suballoc(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, block_pair, block_pair_2t, suballoc);
+criterion_group!(benches, block_pair, block_ring, block_pair_2t, suballoc);
 criterion_main!(benches);
