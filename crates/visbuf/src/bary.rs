@@ -29,7 +29,7 @@
 //! # Degenerate input
 //!
 //! Zero-area (or edge-on) triangles, non-finite positions, and triangles so thin that the
-//! weights would overflow (`|S|` below [`DEGENERATE_EPSILON`] after normalisation) give
+//! weights would overflow (`|S|` below [`DEGENERATE_EPSILON`] `* m^2`) give
 //! `lambda = (1/3, 1/3, 1/3)` with zero derivatives: finite, never NaN. Inputs are scaled
 //! by powers of two first, so huge and tiny coordinates work.
 
@@ -39,10 +39,18 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::math;
 
-/// `|e_0 + e_1 + e_2|` below this (after scaling the pixel-relative positions to at most 1)
-/// counts as degenerate: `2^-40`. Above it, weights stay below about `7e12` and their
-/// derivatives below `5e25`, so nothing overflows f32.
+/// A triangle counts as degenerate at a pixel when `|e_0 + e_1 + e_2|` is below this times
+/// `m^2`, `m` the largest pixel-relative coordinate: `2^-40`. Above it weights stay below
+/// `2^41` and their derivatives below `2^125`, so nothing overflows f32.
 pub const DEGENERATE_EPSILON: f32 = 9.094947e-13;
+
+/// The pixel's NDC position is clamped to `[-2^20, 2^20]` (a million viewports away), which
+/// bounds the pixel-relative coordinates.
+pub const MAX_NDC: f32 = 1048576.0;
+
+/// Pixel-relative coordinates all below `2^-40` (after scaling the clip positions to at
+/// most 1) count as degenerate.
+const MIN_RELATIVE: f32 = 9.094947e-13;
 
 /// Perspective-correct barycentric weights of one pixel and their screen-space derivatives.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -76,6 +84,7 @@ impl Barycentrics {
 
     /// Interpolates a per-vertex attribute (f32 or any glam vector) with its derivatives.
     #[must_use]
+    #[inline]
     pub fn interpolate<T>(&self, a: [T; 3]) -> Interpolated<T>
     where
         T: Copy + Mul<f32, Output = T> + Add<Output = T>,
@@ -92,6 +101,7 @@ impl Barycentrics {
 /// The power of two `2^-e` with `m = f 2^e`, `f` in `[0.5, 1)`: scaling by it is exact and
 /// brings `m` into `[0.5, 1)`. `None` when `m` is not finite or below `2^-100` (nothing
 /// meaningful is that small).
+#[inline]
 fn pow2_scale(m: f32) -> Option<f32> {
     if !(m.is_finite() && m >= MIN_MAGNITUDE) {
         return None;
@@ -101,6 +111,7 @@ fn pow2_scale(m: f32) -> Option<f32> {
 }
 
 /// `2^k` for `k` in `-149 ..= 127`.
+#[inline]
 fn pow2(k: i32) -> f32 {
     if k >= -126 {
         f32::from_bits(((127 + k) as u32) << 23)
@@ -114,42 +125,41 @@ const MIN_MAGNITUDE: f32 = 7.888609e-31;
 
 /// Scaled pixel-relative positions and their edge functions: `(e, de/dqx, de/dqy)`, or
 /// `None` when degenerate.
+#[inline]
 fn edges(clip: [Vec4; 3], q: Vec2) -> Option<(Vec3, Vec3, Vec3)> {
-    // First bring the raw positions to at most 1 so x - q w cannot overflow, then scale the
-    // pixel-relative ones (what the products use) to at most 1.
-    let m0 = clip
-        .iter()
-        .map(|c| c.x.abs().max(c.y.abs()).max(c.w.abs()))
-        .fold(0.0f32, f32::max);
+    // Bring the raw positions to at most 1 (exactly, by a power of two) so nothing below
+    // overflows; weights do not depend on a common scale.
+    let [c0, c1, c2] = clip;
+    let m0 = (c0.x.abs().max(c0.y.abs()).max(c0.w.abs()))
+        .max(c1.x.abs().max(c1.y.abs()).max(c1.w.abs()))
+        .max(c2.x.abs().max(c2.y.abs()).max(c2.w.abs()));
     let s0 = pow2_scale(m0)?;
-    let mut p = [Vec3::ZERO; 3];
-    for i in 0..3 {
-        let c = clip[i] * s0;
-        p[i] = Vec3::new(c.x - q.x * c.w, c.y - q.y * c.w, c.w);
-    }
-    let m1 = p
-        .iter()
-        .map(|v| v.abs().max_element())
-        .fold(0.0f32, f32::max);
-    let s1 = pow2_scale(m1)?;
-    let p = p.map(|v| v * s1);
+    let q = q.clamp(Vec2::splat(-MAX_NDC), Vec2::splat(MAX_NDC));
+    // Pixel-relative homogeneous positions (x', y', w).
+    let rel = |c: Vec4| {
+        let (x, y, w) = (c.x * s0, c.y * s0, c.w * s0);
+        (x - q.x * w, y - q.y * w, w)
+    };
+    let (x0, y0, w0) = rel(c0);
+    let (x1, y1, w1) = rel(c1);
+    let (x2, y2, w2) = rel(c2);
     // e_i = x'_j y'_k - x'_k y'_j; de_i/dqx = w_k y'_j - w_j y'_k; de_i/dqy = w_j x'_k - w_k x'_j.
-    let (mut e, mut ex, mut ey) = ([0.0f32; 3], [0.0f32; 3], [0.0f32; 3]);
-    for i in 0..3 {
-        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        e[i] = p[j].x * p[k].y - p[k].x * p[j].y;
-        ex[i] = p[k].z * p[j].y - p[j].z * p[k].y;
-        ey[i] = p[j].z * p[k].x - p[k].z * p[j].x;
-    }
-    let (e, ex, ey) = (Vec3::from(e), Vec3::from(ex), Vec3::from(ey));
-    let sum = e.element_sum();
-    let ok = sum.abs() >= DEGENERATE_EPSILON && ex.is_finite() && ey.is_finite();
-    if !ok {
+    let e = Vec3::new(x1 * y2 - x2 * y1, x2 * y0 - x0 * y2, x0 * y1 - x1 * y0);
+    let ex = Vec3::new(w2 * y1 - w1 * y2, w0 * y2 - w2 * y0, w1 * y0 - w0 * y1);
+    let ey = Vec3::new(w1 * x2 - w2 * x1, w2 * x0 - w0 * x2, w0 * x1 - w1 * x0);
+    // Degenerate when the sum is tiny against the squared magnitude of the pixel-relative
+    // positions (scale-free), or those are all tiny.
+    let m1 = (x0.abs().max(y0.abs()).max(w0.abs()))
+        .max(x1.abs().max(y1.abs()).max(w1.abs()))
+        .max(x2.abs().max(y2.abs()).max(w2.abs()));
+    let sum = e.x + e.y + e.z;
+    if !(m1 >= MIN_RELATIVE && sum.abs() >= DEGENERATE_EPSILON * (m1 * m1)) {
         return None;
     }
     Some((e, ex, ey))
 }
 
+#[inline]
 fn ndc(pixel: Vec2, viewport: Vec2) -> Vec2 {
     Vec2::new(
         2.0 * pixel.x / viewport.x - 1.0,
@@ -157,8 +167,10 @@ fn ndc(pixel: Vec2, viewport: Vec2) -> Vec2 {
     )
 }
 
+#[inline]
 fn finite_or_degenerate(b: Barycentrics) -> Barycentrics {
-    if b.lambda.is_finite() && b.ddx.is_finite() && b.ddy.is_finite() {
+    // Unreachable for finite input by the bounds above; kept as a cheap guarantee.
+    if (b.lambda + b.ddx + b.ddy).is_finite() {
         b
     } else {
         Barycentrics::DEGENERATE
@@ -169,6 +181,7 @@ fn finite_or_degenerate(b: Barycentrics) -> Barycentrics {
 /// (the analytic gradient at the pixel centre). See the [module docs](self) for the
 /// conventions. A viewport with a zero or non-finite side gives [`Barycentrics::DEGENERATE`].
 #[must_use]
+#[inline]
 pub fn barycentrics(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Barycentrics {
     if !(viewport.x > 0.0 && viewport.y > 0.0 && viewport.is_finite() && pixel.is_finite()) {
         return Barycentrics::DEGENERATE;
@@ -194,6 +207,7 @@ pub fn barycentrics(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Barycentric
 /// pixel. Where the neighbouring pixel's weights would be degenerate the exact derivative
 /// is used instead.
 #[must_use]
+#[inline]
 pub fn barycentrics_quad(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Barycentrics {
     if !(viewport.x > 0.0 && viewport.y > 0.0 && viewport.is_finite() && pixel.is_finite()) {
         return Barycentrics::DEGENERATE;
@@ -225,6 +239,7 @@ pub fn barycentrics_quad(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Baryce
 /// OpenGL and Vulkan specifications. Not clamped to the texture's levels; finite for finite
 /// `bias` (a zero footprint gives -63 + bias, an infinite one 64 + bias).
 #[must_use]
+#[inline]
 pub fn mip_level(duv_dx: Vec2, duv_dy: Vec2, texture_size: Vec2, bias: f32) -> f32 {
     let rho2 = (duv_dx * texture_size)
         .length_squared()
@@ -240,6 +255,7 @@ pub fn mip_level(duv_dx: Vec2, duv_dy: Vec2, texture_size: Vec2, bias: f32) -> f
 /// Scales UV gradients by `2^bias`, which moves the sampled mip level by `bias`: WGSL's
 /// `textureSampleGrad` has no bias argument.
 #[must_use]
+#[inline]
 pub fn bias_gradients(duv_dx: Vec2, duv_dy: Vec2, bias: f32) -> (Vec2, Vec2) {
     let s = math::exp2(bias);
     (duv_dx * s, duv_dy * s)

@@ -85,6 +85,7 @@ pub enum VisLayout {
 impl VisLayout {
     /// Micro-batch IDs the layout can express, including the reserved last one.
     #[must_use]
+    #[inline]
     pub const fn micro_batch_ids(self) -> u32 {
         match self {
             VisLayout::Standard => MICRO_BATCH_IDS,
@@ -94,18 +95,21 @@ impl VisLayout {
 
     /// Micro-batch IDs usable for geometry: IDs `0..usable_micro_batch_ids()`.
     #[must_use]
+    #[inline]
     pub const fn usable_micro_batch_ids(self) -> u32 {
         self.micro_batch_ids() - 1
     }
 
     /// The micro-batch ID reserved so no packed word equals [`VIS_NONE`].
     #[must_use]
+    #[inline]
     pub const fn reserved_micro_batch(self) -> u32 {
         self.micro_batch_ids() - 1
     }
 
     /// Width of the micro-batch ID field.
     #[must_use]
+    #[inline]
     pub const fn micro_batch_bits(self) -> u32 {
         match self {
             VisLayout::Standard => VIS_MICRO_BATCH_BITS,
@@ -143,6 +147,7 @@ impl ShadingRate {
 
     /// The rate of a 2-bit code; only the low 2 bits of `code` are read.
     #[must_use]
+    #[inline]
     pub const fn from_bits(code: u32) -> ShadingRate {
         match code & 3 {
             0 => ShadingRate::Rate1x1,
@@ -154,24 +159,28 @@ impl ShadingRate {
 
     /// The 2-bit code.
     #[must_use]
+    #[inline]
     pub const fn bits(self) -> u32 {
         self as u32
     }
 
     /// Block width in pixels (1 or 2).
     #[must_use]
+    #[inline]
     pub const fn width(self) -> u32 {
         1 + ((self as u32) >> 1)
     }
 
     /// Block height in pixels (1 or 2).
     #[must_use]
+    #[inline]
     pub const fn height(self) -> u32 {
         1 + ((self as u32) & 1)
     }
 
     /// The rate with the given block size, if it is a tier-1 rate (each side 1 or 2).
     #[must_use]
+    #[inline]
     pub const fn from_size(width: u32, height: u32) -> Option<ShadingRate> {
         match (width, height) {
             (1, 1) => Some(ShadingRate::Rate1x1),
@@ -191,6 +200,7 @@ pub struct PrimitiveBits(u8);
 
 impl PrimitiveBits {
     /// A bit count; an error above [`MAX_PRIMITIVE_BITS`].
+    #[inline]
     pub const fn new(bits: u32) -> Result<PrimitiveBits, Error> {
         if bits > MAX_PRIMITIVE_BITS {
             Err(Error::PrimitiveBitsTooLarge {
@@ -205,6 +215,7 @@ impl PrimitiveBits {
     /// The bits a geometry of `primitive_count` primitives needs: `ceil(log2(count))`, so 0
     /// for one primitive and 16 for 32 769..=65 536. Errors for 0 primitives and above
     /// [`MAX_PRIMITIVES_PER_GEOMETRY`].
+    #[inline]
     pub const fn for_count(primitive_count: u32) -> Result<PrimitiveBits, Error> {
         if primitive_count == 0 {
             return Err(Error::EmptyGeometry);
@@ -223,24 +234,28 @@ impl PrimitiveBits {
 
     /// The primitive-bit count, 0..=16.
     #[must_use]
+    #[inline]
     pub const fn get(self) -> u32 {
         self.0 as u32
     }
 
     /// Instance bits left in the low half: `16 - p`.
     #[must_use]
+    #[inline]
     pub const fn instance_bits(self) -> u32 {
         VIS_INSTANCE_PRIMITIVE_BITS - self.0 as u32
     }
 
     /// Instances one micro-batch ID can name: `2^(16 - p)`.
     #[must_use]
+    #[inline]
     pub const fn instances_per_id(self) -> u32 {
         1 << self.instance_bits()
     }
 
     /// Mask of the primitive field (low `p` bits).
     #[must_use]
+    #[inline]
     pub const fn primitive_mask(self) -> u32 {
         (1 << self.0) - 1
     }
@@ -288,6 +303,7 @@ impl VisId {
     /// Packs the fields, checking each fits: the micro-batch ID must be below
     /// [`VisLayout::usable_micro_batch_ids`], the instance field below `2^(16 - p)`, the
     /// primitive below `2^p`. In the standard layout `fields.rate` is ignored.
+    #[inline]
     pub const fn pack(
         layout: VisLayout,
         bits: PrimitiveBits,
@@ -325,18 +341,21 @@ impl VisId {
 
     /// Whether this is [`VIS_NONE`].
     #[must_use]
+    #[inline]
     pub const fn is_none(self) -> bool {
         self.0 == VIS_NONE
     }
 
     /// The micro-batch ID field (no check: the reserved ID comes back as is).
     #[must_use]
+    #[inline]
     pub const fn micro_batch(self, layout: VisLayout) -> u32 {
         (self.0 >> VIS_MICRO_BATCH_SHIFT) & (layout.micro_batch_ids() - 1)
     }
 
     /// The shading rate: the top 2 bits in the VRS layout, 1x1 in the standard one.
     #[must_use]
+    #[inline]
     pub const fn shading_rate(self, layout: VisLayout) -> ShadingRate {
         match layout {
             VisLayout::Standard => ShadingRate::Rate1x1,
@@ -346,12 +365,14 @@ impl VisId {
 
     /// The instance field, `16 - p` bits above the primitive.
     #[must_use]
+    #[inline]
     pub const fn instance_field(self, bits: PrimitiveBits) -> u32 {
         (self.0 & VIS_INSTANCE_PRIMITIVE_MASK) >> bits.get()
     }
 
     /// The primitive index, the low `p` bits.
     #[must_use]
+    #[inline]
     pub const fn primitive(self, bits: PrimitiveBits) -> u32 {
         self.0 & bits.primitive_mask()
     }
@@ -359,6 +380,7 @@ impl VisId {
     /// All fields, or `None` when the word's micro-batch ID is the layout's reserved one
     /// (which covers [`VIS_NONE`]). Never panics: any `u32` decodes.
     #[must_use]
+    #[inline]
     pub const fn unpack(self, layout: VisLayout, bits: PrimitiveBits) -> Option<VisFields> {
         let micro_batch = self.micro_batch(layout);
         if micro_batch == layout.reserved_micro_batch() {
@@ -385,6 +407,7 @@ impl VisId {
 /// // A full 64k-triangle geometry leaves no instance bits: one ID per instance.
 /// assert_eq!(visbuf::micro_batch_ids_needed(65536, 3), Ok(3));
 /// ```
+#[inline]
 pub const fn micro_batch_ids_needed(
     primitive_count: u32,
     instance_count: u32,
@@ -406,6 +429,7 @@ pub const fn micro_batch_ids_needed(
 /// starts at `first_micro_batch` is written with. The inverse of [`instance_index`]. No
 /// range checks: use [`VisId::pack`] on the result to check the fields fit.
 #[must_use]
+#[inline]
 pub const fn split_instance(
     first_micro_batch: u32,
     instance: u32,
@@ -422,6 +446,7 @@ pub const fn split_instance(
 /// `(micro_batch - first_micro_batch) * 2^(16 - p) + instance_field`. Wrapping arithmetic,
 /// never panics; the caller looked `first_micro_batch` up for this `micro_batch`.
 #[must_use]
+#[inline]
 pub const fn instance_index(
     micro_batch: u32,
     first_micro_batch: u32,
@@ -453,6 +478,7 @@ impl VisbufIdRange {
     /// The geometry's primitive bits. A range with a primitive count outside 1..=65 536
     /// (only possible when built by hand) gives 16.
     #[must_use]
+    #[inline]
     pub const fn primitive_bits(&self) -> PrimitiveBits {
         match PrimitiveBits::for_count(self.primitive_count) {
             Ok(b) => b,
@@ -462,6 +488,7 @@ impl VisbufIdRange {
 
     /// Whether the micro-batch ID lies in this range.
     #[must_use]
+    #[inline]
     pub const fn contains(&self, micro_batch: u32) -> bool {
         micro_batch >= self.first_id && micro_batch - self.first_id < self.id_count
     }
@@ -508,6 +535,7 @@ pub struct VisIdRanges {
 impl VisIdRanges {
     /// No batches yet.
     #[must_use]
+    #[inline]
     pub fn new(layout: VisLayout) -> Self {
         Self {
             layout,
@@ -518,12 +546,14 @@ impl VisIdRanges {
 
     /// The layout IDs are allocated for.
     #[must_use]
+    #[inline]
     pub fn layout(&self) -> VisLayout {
         self.layout
     }
 
     /// Allocates the next batch's range; errors when the counts are out of range or the
     /// layout's usable IDs would run out (the reserved last ID is never handed out).
+    #[inline]
     pub fn push(
         &mut self,
         primitive_count: u32,
@@ -552,18 +582,21 @@ impl VisIdRanges {
 
     /// Micro-batch IDs handed out so far.
     #[must_use]
+    #[inline]
     pub fn ids_used(&self) -> u32 {
         self.next
     }
 
     /// The ranges in batch order (upload this as the GPU's range table).
     #[must_use]
+    #[inline]
     pub fn ranges(&self) -> &[VisbufIdRange] {
         &self.ranges
     }
 
     /// The batch whose range holds `micro_batch`, with its range.
     #[must_use]
+    #[inline]
     pub fn batch_of(&self, micro_batch: u32) -> Option<(u32, VisbufIdRange)> {
         let i = self
             .ranges
@@ -576,6 +609,7 @@ impl VisIdRanges {
     /// unallocated micro-batch ID, or an instance or primitive past the batch's counts
     /// (words the laydown never writes). Never panics.
     #[must_use]
+    #[inline]
     pub fn resolve(&self, id: VisId) -> Option<ResolvedVisId> {
         let micro_batch = id.micro_batch(self.layout);
         let (batch, range) = self.batch_of(micro_batch)?;
@@ -594,6 +628,7 @@ impl VisIdRanges {
 
     /// The word instance `instance` of batch `batch` writes for `primitive`, checked
     /// against the batch's counts.
+    #[inline]
     pub fn pack(
         &self,
         batch: u32,

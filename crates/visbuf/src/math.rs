@@ -12,9 +12,6 @@ mod imp {
     pub(crate) fn sqrt(x: f32) -> f32 {
         x.sqrt()
     }
-    pub(crate) fn floor(x: f32) -> f32 {
-        x.floor()
-    }
 }
 
 #[cfg(not(feature = "std"))]
@@ -27,9 +24,6 @@ mod imp {
     }
     pub(crate) fn sqrt(x: f32) -> f32 {
         libm::sqrtf(x)
-    }
-    pub(crate) fn floor(x: f32) -> f32 {
-        libm::floorf(x)
     }
 }
 

@@ -24,6 +24,7 @@ pub struct RayHit {
 /// Watertight ray-triangle intersection, both faces. `None` for a miss, a hit behind the
 /// origin, a degenerate triangle, a zero direction, or non-finite input.
 #[must_use]
+#[inline]
 pub fn intersect_watertight(origin: Vec3, dir: Vec3, v: [Vec3; 3]) -> Option<RayHit> {
     if !(origin.is_finite() && dir.is_finite() && v.iter().all(|p| p.is_finite())) {
         return None;
@@ -89,6 +90,7 @@ pub fn intersect_watertight(origin: Vec3, dir: Vec3, v: [Vec3; 3]) -> Option<Ray
 /// faces: the baseline. Not watertight: rays through a shared edge can miss both
 /// triangles.
 #[must_use]
+#[inline]
 pub fn intersect_moller_trumbore(origin: Vec3, dir: Vec3, v: [Vec3; 3]) -> Option<RayHit> {
     let e1 = v[1] - v[0];
     let e2 = v[2] - v[0];
@@ -121,6 +123,7 @@ pub fn intersect_moller_trumbore(origin: Vec3, dir: Vec3, v: [Vec3; 3]) -> Optio
 /// perspective projections. Unnormalised. With camera-relative positions `eye` is zero.
 /// `None` when the result is not finite or zero.
 #[must_use]
+#[inline]
 pub fn pixel_ray_direction(
     inv_view_proj: Mat4,
     eye: Vec3,

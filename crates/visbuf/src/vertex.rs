@@ -147,6 +147,7 @@ impl ZFromW {
     /// `z_c = m22 z + m32` and `w_c = m23 z + m33`, `z_c = (m22 / m23) w_c + m32 - m22 m33 / m23`.
     /// Errors when w does not depend on view z (orthographic) or the rows also depend on
     /// view x or y, or any term is not finite.
+    #[inline]
     pub fn from_projection(proj: Mat4) -> Result<ZFromW, Error> {
         let (m22, m32) = (proj.z_axis.z, proj.w_axis.z);
         let (m23, m33) = (proj.z_axis.w, proj.w_axis.w);
@@ -169,17 +170,28 @@ impl ZFromW {
 
     /// Clip-space z for clip-space w.
     #[must_use]
+    #[inline]
     pub fn z(self, w: f32) -> f32 {
         self.a * w + self.b
     }
 
     /// The full clip-space position from `(x, y, w)`.
     #[must_use]
+    #[inline]
     pub fn clip(self, hpos: Vec3) -> Vec4 {
         Vec4::new(hpos.x, hpos.y, self.z(hpos.z), hpos.z)
     }
 }
 
+/// `floor(v)` as an integer, exactly, for `abs(v) < 2^31` (NaN gives 0): a truncation and a
+/// compare, much cheaper than `floorf` on x86-64 without SSE4.1.
+#[inline]
+fn floor_i32(v: f32) -> i32 {
+    let t = v as i32;
+    t - i32::from((t as f32) > v)
+}
+
+#[inline]
 fn finite(field: &'static str, x: f32) -> Result<f32, Error> {
     if x.is_finite() {
         Ok(x)
@@ -188,6 +200,7 @@ fn finite(field: &'static str, x: f32) -> Result<f32, Error> {
     }
 }
 
+#[inline]
 fn in_range(field: &'static str, x: f32, min: f32, max: f32) -> Result<f32, Error> {
     finite(field, x)?;
     if x < min || x > max {
@@ -204,16 +217,19 @@ fn in_range(field: &'static str, x: f32, min: f32, max: f32) -> Result<f32, Erro
 /// `x` as half-float bits (round to nearest even); `None` if `x` is not finite or
 /// `abs(x) > 65504`.
 #[must_use]
+#[inline]
 pub fn try_pack_half(x: f32) -> Option<u16> {
     (x.is_finite() && x.abs() <= HALF_MAX).then(|| f16::from_f32(x).to_bits())
 }
 
 /// Half-float bits to f32 (exact).
 #[must_use]
+#[inline]
 pub fn unpack_half(bits: u16) -> f32 {
     f16::from_bits(bits).to_f32()
 }
 
+#[inline]
 fn half_field(field: &'static str, x: f32) -> Result<u32, Error> {
     in_range(field, x, -HALF_MAX, HALF_MAX)?;
     Ok(u32::from(f16::from_f32(x).to_bits()))
@@ -222,22 +238,30 @@ fn half_field(field: &'static str, x: f32) -> Result<u32, Error> {
 /// Two half floats in one word, `x` low: WGSL `pack2x16float`. `None` if either is out of
 /// the half range or not finite.
 #[must_use]
+#[inline]
 pub fn try_pack_half2(v: Vec2) -> Option<u32> {
     Some(u32::from(try_pack_half(v.x)?) | (u32::from(try_pack_half(v.y)?) << 16))
 }
 
 /// WGSL `unpack2x16float`.
 #[must_use]
+#[inline]
 pub fn unpack_half2(word: u32) -> Vec2 {
     Vec2::new(unpack_half(word as u16), unpack_half((word >> 16) as u16))
 }
 
 /// One UV component to its 16-bit code `floor(uv * 8192 + 0.5)`; errors outside
 /// `[-2^-14, UV_MAX)`, i.e. what does not round into `0..=65535`.
+#[inline]
 pub fn pack_uv_component(field: &'static str, uv: f32) -> Result<u16, Error> {
     finite(field, uv)?;
-    let q = math::floor(uv * UV_SCALE + 0.5);
-    if !(0.0..=65535.0).contains(&q) {
+    let v = uv * UV_SCALE + 0.5;
+    let q = if (0.0..65536.0).contains(&v) {
+        floor_i32(v)
+    } else {
+        -1
+    };
+    if !(0..=65535).contains(&q) {
         return Err(Error::ValueOutOfRange {
             field,
             value: uv,
@@ -249,6 +273,7 @@ pub fn pack_uv_component(field: &'static str, uv: f32) -> Result<u16, Error> {
 }
 
 /// UV as 16:16 fixed point scaled down by 8 (u low): range `[0, 8)`, step `1 / 8192`.
+#[inline]
 pub fn pack_uv_16_16(uv: Vec2) -> Result<u32, Error> {
     Ok(u32::from(pack_uv_component("uv.x", uv.x)?)
         | (u32::from(pack_uv_component("uv.y", uv.y)?) << 16))
@@ -256,17 +281,20 @@ pub fn pack_uv_16_16(uv: Vec2) -> Result<u32, Error> {
 
 /// The inverse of [`pack_uv_16_16`]: `code / 8192` per component.
 #[must_use]
+#[inline]
 pub fn unpack_uv_16_16(word: u32) -> Vec2 {
     Vec2::new((word & 0xffff) as f32, (word >> 16) as f32) / UV_SCALE
 }
 
+#[inline]
 fn unorm8(x: f32) -> u32 {
-    // WGSL pack4x8unorm: floor(0.5 + 255 * clamp(x, 0, 1)); NaN (rejected earlier) would be 0.
-    math::floor(0.5 + 255.0 * x.clamp(0.0, 1.0)) as u32
+    // WGSL pack4x8unorm: floor(0.5 + 255 * clamp(x, 0, 1)); non-negative, so truncation.
+    (0.5 + 255.0 * x.clamp(0.0, 1.0)) as u32
 }
 
 /// RGBA8 unorm, R in the low byte: WGSL `pack4x8unorm` (clamps to `[0, 1]`; NaN gives 0).
 #[must_use]
+#[inline]
 pub fn pack_unorm8x4(c: Vec4) -> u32 {
     let f = |x: f32| if x.is_nan() { 0 } else { unorm8(x) };
     f(c.x) | (f(c.y) << 8) | (f(c.z) << 16) | (f(c.w) << 24)
@@ -274,6 +302,7 @@ pub fn pack_unorm8x4(c: Vec4) -> u32 {
 
 /// WGSL `unpack4x8unorm`.
 #[must_use]
+#[inline]
 pub fn unpack_unorm8x4(word: u32) -> Vec4 {
     Vec4::new(
         (word & 0xff) as f32,
@@ -283,12 +312,13 @@ pub fn unpack_unorm8x4(word: u32) -> Vec4 {
     ) / 255.0
 }
 
+#[inline]
 fn snorm(x: f32, max: f32, bits: u32) -> u32 {
     let x = if x.is_nan() { 0.0 } else { x.clamp(-1.0, 1.0) };
-    let q = math::floor(0.5 + max * x) as i32;
-    (q as u32) & ((1 << bits) - 1)
+    (floor_i32(0.5 + max * x) as u32) & ((1 << bits) - 1)
 }
 
+#[inline]
 fn unsnorm(code: u32, bits: u32, max: f32) -> f32 {
     // Sign-extend `bits` wide, then scale; the most negative code decodes to -1 like -max.
     let shift = 32 - bits;
@@ -299,6 +329,7 @@ fn unsnorm(code: u32, bits: u32, max: f32) -> f32 {
 /// Signed normalised 10:10:10:2 (x in bits 9..0): xyz as `floor(0.5 + 511 * c)`, w as
 /// `floor(0.5 + w)` in 2 bits, each clamped to `[-1, 1]` first (NaN gives 0).
 #[must_use]
+#[inline]
 pub fn pack_snorm_10_10_10_2(v: Vec4) -> u32 {
     snorm(v.x, 511.0, 10)
         | (snorm(v.y, 511.0, 10) << 10)
@@ -309,6 +340,7 @@ pub fn pack_snorm_10_10_10_2(v: Vec4) -> u32 {
 /// The inverse of [`pack_snorm_10_10_10_2`]: components in `[-1, 1]` (code -512 and the
 /// 2-bit code -2 decode to -1).
 #[must_use]
+#[inline]
 pub fn unpack_snorm_10_10_10_2(word: u32) -> Vec4 {
     Vec4::new(
         unsnorm(word & 0x3ff, 10, 511.0),
@@ -321,6 +353,7 @@ pub fn unpack_snorm_10_10_10_2(word: u32) -> Vec4 {
 /// Two colour channels as square-rooted unorm8 in 16 bits (x low): `floor(0.5 + 255 *
 /// sqrt(clamp(c, 0, 1)))`. Gives dark values more codes, like sRGB (NaN gives 0).
 #[must_use]
+#[inline]
 pub fn pack_sqrt_unorm8x2(c: Vec2) -> u16 {
     let f = |x: f32| {
         if x.is_nan() {
@@ -334,6 +367,7 @@ pub fn pack_sqrt_unorm8x2(c: Vec2) -> u16 {
 
 /// The inverse of [`pack_sqrt_unorm8x2`]: `(code / 255)^2` per channel.
 #[must_use]
+#[inline]
 pub fn unpack_sqrt_unorm8x2(bits: u16) -> Vec2 {
     let s = Vec2::new((bits & 0xff) as f32, (bits >> 8) as f32) / 255.0;
     s * s
@@ -341,6 +375,7 @@ pub fn unpack_sqrt_unorm8x2(bits: u16) -> Vec2 {
 
 impl Slot {
     /// The slot's 16 bits; errors for a half outside the half range or not finite.
+    #[inline]
     pub fn to_bits(self) -> Result<u16, Error> {
         match self {
             Slot::Empty => Ok(0),
@@ -355,6 +390,7 @@ impl Slot {
     }
 }
 
+#[inline]
 fn pack_core(c: &VertexCore) -> Result<[u32; 6], Error> {
     let hx = half_field("hpos.x", c.hpos.x)?;
     let hy = half_field("hpos.y", c.hpos.y)?;
@@ -387,6 +423,7 @@ fn pack_core(c: &VertexCore) -> Result<[u32; 6], Error> {
 impl VisbufVertex {
     /// Packs the standard layout. Errors name the field: a non-finite input, an HPOS or
     /// previous-HPOS component beyond the half range, a UV outside `[0, 8)`.
+    #[inline]
     pub fn pack(v: &Vertex) -> Result<VisbufVertex, Error> {
         let [hpos_xy, hpos_w, normal, tangent, prev_hpos_xy, prev_w] = pack_core(&v.core)?;
         for (name, x) in [
@@ -411,6 +448,7 @@ impl VisbufVertex {
 
     /// Packs the interpolant layout: the core fields plus five 16-bit slots (slots 0-3
     /// replace UV and colour, slot 4 is the spare half of word 7).
+    #[inline]
     pub fn pack_with_slots(
         core: &VertexCore,
         slots: [Slot; SLOT_COUNT],
@@ -434,6 +472,7 @@ impl VisbufVertex {
 
     /// The fields every layout has.
     #[must_use]
+    #[inline]
     pub fn core(&self) -> VertexCore {
         let xy = unpack_half2(self.hpos_xy);
         let prev = unpack_half2(self.prev_hpos_xy);
@@ -447,6 +486,7 @@ impl VisbufVertex {
 
     /// The standard layout, unpacked. Never panics, for any bits.
     #[must_use]
+    #[inline]
     pub fn unpack(&self) -> Vertex {
         Vertex {
             core: self.core(),
@@ -458,6 +498,7 @@ impl VisbufVertex {
 
     /// The raw 16 bits of slot `i` (0..5) of the interpolant layout; `None` past slot 4.
     #[must_use]
+    #[inline]
     pub fn slot_bits(&self, i: usize) -> Option<u16> {
         Some(match i {
             0 => self.uv as u16,
@@ -471,24 +512,28 @@ impl VisbufVertex {
 
     /// Slot `i` read as a half float.
     #[must_use]
+    #[inline]
     pub fn slot_half(&self, i: usize) -> Option<f32> {
         self.slot_bits(i).map(unpack_half)
     }
 
     /// Slot `i` read as two square-rooted unorm8 channels.
     #[must_use]
+    #[inline]
     pub fn slot_sqrt_unorm8x2(&self, i: usize) -> Option<Vec2> {
         self.slot_bits(i).map(unpack_sqrt_unorm8x2)
     }
 
     /// The eight words, in memory order.
     #[must_use]
+    #[inline]
     pub fn to_words(self) -> [u32; 8] {
         bytemuck::cast(self)
     }
 
     /// From eight words.
     #[must_use]
+    #[inline]
     pub fn from_words(words: [u32; 8]) -> VisbufVertex {
         bytemuck::cast(words)
     }

@@ -136,6 +136,8 @@ mod tests {
         );
         assert_eq!(f("VISBUF_DEGENERATE_EPSILON"), Some(2f32.powi(-40)));
         assert_eq!(f("VISBUF_MIN_MAGNITUDE"), Some(2f32.powi(-100)));
+        assert_eq!(f("VISBUF_MIN_RELATIVE"), Some(2f32.powi(-40)));
+        assert_eq!(f("VISBUF_MAX_NDC"), Some(crate::bary::MAX_NDC));
         assert_eq!(f("VISBUF_F32_MAX"), Some(f32::MAX));
         assert_eq!(f("VISBUF_F32_MIN_POSITIVE"), Some(f32::MIN_POSITIVE));
     }

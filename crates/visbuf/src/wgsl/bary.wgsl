@@ -8,6 +8,8 @@
 
 const VISBUF_DEGENERATE_EPSILON: f32 = 9.094947e-13;
 const VISBUF_MIN_MAGNITUDE: f32 = 7.888609e-31;
+const VISBUF_MIN_RELATIVE: f32 = 9.094947e-13;
+const VISBUF_MAX_NDC: f32 = 1048576.0;
 const VISBUF_F32_MAX: f32 = 3.4028235e38;
 const VISBUF_F32_MIN_POSITIVE: f32 = 1.17549435e-38;
 
@@ -31,7 +33,8 @@ fn visbuf_max_abs3(v: vec3<f32>) -> f32 {
     return max(max(a.x, a.y), a.z);
 }
 
-// Edge functions of the pixel-relative, power-of-two-scaled positions, and their
+// Edge functions of the pixel-relative positions (clip scaled by a power of two to at
+// most 1), and their
 // derivatives in NDC: rows e, de/dqx, de/dqy. `ok` is false when degenerate.
 struct VisbufEdges {
     e: vec3<f32>,
@@ -40,7 +43,7 @@ struct VisbufEdges {
     ok: bool,
 }
 
-fn visbuf_edges(c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, q: vec2<f32>) -> VisbufEdges {
+fn visbuf_edges(c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, q_in: vec2<f32>) -> VisbufEdges {
     var out: VisbufEdges;
     out.ok = false;
     let m0 = max(max(visbuf_max_abs3(c0.xyw), visbuf_max_abs3(c1.xyw)), visbuf_max_abs3(c2.xyw));
@@ -48,24 +51,19 @@ fn visbuf_edges(c0: vec4<f32>, c1: vec4<f32>, c2: vec4<f32>, q: vec2<f32>) -> Vi
         return out;
     }
     let s0 = ldexp(1.0, -frexp(m0).exp);
+    let q = clamp(q_in, vec2<f32>(-VISBUF_MAX_NDC), vec2<f32>(VISBUF_MAX_NDC));
     let a0 = c0.xyw * s0;
     let a1 = c1.xyw * s0;
     let a2 = c2.xyw * s0;
-    let r0 = vec3<f32>(a0.x - q.x * a0.z, a0.y - q.y * a0.z, a0.z);
-    let r1 = vec3<f32>(a1.x - q.x * a1.z, a1.y - q.y * a1.z, a1.z);
-    let r2 = vec3<f32>(a2.x - q.x * a2.z, a2.y - q.y * a2.z, a2.z);
-    let m1 = max(max(visbuf_max_abs3(r0), visbuf_max_abs3(r1)), visbuf_max_abs3(r2));
-    if (!(m1 >= VISBUF_MIN_MAGNITUDE && m1 <= VISBUF_F32_MAX)) {
-        return out;
-    }
-    let s1 = ldexp(1.0, -frexp(m1).exp);
-    let p0 = r0 * s1;
-    let p1 = r1 * s1;
-    let p2 = r2 * s1;
+    let p0 = vec3<f32>(a0.x - q.x * a0.z, a0.y - q.y * a0.z, a0.z);
+    let p1 = vec3<f32>(a1.x - q.x * a1.z, a1.y - q.y * a1.z, a1.z);
+    let p2 = vec3<f32>(a2.x - q.x * a2.z, a2.y - q.y * a2.z, a2.z);
     out.e = vec3<f32>(p1.x * p2.y - p2.x * p1.y, p2.x * p0.y - p0.x * p2.y, p0.x * p1.y - p1.x * p0.y);
     out.ex = vec3<f32>(p2.z * p1.y - p1.z * p2.y, p0.z * p2.y - p2.z * p0.y, p1.z * p0.y - p0.z * p1.y);
     out.ey = vec3<f32>(p1.z * p2.x - p2.z * p1.x, p2.z * p0.x - p0.z * p2.x, p0.z * p1.x - p1.z * p0.x);
-    out.ok = abs(out.e.x + out.e.y + out.e.z) >= VISBUF_DEGENERATE_EPSILON;
+    let m1 = max(max(visbuf_max_abs3(p0), visbuf_max_abs3(p1)), visbuf_max_abs3(p2));
+    out.ok = m1 >= VISBUF_MIN_RELATIVE
+        && abs(out.e.x + out.e.y + out.e.z) >= VISBUF_DEGENERATE_EPSILON * (m1 * m1);
     return out;
 }
 
