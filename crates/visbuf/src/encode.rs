@@ -17,7 +17,7 @@
 //!
 //! Both encoders take 16-bit-indexable triangle lists (at most
 //! [`MAX_VERTICES_PER_GEOMETRY`] vertices and
-//! [`MAX_PRIMITIVES_PER_GEOMETRY`](crate::MAX_PRIMITIVES_PER_GEOMETRY) triangles) and
+//! [`MAX_PRIMITIVES_PER_GEOMETRY`] triangles) and
 //! return a [`PrimitiveIdMesh`]: the new index buffer (triangle `t` is still primitive
 //! `t`), a remap from output vertices to source vertices (the first `vertex_count` output
 //! vertices are the source vertices in order, added ones follow) and one payload per

@@ -5,7 +5,19 @@
 //!
 //! - [`id`]: the 32-bit vis-buffer word (micro-batch ID, optional 2-bit VRS rate, instance
 //!   field, `ceil(log2(primitives))` primitive bits), the reserved [`VIS_NONE`], and the
-//!   micro-batch-ID ranges that carry instance overflow.
+//!   micro-batch-ID ranges that carry instance overflow ([`VisIdRanges`]).
+//! - [`encode`]: mesh preprocessing for the primitive ID in the laydown's pixel shader:
+//!   provoking-vertex payloads ([`encode_provoking`]) and HFW's XOR payloads
+//!   ([`encode_xor`]), plus the talk's greedy passes as baselines.
+//! - [`vertex`]: the 32-byte transformed vertex of the ring buffer ([`VisbufVertex`]) in
+//!   its standard and interpolant layouts, with per-field worst-case errors, and z from w
+//!   ([`ZFromW`]).
+//! - [`bary`]: perspective-correct barycentrics and their screen-space derivatives by the
+//!   analytic method, attribute interpolation, mip level selection.
+//! - [`ray`]: the watertight ray-triangle fallback and the pixel ray.
+//!
+//! `#![no_std]` with `alloc` (the mesh encoders and [`VisIdRanges`] allocate); float math
+//! through `std` (default) or the `libm` feature.
 //!
 //! ```
 //! use visbuf::{PrimitiveBits, ShadingRate, VisFields, VisId, VisLayout};
@@ -17,18 +29,32 @@
 //! let word = VisId::pack(VisLayout::Standard, bits, f)?;
 //! assert_eq!(word.0, (42 << 16) | (5 << 13) | 4999);
 //! assert_eq!(word.unpack(VisLayout::Standard, bits), Some(f));
+//!
+//! // The resolve: weights and derivatives of a pixel inside a triangle.
+//! use glam::{Vec2, Vec4};
+//! let clip = [Vec4::new(-1.0, -1.0, 0.0, 1.0), Vec4::new(1.0, -1.0, 0.0, 1.0), Vec4::new(-1.0, 1.0, 0.0, 1.0)];
+//! let b = visbuf::bary::barycentrics(clip, Vec2::new(10.5, 90.5), Vec2::new(100.0, 100.0));
+//! assert!((b.lambda.x + b.lambda.y + b.lambda.z - 1.0).abs() < 1e-6);
+//! assert!((b.ddx.y - 0.01).abs() < 1e-6); // vertex 1's weight grows 1/100 per pixel right
 //! # Ok::<(), visbuf::Error>(())
 //! ```
 //!
 //! # WGSL
 //!
-//! [`ID_WGSL`] holds the shader side: binding-free `const`s, structs and functions, every
-//! name prefixed `visbuf_` / `VISBUF_`, meant to be concatenated in front of a pass. Each
-//! `const` equals the Rust constant of the same meaning (unit tests read them back).
+//! Four binding-free snippets, each a string constant: [`ID_WGSL`], [`VERTEX_WGSL`],
+//! [`BARY_WGSL`], [`RAY_WGSL`] (and [`WGSL`], all four concatenated). They hold only
+//! `const`s, structs and functions, every name prefixed `visbuf_` / `VISBUF_` / `Visbuf`,
+//! take plain values (u32 words, clip-space `vec4`s, the viewport size) and need no
+//! optional capability (naga validates each with `Caps::CORE`; f16 conversion is written
+//! out instead of `pack2x16float`, which needs a downlevel flag). Each `const` equals the
+//! Rust constant of the same meaning: unit tests read them back, and check the WGSL struct
+//! layouts against the Rust ones.
+//!
+//! **[`ID_WGSL`]**
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
-//! | `VISBUF_NONE` | - | the reserved "no geometry" word, `0xffffffffu` |
+//! | `VISBUF_NONE` | - | the reserved "no geometry" word, `0xffffffffu`: clear the vis buffer to it |
 //! | `visbuf_is_none(word)` | vis word | `word == VISBUF_NONE` |
 //! | `visbuf_micro_batch(word)` / `_vrs(word)` | vis word | micro-batch ID (16 / 14 bits) |
 //! | `visbuf_shading_rate_vrs(word)` | vis word (VRS layout) | rate code 0..3 ([`ShadingRate`]) |
@@ -41,6 +67,41 @@
 //! | `visbuf_instance_index(mb, first, inst, p)` | word's micro batch, range start, field | instance index in batch |
 //! | `visbuf_split_instance(first, instance, p)` | range start, instance index | `vec2(micro batch, field)` |
 //! | `VisbufIdRange` | - | [`VisbufIdRange`], 16 bytes |
+//!
+//! **[`VERTEX_WGSL`]** (layout table in [`vertex`])
+//!
+//! | WGSL | takes | gives |
+//! | --- | --- | --- |
+//! | `VisbufVertex` | - | [`VisbufVertex`], 32 bytes, same field names; `array<VisbufVertex>` has stride 32 |
+//! | `visbuf_decode_vertex_core(v, z_from_w)` | vertex, `vec2(a, b)` of [`ZFromW`] | `VisbufVertexCore { clip, normal, tangent, prev_hpos }` |
+//! | `visbuf_vertex_clip(hpos_xy, hpos_w, z_from_w)` | words 0, 1 | clip `vec4` with z = a w + b |
+//! | `visbuf_vertex_hpos` / `visbuf_vertex_prev_hpos` | words 0, 1 / 6, 7 | clip (x, y, w) |
+//! | `visbuf_unpack_uv(word)` / `visbuf_pack_uv(uv)` | word 2 / UV in [0, 8) | UV / word |
+//! | `visbuf_unpack_snorm_10_10_10_2` / `visbuf_pack_snorm_10_10_10_2` | word / `vec4` | `vec4` / word |
+//! | `visbuf_unpack_half(bits)` / `visbuf_pack_half(x)`, `..._half2` | f16 bits / f32 | exact, round to nearest even |
+//! | `visbuf_vertex_slot_bits(v, i)`, `visbuf_slot_half(bits)`, `visbuf_unpack_sqrt_unorm8x2(bits)`, `visbuf_pack_sqrt_unorm8x2(c)` | interpolant slots | slot values |
+//! | `visbuf_encode_vertex(hpos, uv, color, normal, tangent, prev_hpos, extra)` | the vertex pass's outputs | `VisbufVertex`, standard layout |
+//!
+//! **[`BARY_WGSL`]** (conventions in [`bary`]: pixel relative to the viewport's top-left,
+//! +y down, centres at +0.5)
+//!
+//! | WGSL | takes | gives |
+//! | --- | --- | --- |
+//! | `visbuf_barycentrics(c0, c1, c2, pixel, viewport)` | clip `vec4`s, pixel, viewport size | `VisbufBarycentrics { lambda, ddx, ddy }`, exact derivatives |
+//! | `visbuf_barycentrics_quad(...)` | same | forward one-pixel differences (like `dpdxFine`) |
+//! | `visbuf_interpolate1/2/3/4(b, a0, a1, a2)` | weights, per-vertex f32 / vec2 / vec3 / vec4 | `VisbufInterpN { value, ddx, ddy }` |
+//! | `visbuf_mip_level(duv_dx, duv_dy, size, bias)` | UV gradients, texture size | isotropic level, unclamped |
+//! | `visbuf_mip_bias_scale(bias)` | bias | `exp2(bias)`: scale both gradients for `textureSampleGrad` |
+//!
+//! **[`RAY_WGSL`]**
+//!
+//! | WGSL | takes | gives |
+//! | --- | --- | --- |
+//! | `visbuf_intersect_watertight(origin, dir, v0, v1, v2)` | ray, camera-relative positions | `VisbufRayHit { hit, t, barycentrics }` |
+//! | `visbuf_pixel_ray_direction(inv_view_proj, eye, pixel, viewport)` | inverse view-projection | ray direction (zero if none) |
+//!
+//! The gpu crate runs these on a device against the CPU functions of the same name; the
+//! CPU side is the reference.
 
 #![no_std]
 
