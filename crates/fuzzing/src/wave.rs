@@ -102,7 +102,10 @@ pub fn wave_batch(data: &[u8]) {
     let (start_i, start_b) = (input.u32(), input.u32());
     let (cap_i, cap_b) = (usize::from(input.u8()), usize::from(input.u8()));
 
-    let (ci, cb) = (CountedAtomicU32::new(start_i), CountedAtomicU32::new(start_b));
+    let (ci, cb) = (
+        CountedAtomicU32::new(start_i),
+        CountedAtomicU32::new(start_b),
+    );
     let mut inst = vec![u32::MAX; cap_i];
     let mut hdr = vec![(0u32, 0u32, 0u32); cap_b];
     let o = wave.batch_output_with(
