@@ -113,13 +113,13 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
-mod bump;
+pub mod bump;
 mod error;
 pub mod id;
-mod plan;
+pub mod plan;
 pub mod pool;
 pub mod sim;
-mod stream;
+pub mod stream;
 
 pub use bump::BlockBump;
 pub use error::Error;

@@ -5,10 +5,11 @@
 //! global FreeID says which blocks are free: block `i` is free iff
 //! `table[i] <= FreeID` (wrap-around-safe, see [`AllocId::is_at_or_before`]).
 //!
-//! - **Allocation** reads FreeID once, walks the table from a rotating start and claims the
-//!   first free slot with one compare-and-swap that writes the client's ID. No lock, and
-//!   allocations from many threads may come in any order: only the IDs encode when each
-//!   block frees.
+//! - **Allocation** reads FreeID, walks the table from a rotating start and claims the
+//!   first free slot with one compare-and-swap that writes the client's ID (walking again
+//!   if FreeID moved during the walk, so a preempted thread never reports exhaustion while
+//!   blocks are free). No lock, and allocations from many threads may come in any order:
+//!   only the IDs encode when each block frees.
 //! - **Freeing** is implicit. A client's "free(id)" is a marker in the GPU's command stream;
 //!   when the GPU passes it, the consumer calls [`BlockPool::advance_free_id`] and every
 //!   block tagged with an ID at or before it becomes free at once.
