@@ -86,9 +86,9 @@
 //!    work not yet submitted: that frees blocks still being written.
 //! 5. When allocation fails with [`Error::Exhausted`], the GPU is behind: either drop or
 //!    defer the upload, or wait with [`BlockPool::allocate_with`] and a closure that polls,
-//!    `|_| device.poll(wgpu::PollType::Poll).is_ok()` (or `PollType::wait_indefinitely()`
-//!    to sleep until the oldest submission completes). [`Blocking`] only suits a thread
-//!    that is not itself the one polling the device.
+//!    `|_: &Stall| device.poll(wgpu::PollType::Poll).is_ok()` (or
+//!    `PollType::wait_indefinitely()` to sleep until the oldest submission completes).
+//!    [`Blocking`] only suits a thread that is not itself the one polling the device.
 //!
 //! With `queue.write_buffer` wgpu already orders the copy after earlier submissions; the
 //! allocator's job is that two uploads in flight never share bytes, so no frame's data is

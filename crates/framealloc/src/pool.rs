@@ -205,10 +205,22 @@ pub struct Stall {
 
 /// What an allocation does when every block is live: wait somehow and retry, or give up.
 ///
-/// Implemented for closures `FnMut(&Stall) -> bool`, which is how a wgpu user polls the
-/// device while waiting (`|_| device.poll(wgpu::PollType::Poll).is_ok()`): on native wgpu,
+/// Implemented for closures `FnMut(&Stall) -> bool` (write the argument's type,
+/// `|s: &Stall|`, so the closure takes any borrow). That is how a wgpu user polls the device
+/// while waiting, `|_: &Stall| device.poll(wgpu::PollType::Poll).is_ok()`: on native wgpu,
 /// FreeID only advances inside a poll or submit, so a thread that blocks without polling
 /// could wait forever.
+///
+/// ```
+/// use framealloc::{AllocId, BlockPool, PoolConfig, Stall};
+/// let pool = BlockPool::new(PoolConfig::new(256, 256))?;
+/// let _live = pool.try_allocate(AllocId(1))?;
+/// // Stand-in for `device.poll(..)`, whose callbacks would advance FreeID.
+/// let mut poll = |s: &Stall| s.attempt < 3 && pool.advance_free_id(AllocId(1)).is_ok();
+/// let b = pool.allocate_with(AllocId(2), &mut poll)?;
+/// assert_eq!(b.id(), AllocId(2));
+/// # Ok::<(), framealloc::Error>(())
+/// ```
 pub trait Wait {
     /// Called after a walk found no free block. Return `true` to walk again, `false` to
     /// give up with [`Error::Exhausted`].
