@@ -206,6 +206,10 @@ pub fn barycentrics(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Barycentric
 /// which is what a hardware 2x2 quad's `dpdxFine` / `dpdyFine` give on its top-left
 /// pixel. Where the neighbouring pixel's weights would be degenerate the exact derivative
 /// is used instead.
+///
+/// The subtraction of two nearly equal weights costs precision: expect absolute errors of
+/// a few f32 ulps of the weights (about 1e-6 to 4e-6), large relative to the differences
+/// of big triangles. [`barycentrics`] has no such cancellation.
 #[must_use]
 #[inline]
 pub fn barycentrics_quad(clip: [Vec4; 3], pixel: Vec2, viewport: Vec2) -> Barycentrics {
