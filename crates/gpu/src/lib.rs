@@ -25,6 +25,7 @@ pub mod laydown;
 pub mod plan;
 pub mod readback;
 pub mod renderer;
+pub mod report;
 pub mod scene;
 pub mod shaders;
 pub mod targets;

@@ -1,0 +1,198 @@
+//! The statistics table the `render` binary prints: adapter, scene, classification
+//! counters (the talk's tables), image comparison and per-pass GPU times.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::context::GpuContext;
+use crate::image::{diff_metrics, Rgba8Image};
+use crate::renderer::{FrameTimings, PreparedScene, RenderPath, Renderer};
+use crate::scene::Scene;
+
+/// Counters of one frame's classification, as in seed 000's closing tables.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ClassificationStats {
+    /// Pixels with vis-buffer geometry.
+    pub vis_pixels: u64,
+    /// Passes used.
+    pub passes: u32,
+    /// Batch groups over all passes.
+    pub batch_groups: u32,
+    /// (tile, pass, group) triples with pixels.
+    pub tile_groups: u64,
+    /// Pixel commands written.
+    pub pixel_commands: u64,
+    /// Wave commands written.
+    pub wave_commands: u64,
+    /// The wave width the commands were built for.
+    pub wave_width: u32,
+    /// Lanes of those waves with no pixel (rounding each (tile, pass, group) up to waves).
+    pub unfilled_lanes: u64,
+    /// Pixel-shading waves HZD's depth-equal pass would launch (distinct 2x2 quad ×
+    /// primitive pairs × 4 lanes, rounded up to waves per draw).
+    pub depth_equal_waves: u64,
+    /// Vertices of all instances in the scene.
+    pub scene_vertices: u64,
+    /// Vertices in 64-vertex chunks that a visible primitive uses.
+    pub vertices_after_chunk_culling: u64,
+    /// Bytes of command buffers (pixel + wave commands + dispatch arguments).
+    pub command_bytes: u64,
+    /// Whether the GPU classification matched the CPU twin on this frame.
+    pub gpu_matches_cpu: Option<bool>,
+}
+
+/// Everything printed after a run.
+pub struct Report {
+    lines: Vec<(String, String)>,
+    timings: Vec<(RenderPath, FrameTimings)>,
+    images: Vec<(String, PathBuf)>,
+}
+
+impl Report {
+    /// Starts a report with the adapter, the active paths and the scene's size.
+    pub fn new(ctx: &GpuContext, scene: &Scene, renderer: &Renderer, prepared: &PreparedScene) -> Self {
+        let mut r = Report { lines: Vec::new(), timings: Vec::new(), images: Vec::new() };
+        let paths = renderer.paths();
+        r.row("adapter", ctx.adapter_line());
+        r.row("primitive ID path", paths.primitive_id.name().to_string());
+        r.row(
+            "appends",
+            match paths.subgroup_size {
+                Some((lo, hi)) => format!("subgroups (size {lo}..{hi})"),
+                None => "workgroup-atomic fallback".to_string(),
+            },
+        );
+        r.row("timestamps", if paths.timestamps { "yes" } else { "no (times are wall-clock only)" }.to_string());
+        let c = renderer.config();
+        r.row("resolution", format!("{} x {}", c.width, c.height));
+        r.row("instances", group_digits(scene.instance_count() as u64));
+        r.row("triangles", group_digits(scene.triangle_count()));
+        r.row("micro batches", group_digits(prepared.plan.micro_batches.len() as u64));
+        let added: u64 = prepared.geometry.added_vertices.iter().map(|&a| u64::from(a)).sum();
+        r.row("vertices added by the primitive-ID encoding", group_digits(added));
+        r
+    }
+
+    fn row(&mut self, k: &str, v: String) {
+        self.lines.push((k.to_string(), v));
+    }
+
+    /// A CPU time.
+    pub fn cpu_ms(&mut self, what: &str, ms: f64) {
+        self.row(what, format!("{ms:.1} ms"));
+    }
+
+    /// The classification counters and the talk's ratios.
+    pub fn classification(&mut self, s: &ClassificationStats) {
+        self.row("vis pixels", group_digits(s.vis_pixels));
+        self.row("passes / batch groups", format!("{} / {}", s.passes, s.batch_groups));
+        self.row("pixel commands", group_digits(s.pixel_commands));
+        self.row("wave commands", format!("{} (wave width {})", group_digits(s.wave_commands), s.wave_width));
+        let lanes = s.wave_commands * u64::from(s.wave_width);
+        self.row("unfilled lanes", format!("{} ({:.1}% of lanes)", group_digits(s.unfilled_lanes), pct(s.unfilled_lanes, lanes)));
+        self.row(
+            "pixel-shading waves: deferred / depth-equal",
+            format!(
+                "{} / {} = {:.0}% (HFW: forest 40%, tall grass 25%)",
+                group_digits(s.wave_commands),
+                group_digits(s.depth_equal_waves),
+                pct(s.wave_commands, s.depth_equal_waves)
+            ),
+        );
+        self.row(
+            "vertices: after chunk culling / scene",
+            format!(
+                "{} / {} = {:.0}% (HFW: forest 32%, tall grass 55%)",
+                group_digits(s.vertices_after_chunk_culling),
+                group_digits(s.scene_vertices),
+                pct(s.vertices_after_chunk_culling, s.scene_vertices)
+            ),
+        );
+        self.row(
+            "command buffer bytes",
+            format!("{} ({:.2} per vis pixel)", group_digits(s.command_bytes), s.command_bytes as f64 / s.vis_pixels.max(1) as f64),
+        );
+        if let Some(m) = s.gpu_matches_cpu {
+            self.row("GPU classification == CPU twin", if m { "yes" } else { "NO" }.to_string());
+        }
+    }
+
+    /// GPU and wall times of a path.
+    pub fn timings(&mut self, path: RenderPath, t: &FrameTimings) {
+        self.timings.push((path, t.clone()));
+    }
+
+    /// An output image of a path.
+    pub fn image(&mut self, path: RenderPath, file: &Path) {
+        self.images.push((path.name().to_string(), file.to_path_buf()));
+    }
+
+    /// A named debug image.
+    pub fn image_named(&mut self, name: &str, file: &Path) {
+        self.images.push((name.to_string(), file.to_path_buf()));
+    }
+
+    /// Compares the deferred image with the baseline's.
+    pub fn compare(&mut self, deferred: &Rgba8Image, baseline: &Rgba8Image) {
+        if let (Some((mean, _)), Some((_, p99))) = (diff_metrics(deferred, baseline, 0.5), diff_metrics(deferred, baseline, 0.99)) {
+            self.row("deferred vs baseline image", format!("mean abs error {mean:.2} / 255, 99th percentile {p99} / 255"));
+        }
+    }
+}
+
+fn pct(a: u64, b: u64) -> f64 {
+    if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 }
+}
+
+/// 1234567 -> "1 234 567".
+pub fn group_digits(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+impl fmt::Display for Report {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let w = self.lines.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
+        for (k, v) in &self.lines {
+            writeln!(f, "{k:<w$}  {v}")?;
+        }
+        for (path, t) in &self.timings {
+            writeln!(f, "\n{} path, GPU times (timestamp queries, mean over frames):", path.name())?;
+            let total: f64 = t.gpu.iter().map(|x| x.ms).sum();
+            for x in &t.gpu {
+                writeln!(f, "  {:<28} {:>9.3} ms", x.label, x.ms)?;
+            }
+            if t.gpu.is_empty() {
+                writeln!(f, "  (no timestamp queries on this adapter)")?;
+            } else {
+                writeln!(f, "  {:<28} {:>9.3} ms", "total", total)?;
+            }
+            writeln!(f, "  {:<28} {:>9.3} ms", "wall clock per frame", t.wall_ms)?;
+        }
+        if !self.images.is_empty() {
+            writeln!(f, "\nimages:")?;
+            for (name, p) in &self.images {
+                writeln!(f, "  {name:<18} {}", p.display())?;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn digits_are_grouped() {
+        assert_eq!(super::group_digits(0), "0");
+        assert_eq!(super::group_digits(999), "999");
+        assert_eq!(super::group_digits(1000), "1 000");
+        assert_eq!(super::group_digits(1_234_567), "1 234 567");
+    }
+}

@@ -1,0 +1,47 @@
+// gpu: the material resolve of one pixel (seed 000's "shade pixels", seed 004's vertex
+// pulling): decode the vis word, pull the triangle's three vertices, transform them,
+// analytic barycentrics and derivatives (visbuf), sample with gradients, fill a Surface.
+//
+// Needs in scope: visbuf ID + barycentric WGSL, SCENE_WGSL, FRAME_WGSL, GEOMETRY_WGSL,
+// PLAN_WGSL, material.wgsl, and these bindings: frame, vertices, indices, meshes,
+// instances, micro_batches, materials, albedo, albedo_sampler.
+
+struct ResolvedPixel {
+    surface: Surface,
+    ok: bool,
+}
+
+fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
+    var out: ResolvedPixel;
+    out.ok = false;
+    let id = visbuf_micro_batch(word);
+    if visbuf_is_none(word) || id >= arrayLength(&micro_batches) {
+        return out;
+    }
+    let mb = micro_batches[id];
+    let field = visbuf_instance_field(word, mb.primitive_bits);
+    let primitive = visbuf_primitive(word, mb.primitive_bits);
+    let instance_index = mb.first_instance + visbuf_instance_index(id, mb.first_id, field, mb.primitive_bits);
+    let mesh = meshes[mb.mesh];
+    if primitive >= mesh.primitive_count || instance_index >= arrayLength(&instances) {
+        return out;
+    }
+    let inst = instances[instance_index];
+    let first = mesh.first_index + 3u * primitive;
+    let v0 = vertices[mesh.base_vertex + indices[first]];
+    let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
+    let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
+    let p0 = gpu_transform_point(inst, v0.position);
+    let p1 = gpu_transform_point(inst, v1.position);
+    let p2 = gpu_transform_point(inst, v2.position);
+    let c0 = frame.view_proj * vec4<f32>(p0, 1.0);
+    let c1 = frame.view_proj * vec4<f32>(p1, 1.0);
+    let c2 = frame.view_proj * vec4<f32>(p2, 1.0);
+    let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
+    let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
+    let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
+    let scale = visbuf_mip_bias_scale(frame.mip_bias);
+    out.surface = material_surface(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n));
+    out.ok = true;
+    return out;
+}
