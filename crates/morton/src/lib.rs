@@ -1,0 +1,234 @@
+//! Morton (Z-order) codes for spatial sort keys: encode/decode in 2D and 3D into u32 and
+//! u64, quantisation of float positions onto the integer grid, and the permutation that
+//! sorts points by key. Horizon Zero Dawn sorts the instances of a static tile by (filter,
+//! LOD range, Morton number) to cut them into spatially coherent clusters; Horizon
+//! Forbidden West sorts batches into passes by a quantised Morton code of their position.
+//! This crate is that key, made fast on the CPU and mirrored on the GPU ([`WGSL`]).
+//!
+//! # Example
+//!
+//! ```
+//! use glam::Vec3;
+//! use morton::{Quantizer3, decode3_u32, encode3_u32, sort_permutation};
+//!
+//! assert_eq!(encode3_u32(1, 0, 0), 1); // x is the lowest bit
+//! assert_eq!(encode3_u32(0, 1, 0), 2);
+//! assert_eq!(encode3_u32(0, 0, 1), 4);
+//! assert_eq!(decode3_u32(encode3_u32(5, 6, 7)), [5, 6, 7]);
+//!
+//! // Sort instance positions along the Z-order curve of a 1024^3 grid over their box.
+//! let positions = [Vec3::new(9.0, 9.0, 9.0), Vec3::new(0.0, 0.0, 0.0), Vec3::new(9.0, 0.0, 0.0)];
+//! let q = Quantizer3::from_points(&positions, 10).unwrap();
+//! let mut keys = [0u32; 3];
+//! q.morton_u32_slice(&positions, &mut keys).unwrap();
+//! let order = sort_permutation(&keys).unwrap();
+//! assert_eq!(order, [1, 2, 0]);
+//! ```
+//!
+//! # Bit layout
+//!
+//! Bit `i` of each coordinate goes to bit `D * i + axis` of the code (`D` = 2 or 3 axes; x
+//! is axis 0, the lowest bit). Coordinates are unsigned grid cells; the scalar encoders mask
+//! away bits above the code's bits per axis (the `try_` encoders reject them instead).
+//!
+//! | code | bits per axis | code bit: 0 | 1 | 2 | 3 | 4 | 5 | ... | unused bits |
+//! | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |
+//! | [`encode2_u32`] | 16 ([`BITS2_U32`]) | x0 | y0 | x1 | y1 | x2 | y2 | ..., x15 y15 (bits 30, 31) | none |
+//! | [`encode2_u64`] | 32 ([`BITS2_U64`]) | x0 | y0 | x1 | y1 | x2 | y2 | ..., x31 y31 | none |
+//! | [`encode3_u32`] | 10 ([`BITS3_U32`]) | x0 | y0 | z0 | x1 | y1 | z1 | ..., x9 y9 z9 (bits 27-29) | 30, 31 (zero) |
+//! | [`encode3_u64`] | 21 ([`BITS3_U64`]) | x0 | y0 | z0 | x1 | y1 | z1 | ..., x20 y20 z20 (bits 60-62) | 63 (zero) |
+//!
+//! Decoders ignore the unused bits. Sorting codes ascending walks the Z-order curve:
+//! the octree (3D) or quadtree (2D) in depth-first order, children in x, y, z bit order.
+//!
+//! # What is here
+//!
+//! - Scalar [`encode2_u32`], [`decode2_u32`], [`encode2_u64`], [`decode2_u64`],
+//!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`]: magic bits, or
+//!   BMI2 `pdep`/`pext` when the build enables `target_feature = "bmi2"`; the `const`
+//!   magic-bits versions are in [`magic`]; `try_` variants check the range.
+//! - [`batch`]: the same over slices (struct-of-arrays or `[[u32; N]]`), on the fastest
+//!   [`Path`] this CPU has: AVX-512 or AVX2 vectorised magic bits, BMI2 where `pdep` is fast
+//!   (not AMD Zen 1/2, where it is microcoded), scalar otherwise. With `std` the path is
+//!   detected at run time; without, it follows the build's target features.
+//! - [`Quantizer3`] / [`Quantizer2`]: positions in an axis-aligned box onto the grid
+//!   (clamped; NaN is an error), and quantise+encode over slices.
+//! - [`hilbert`]: Hilbert curve encode/decode in 2D and 3D (better locality, dearer), and
+//!   [`locality`], a metric to choose between the curves on your data.
+//! - [`sort_permutation`]: a stable LSD radix sort of u32/u64 keys returning the
+//!   permutation; `parallel::par_sort_permutation` under the `parallel` feature.
+//! - [`WGSL`]: the GPU twin of the 32-bit codes and the quantiser.
+//!
+//! # Features
+//!
+//! `std` (default): run-time CPU detection for the batch paths, `std::error::Error`.
+//! `libm`: float math without `std` (for glam). `parallel`: rayon versions of the
+//! quantise+encode and the sort, equal to the sequential results. Without `std` the crate is
+//! `no_std` and needs `alloc` only for sorting.
+//!
+//! Source: Will Vale, "Decima: Visibility in Horizon Zero Dawn" ("Aside: Morton numbers");
+//! "Adventures with Deferred Texturing in Horizon Forbidden West" (batches sorted by a
+//! quantised Morton code); magic-bits interleaving after Fabian Giesen, "Decoding Morton
+//! codes" (2009).
+#![no_std]
+#![cfg_attr(docsrs, feature(doc_cfg))]
+
+#[cfg(not(any(feature = "std", feature = "libm")))]
+compile_error!("morton needs float math: enable the `std` feature (default) or `libm`");
+
+extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
+
+#[macro_use]
+mod kernels;
+
+pub mod batch;
+#[cfg(target_arch = "x86_64")]
+mod bmi2;
+mod error;
+pub mod hilbert;
+pub mod locality;
+pub mod magic;
+#[cfg(feature = "parallel")]
+pub mod parallel;
+mod path;
+pub mod quantize;
+pub mod sort;
+mod wgsl;
+
+pub use error::MortonError;
+pub use path::Path;
+pub use quantize::{Quantizer2, Quantizer3};
+pub use sort::{MAX_SORT_KEYS, SortKey, sort_permutation, sort_permutation_into};
+pub use wgsl::WGSL;
+
+/// Bits per axis of a 2D code in a u32.
+pub const BITS2_U32: u32 = 16;
+/// Bits per axis of a 2D code in a u64.
+pub const BITS2_U64: u32 = 32;
+/// Bits per axis of a 3D code in a u32 (bits 30 and 31 stay zero).
+pub const BITS3_U32: u32 = 10;
+/// Bits per axis of a 3D code in a u64 (bit 63 stays zero).
+pub const BITS3_U64: u32 = 21;
+
+/// The bits of x in a 2D u32 code (the even bits).
+pub const MASK2_X_U32: u32 = 0x5555_5555;
+/// The bits of y in a 2D u32 code (the odd bits).
+pub const MASK2_Y_U32: u32 = 0xaaaa_aaaa;
+/// The bits of x in a 3D u32 code (0, 3, ..., 27).
+pub const MASK3_X_U32: u32 = 0x0924_9249;
+/// The bits of y in a 3D u32 code (1, 4, ..., 28).
+pub const MASK3_Y_U32: u32 = 0x1249_2492;
+/// The bits of z in a 3D u32 code (2, 5, ..., 29).
+pub const MASK3_Z_U32: u32 = 0x2492_4924;
+/// The bits of x in a 2D u64 code.
+pub const MASK2_X_U64: u64 = 0x5555_5555_5555_5555;
+/// The bits of y in a 2D u64 code.
+pub const MASK2_Y_U64: u64 = 0xaaaa_aaaa_aaaa_aaaa;
+/// The bits of x in a 3D u64 code (0, 3, ..., 60).
+pub const MASK3_X_U64: u64 = 0x1249_2492_4924_9249;
+/// The bits of y in a 3D u64 code (1, 4, ..., 61).
+pub const MASK3_Y_U64: u64 = 0x2492_4924_9249_2492;
+/// The bits of z in a 3D u64 code (2, 5, ..., 62).
+pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
+
+/// Uses BMI2 when the build enables it (`-C target-feature=+bmi2` or a `target-cpu` that
+/// has it), magic bits otherwise: one definition per scalar function.
+macro_rules! scalar {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty) => {
+        $(#[$doc])*
+        #[inline]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(all(target_arch = "x86_64", target_feature = "bmi2"))]
+            {
+                bmi2::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", target_feature = "bmi2")))]
+            {
+                magic::$name($($arg),*)
+            }
+        }
+    };
+}
+
+scalar!(
+    /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
+    /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
+    encode2_u32(x: u32, y: u32) -> u32
+);
+scalar!(
+    /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
+    decode2_u32(code: u32) -> [u32; 2]
+);
+scalar!(
+    /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
+    /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
+    /// `(0, 0, 1)` gives 4.
+    encode3_u32(x: u32, y: u32, z: u32) -> u32
+);
+scalar!(
+    /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
+    /// ignored).
+    decode3_u32(code: u32) -> [u32; 3]
+);
+scalar!(
+    /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
+    encode2_u64(x: u32, y: u32) -> u64
+);
+scalar!(
+    /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
+    decode2_u64(code: u64) -> [u32; 2]
+);
+scalar!(
+    /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
+    /// bit 63 is zero).
+    encode3_u64(x: u32, y: u32, z: u32) -> u64
+);
+scalar!(
+    /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
+    decode3_u64(code: u64) -> [u32; 3]
+);
+
+#[inline]
+fn fits(axis: u8, value: u32, bits: u32) -> Result<(), MortonError> {
+    let max = if bits >= 32 {
+        u32::MAX
+    } else {
+        (1 << bits) - 1
+    };
+    if value <= max {
+        Ok(())
+    } else {
+        Err(MortonError::CoordinateTooLarge { axis, value, max })
+    }
+}
+
+/// [`encode2_u32`], rejecting coordinates of more than 16 bits.
+pub fn try_encode2_u32(x: u32, y: u32) -> Result<u32, MortonError> {
+    fits(0, x, BITS2_U32)?;
+    fits(1, y, BITS2_U32)?;
+    Ok(encode2_u32(x, y))
+}
+
+/// [`encode3_u32`], rejecting coordinates of more than 10 bits.
+pub fn try_encode3_u32(x: u32, y: u32, z: u32) -> Result<u32, MortonError> {
+    fits(0, x, BITS3_U32)?;
+    fits(1, y, BITS3_U32)?;
+    fits(2, z, BITS3_U32)?;
+    Ok(encode3_u32(x, y, z))
+}
+
+/// [`encode3_u64`], rejecting coordinates of more than 21 bits.
+pub fn try_encode3_u64(x: u32, y: u32, z: u32) -> Result<u64, MortonError> {
+    fits(0, x, BITS3_U64)?;
+    fits(1, y, BITS3_U64)?;
+    fits(2, z, BITS3_U64)?;
+    Ok(encode3_u64(x, y, z))
+}
+
+/// [`encode2_u64`]: every u32 coordinate fits, so this never fails; here for symmetry.
+pub fn try_encode2_u64(x: u32, y: u32) -> Result<u64, MortonError> {
+    Ok(encode2_u64(x, y))
+}
