@@ -1,0 +1,1 @@
+//! The WGSL twins of the passes.
