@@ -36,6 +36,8 @@
 
 use alloc::vec::Vec;
 
+use glam::Vec3;
+use morton::Quantizer3;
 use visbuf::{PrimitiveBits, VisIdRanges, VisLayout};
 
 use crate::Error;
@@ -397,63 +399,38 @@ impl Plan {
     }
 }
 
-/// The sort key of one batch: shader, per-batch data, Morton code of the quantised mean
-/// position, index.
+/// The sort key of one batch: shader, per-batch data, Morton code of the mean instance
+/// position quantised to 10 bits per axis over the bounds of all batches' means
+/// (`morton::Quantizer3`), index.
 fn sort_keys(batches: &[Batch<'_>]) -> Vec<(u32, u64, u32, u32)> {
-    // Mean positions (f64 sums), then the bounds of the means.
-    let means: Vec<[f64; 3]> = batches
+    // Mean positions (f64 sums; non-finite coordinates count as 0 so one bad instance
+    // cannot make the key NaN).
+    let means: Vec<Vec3> = batches
         .iter()
         .map(|b| {
             let mut s = [0.0f64; 3];
             for p in b.instances {
                 for k in 0..3 {
-                    // Non-finite coordinates count as 0 so one bad instance cannot make
-                    // the whole key NaN.
                     let c = f64::from(p[k]);
                     s[k] += if c.is_finite() { c } else { 0.0 };
                 }
             }
             let n = b.instances.len().max(1) as f64;
-            [s[0] / n, s[1] / n, s[2] / n]
+            Vec3::new((s[0] / n) as f32, (s[1] / n) as f32, (s[2] / n) as f32)
         })
         .collect();
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for m in &means {
-        for k in 0..3 {
-            lo[k] = lo[k].min(m[k]);
-            hi[k] = hi[k].max(m[k]);
-        }
-    }
+    let quantizer = Quantizer3::from_points(&means, morton::BITS3_U32).ok();
     batches
         .iter()
         .zip(&means)
         .enumerate()
-        .map(|(i, (b, m))| {
-            let mut q = [0u32; 3];
-            for k in 0..3 {
-                let extent = hi[k] - lo[k];
-                if extent > 0.0 {
-                    // 10 bits per axis over the scene's bounds.
-                    let t = ((m[k] - lo[k]) / extent * 1023.0).round();
-                    q[k] = t.clamp(0.0, 1023.0) as u32;
-                }
-            }
-            (b.shader, b.batch_data, morton_key(q), i as u32)
+        .map(|(i, (b, &m))| {
+            // The means are finite, so neither call can fail; a failure would only make
+            // the spatial part of the key 0.
+            let code = quantizer.and_then(|q| q.morton_u32(m).ok()).unwrap_or(0);
+            (b.shader, b.batch_data, code, i as u32)
         })
         .collect()
-}
-
-/// 30-bit Morton code of three 10-bit coordinates (x in bit 0).
-fn morton_key(q: [u32; 3]) -> u32 {
-    fn spread(v: u32) -> u32 {
-        let mut x = v & 0x3ff;
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
-    }
-    spread(q[0]) | (spread(q[1]) << 1) | (spread(q[2]) << 2)
 }
 
 /// The pass being filled.
@@ -639,27 +616,4 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
         plan.pass_groups.push(p.groups);
     }
     Ok(plan)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn morton_key_interleaves_x_first() {
-        assert_eq!(morton_key([1, 0, 0]), 1);
-        assert_eq!(morton_key([0, 1, 0]), 2);
-        assert_eq!(morton_key([0, 0, 1]), 4);
-        assert_eq!(morton_key([1023, 1023, 1023]), (1 << 30) - 1);
-        // Independent reference: bit by bit.
-        for (x, y, z) in [(5u32, 900u32, 17u32), (1023, 0, 512), (3, 3, 3)] {
-            let mut naive = 0u32;
-            for bit in 0..10 {
-                naive |= ((x >> bit) & 1) << (3 * bit);
-                naive |= ((y >> bit) & 1) << (3 * bit + 1);
-                naive |= ((z >> bit) & 1) << (3 * bit + 2);
-            }
-            assert_eq!(morton_key([x, y, z]), naive);
-        }
-    }
 }
