@@ -1,0 +1,116 @@
+//! The WGSL twins. Each module is a binding-free snippet; the constants in it are tied to
+//! the Rust definitions by the unit tests at the bottom of this file.
+
+/// G-buffer pack/unpack of both layouts and the normal codecs. See the crate docs' WGSL
+/// table.
+pub const GBUFFER_WGSL: &str = include_str!("wgsl/gbuffer.wgsl");
+
+/// Every module above, concatenated (none depends on another).
+pub const WGSL: &str = concat!(include_str!("wgsl/gbuffer.wgsl"));
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gbuffer::*;
+    use crate::normal::*;
+    use shadercheck::{Caps, assert_valid, const_f32, const_u32};
+
+    #[test]
+    fn gbuffer_wgsl_constants_match_rust() {
+        let m = assert_valid("deferred GBUFFER_WGSL", GBUFFER_WGSL, Caps::CORE);
+        let u = [
+            ("DEFERRED_OCT_BITS", OCT_BITS),
+            ("DEFERRED_OCT_AXIS_MASK", OCT_AXIS_MASK),
+            ("DEFERRED_OCT_CENTER", OCT_CENTER),
+            ("DEFERRED_OCT_CODE_MAX", OCT_CODE_MAX),
+        ];
+        for (name, value) in u {
+            assert_eq!(const_u32(&m, name), Some(value), "WGSL const {name}");
+        }
+        let f = [
+            ("DEFERRED_KZ2_GLOW_RANGE", KZ2_GLOW_RANGE),
+            ("DEFERRED_KZ2_MOTION_STEP_PX", KZ2_MOTION_STEP_PX),
+            ("DEFERRED_GLOW_SLACK", GLOW_SLACK),
+            ("DEFERRED_KZ2_SPEC_POWER_MAX", KZ2_SPEC_POWER_MAX),
+            ("DEFERRED_KZ2_SPEC_LOG_RANGE", KZ2_SPEC_LOG_RANGE),
+            ("DEFERRED_F16_MAX", F16_MAX),
+            ("DEFERRED_LUMINANCE_R", LUMINANCE.x),
+            ("DEFERRED_LUMINANCE_G", LUMINANCE.y),
+            ("DEFERRED_LUMINANCE_B", LUMINANCE.z),
+        ];
+        for (name, value) in f {
+            assert_eq!(const_f32(&m, name), Some(value), "WGSL const {name}");
+        }
+        for name in shadercheck::const_names(&m) {
+            assert!(
+                u.iter().any(|(n, _)| *n == name) || f.iter().any(|(n, _)| *n == name),
+                "unchecked WGSL const {name}"
+            );
+        }
+        // The WGSL surface struct has the Rust struct's fields, in order.
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("DeferredSurface"))
+            .expect("struct DeferredSurface");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("DeferredSurface is not a struct");
+        };
+        let names: alloc::vec::Vec<_> = members.iter().map(|m| m.name.clone().unwrap()).collect();
+        assert_eq!(
+            names,
+            [
+                "lighting",
+                "albedo",
+                "normal",
+                "roughness",
+                "specular",
+                "sun_shadow",
+                "motion"
+            ]
+        );
+    }
+
+    /// Every module, with the capability set it is validated under.
+    const MODULES: &[(&str, &str)] = &[("GBUFFER_WGSL", GBUFFER_WGSL)];
+
+    #[test]
+    fn modules_are_binding_free_prefixed_and_concatenate() {
+        let mut all = alloc::string::String::new();
+        for (name, src) in MODULES {
+            let m = assert_valid(name, src, Caps::CORE);
+            assert!(
+                m.global_variables.is_empty(),
+                "{name}: has bindings / module-scope vars"
+            );
+            assert!(m.entry_points.is_empty(), "{name}: has entry points");
+            for (_, f) in m.functions.iter() {
+                let n = f.name.as_deref().unwrap_or("");
+                assert!(
+                    n.starts_with("deferred_"),
+                    "{name}: function `{n}` not prefixed"
+                );
+            }
+            for n in shadercheck::const_names(&m) {
+                assert!(
+                    n.starts_with("DEFERRED_"),
+                    "{name}: const `{n}` not prefixed"
+                );
+            }
+            for (_, t) in m.types.iter() {
+                if let Some(n) = t.name.as_deref()
+                    && matches!(t.inner, naga::TypeInner::Struct { .. })
+                    && !n.starts_with("__")
+                {
+                    assert!(
+                        n.starts_with("Deferred"),
+                        "{name}: struct `{n}` not prefixed"
+                    );
+                }
+            }
+            all.push_str(src);
+        }
+        assert_valid("all deferred WGSL", &all, Caps::CORE);
+        assert_eq!(all, WGSL);
+    }
+}
