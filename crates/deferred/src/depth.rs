@@ -205,6 +205,31 @@ pub struct DeferredProjection {
 const _: () = assert!(size_of::<DeferredProjection>() == 32);
 
 impl DeferredProjection {
+    /// The depth mode: reversed Z has the near plane at depth 1, which makes `beta > 0`.
+    #[inline]
+    pub fn mode(&self) -> DepthMode {
+        if self.beta > 0.0 {
+            DepthMode::Reversed
+        } else {
+            DepthMode::Standard
+        }
+    }
+
+    /// The near plane's depth: 1 for reversed Z, 0 for standard.
+    #[inline]
+    pub fn near_depth(&self) -> f32 {
+        match self.mode() {
+            DepthMode::Reversed => 1.0,
+            DepthMode::Standard => 0.0,
+        }
+    }
+
+    /// Depth-buffer value of a view distance.
+    #[inline]
+    pub fn depth_of_distance(&self, distance: f32) -> f32 {
+        self.alpha + self.beta / distance
+    }
+
     /// View distance (`-z`) at `depth`.
     #[inline]
     pub fn distance(&self, depth: f32) -> f32 {

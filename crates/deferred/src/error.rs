@@ -16,6 +16,39 @@ pub enum Error {
         /// Its value.
         value: f64,
     },
+    /// A light with a bad field (non-finite, `range <= 0`, a spot's direction not unit or
+    /// `cos_outer` outside `(0, 1)`).
+    InvalidLight {
+        /// Index of the light in the slice given.
+        index: u32,
+        /// Which field.
+        field: &'static str,
+    },
+    /// More lights than one pass takes ([`MAX_LIGHTS`](crate::lights::MAX_LIGHTS)).
+    TooManyLights {
+        /// Lights given.
+        count: usize,
+        /// The limit.
+        limit: u32,
+    },
+    /// A viewport edge of 0 or above [`MAX_VIEWPORT`](crate::lights::MAX_VIEWPORT).
+    ViewportOutOfRange {
+        /// Which edge.
+        name: &'static str,
+        /// Its value in pixels.
+        value: u32,
+        /// The limit.
+        limit: u32,
+    },
+    /// An output or input buffer shorter than the pass needs.
+    BufferTooSmall {
+        /// Which buffer.
+        buffer: &'static str,
+        /// Its length in elements.
+        len: usize,
+        /// Elements needed.
+        needed: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -24,6 +57,23 @@ impl fmt::Display for Error {
             Error::InvalidParameter { name, value } => {
                 write!(f, "invalid parameter `{name}`: {value}")
             }
+            Error::InvalidLight { index, field } => {
+                write!(f, "light {index}: invalid `{field}`")
+            }
+            Error::TooManyLights { count, limit } => {
+                write!(f, "{count} lights exceed MAX_LIGHTS ({limit})")
+            }
+            Error::ViewportOutOfRange { name, value, limit } => {
+                write!(
+                    f,
+                    "viewport {name} {value} is outside 1..=MAX_VIEWPORT ({limit})"
+                )
+            }
+            Error::BufferTooSmall {
+                buffer,
+                len,
+                needed,
+            } => write!(f, "buffer `{buffer}` holds {len} elements, {needed} needed"),
         }
     }
 }

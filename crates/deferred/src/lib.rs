@@ -74,6 +74,7 @@ compile_error!("deferred needs float math: enable the `std` (default) or `libm` 
 pub mod depth;
 mod error;
 pub mod gbuffer;
+pub mod lights;
 mod math;
 pub mod normal;
 mod wgsl;
@@ -81,4 +82,8 @@ mod wgsl;
 pub use depth::{DeferredProjection, DepthMode, Linearize, Perspective};
 pub use error::Error;
 pub use gbuffer::{GBufferLayout, Kz2Texels, NormalSpace, OctTexels, Surface, TargetFormat};
-pub use wgsl::{GBUFFER_WGSL, WGSL};
+pub use lights::{
+    DeferredLight, DeferredTileDepth, LightClass, LightClassifier, LightPath, ShadowFade,
+    cull_tiles, tile_depth_ranges,
+};
+pub use wgsl::{DEPTH_WGSL, GBUFFER_WGSL, WGSL};

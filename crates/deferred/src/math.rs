@@ -15,6 +15,9 @@ mod imp {
     pub(crate) fn exp2(x: f32) -> f32 {
         x.exp2()
     }
+    pub(crate) fn cos(x: f32) -> f32 {
+        x.cos()
+    }
     pub(crate) fn sqrt64(x: f64) -> f64 {
         x.sqrt()
     }
@@ -47,6 +50,9 @@ mod imp {
     }
     pub(crate) fn exp2(x: f32) -> f32 {
         libm::exp2f(x)
+    }
+    pub(crate) fn cos(x: f32) -> f32 {
+        libm::cosf(x)
     }
     pub(crate) fn sqrt64(x: f64) -> f64 {
         libm::sqrt(x)

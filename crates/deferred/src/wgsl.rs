@@ -5,8 +5,14 @@
 /// table.
 pub const GBUFFER_WGSL: &str = include_str!("wgsl/gbuffer.wgsl");
 
+/// Position from depth: the fast symmetric-perspective path and the inverse-matrix path.
+pub const DEPTH_WGSL: &str = include_str!("wgsl/depth.wgsl");
+
 /// Every module above, concatenated (none depends on another).
-pub const WGSL: &str = concat!(include_str!("wgsl/gbuffer.wgsl"));
+pub const WGSL: &str = concat!(
+    include_str!("wgsl/gbuffer.wgsl"),
+    include_str!("wgsl/depth.wgsl")
+);
 
 #[cfg(test)]
 mod tests {
@@ -72,7 +78,30 @@ mod tests {
     }
 
     /// Every module, with the capability set it is validated under.
-    const MODULES: &[(&str, &str)] = &[("GBUFFER_WGSL", GBUFFER_WGSL)];
+    const MODULES: &[(&str, &str)] = &[("GBUFFER_WGSL", GBUFFER_WGSL), ("DEPTH_WGSL", DEPTH_WGSL)];
+
+    /// The byte offsets of a WGSL struct's members, and its size.
+    fn struct_layout(m: &naga::Module, name: &str) -> (alloc::vec::Vec<u32>, u32) {
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name}"));
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => {
+                (members.iter().map(|m| m.offset).collect(), *span)
+            }
+            other => panic!("{name} is {other:?}"),
+        }
+    }
+
+    #[test]
+    fn depth_wgsl_struct_matches_rust() {
+        let m = assert_valid("deferred DEPTH_WGSL", DEPTH_WGSL, Caps::CORE);
+        let (offsets, size) = struct_layout(&m, "DeferredProjection");
+        assert_eq!(size as usize, size_of::<crate::DeferredProjection>());
+        assert_eq!(offsets, [0, 8, 12, 16]);
+    }
 
     #[test]
     fn modules_are_binding_free_prefixed_and_concatenate() {
