@@ -1,0 +1,125 @@
+//! River splines: Catmull–Rom through the control points, flattened into a fine polyline
+//! that the bake rasterises.
+
+use alloc::vec::Vec;
+
+use glam::{Vec2, Vec3};
+
+use crate::math;
+
+/// One control point of a river.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RiverPoint {
+    /// The centre of the water surface here, metres (z up).
+    pub position: Vec3,
+    /// Full width of the water surface, metres.
+    pub width: f32,
+    /// Depth of the bed below the surface at the centre, metres.
+    pub depth: f32,
+    /// Flow speed at the centre, m/s, downstream (towards the next point).
+    pub speed: f32,
+}
+
+/// A sample of the flattened spline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SplineSample {
+    pub position: Vec3,
+    pub width: f32,
+    pub depth: f32,
+    pub speed: f32,
+}
+
+fn catmull_rom(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, t: f32) -> Vec3 {
+    let t2 = t * t;
+    let t3 = t2 * t;
+    ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+        + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
+        * 0.5
+}
+
+/// Samples the uniform Catmull–Rom spline through `points` (end points duplicated) so that
+/// consecutive samples are at most `max_step` metres apart horizontally (measured on the
+/// control polygon, with a factor of safety). Width, depth and speed are interpolated
+/// linearly between control points (no overshoot).
+pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample> {
+    let n = points.len();
+    let mut out = Vec::new();
+    if n == 0 {
+        return out;
+    }
+    if n == 1 {
+        let p = points[0];
+        out.push(SplineSample {
+            position: p.position,
+            width: p.width,
+            depth: p.depth,
+            speed: p.speed,
+        });
+        return out;
+    }
+    let at = |i: isize| points[i.clamp(0, n as isize - 1) as usize].position;
+    for i in 0..n - 1 {
+        let (a, b) = (points[i], points[i + 1]);
+        let p0 = at(i as isize - 1);
+        let p3 = at(i as isize + 2);
+        // The curve segment is no longer than the control polygon around it.
+        let len = (a.position.truncate() - p0.truncate()).length()
+            + (b.position.truncate() - a.position.truncate()).length()
+            + (p3.truncate() - b.position.truncate()).length();
+        let steps = (math::ceil(len / max_step.max(1e-3)) as usize).clamp(1, 1 << 16);
+        for s in 0..steps {
+            let t = s as f32 / steps as f32;
+            out.push(SplineSample {
+                position: catmull_rom(p0, a.position, b.position, p3, t),
+                width: math::mix(a.width, b.width, t),
+                depth: math::mix(a.depth, b.depth, t),
+                speed: math::mix(a.speed, b.speed, t),
+            });
+        }
+    }
+    let last = points[n - 1];
+    out.push(SplineSample {
+        position: last.position,
+        width: last.width,
+        depth: last.depth,
+        speed: last.speed,
+    });
+    out
+}
+
+/// Closest point on segment `a -> b` to `p` (2D): parameter in `[0, 1]` and distance.
+pub(crate) fn closest_on_segment(a: Vec2, b: Vec2, p: Vec2) -> (f32, f32) {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    let t = if l2 > 0.0 {
+        ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (t, (a + ab * t - p).length())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_through_the_control_points() {
+        let pts: Vec<RiverPoint> = [Vec3::ZERO, Vec3::new(10.0, 0.0, -1.0), Vec3::new(20.0, 5.0, -2.0)]
+            .into_iter()
+            .map(|p| RiverPoint {
+                position: p,
+                width: 4.0,
+                depth: 1.0,
+                speed: 1.0,
+            })
+            .collect();
+        let s = flatten(&pts, 0.5);
+        assert_eq!(s[0].position, Vec3::ZERO);
+        assert_eq!(s.last().unwrap().position, pts[2].position);
+        assert!(s.iter().any(|x| (x.position - pts[1].position).length() < 1e-5));
+        for w in s.windows(2) {
+            assert!((w[1].position.truncate() - w[0].position.truncate()).length() <= 0.5 + 1e-4);
+        }
+    }
+}
