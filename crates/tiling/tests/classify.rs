@@ -14,12 +14,25 @@ use visbuf::VisLayout;
 use wave::WaveWidth;
 
 fn layout_of(vrs: bool) -> VisLayout {
-    if vrs { VisLayout::Vrs } else { VisLayout::Standard }
+    if vrs {
+        VisLayout::Vrs
+    } else {
+        VisLayout::Standard
+    }
 }
 
 /// Every valid pixel (by the naive decode) appears in exactly one command of its own
 /// tile, pass and group; no wave mixes tiles, passes or groups.
-fn check_invariants(words: &[u32], valid: Option<&[u32]>, w: u32, h: u32, layout: VisLayout, table: &[tiling::MicroBatchInfo], passes: u32, c: &tiling::Classification) {
+fn check_invariants(
+    words: &[u32],
+    valid: Option<&[u32]>,
+    w: u32,
+    h: u32,
+    layout: VisLayout,
+    table: &[tiling::MicroBatchInfo],
+    passes: u32,
+    c: &tiling::Classification,
+) {
     let tiles_x = w.div_ceil(128);
     let mut seen = vec![0u8; words.len()];
     for wc in &c.output.waves {
@@ -30,7 +43,10 @@ fn check_invariants(words: &[u32], valid: Option<&[u32]>, w: u32, h: u32, layout
                 vec![unpack_pixel_command(cmd)]
             } else {
                 let (qx, qy, m) = tiling::unpack_quad_command(cmd);
-                (0..4).filter(|b| (m >> b) & 1 == 1).map(|b| (2 * qx + (b & 1), 2 * qy + (b >> 1))).collect()
+                (0..4)
+                    .filter(|b| (m >> b) & 1 == 1)
+                    .map(|b| (2 * qx + (b & 1), 2 * qy + (b >> 1)))
+                    .collect()
             };
             for (x, y) in pixels {
                 let (gx, gy) = (tx * 128 + x, ty * 128 + y);
@@ -40,7 +56,11 @@ fn check_invariants(words: &[u32], valid: Option<&[u32]>, w: u32, h: u32, layout
                 let (kind, hit) = common::naive_decode(words[i], mask_ok, layout, table, passes);
                 assert_eq!(kind, 3, "command for a pixel that is not valid");
                 let hit = hit.unwrap();
-                assert_eq!((hit.pass, hit.group), (wc.pass(), wc.batch_group()), "wave mixes passes or groups");
+                assert_eq!(
+                    (hit.pass, hit.group),
+                    (wc.pass(), wc.batch_group()),
+                    "wave mixes passes or groups"
+                );
                 seen[i] += 1;
             }
         }
@@ -49,14 +69,31 @@ fn check_invariants(words: &[u32], valid: Option<&[u32]>, w: u32, h: u32, layout
     for (i, &word) in words.iter().enumerate() {
         let mask_ok = valid.is_none_or(|m| (m[i / 32] >> (i % 32)) & 1 == 1);
         let (kind, _) = common::naive_decode(word, mask_ok, layout, table, passes);
-        assert_eq!(seen[i], u8::from(kind == 3), "pixel {i} covered {} times", seen[i]);
+        assert_eq!(
+            seen[i],
+            u8::from(kind == 3),
+            "pixel {i} covered {} times",
+            seen[i]
+        );
     }
 }
 
-fn run_case(seed: u64, w: u32, h: u32, vrs: bool, with_mask: bool, wave: WaveWidth, small_limits: bool, min_batches: usize) -> (tiling::PixelStats, u32) {
+fn run_case(
+    seed: u64,
+    w: u32,
+    h: u32,
+    vrs: bool,
+    with_mask: bool,
+    wave: WaveWidth,
+    small_limits: bool,
+    min_batches: usize,
+) -> (tiling::PixelStats, u32) {
     let mut rng = Rng(seed);
     let layout = layout_of(vrs);
-    let mut config = PlanConfig { layout, ..PlanConfig::default() };
+    let mut config = PlanConfig {
+        layout,
+        ..PlanConfig::default()
+    };
     if small_limits {
         // Many passes and groups: split hard.
         config.max_micro_batch_vertices = 2000;
@@ -89,7 +126,10 @@ fn run_case(seed: u64, w: u32, h: u32, vrs: bool, with_mask: bool, wave: WaveWid
     assert_eq!(got.mid.counter_offsets, want.mid.counter_offsets);
     assert_eq!(got.mid.counts, want.mid.counts);
     assert_eq!(got.mid.pixel_offsets, want.mid.pixel_offsets);
-    assert_eq!(got.mid.vertex_cull, want.mid.vertex_cull, "vertex cull buffer");
+    assert_eq!(
+        got.mid.vertex_cull, want.mid.vertex_cull,
+        "vertex cull buffer"
+    );
     assert_eq!(got.mid.stats, want.mid.stats);
     assert_eq!(got.output.final_counts, want.output.final_counts);
     assert_eq!(got.output.commands, want.output.commands, "commands");
@@ -99,7 +139,16 @@ fn run_case(seed: u64, w: u32, h: u32, vrs: bool, with_mask: bool, wave: WaveWid
     assert_eq!(got.output.stats, want.output.stats);
     assert_eq!(got, want);
     assert_eq!(got.output.stats.pixels(), u64::from(w * h));
-    check_invariants(&words, mask.as_deref(), w, h, layout, &scene.plan.table, cfg.pass_count, &got);
+    check_invariants(
+        &words,
+        mask.as_deref(),
+        w,
+        h,
+        layout,
+        &scene.plan.table,
+        cfg.pass_count,
+        &got,
+    );
     (got.output.stats, cfg.pass_count)
 }
 
@@ -128,7 +177,10 @@ fn multi_tile_frames_with_many_passes() {
         // The cases exercise what they claim: many passes, every kind of pixel, and VRS
         // samples shared between pixels.
         assert!(passes >= 5, "{passes} passes");
-        assert!(stats.valid > 1000 && stats.empty > 1000 && stats.unknown > 0 && stats.out_of_range > 0, "{stats:?}");
+        assert!(
+            stats.valid > 1000 && stats.empty > 1000 && stats.unknown > 0 && stats.out_of_range > 0,
+            "{stats:?}"
+        );
         if vrs {
             assert!(stats.commands < stats.valid, "{stats:?}");
         } else {
@@ -153,7 +205,12 @@ fn mid_counts_may_overestimate_and_output_uses_the_final_validity() {
     let mid = mid_classify(&all, &scene.plan.table, &scene.indices, &cfg, &masks).unwrap();
     let out = classify_output(&late, &scene.plan.table, &cfg, &masks, &mid).unwrap();
     assert_eq!(out.stats.dropped, 0);
-    assert!(out.final_counts.iter().zip(&mid.counts).all(|(f, c)| f <= c));
+    assert!(
+        out.final_counts
+            .iter()
+            .zip(&mid.counts)
+            .all(|(f, c)| f <= c)
+    );
     assert!(out.stats.commands < mid.stats.commands);
     // The late classification by itself finds the same pixels in each counter.
     let alone = classify(&late, &scene.plan.table, &scene.indices, &cfg).unwrap();
@@ -173,7 +230,10 @@ fn a_growing_validity_drops_what_has_no_room() {
     let (w, h) = (130, 140);
     let words = random_vis(&mut rng, &scene.plan, w, h, VisLayout::Standard, 0);
     let early_mask = random_mask(&mut rng, w, h, 40);
-    let early = VisBuffer::new(&words, w, h, VisLayout::Standard).unwrap().with_validity(&early_mask).unwrap();
+    let early = VisBuffer::new(&words, w, h, VisLayout::Standard)
+        .unwrap()
+        .with_validity(&early_mask)
+        .unwrap();
     let late = VisBuffer::new(&words, w, h, VisLayout::Standard).unwrap();
     let cfg = ClassifyConfig::for_plan(&scene.plan, WaveWidth::W8);
     let (masks, _) = laydown_finalize(&early, &scene.plan.table, &cfg).unwrap();
@@ -193,11 +253,32 @@ fn mismatched_inputs_are_errors() {
     let cfg = ClassifyConfig::for_plan(&scene.plan, WaveWidth::W32);
     let c = classify(&vis, &scene.plan.table, &scene.indices, &cfg).unwrap();
     // Wrong sizes.
-    assert!(matches!(VisBuffer::new(&words, 63, 64, VisLayout::Standard), Err(Error::BufferSize { .. })));
-    assert!(matches!(VisBuffer::new(&words, 0, 64, VisLayout::Standard), Err(Error::InvalidConfig { what: "width", .. })));
-    assert!(matches!(vis.with_validity(&[0; 3]), Err(Error::BufferSize { what: "validity mask", .. })));
-    let bad_passes = ClassifyConfig { pass_count: 257, ..cfg };
-    assert!(matches!(laydown_finalize(&vis, &scene.plan.table, &bad_passes), Err(Error::InvalidConfig { what: "pass_count", .. })));
+    assert!(matches!(
+        VisBuffer::new(&words, 63, 64, VisLayout::Standard),
+        Err(Error::BufferSize { .. })
+    ));
+    assert!(matches!(
+        VisBuffer::new(&words, 0, 64, VisLayout::Standard),
+        Err(Error::InvalidConfig { what: "width", .. })
+    ));
+    assert!(matches!(
+        vis.with_validity(&[0; 3]),
+        Err(Error::BufferSize {
+            what: "validity mask",
+            ..
+        })
+    ));
+    let bad_passes = ClassifyConfig {
+        pass_count: 257,
+        ..cfg
+    };
+    assert!(matches!(
+        laydown_finalize(&vis, &scene.plan.table, &bad_passes),
+        Err(Error::InvalidConfig {
+            what: "pass_count",
+            ..
+        })
+    ));
     assert!(matches!(
         mid_classify(&vis, &scene.plan.table, &scene.indices, &cfg, &c.masks[1..]),
         Err(Error::BufferSize { .. })
@@ -237,7 +318,13 @@ fn garbage_words_and_tables_are_counted_never_read_out_of_bounds() {
         }
     }
     let cfg = ClassifyConfig::for_plan(&scene.plan, WaveWidth::W64);
-    let got = classify(&vis, &table, &scene.indices[..scene.indices.len() / 2], &cfg).unwrap();
+    let got = classify(
+        &vis,
+        &table,
+        &scene.indices[..scene.indices.len() / 2],
+        &cfg,
+    )
+    .unwrap();
     let want = naive_classify(&NaiveInput {
         words: &words,
         valid: None,

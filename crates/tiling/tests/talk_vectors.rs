@@ -4,8 +4,8 @@
 //! out by hand from the pictures below.
 
 use tiling::{
-    Batch, ClassifyConfig, Geometry, PassDispatch, PlanConfig, VisBuffer, WaveCommand,
-    build_plan, classify, depth_equal_waves, expand_wave, quad_command, vertex_wave_commands,
+    Batch, ClassifyConfig, Geometry, PassDispatch, PlanConfig, VisBuffer, WaveCommand, build_plan,
+    classify, depth_equal_waves, expand_wave, quad_command, vertex_wave_commands,
 };
 use visbuf::{ShadingRate, VIS_NONE, VisFields, VisId, VisLayout};
 use wave::WaveWidth;
@@ -147,14 +147,38 @@ fn loose_tiling_example_16x16_wave_8() {
 
     // HZD's depth-equal pass on the same tile: quads per draw A 8, B 8, C 4, D 2, times
     // 4 lanes over waves of 8: 4 + 4 + 2 + 1 = 11 waves against the 9 above.
-    assert_eq!(depth_equal_waves(&vis, &plan.table, &config).unwrap(), (11, 22));
+    assert_eq!(
+        depth_equal_waves(&vis, &plan.table, &config).unwrap(),
+        (11, 22)
+    );
 
     // Vertex wave commands: one per micro batch, chunk 0.
-    let v = vertex_wave_commands(&c.mid.vertex_cull, plan.chunk_count, &plan.table, &plan.order, &plan.passes).unwrap();
-    let ids: Vec<(u32, u32)> = v.commands.iter().map(|c| (c.micro_batch, c.chunk)).collect();
+    let v = vertex_wave_commands(
+        &c.mid.vertex_cull,
+        plan.chunk_count,
+        &plan.table,
+        &plan.order,
+        &plan.passes,
+    )
+    .unwrap();
+    let ids: Vec<(u32, u32)> = v
+        .commands
+        .iter()
+        .map(|c| (c.micro_batch, c.chunk))
+        .collect();
     assert_eq!(ids, [(0, 0), (1, 0), (2, 0), (3, 0)]);
     assert_eq!(v.deltas, [0, 1, 1, 1]);
-    assert_eq!(v.passes[0], PassDispatch { x: 4, y: 1, z: 1, first: 0, count: 4, items: 12 });
+    assert_eq!(
+        v.passes[0],
+        PassDispatch {
+            x: 4,
+            y: 1,
+            z: 1,
+            first: 0,
+            count: 4,
+            items: 12
+        }
+    );
 }
 
 #[test]
@@ -166,17 +190,41 @@ fn vrs_quads_and_their_expansion() {
     //   quad (0,1): instance 2 at 1x2, left column; right column instance 3 at 1x1
     //                                                          -> mask 0101, then 0010, 1000
     //   quad (1,1): instance 0 at 2x2 but only 3 pixels        -> mask 0111 (pixel 3 empty)
-    let tri = Geometry { vertex_count: 3, primitive_count: 1, first_index: 0, base_vertex: 0 };
+    let tri = Geometry {
+        vertex_count: 3,
+        primitive_count: 1,
+        first_index: 0,
+        base_vertex: 0,
+    };
     let at = [[0.0f32; 3]; 4];
     let plan = build_plan(
-        &[Batch { shader: 0, batch_data: 0, geometry: tri, instances: &at }],
-        &PlanConfig { layout: VisLayout::Vrs, ..PlanConfig::default() },
+        &[Batch {
+            shader: 0,
+            batch_data: 0,
+            geometry: tri,
+            instances: &at,
+        }],
+        &PlanConfig {
+            layout: VisLayout::Vrs,
+            ..PlanConfig::default()
+        },
     )
     .unwrap();
     let mb = plan.micro_batches[0];
     let word = |instance: u32, rate: ShadingRate| {
         let (id, field) = mb.instance_id(instance);
-        VisId::pack(VisLayout::Vrs, mb.bits(), VisFields { micro_batch: id, instance: field, primitive: 0, rate }).unwrap().0
+        VisId::pack(
+            VisLayout::Vrs,
+            mb.bits(),
+            VisFields {
+                micro_batch: id,
+                instance: field,
+                primitive: 0,
+                rate,
+            },
+        )
+        .unwrap()
+        .0
     };
     let q = word(0, ShadingRate::Rate2x2);
     let h = word(1, ShadingRate::Rate2x1);
@@ -212,7 +260,10 @@ fn vrs_quads_and_their_expansion() {
     let list = expand_wave(&c.output.commands, WaveWidth::W8).unwrap();
     assert!(list.needs_broadcast);
     assert_eq!(list.first_entry, [0, 4, 6, 8, 9, 12]);
-    assert_eq!(list.quad_origin, [(0, 0), (2, 0), (0, 2), (0, 2), (2, 2), (0, 2)]);
+    assert_eq!(
+        list.quad_origin,
+        [(0, 0), (2, 0), (0, 2), (0, 2), (2, 2), (0, 2)]
+    );
     // lane | dx << 6 | dy << 7
     assert_eq!(
         list.entries,
@@ -220,9 +271,19 @@ fn vrs_quads_and_their_expansion() {
     );
     let mut pixels: Vec<(u32, u32)> = list.pixels().iter().map(|&(_, x, y)| (x, y)).collect();
     pixels.sort();
-    let mut valid: Vec<(u32, u32)> = (0..16u32).filter(|&i| words[i as usize] != VIS_NONE).map(|i| (i % 4, i / 4)).collect();
+    let mut valid: Vec<(u32, u32)> = (0..16u32)
+        .filter(|&i| words[i as usize] != VIS_NONE)
+        .map(|i| (i % 4, i / 4))
+        .collect();
     valid.sort();
-    assert_eq!(pixels, valid, "every covered pixel receives exactly one result");
+    assert_eq!(
+        pixels, valid,
+        "every covered pixel receives exactly one result"
+    );
     // Without broadcast, the fast path.
-    assert!(!expand_wave(&[quad_command(5, 6, 0b0100)], WaveWidth::W8).unwrap().needs_broadcast);
+    assert!(
+        !expand_wave(&[quad_command(5, 6, 0b0100)], WaveWidth::W8)
+            .unwrap()
+            .needs_broadcast
+    );
 }

@@ -153,7 +153,14 @@ pub fn out_of_range_word(rng: &mut Rng, plan: &Plan, layout: VisLayout) -> u32 {
 
 /// A `w x h` vis buffer with spatial coherence (pixels often repeat a neighbour's word),
 /// some empty pixels and `garbage` percent of random words.
-pub fn random_vis(rng: &mut Rng, plan: &Plan, w: u32, h: u32, layout: VisLayout, garbage: u64) -> Vec<u32> {
+pub fn random_vis(
+    rng: &mut Rng,
+    plan: &Plan,
+    w: u32,
+    h: u32,
+    layout: VisLayout,
+    garbage: u64,
+) -> Vec<u32> {
     let mut words = vec![VIS_NONE; (w * h) as usize];
     for y in 0..h {
         for x in 0..w {
@@ -202,11 +209,21 @@ pub struct Hit {
 }
 
 /// 0 empty, 1 unknown, 2 out of range, 3 valid.
-pub fn naive_decode(word: u32, valid: bool, layout: VisLayout, table: &[MicroBatchInfo], passes: u32) -> (u8, Option<Hit>) {
+pub fn naive_decode(
+    word: u32,
+    valid: bool,
+    layout: VisLayout,
+    table: &[MicroBatchInfo],
+    passes: u32,
+) -> (u8, Option<Hit>) {
     if word == 0xffff_ffff || !valid {
         return (0, None);
     }
-    let ids: u32 = if layout == VisLayout::Vrs { 16384 } else { 65536 };
+    let ids: u32 = if layout == VisLayout::Vrs {
+        16384
+    } else {
+        65536
+    };
     let id = (word / 65536) % ids;
     if id == ids - 1 || id as usize >= table.len() {
         return (1, None);
@@ -286,7 +303,8 @@ pub fn naive_classify(n: &NaiveInput<'_>) -> Classification {
                 for k in 0..3 {
                     let v = n.indices[(first + k) as usize];
                     let chunk = if v < r.vertex_count {
-                        r.first_chunk as u64 + (hit.instance as u64 * r.vertex_count as u64 + v as u64) / 64
+                        r.first_chunk as u64
+                            + (hit.instance as u64 * r.vertex_count as u64 + v as u64) / 64
                     } else {
                         u64::MAX
                     };
@@ -363,8 +381,11 @@ pub fn naive_classify(n: &NaiveInput<'_>) -> Classification {
     }
     out.wave_offsets = vec![0; lists.len()];
     let keys: Vec<(usize, u32, u32)> = lists.keys().copied().collect();
-    let mut pass_major: Vec<(u32, usize, u32, usize)> =
-        keys.iter().enumerate().map(|(c, &(t, p, g))| (p, t, g, c)).collect();
+    let mut pass_major: Vec<(u32, usize, u32, usize)> = keys
+        .iter()
+        .enumerate()
+        .map(|(c, &(t, p, g))| (p, t, g, c))
+        .collect();
     pass_major.sort();
     for p in 0..n.passes {
         let first = out.waves.len() as u32;
