@@ -40,6 +40,28 @@ pub enum Error {
         /// The limit.
         limit: u32,
     },
+    /// A cascade count of 0 or above [`MAX_CASCADES`](crate::cascades::MAX_CASCADES).
+    TooManyCascades {
+        /// The count given.
+        count: u32,
+        /// The limit.
+        limit: u32,
+    },
+    /// A PCF kernel with fewer taps than samples or more than
+    /// [`MAX_PCF_TAPS`](crate::msaa::MAX_PCF_TAPS).
+    KernelSize {
+        /// Taps given.
+        taps: usize,
+        /// Fewest taps (one per sample).
+        min: u32,
+        /// The limit.
+        max: u32,
+    },
+    /// A PCF tap with a non-finite offset or a weight that is not positive and finite.
+    InvalidTap {
+        /// Index of the tap in the kernel given.
+        index: u32,
+    },
     /// An output or input buffer shorter than the pass needs.
     BufferTooSmall {
         /// Which buffer.
@@ -69,6 +91,19 @@ impl fmt::Display for Error {
                     "viewport {name} {value} is outside 1..=MAX_VIEWPORT ({limit})"
                 )
             }
+            Error::TooManyCascades { count, limit } => {
+                write!(
+                    f,
+                    "cascade count {count} is outside 1..=MAX_CASCADES ({limit})"
+                )
+            }
+            Error::KernelSize { taps, min, max } => {
+                write!(
+                    f,
+                    "PCF kernel of {taps} taps is outside {min}..=MAX_PCF_TAPS ({max})"
+                )
+            }
+            Error::InvalidTap { index } => write!(f, "PCF tap {index}: bad offset or weight"),
             Error::BufferTooSmall {
                 buffer,
                 len,

@@ -71,14 +71,19 @@ extern crate std;
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("deferred needs float math: enable the `std` (default) or `libm` feature");
 
+pub mod cascades;
 pub mod depth;
 mod error;
 pub mod gbuffer;
 pub mod lights;
 mod math;
+pub mod msaa;
 pub mod normal;
 mod wgsl;
 
+pub use cascades::{
+    Cascade, CascadeCamera, CascadeParams, DeferredCascade, StableCascades, practical_splits,
+};
 pub use depth::{DeferredProjection, DepthMode, Linearize, Perspective};
 pub use error::Error;
 pub use gbuffer::{GBufferLayout, Kz2Texels, NormalSpace, OctTexels, Surface, TargetFormat};

@@ -27,11 +27,9 @@ mod imp {
     pub(crate) fn floor64(x: f64) -> f64 {
         x.floor()
     }
-    #[allow(dead_code)]
     pub(crate) fn ceil64(x: f64) -> f64 {
         x.ceil()
     }
-    #[allow(dead_code)]
     pub(crate) fn powf64(x: f64, y: f64) -> f64 {
         x.powf(y)
     }
@@ -63,11 +61,9 @@ mod imp {
     pub(crate) fn floor64(x: f64) -> f64 {
         libm::floor(x)
     }
-    #[allow(dead_code)]
     pub(crate) fn ceil64(x: f64) -> f64 {
         libm::ceil(x)
     }
-    #[allow(dead_code)]
     pub(crate) fn powf64(x: f64, y: f64) -> f64 {
         libm::pow(x, y)
     }
