@@ -354,7 +354,8 @@ pub fn city(config: &CityConfig) -> City {
                 o.lod_scale = rng.range(0.8, 1.25);
                 g.objects.push(o);
             }
-            if rng.below(400) == 0 {
+            // One misfit at the corner lot of each sector, a few more at random.
+            if rng.below(400) == 0 || (lx % sl == 0 && lz % sl == 0) {
                 g.objects.push(PlacedObject::new(
                     misfit_resources[rng.below(2) as usize],
                     centre + DVec3::new(0.0, 0.0, f64::from(config.lot_size) * 0.45),

@@ -462,34 +462,48 @@ pub fn build_tiles(
 
     let mut tiles = Vec::new();
     let mut current: Vec<&PreparedObject> = Vec::new();
+    // Resources already in the current tile: their setups, matrices and bounds are stored
+    // already, so further placements add only an object.
+    let mut seen: Vec<usize> = Vec::new();
     let mut counts = [0usize; 5]; // instances, objects, setups, matrices, bounds (upper bounds)
+    let limits = [
+        target,
+        MAX_OBJECTS_PER_TILE,
+        MAX_SETUPS_PER_TILE,
+        MAX_MATRICES_PER_TILE,
+        MAX_BOUNDS_PER_TILE,
+    ];
     for &i in &order {
         let o = objects[i as usize];
         let flat = leaves_of(lib, o)?;
-        let add = [
-            o.instances as usize,
-            1,
-            flat.setups,
-            flat.matrices,
-            flat.bounds,
-        ];
-        let limits = [
-            target,
-            MAX_OBJECTS_PER_TILE,
-            MAX_SETUPS_PER_TILE,
-            MAX_MATRICES_PER_TILE,
-            MAX_BOUNDS_PER_TILE,
-        ];
-        let overflow = (0..5).any(|j| counts[j] + add[j] > limits[j]);
-        if overflow && !current.is_empty() {
+        let add = |new: bool| {
+            let n = usize::from(new);
+            [
+                o.instances as usize,
+                1,
+                n * flat.setups,
+                n * flat.matrices,
+                n * flat.bounds,
+            ]
+        };
+        let a = add(seen.binary_search(&o.resource).is_err());
+        if (0..5).any(|j| counts[j] + a[j] > limits[j]) && !current.is_empty() {
             tiles.push(fill_tile(TileId(*next_id), &current, lib, config)?);
             *next_id = next_id.wrapping_add(1);
             current.clear();
+            seen.clear();
             counts = [0; 5];
         }
+        let a = match seen.binary_search(&o.resource) {
+            Ok(_) => add(false),
+            Err(at) => {
+                seen.insert(at, o.resource);
+                add(true)
+            }
+        };
         current.push(o);
         for j in 0..5 {
-            counts[j] += add[j];
+            counts[j] += a[j];
         }
     }
     if !current.is_empty() {
