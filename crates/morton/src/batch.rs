@@ -47,68 +47,64 @@ fn available(path: Path) -> Result<(), MortonError> {
     }
 }
 
-// The loop shapes, inlined into each path's `#[target_feature]` function.
+// The loop shapes, expanded into each path's `#[target_feature]` function.
 
-#[inline(always)]
-fn map2<C>(xs: &[u32], ys: &[u32], out: &mut [C], f: impl Fn(u32, u32) -> C) {
-    for ((o, &x), &y) in out.iter_mut().zip(xs).zip(ys) {
-        *o = f(x, y);
-    }
+macro_rules! map2 {
+    ($xs:expr, $ys:expr, $out:expr, $f:expr) => {
+        for ((o, &x), &y) in $out.iter_mut().zip($xs).zip($ys) {
+            *o = ($f)(x, y);
+        }
+    };
 }
 
-#[inline(always)]
-fn map3<C>(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [C], f: impl Fn(u32, u32, u32) -> C) {
-    for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
-        *o = f(x, y, z);
-    }
+macro_rules! map3 {
+    ($xs:expr, $ys:expr, $zs:expr, $out:expr, $f:expr) => {
+        for (((o, &x), &y), &z) in $out.iter_mut().zip($xs).zip($ys).zip($zs) {
+            *o = ($f)(x, y, z);
+        }
+    };
 }
 
-#[inline(always)]
-fn unmap2<C: Copy>(codes: &[C], xs: &mut [u32], ys: &mut [u32], f: impl Fn(C) -> [u32; 2]) {
-    for ((&c, x), y) in codes.iter().zip(xs.iter_mut()).zip(ys.iter_mut()) {
-        let [a, b] = f(c);
-        *x = a;
-        *y = b;
-    }
+macro_rules! unmap2 {
+    ($codes:expr, $xs:expr, $ys:expr, $f:expr) => {
+        for ((&c, x), y) in $codes.iter().zip($xs.iter_mut()).zip($ys.iter_mut()) {
+            let [a, b] = ($f)(c);
+            *x = a;
+            *y = b;
+        }
+    };
 }
 
-#[inline(always)]
-fn unmap3<C: Copy>(
-    codes: &[C],
-    xs: &mut [u32],
-    ys: &mut [u32],
-    zs: &mut [u32],
-    f: impl Fn(C) -> [u32; 3],
-) {
-    for (((&c, x), y), z) in codes
-        .iter()
-        .zip(xs.iter_mut())
-        .zip(ys.iter_mut())
-        .zip(zs.iter_mut())
-    {
-        let [a, b, d] = f(c);
-        *x = a;
-        *y = b;
-        *z = d;
-    }
+macro_rules! unmap3 {
+    ($codes:expr, $xs:expr, $ys:expr, $zs:expr, $f:expr) => {
+        for (((&c, x), y), z) in $codes
+            .iter()
+            .zip($xs.iter_mut())
+            .zip($ys.iter_mut())
+            .zip($zs.iter_mut())
+        {
+            let [a, b, d] = ($f)(c);
+            *x = a;
+            *y = b;
+            *z = d;
+        }
+    };
 }
 
-#[inline(always)]
-fn map_aos<const N: usize, C>(points: &[[u32; N]], out: &mut [C], f: impl Fn([u32; N]) -> C) {
-    for (o, &p) in out.iter_mut().zip(points) {
-        *o = f(p);
-    }
+macro_rules! map_aos {
+    ($points:expr, $out:expr, $f:expr) => {
+        for (o, &p) in $out.iter_mut().zip($points) {
+            *o = ($f)(p);
+        }
+    };
 }
 
-#[inline(always)]
-fn unmap_aos<const N: usize, C: Copy>(
-    codes: &[C],
-    points: &mut [[u32; N]],
-    f: impl Fn(C) -> [u32; N],
-) {
-    for (&c, p) in codes.iter().zip(points.iter_mut()) {
-        *p = f(c);
-    }
+macro_rules! unmap_aos {
+    ($codes:expr, $points:expr, $f:expr) => {
+        for (&c, p) in $codes.iter().zip($points.iter_mut()) {
+            *p = ($f)(c);
+        }
+    };
 }
 
 #[cfg(target_arch = "x86_64")]

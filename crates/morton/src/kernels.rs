@@ -1,8 +1,8 @@
 //! The kernel generator shared by [`crate::batch`] and [`crate::quantize`].
 
 /// Generates, in module `$modname`, one kernel per [`crate::Path`] for a loop shape
-/// (`$shape`, an `#[inline(always)]` function taking the arguments and then a per-key
-/// function) and a `run(path, args...)` that dispatches. Each kernel is its own
+/// (`$shape`, a macro taking the arguments and then a per-key function, so that the
+/// per-key function is called directly and inlined, not through an `Fn` shim) and a `run(path, args...)` that dispatches. Each kernel is its own
 /// `#[target_feature]` function, so the whole loop is compiled for that instruction set.
 macro_rules! kernels {
     (
@@ -12,8 +12,22 @@ macro_rules! kernels {
         kernels!($modname, $shape, ( $($arg : $ty),* ) -> (), magic: $magic, bmi2: $bmi2);
     };
     (
+        $modname:ident, $shape:ident, ( $($arg:ident : $ty:ty),* ),
+        scalar: $scalar:expr, bmi2: $bmi2:expr, simd: $simd:expr
+    ) => {
+        kernels!($modname, $shape, ( $($arg : $ty),* ) -> (),
+            scalar: $scalar, bmi2: $bmi2, simd: $simd);
+    };
+    (
         $modname:ident, $shape:ident, ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
         magic: $magic:expr, bmi2: $bmi2:expr
+    ) => {
+        kernels!($modname, $shape, ( $($arg : $ty),* ) -> $ret,
+            scalar: $magic, bmi2: $bmi2, simd: $magic);
+    };
+    (
+        $modname:ident, $shape:ident, ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        scalar: $scalar:expr, bmi2: $bmi2:expr, simd: $simd:expr
     ) => {
         mod $modname {
             #[allow(unused_imports)]
@@ -21,28 +35,28 @@ macro_rules! kernels {
 
             #[inline(never)]
             fn scalar($($arg: $ty),*) -> $ret {
-                $shape($($arg),*, $magic)
+                $shape!($($arg),*, $scalar)
             }
 
             #[cfg(target_arch = "x86_64")]
             #[inline(never)]
             #[target_feature(enable = "bmi2")]
             fn bmi2($($arg: $ty),*) -> $ret {
-                $shape($($arg),*, $bmi2)
+                $shape!($($arg),*, $bmi2)
             }
 
             #[cfg(target_arch = "x86_64")]
             #[inline(never)]
             #[target_feature(enable = "avx2")]
             fn avx2($($arg: $ty),*) -> $ret {
-                $shape($($arg),*, $magic)
+                $shape!($($arg),*, $simd)
             }
 
             #[cfg(target_arch = "x86_64")]
             #[inline(never)]
             #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2")]
             fn avx512($($arg: $ty),*) -> $ret {
-                $shape($($arg),*, $magic)
+                $shape!($($arg),*, $simd)
             }
 
             /// Runs on `path`, which the caller has checked is available.

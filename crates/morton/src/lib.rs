@@ -134,7 +134,8 @@ pub const MASK3_Y_U64: u64 = 0x2492_4924_9249_2492;
 pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 
 /// Uses BMI2 when the build enables it (`-C target-feature=+bmi2` or a `target-cpu` that
-/// has it), magic bits otherwise: one definition per scalar function.
+/// has it); otherwise, with `std` on x86-64, BMI2 when the CPU has a fast `pdep` (checked
+/// once, then one predictable branch per call); magic bits everywhere else.
 macro_rules! scalar {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty) => {
         $(#[$doc])*
@@ -145,7 +146,15 @@ macro_rules! scalar {
             {
                 bmi2::$name($($arg),*)
             }
-            #[cfg(not(all(target_arch = "x86_64", target_feature = "bmi2")))]
+            #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
+            {
+                if path::scalar_pdep() {
+                    // SAFETY: checked at run time that the CPU has BMI2.
+                    return unsafe { bmi2::$name($($arg),*) };
+                }
+                magic::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", any(target_feature = "bmi2", feature = "std"))))]
             {
                 magic::$name($($arg),*)
             }

@@ -67,11 +67,15 @@ mod cpu {
 
     static FLAGS: AtomicU8 = AtomicU8::new(0);
 
+    #[inline(always)]
     fn flags() -> u8 {
         let f = FLAGS.load(Ordering::Relaxed);
-        if f & KNOWN != 0 {
-            return f;
-        }
+        if f & KNOWN != 0 { f } else { detect() }
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn detect() -> u8 {
         let mut f = KNOWN;
         if std::is_x86_feature_detected!("bmi2") {
             f |= BMI2;
@@ -126,7 +130,15 @@ mod cpu {
     pub(super) fn fast_pdep() -> bool {
         flags() & FAST_PDEP != 0
     }
+    /// BMI2 present and `pdep` fast: what the scalar functions check per call.
+    #[inline(always)]
+    pub(crate) fn scalar_pdep() -> bool {
+        flags() & (BMI2 | FAST_PDEP) == BMI2 | FAST_PDEP
+    }
 }
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+pub(crate) use cpu::scalar_pdep;
 
 #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
 mod cpu {

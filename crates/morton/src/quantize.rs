@@ -301,39 +301,36 @@ impl NanCheck for Vec2 {
     }
 }
 
-/// The quantise+encode loop: one pass, no branches; returns whether any input was NaN.
-#[inline(always)]
-fn q3_loop<C>(
-    q: &Quantizer3,
-    points: &[Vec3],
-    out: &mut [C],
-    enc: impl Fn(u32, u32, u32) -> C,
-) -> bool {
-    let (min, scale, top) = (q.min, q.scale, q.top);
-    let mut nan = false;
-    for (o, p) in out.iter_mut().zip(points) {
-        nan |= p.x.is_nan() | p.y.is_nan() | p.z.is_nan();
-        *o = enc(
-            cell(p.x, min.x, scale.x, top),
-            cell(p.y, min.y, scale.y, top),
-            cell(p.z, min.z, scale.z, top),
-        );
-    }
-    nan
+/// The quantise+encode loop: one pass, no branches; evaluates to whether any input was NaN.
+macro_rules! q3_loop {
+    ($q:expr, $points:expr, $out:expr, $enc:expr) => {{
+        let (min, scale, top) = ($q.min, $q.scale, $q.top);
+        let mut nan = false;
+        for (o, p) in $out.iter_mut().zip($points) {
+            nan |= p.x.is_nan() | p.y.is_nan() | p.z.is_nan();
+            *o = ($enc)(
+                cell(p.x, min.x, scale.x, top),
+                cell(p.y, min.y, scale.y, top),
+                cell(p.z, min.z, scale.z, top),
+            );
+        }
+        nan
+    }};
 }
 
-#[inline(always)]
-fn q2_loop<C>(q: &Quantizer2, points: &[Vec2], out: &mut [C], enc: impl Fn(u32, u32) -> C) -> bool {
-    let (min, scale, top) = (q.min, q.scale, q.top);
-    let mut nan = false;
-    for (o, p) in out.iter_mut().zip(points) {
-        nan |= p.x.is_nan() | p.y.is_nan();
-        *o = enc(
-            cell(p.x, min.x, scale.x, top),
-            cell(p.y, min.y, scale.y, top),
-        );
-    }
-    nan
+macro_rules! q2_loop {
+    ($q:expr, $points:expr, $out:expr, $enc:expr) => {{
+        let (min, scale, top) = ($q.min, $q.scale, $q.top);
+        let mut nan = false;
+        for (o, p) in $out.iter_mut().zip($points) {
+            nan |= p.x.is_nan() | p.y.is_nan();
+            *o = ($enc)(
+                cell(p.x, min.x, scale.x, top),
+                cell(p.y, min.y, scale.y, top),
+            );
+        }
+        nan
+    }};
 }
 
 #[cfg(target_arch = "x86_64")]
