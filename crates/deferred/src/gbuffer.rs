@@ -51,7 +51,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
 
 use crate::math::{self, round_half_even, saturate};
-use crate::normal;
+use crate::{normal, tables};
 
 /// Upper end of the glow channel: luminance `KZ2_GLOW_RANGE` and above stores as 255.
 pub const KZ2_GLOW_RANGE: f32 = 8.0;
@@ -272,6 +272,19 @@ pub fn unorm8(x: f32) -> u8 {
     round_half_even(saturate(x) * 255.0) as u8
 }
 
+/// The sRGB 8-bit code of a linear value: `unorm8(srgb_encode(x))`, found by a binary
+/// search over the 255 linear values where the code steps (no `pow`); NaN → 0.
+#[inline]
+pub fn srgb8(x: f32) -> u8 {
+    tables::count_at_or_below(&tables::SRGB_ENCODE_THRESHOLDS, x)
+}
+
+/// The linear value of an sRGB 8-bit code, `srgb_decode(c / 255)` (a table load).
+#[inline]
+pub fn srgb8_value(c: u8) -> f32 {
+    tables::SRGB_DECODE[c as usize]
+}
+
 /// An 8-bit code to `[0, 1]`.
 #[inline]
 pub fn unorm8_value(c: u8) -> f32 {
@@ -328,14 +341,20 @@ pub fn roughness_from_spec_power(power: f32) -> f32 {
 /// `unorm8(log2(1 + power) / KZ2_SPEC_LOG_RANGE)`, which keeps precision at low powers
 /// (rough surfaces). The smallest roughness it holds is
 /// `roughness_from_spec_power(KZ2_SPEC_POWER_MAX)` ≈ 0.125.
+///
+/// Found by a binary search over the 255 powers where the code steps (no `log2`).
 #[inline]
 pub fn spec_power_code(power: f32) -> u8 {
-    let p = if power > 0.0 {
-        power.min(KZ2_SPEC_POWER_MAX)
-    } else {
-        0.0
-    };
-    unorm8(math::log2(1.0 + p) * (1.0 / KZ2_SPEC_LOG_RANGE))
+    // NaN and negative powers read as 0 (code 0).
+    let p = if power >= 0.0 { power } else { 0.0 };
+    tables::count_at_or_below(&tables::SPEC_POWER_THRESHOLDS, p.min(KZ2_SPEC_POWER_MAX))
+}
+
+/// The perceptual roughness KZ2's log-range code `code` reads back as:
+/// `roughness_from_spec_power(spec_power_value(code))` (a table load).
+#[inline]
+pub fn spec_code_roughness(code: u8) -> f32 {
+    tables::KZ2_ROUGHNESS[code as usize]
 }
 
 /// The specular power of a log-range code: `2^(code / 255 · KZ2_SPEC_LOG_RANGE) - 1`.
@@ -487,7 +506,7 @@ impl Kz2Texels {
                 unorm8_value(t.rt3[2]),
             ),
             normal: normal::kz2_decode_view_normal(u32::from_le_bytes(t.rt1)),
-            roughness: roughness_from_spec_power(spec_power_value(t.rt2[2])),
+            roughness: spec_code_roughness(t.rt2[2]),
             specular: unorm8_value(t.rt2[3]),
             sun_shadow: unorm8_value(t.rt3[3]),
             motion: Vec2::new(motion_value(t.rt2[0]), motion_value(t.rt2[1])),
@@ -537,9 +556,9 @@ impl OctTexels {
                 0,
             ],
             rt3: [
-                unorm8(srgb_encode(s.albedo.x)),
-                unorm8(srgb_encode(s.albedo.y)),
-                unorm8(srgb_encode(s.albedo.z)),
+                srgb8(s.albedo.x),
+                srgb8(s.albedo.y),
+                srgb8(s.albedo.z),
                 unorm8(s.sun_shadow),
             ],
         }
@@ -552,9 +571,9 @@ impl OctTexels {
         Surface {
             lighting: rt0_lighting(t.rt0),
             albedo: Vec3::new(
-                srgb_decode(unorm8_value(t.rt3[0])),
-                srgb_decode(unorm8_value(t.rt3[1])),
-                srgb_decode(unorm8_value(t.rt3[2])),
+                srgb8_value(t.rt3[0]),
+                srgb8_value(t.rt3[1]),
+                srgb8_value(t.rt3[2]),
             ),
             normal: normal::oct_decode(word),
             roughness: unorm8_value(t.rt1[3]),

@@ -79,6 +79,7 @@ pub mod lights;
 mod math;
 pub mod msaa;
 pub mod normal;
+mod tables;
 mod wgsl;
 
 pub use cascades::{
@@ -87,6 +88,8 @@ pub use cascades::{
 pub use depth::{DeferredProjection, DepthMode, Linearize, Perspective};
 pub use error::Error;
 pub use gbuffer::{GBufferLayout, Kz2Texels, NormalSpace, OctTexels, Surface, TargetFormat};
+/// The `glam` this crate's API uses (re-exported so callers match its version).
+pub use glam;
 pub use lights::{
     DeferredLight, DeferredTileDepth, LightClass, LightClassifier, LightPath, ShadowFade,
     cull_tiles, tile_depth_ranges,

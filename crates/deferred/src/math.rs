@@ -9,9 +9,6 @@ mod imp {
     pub(crate) fn powf(x: f32, y: f32) -> f32 {
         x.powf(y)
     }
-    pub(crate) fn log2(x: f32) -> f32 {
-        x.log2()
-    }
     pub(crate) fn exp2(x: f32) -> f32 {
         x.exp2()
     }
@@ -42,9 +39,6 @@ mod imp {
     }
     pub(crate) fn powf(x: f32, y: f32) -> f32 {
         libm::powf(x, y)
-    }
-    pub(crate) fn log2(x: f32) -> f32 {
-        libm::log2f(x)
     }
     pub(crate) fn exp2(x: f32) -> f32 {
         libm::exp2f(x)
@@ -84,26 +78,23 @@ pub(crate) fn floor(x: f32) -> f32 {
 }
 
 /// Round to nearest, ties to even: what WGSL's `round` does, so quantisers agree with
-/// their WGSL twins bit for bit.
+/// their WGSL twins bit for bit. Branch-free for `|x| < 2^22` (adding and subtracting
+/// 1.5 · 2^23 leaves the integer the FPU rounded to, ties to even); larger magnitudes are
+/// integers already and NaN passes through.
 #[inline]
 pub(crate) fn round_half_even(x: f32) -> f32 {
-    let f = floor(x);
-    let d = x - f;
-    let even = (f * 0.5) == floor(f * 0.5);
-    if d > 0.5 || (d == 0.5 && !even) {
-        f + 1.0
+    const MAGIC: f32 = 12_582_912.0;
+    if x.abs() < 4_194_304.0 {
+        (x + MAGIC) - MAGIC
     } else {
-        f
+        x
     }
 }
 
 /// Saturate with NaN mapped to 0 (WGSL `saturate` of NaN is indeterminate; the encoders
-/// sanitise first so both sides agree).
+/// sanitise first so both sides agree). `f32::max` returns the non-NaN operand.
 #[inline]
+#[allow(clippy::manual_clamp)] // reason: `clamp` keeps NaN; this must map it to 0.
 pub(crate) fn saturate(x: f32) -> f32 {
-    if x > 0.0 {
-        if x < 1.0 { x } else { 1.0 }
-    } else {
-        0.0
-    }
+    x.max(0.0).min(1.0)
 }

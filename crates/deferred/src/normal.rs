@@ -51,9 +51,10 @@ pub const OCT_CODE_MAX: u32 = 2 * OCT_CENTER;
 /// Bits of the packed word ([`oct_encode_precise`] and friends use bits 0..24).
 pub const OCT_WORD_BITS: u32 = 2 * OCT_BITS;
 
+/// +1 for `x >= 0` (including -0), -1 below: WGSL's `select(-1, 1, x >= 0)`, branch-free.
 #[inline]
 fn sign_not_zero(x: f32) -> f32 {
-    if x >= 0.0 { 1.0 } else { -1.0 }
+    f32::from_bits(1.0f32.to_bits() | (u32::from(x < 0.0) << 31))
 }
 
 /// Projects a direction onto the folded octahedron square `[-1, 1]²`. Non-finite or zero
@@ -65,14 +66,11 @@ pub fn oct_project(n: Vec3) -> Vec2 {
         return Vec2::ZERO;
     }
     let p = Vec2::new(n.x / l1, n.y / l1);
-    if n.z < 0.0 {
-        Vec2::new(
-            (1.0 - p.y.abs()) * sign_not_zero(p.x),
-            (1.0 - p.x.abs()) * sign_not_zero(p.y),
-        )
-    } else {
-        p
-    }
+    let folded = Vec2::new(
+        (1.0 - p.y.abs()) * sign_not_zero(p.x),
+        (1.0 - p.x.abs()) * sign_not_zero(p.y),
+    );
+    if n.z < 0.0 { folded } else { p }
 }
 
 /// Unfolds a point of the octahedron square back to a unit direction (the decode without
@@ -90,8 +88,8 @@ fn oct_unproject_unnormalized(p: Vec2) -> Vec3 {
     let z = 1.0 - p.x.abs() - p.y.abs();
     // Fold the lower hemisphere back (Stubbe's branch-free form of the same unfold).
     let t = (-z).max(0.0);
-    let x = p.x + if p.x >= 0.0 { -t } else { t };
-    let y = p.y + if p.y >= 0.0 { -t } else { t };
+    let x = p.x - t * sign_not_zero(p.x);
+    let y = p.y - t * sign_not_zero(p.y);
     Vec3::new(x, y, z)
 }
 
@@ -101,10 +99,11 @@ fn axis_value(code: u32) -> f32 {
     (c as f32 - OCT_CENTER as f32) * (1.0 / OCT_CENTER as f32)
 }
 
+/// The code at or below a square coordinate (truncation is floor: the value is >= 0).
 #[inline]
 fn to_code_floor(x: f32) -> u32 {
     let s = (x.clamp(-1.0, 1.0) + 1.0) * OCT_CENTER as f32;
-    (math::floor(s) as u32).min(OCT_CODE_MAX)
+    (s as u32).min(OCT_CODE_MAX)
 }
 
 /// Decodes the low 24 bits of `word` (see the module's bit table) to a unit direction.

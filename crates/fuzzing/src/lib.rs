@@ -16,9 +16,11 @@
 //! }
 //! ```
 
+mod deferred;
 mod framealloc;
 mod visbuf;
 mod wave;
+pub use deferred::*;
 pub use framealloc::*;
 pub use visbuf::*;
 pub use wave::*;
@@ -28,6 +30,8 @@ pub type Body = fn(&[u8]);
 
 /// Every fuzz target, by the name of its file in `fuzz/fuzz_targets/`.
 pub const TARGETS: &[(&str, Body)] = &[
+    ("deferred_gbuffer_decode", deferred_gbuffer_decode),
+    ("deferred_normal_codecs", deferred_normal_codecs),
     ("framealloc_pool_ops", framealloc_pool_ops),
     ("framealloc_stream_ops", framealloc_stream_ops),
     ("visbuf_id_decode", visbuf_id_decode),
