@@ -43,7 +43,7 @@ use crate::progress::{Progress, Stage, report};
 pub const MAX_EDT_SIDE: u32 = 16384;
 
 /// "No pixel of the other class in this column".
-pub(crate) const INF: u32 = u32::MAX;
+pub(crate) const INF: u16 = u16::MAX;
 
 /// A signed distance field in texels (see the module docs for the sign and units).
 #[derive(Clone, Debug, PartialEq)]
@@ -142,190 +142,214 @@ pub(crate) fn check_dims(width: u32, height: u32, len: usize) -> Result<(), Erro
     Ok(())
 }
 
-/// The column pass for one row, given the previous row's classes and distances: the
+/// The column pass for one row, given the previous row's mask and distances: the
 /// downward sweep (distance to the nearest pixel of the other class above).
 #[inline]
-pub(crate) fn column_down(prev_class: &[u8], prev_g: &[u32], class: &[u8], g: &mut [u32]) {
-    for x in 0..g.len() {
-        g[x] = if class[x] != prev_class[x] {
+pub(crate) fn column_down(prev_mask: &[u8], prev_g: &[u16], mask: &[u8], g: &mut [u16]) {
+    for (((g, &m), &pm), &pg) in g.iter_mut().zip(mask).zip(prev_mask).zip(prev_g) {
+        *g = if (m != 0) != (pm != 0) {
             1
         } else {
-            prev_g[x].saturating_add(1)
+            pg.saturating_add(1)
         };
     }
 }
 
 /// The upward sweep for one row, given the row below.
 #[inline]
-pub(crate) fn column_up(next_class: &[u8], next_g: &[u32], class: &[u8], g: &mut [u32]) {
-    for x in 0..g.len() {
-        let d = if class[x] != next_class[x] {
+pub(crate) fn column_up(next_mask: &[u8], next_g: &[u16], mask: &[u8], g: &mut [u16]) {
+    for (((g, &m), &nm), &ng) in g.iter_mut().zip(mask).zip(next_mask).zip(next_g) {
+        let d = if (m != 0) != (nm != 0) {
             1
         } else {
-            next_g[x].saturating_add(1)
+            ng.saturating_add(1)
         };
-        g[x] = g[x].min(d);
+        *g = (*g).min(d);
     }
 }
 
-/// Classes as 0 (water) / 1 (solid).
-pub(crate) fn classes(mask: &[u8]) -> Vec<u8> {
-    mask.iter().map(|&m| u8::from(m != 0)).collect()
-}
-
 /// Sequential column pass over all rows: `g[y * w + x]` = vertical distance from `(x, y)`
-/// to the nearest pixel of the other class in column `x`, or [`INF`].
-pub(crate) fn column_pass(class: &[u8], width: usize, g: &mut [u32]) {
-    let h = class.len() / width;
+/// to the nearest pixel of the other class in column `x`, or [`INF`] (distances are below
+/// [`MAX_EDT_SIDE`], so they fit `u16`).
+pub(crate) fn column_pass(mask: &[u8], width: usize, g: &mut [u16]) {
+    let h = mask.len() / width;
     g[..width].fill(INF);
     for y in 1..h {
         let (done, rest) = g.split_at_mut(y * width);
         column_down(
-            &class[(y - 1) * width..y * width],
+            &mask[(y - 1) * width..y * width],
             &done[(y - 1) * width..],
-            &class[y * width..(y + 1) * width],
+            &mask[y * width..(y + 1) * width],
             &mut rest[..width],
         );
     }
     for y in (0..h.saturating_sub(1)).rev() {
         let (head, below) = g.split_at_mut((y + 1) * width);
         column_up(
-            &class[(y + 1) * width..(y + 2) * width],
+            &mask[(y + 1) * width..(y + 2) * width],
             &below[..width],
-            &class[y * width..(y + 1) * width],
+            &mask[y * width..(y + 1) * width],
             &mut head[y * width..],
         );
     }
 }
 
-/// Scratch space for one row's two envelopes.
-#[derive(Default)]
+/// Scratch space for one run's envelope.
 pub(crate) struct RowScratch {
+    /// Sites (x) and their values (squared column distance).
     site: Vec<i32>,
     f: Vec<i32>,
+    /// The envelope: parabola apex x, its value there, `x^2 + f`, and where it starts
+    /// (`zn / zd`).
     v: Vec<i32>,
     fv: Vec<i32>,
-    z: Vec<i32>,
-    /// The last row's signed squared distances.
-    pub(crate) d2: Vec<i32>,
+    hv: Vec<i32>,
+    zn: Vec<i64>,
+    zd: Vec<i64>,
 }
 
 impl RowScratch {
     pub(crate) fn new(width: usize) -> Self {
         Self {
-            site: Vec::with_capacity(width),
-            f: Vec::with_capacity(width),
-            v: vec![0; width + 1],
-            fv: vec![0; width + 1],
-            z: vec![0; width + 2],
-            d2: vec![0; width],
+            site: vec![0; width + 2],
+            f: vec![0; width + 2],
+            v: vec![0; width + 2],
+            fv: vec![0; width + 2],
+            hv: vec![0; width + 2],
+            zn: vec![0; width + 3],
+            zd: vec![1; width + 3],
         }
     }
 }
 
-/// Builds the lower envelope of the parabolas `(x - site)^2 + f` (sites increasing) and
-/// evaluates it at every `x` where `class[x] == target`, writing `d2[x]`. Returns nothing
-/// to evaluate against (leaves `d2` untouched) when there are no sites.
-fn envelope(s: &mut RowScratch, class: &[u8], target: u8) {
-    let n = s.site.len();
-    if n == 0 {
-        for (x, &c) in class.iter().enumerate() {
-            if c == target {
-                s.d2[x] = i32::MAX;
-            }
-        }
-        return;
-    }
-    let (v, fv, z) = (&mut s.v, &mut s.fv, &mut s.z);
+/// Builds the lower envelope of the `n` parabolas `(x - site)^2 + f` in the scratch
+/// (sites increasing, `n >= 1`) and calls `write(x, d2)` for every `x` in `a..=b`.
+///
+/// Breakpoints are kept as exact fractions `zn / zd` (`zd > 0`): parabola `q` is below
+/// parabola `v` for `x >= (q^2 + f_q - v^2 - f_v) / (2 (q - v))`, and every comparison of
+/// two breakpoints, or of a breakpoint with an integer, is a cross-multiplication in `i64`
+/// (operands below 2^30 and 2^15, products below 2^46): no rounding and no division.
+#[inline]
+fn envelope(s: &mut RowScratch, n: usize, a: usize, b: usize, write: &mut impl FnMut(usize, i32)) {
+    let (site, f) = (&s.site[..n], &s.f[..n]);
+    let (v, fv, hv, zn, zd) = (&mut s.v, &mut s.fv, &mut s.hv, &mut s.zn, &mut s.zd);
+    // The top of the stack lives in locals; the arrays hold everything below it too.
     let mut k = 0usize;
-    v[0] = s.site[0];
-    fv[0] = s.f[0];
-    z[0] = i32::MIN;
-    z[1] = i32::MAX;
-    for i in 1..n {
-        let (q, fq) = (s.site[i], s.f[i]);
+    let (mut tv, mut th, mut tzn, mut tzd) = (site[0], site[0] * site[0] + f[0], 0i64, 1i64);
+    v[0] = tv;
+    fv[0] = f[0];
+    hv[0] = th;
+    for (&q, &fq) in site[1..].iter().zip(&f[1..]) {
         let hq = q * q + fq;
-        let (num, den) = loop {
-            // Parabola q is at most parabola v[k] for x >= num / den.
-            let num = hq - (v[k] * v[k] + fv[k]);
-            let den = 2 * (q - v[k]);
-            // Pop v[k] if q already wins at the first integer of v[k]'s interval:
-            // ceil(num / den) <= z[k]  <=>  num <= z[k] * den (den > 0, z[k] an integer).
-            if k > 0 && i64::from(num) <= i64::from(z[k]) * i64::from(den) {
+        loop {
+            let num = i64::from(hq - th);
+            let den = i64::from(2 * (q - tv));
+            // Pop the top when q wins from where it starts: num / den <= tzn / tzd.
+            if k > 0 && num * tzd <= tzn * den {
                 k -= 1;
+                (tv, th, tzn, tzd) = (v[k], hv[k], zn[k], zd[k]);
             } else {
-                break (num, den);
+                k += 1;
+                (v[k], fv[k], hv[k], zn[k], zd[k]) = (q, fq, hq, num, den);
+                (tv, th, tzn, tzd) = (q, hq, num, den);
+                break;
             }
-        };
-        // First integer x where q wins: ceil(num / den), with Rust's truncating division.
-        let t = num / den + i32::from(num % den > 0);
-        k += 1;
-        v[k] = q;
-        fv[k] = fq;
-        z[k] = t;
-        z[k + 1] = i32::MAX;
-    }
-    let mut k = 0usize;
-    for (x, &c) in class.iter().enumerate() {
-        if c != target {
-            continue;
         }
-        let x = x as i32;
-        while z[k + 1] <= x {
+    }
+    let last = k;
+    let (v, fv, zn, zd) = (&v[..=last], &fv[..=last], &zn[..=last], &zd[..=last]);
+    let mut k = 0usize;
+    for x in a..=b {
+        let xi = x as i64;
+        // Advance while the next parabola starts at or before x.
+        while k < last && zn[k + 1] <= xi * zd[k + 1] {
             k += 1;
         }
-        let dx = x - v[k];
-        s.d2[x as usize] = dx * dx + fv[k];
+        let dx = x as i32 - v[k];
+        write(x, dx * dx + fv[k]);
     }
 }
 
-/// The row pass for one row: signed squared distances into `s.d2` (positive for water,
-/// negative for solid, `i32::MAX` / `-i32::MAX` where the other class does not exist).
-pub(crate) fn row_pass(s: &mut RowScratch, class: &[u8], g: &[u32]) {
-    let w = class.len();
-    for target in [0u8, 1u8] {
-        // Envelope of distances to the class `1 - target`, evaluated at `target` pixels.
-        s.site.clear();
-        s.f.clear();
-        for x in 0..w {
-            if class[x] == target {
-                // A pixel of the evaluated class is a site through its column distance.
-                if g[x] != INF {
-                    s.site.push(x as i32);
-                    s.f.push((g[x] * g[x]) as i32);
-                }
-            } else {
-                // A pixel of the other class: distance 0, needed only at a run's ends.
-                let left_end = x == 0 || class[x - 1] == target;
-                let right_end = x + 1 == w || class[x + 1] == target;
-                if left_end || right_end {
-                    s.site.push(x as i32);
-                    s.f.push(0);
-                }
+/// The row pass for one row: calls `write(x, d2)` once per pixel with its signed squared
+/// distance (positive for water, negative for solid, `i32::MAX` / `-i32::MAX` where the
+/// other class does not exist).
+///
+/// The row splits into runs of one class. For a pixel in a run, a site outside the run is
+/// never nearer than the other-class pixel just past the run's end on that side (it lies
+/// between them, at distance 0), so each run is solved alone: its own pixels as sites
+/// through their column distances, plus the two other-class pixels bounding it. A site
+/// whose column distance is at least the largest distance the bounding pixels leave,
+/// `max_y min(y - (a - 1), (b + 1) - y)`, can never be the nearest and is skipped.
+#[inline]
+pub(crate) fn row_pass(
+    s: &mut RowScratch,
+    mask: &[u8],
+    g: &[u16],
+    mut write: impl FnMut(usize, i32),
+) {
+    let w = mask.len();
+    let mut a = 0usize;
+    while a < w {
+        let c = mask[a] != 0;
+        let mut b = a;
+        while b + 1 < w && (mask[b + 1] != 0) == c {
+            b += 1;
+        }
+        let (left, right) = (a > 0, b + 1 < w);
+        let len = b - a + 1;
+        // Largest squared distance the bounding pixels leave inside the run.
+        let reach = match (left, right) {
+            (true, true) => len.div_ceil(2),
+            (true, false) | (false, true) => len,
+            (false, false) => usize::MAX,
+        };
+        let mut n = 0;
+        if left {
+            s.site[0] = a as i32 - 1;
+            s.f[0] = 0;
+            n = 1;
+        }
+        for x in a..=b {
+            let gx = g[x];
+            if gx != INF && usize::from(gx) < reach {
+                s.site[n] = x as i32;
+                s.f[n] = i32::from(gx) * i32::from(gx);
+                n += 1;
             }
         }
-        envelope(s, class, target);
-    }
-    for x in 0..w {
-        if class[x] == 1 {
-            s.d2[x] = -s.d2[x];
+        if right {
+            s.site[n] = b as i32 + 1;
+            s.f[n] = 0;
+            n += 1;
         }
+        if n == 0 {
+            let none = if c { -i32::MAX } else { i32::MAX };
+            for x in a..=b {
+                write(x, none);
+            }
+        } else if c {
+            envelope(s, n, a, b, &mut |x, d| write(x, -d));
+        } else {
+            envelope(s, n, a, b, &mut write);
+        }
+        a = b + 1;
     }
 }
 
-/// Writes one row of f32 distances from signed squared distances.
+/// Turns a row of signed squared distances, stored as f32 (`d2 as f32`), into signed
+/// distances, in place: a separate loop so that the square roots vectorise.
 #[inline]
-pub(crate) fn finish_row(d2: &[i32], out: &mut [f32]) {
-    for (o, &d) in out.iter_mut().zip(d2) {
-        *o = if d == i32::MAX {
+pub(crate) fn finish_row(row: &mut [f32]) {
+    // `i32::MAX as f32` is 2^31; real squared distances are below 2^29.
+    const NONE: f32 = 2_147_483_648.0;
+    for v in row.iter_mut() {
+        let a = v.abs();
+        let r = if a >= NONE {
             f32::INFINITY
-        } else if d == -i32::MAX {
-            f32::NEG_INFINITY
-        } else if d >= 0 {
-            math::sqrt(d as f32)
         } else {
-            -math::sqrt((-d) as f32)
+            math::sqrt(a)
         };
+        *v = if *v < 0.0 { -r } else { r };
     }
 }
 
@@ -343,16 +367,16 @@ pub fn signed_edt(
 ) -> Result<DistanceField, Error> {
     check_dims(width, height, mask.len())?;
     let (w, h) = (width as usize, height as usize);
-    let class = classes(mask);
-    let mut g = vec![0u32; w * h];
-    column_pass(&class, w, &mut g);
+    let mut g = vec![0u16; w * h];
+    column_pass(mask, w, &mut g);
     report(progress, Stage::DistanceColumns, 1, 1)?;
     let mut values = vec![0.0f32; w * h];
     let mut s = RowScratch::new(w);
     for y in 0..h {
         let r = y * w..(y + 1) * w;
-        row_pass(&mut s, &class[r.clone()], &g[r.clone()]);
-        finish_row(&s.d2, &mut values[r]);
+        let out = &mut values[r.clone()];
+        row_pass(&mut s, &mask[r.clone()], &g[r], |x, d| out[x] = d as f32);
+        finish_row(out);
         if (y + 1) % ROWS_PER_REPORT == 0 || y + 1 == h {
             report(progress, Stage::DistanceRows, (y + 1) as u64, h as u64)?;
         }
@@ -369,15 +393,14 @@ pub fn signed_edt(
 pub fn signed_squared_edt(mask: &[u8], width: u32, height: u32) -> Result<Vec<i32>, Error> {
     check_dims(width, height, mask.len())?;
     let (w, h) = (width as usize, height as usize);
-    let class = classes(mask);
-    let mut g = vec![0u32; w * h];
-    column_pass(&class, w, &mut g);
+    let mut g = vec![0u16; w * h];
+    column_pass(mask, w, &mut g);
     let mut out = vec![0i32; w * h];
     let mut s = RowScratch::new(w);
     for y in 0..h {
         let r = y * w..(y + 1) * w;
-        row_pass(&mut s, &class[r.clone()], &g[r.clone()]);
-        out[r].copy_from_slice(&s.d2);
+        let o = &mut out[r.clone()];
+        row_pass(&mut s, &mask[r.clone()], &g[r], |x, d| o[x] = d);
     }
     Ok(out)
 }

@@ -4,8 +4,10 @@
 //! Rust implementation, so `exp`, `sin`, `pow` and friends give the same bits on every
 //! platform and with every C library (the platform `libm` that `std` calls does not; glibc,
 //! musl and MSVC differ in the last place). `sqrt`, `floor` and `fract` are exact IEEE
-//! operations and would agree anyway; they are here so that nothing in the crate reaches
-//! for `f32` inherent methods, which `core` does not have.
+//! operations and agree anyway; they are here so that nothing in the crate reaches for
+//! `f32` inherent methods, which `core` does not have. `sqrt` uses the compiler intrinsic
+//! under `std` (so loops of it vectorise) and `libm` without; both are correctly rounded,
+//! so the bits are the same.
 //!
 //! The WGSL twins use the GPU's built-ins (`exp`, `sin`, ...), which WGSL only requires to
 //! be accurate to a few ulp (more for `sin`/`cos` on large arguments); the tolerances the
@@ -56,7 +58,14 @@ pub fn atan2(y: f32, x: f32) -> f32 {
 /// Square root (correctly rounded).
 #[inline]
 pub fn sqrt(x: f32) -> f32 {
-    libm::sqrtf(x)
+    #[cfg(feature = "std")]
+    {
+        x.sqrt()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sqrtf(x)
+    }
 }
 
 /// Square root in f64 (correctly rounded).

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 
 use crate::Error;
 use crate::edt::{
-    DistanceField, INF, ROWS_PER_REPORT, RowScratch, check_dims, classes, column_down, column_up,
+    DistanceField, INF, ROWS_PER_REPORT, RowScratch, check_dims, column_down, column_up,
     finish_row, row_pass,
 };
 use crate::progress::{Progress, Stage, report};
@@ -22,11 +22,11 @@ use crate::progress::{Progress, Stage, report};
 const STRIP: usize = 256;
 
 /// The column pass split into vertical strips, one task each.
-fn column_pass_par(class: &[u8], width: usize, g: &mut [u32]) {
-    let h = class.len() / width;
+fn column_pass_par(mask: &[u8], width: usize, g: &mut [u16]) {
+    let h = mask.len() / width;
     // Each strip owns its piece of every row.
     let strips = width.div_ceil(STRIP);
-    let mut pieces: Vec<Vec<&mut [u32]>> = (0..strips).map(|_| Vec::with_capacity(h)).collect();
+    let mut pieces: Vec<Vec<&mut [u16]>> = (0..strips).map(|_| Vec::with_capacity(h)).collect();
     for row in g.chunks_mut(width) {
         let mut rest = row;
         for strip in pieces.iter_mut() {
@@ -42,7 +42,7 @@ fn column_pass_par(class: &[u8], width: usize, g: &mut [u32]) {
         .for_each(|(s, mut rows)| {
             let x0 = s * STRIP;
             let n = rows[0].len();
-            let cls = |y: usize| &class[y * width + x0..y * width + x0 + n];
+            let cls = |y: usize| &mask[y * width + x0..y * width + x0 + n];
             rows[0].fill(INF);
             for y in 1..h {
                 let (done, rest) = rows.split_at_mut(y);
@@ -65,9 +65,8 @@ pub fn signed_edt(
 ) -> Result<DistanceField, Error> {
     check_dims(width, height, mask.len())?;
     let (w, h) = (width as usize, height as usize);
-    let class = classes(mask);
-    let mut g = vec![0u32; w * h];
-    column_pass_par(&class, w, &mut g);
+    let mut g = vec![0u16; w * h];
+    column_pass_par(mask, w, &mut g);
     report(progress, Stage::DistanceColumns, 1, 1)?;
     let mut values = vec![0.0f32; w * h];
     let batch = ROWS_PER_REPORT * w;
@@ -77,8 +76,8 @@ pub fn signed_edt(
             || RowScratch::new(w),
             |s, (i, out)| {
                 let r = (y0 + i) * w..(y0 + i + 1) * w;
-                row_pass(s, &class[r.clone()], &g[r]);
-                finish_row(&s.d2, out);
+                row_pass(s, &mask[r.clone()], &g[r], |x, d| out[x] = d as f32);
+                finish_row(out);
             },
         );
         let done = (y0 + chunk.len() / w) as u64;

@@ -1,0 +1,90 @@
+//! Times the signed distance transform against imageproc on a shoreline mask, reporting the
+//! minimum and median of several runs (the minimum is robust to other load on the machine).
+//!
+//! `cargo run -p water --release --features parallel --example edt_timing -- 2048 7`
+
+use std::time::Instant;
+
+use glam::Vec2;
+use water::noise::{Fbm, FbmParams, NoiseTexture};
+
+fn shore_mask(size: u32) -> Vec<u8> {
+    let tex = NoiseTexture::generate(256, 16, 11).unwrap();
+    let f = Fbm::new(
+        &tex,
+        FbmParams {
+            frequency: 1.0 / 1024.0,
+            amplitude: 1.0,
+            gain: 0.5,
+            octaves_near: 6,
+            octaves_far: 1,
+            lod_distance: 1.0,
+        },
+    )
+    .unwrap();
+    (0..size * size)
+        .map(|i| u8::from(f.height(Vec2::new((i % size) as f32, (i / size) as f32)) > 0.15))
+        .collect()
+}
+
+fn time(name: &str, runs: usize, mut f: impl FnMut()) -> f64 {
+    let mut t: Vec<f64> = (0..runs)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    println!(
+        "{name:40} min {:8.2} ms  median {:8.2} ms",
+        t[0],
+        t[runs / 2]
+    );
+    t[0]
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let n: u32 = args.next().map_or(2048, |a| a.parse().expect("size"));
+    let runs: usize = args.next().map_or(7, |a| a.parse().expect("runs"));
+    // Optional: run only one of "water", "parallel", "imageproc" (for `perf stat`).
+    let only = args.next().unwrap_or_default();
+    let on = |name: &str| only.is_empty() || only == name;
+    let mask = shore_mask(n);
+    let solid = mask.iter().filter(|&&m| m != 0).count() as f64 / mask.len() as f64;
+    println!("{n}x{n} mask, {:.0}% solid", solid * 100.0);
+    let mut a = f64::NAN;
+    if on("water") {
+        a = time("water signed_edt (1 thread)", runs, || {
+            std::hint::black_box(
+                water::edt::signed_edt(&mask, n, n, &mut water::no_progress).unwrap(),
+            );
+        });
+    }
+    #[cfg(feature = "parallel")]
+    if on("parallel") {
+        time(
+            &format!(
+                "water parallel::signed_edt ({} threads)",
+                rayon::current_num_threads()
+            ),
+            runs,
+            || {
+                std::hint::black_box(
+                    water::parallel::signed_edt(&mask, n, n, &mut water::no_progress).unwrap(),
+                );
+            },
+        );
+    }
+    let img = imageproc::image::GrayImage::from_raw(n, n, mask.clone()).unwrap();
+    let mut b = f64::NAN;
+    if on("imageproc") {
+        b = time("imageproc squared EDT (unsigned)", runs, || {
+            std::hint::black_box(
+                imageproc::distance_transform::euclidean_squared_distance_transform(&img),
+            );
+        });
+    }
+    println!("water / imageproc = {:.2}", a / b);
+}
