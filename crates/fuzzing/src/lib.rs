@@ -18,10 +18,12 @@
 
 mod deferred;
 mod framealloc;
+mod staticscene;
 mod visbuf;
 mod wave;
 pub use deferred::*;
 pub use framealloc::*;
+pub use staticscene::*;
 pub use visbuf::*;
 pub use wave::*;
 
@@ -34,6 +36,9 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("deferred_normal_codecs", deferred_normal_codecs),
     ("framealloc_pool_ops", framealloc_pool_ops),
     ("framealloc_stream_ops", framealloc_stream_ops),
+    ("staticscene_instance_decode", staticscene_instance_decode),
+    ("staticscene_build", staticscene_build),
+    ("staticscene_query", staticscene_query),
     ("visbuf_id_decode", visbuf_id_decode),
     ("visbuf_vertex_decode", visbuf_vertex_decode),
     ("visbuf_encode_provoking", visbuf_encode_provoking),
