@@ -52,8 +52,9 @@ use crate::math;
 
 /// Smallest texture side [`NoiseTexture::generate`] accepts.
 pub const MIN_NOISE_SIZE: u32 = 4;
-/// Largest texture side [`NoiseTexture::generate`] accepts (a core wgpu 2D texture limit).
-pub const MAX_NOISE_SIZE: u32 = 8192;
+/// Largest texture side [`NoiseTexture::generate`] accepts (the CPU keeps a 16-byte
+/// 2 x 2 footprint per texel for one-load bilinear sampling: 64 MiB at this size).
+pub const MAX_NOISE_SIZE: u32 = 2048;
 /// Most octaves an [`Fbm`] sums.
 pub const MAX_OCTAVES: u32 = 16;
 /// The talk's octave count close to the camera.
@@ -137,6 +138,10 @@ pub struct NoiseTexture {
     size: u32,
     shift: u32,
     texels: Vec<f32>,
+    /// Per texel `(i, j)` the bilinear coefficients of the cell to its lower right,
+    /// [`bilinear_coefficients`] of texels `(i, j)`, `(i + 1, j)`, `(i, j + 1)`,
+    /// `(i + 1, j + 1)` (wrapping), so a sample is one 16-byte load.
+    quads: Vec<[f32; 4]>,
     mean: f32,
     slope_variance: f32,
 }
@@ -151,7 +156,7 @@ impl NoiseTexture {
             return Err(Error::InvalidSize {
                 field: "noise texture size",
                 value: size,
-                rule: "a power of two in MIN_NOISE_SIZE..=MAX_NOISE_SIZE (4..=8192)",
+                rule: "a power of two in MIN_NOISE_SIZE..=MAX_NOISE_SIZE (4..=2048)",
             });
         }
         if !cells.is_power_of_two() || cells > size {
@@ -190,7 +195,7 @@ impl NoiseTexture {
             return Err(Error::InvalidSize {
                 field: "noise texture size",
                 value: size,
-                rule: "a power of two in MIN_NOISE_SIZE..=MAX_NOISE_SIZE (4..=8192)",
+                rule: "a power of two in MIN_NOISE_SIZE..=MAX_NOISE_SIZE (4..=2048)",
             });
         }
         let n = size as usize;
@@ -224,11 +229,24 @@ impl NoiseTexture {
             }
         }
         let cells = (n * n) as f64;
+        let mut quads = Vec::with_capacity(n * n);
+        for j in 0..n {
+            for i in 0..n {
+                let t = |i: usize, j: usize| texels[(j & (n - 1)) * n + (i & (n - 1))];
+                quads.push(bilinear_coefficients(
+                    t(i, j),
+                    t(i + 1, j),
+                    t(i, j + 1),
+                    t(i + 1, j + 1),
+                ));
+            }
+        }
         let slope_variance = (sum / (2.0 * cells) * (n * n) as f64) as f32;
         Ok(Self {
             size,
             shift: 32 - size.trailing_zeros(),
             texels,
+            quads,
             mean: (mean / cells) as f32,
             slope_variance,
         })
@@ -280,22 +298,13 @@ impl NoiseTexture {
     #[inline]
     fn sample_fixed_grad(&self, x: u32, y: u32) -> (f32, f32, f32) {
         let s = self.shift;
-        let m = self.size - 1;
         let (ix, iy) = (x >> s, y >> s);
-        let (ix1, iy1) = ((ix + 1) & m, (iy + 1) & m);
         // The next 24 bits below the texel index are the fraction, exact in f32.
         let tx = ((x << (32 - s)) >> 8) as f32 * (1.0 / 16_777_216.0);
         let ty = ((y << (32 - s)) >> 8) as f32 * (1.0 / 16_777_216.0);
-        let n = self.size as usize;
-        let (r0, r1) = (iy as usize * n, iy1 as usize * n);
-        let t = &self.texels;
-        let (v00, v10) = (t[r0 + ix as usize], t[r0 + ix1 as usize]);
-        let (v01, v11) = (t[r1 + ix as usize], t[r1 + ix1 as usize]);
-        let a = v00 + (v10 - v00) * tx;
-        let b = v01 + (v11 - v01) * tx;
-        let v = a + (b - a) * ty;
-        let ddx = (v10 - v00) + ((v11 - v01) - (v10 - v00)) * ty;
-        (v, ddx, b - a)
+        let [c0, c1, c2, c3] = self.quads[((iy << (32 - s)) | ix) as usize];
+        let ddy = c2 + c3 * tx;
+        (c0 + c1 * tx + ddy * ty, c1 + c3 * ty, ddy)
     }
 
     /// Bilinear sample at `uv` (texture periods; wraps).
@@ -305,16 +314,28 @@ impl NoiseTexture {
     }
 }
 
+/// The bilinear form of a cell with corners `v00` (at the origin), `v10` (+x), `v01` (+y),
+/// `v11`: `[v00, v10 - v00, v01 - v00, (v11 - v01) - (v10 - v00)]`, so that the value at
+/// `(tx, ty)` is `c0 + c1 tx + (c2 + c3 tx) ty` and the derivatives are `c1 + c3 ty` and
+/// `c2 + c3 tx`. `water_noise_bilinear` in WGSL evaluates the same expression.
+#[inline]
+#[must_use]
+pub fn bilinear_coefficients(v00: f32, v10: f32, v01: f32, v11: f32) -> [f32; 4] {
+    [v00, v10 - v00, v01 - v00, (v11 - v01) - (v10 - v00)]
+}
+
 /// `fract(u) * 2^32` as an integer: `u` in 2^-32 texture periods, wrapping, exact (the WGSL
 /// twin computes `u32(fract(u) * 4294967296.0)`, the same value). NaN gives 0.
 #[inline]
 #[must_use]
 pub fn to_fixed(u: f32) -> u32 {
-    // f32 * 2^32 is exact in f64; its floor taken by truncation and a correction, then
-    // wrapped: floor(u * 2^32) mod 2^32 = fract(u) * 2^32.
-    let x = f64::from(u) * 4_294_967_296.0;
+    // u * 2^32 is exact in f32 (a power-of-two scale). Its floor by truncation and a
+    // correction, then wrapped: floor(u * 2^32) mod 2^32 = fract(u) * 2^32. Wherever x has
+    // a fraction, |x| < 2^23, so `t as f32` is exact and the comparison is right; above,
+    // x is an integer and t == x.
+    let x = u * 4_294_967_296.0;
     let t = x as i64;
-    let t = if (t as f64) > x { t.wrapping_sub(1) } else { t };
+    let t = if (t as f32) > x { t.wrapping_sub(1) } else { t };
     t as u32
 }
 
@@ -465,13 +486,13 @@ impl<'a> Fbm<'a> {
     pub fn height(&self, p: Vec2) -> f32 {
         let x = to_fixed(p.x * self.params.frequency);
         let y = to_fixed(p.y * self.params.frequency);
+        let n = self.params.octaves_near as usize;
         let mut h = 0.0;
-        for k in 0..self.params.octaves_near as usize {
-            let [ox, oy] = self.offset[k];
+        for (k, (&a, &[ox, oy])) in self.amp[..n].iter().zip(&self.offset[..n]).enumerate() {
             let v = self
                 .texture
                 .sample_fixed((x << k).wrapping_add(ox), (y << k).wrapping_add(oy));
-            h += self.amp[k] * v;
+            h += a * v;
         }
         h
     }
