@@ -283,6 +283,32 @@ fn lod_level(codes: (u32, u32), bounds: &HalfAabb, o2f: &Xf, c: &Consts, scale2:
     always | lod_selects(codes.0, codes.1, dist2(c.lod_point_a, min, max), scale2)
 }
 
+/// What consecutive threads of one job share: the last object's transform and LOD scale
+/// and the last parent LOD result. Instances of one object follow each other (the
+/// partition sorts by setup, then Morton order), and every leaf under one LOD switch has
+/// the same parent bounds and bracket, so most threads reuse the previous thread's
+/// values. A pure memo of the same f32 computations: results are identical to computing
+/// them per thread, as the shader does.
+struct ThreadCache {
+    object: u32,
+    o2f: Xf,
+    scale2: f32,
+    parent: (u32, u32, u32),
+    p_sel: bool,
+}
+
+impl ThreadCache {
+    fn new() -> ThreadCache {
+        ThreadCache {
+            object: u32::MAX,
+            o2f: Xf(Affine3A::IDENTITY),
+            scale2: 0.0,
+            parent: (u32::MAX, 0, 0),
+            p_sel: false,
+        }
+    }
+}
+
 /// The tests of one thread; `fade` is its fade state (when the view fades).
 #[inline]
 fn test_instance(
@@ -294,24 +320,32 @@ fn test_instance(
     snap: bool,
     lane: &mut Lane,
     live: &mut bool,
+    cache: &mut ThreadCache,
 ) -> Outcome {
     // 1. Filter: word 0 only.
     if u32::from(q.filter()) & c.filter == 0 {
         return Outcome::Filter;
     }
-    let Some(obj) = t.objects.get(q.object() as usize) else {
-        return Outcome::Invalid;
-    };
-    let o2f = Xf::from_rows(
-        &obj.object_to_snapped,
-        floating_offset(obj.snapped(), c.origin),
-    );
-    let scale = if obj.ignores_global_lod_scale() {
-        obj.lod_scale()
-    } else {
-        obj.lod_scale() * c.lod_scale
-    };
-    let scale2 = scale * scale;
+    let oi = q.object();
+    if oi != cache.object {
+        let Some(obj) = t.objects.get(oi as usize) else {
+            return Outcome::Invalid;
+        };
+        cache.o2f = Xf::from_rows(
+            &obj.object_to_snapped,
+            floating_offset(obj.snapped(), c.origin),
+        );
+        let scale = if obj.ignores_global_lod_scale() {
+            obj.lod_scale()
+        } else {
+            obj.lod_scale() * c.lod_scale
+        };
+        cache.scale2 = scale * scale;
+        cache.object = oi;
+        cache.parent = (u32::MAX, 0, 0);
+    }
+    let o2f = cache.o2f;
+    let scale2 = cache.scale2;
     // 2. Parent LOD, then 3. child LOD only if the parent is selected.
     let (Some(pb), Some(cb)) = (
         t.bounds.get(q.parent_bounds() as usize),
@@ -319,7 +353,13 @@ fn test_instance(
     ) else {
         return Outcome::Invalid;
     };
-    let p_sel = lod_level(q.parent_lod_codes(), pb, &o2f, c, scale2);
+    let pcodes = q.parent_lod_codes();
+    let pkey = (q.parent_bounds(), pcodes.0, pcodes.1);
+    if pkey != cache.parent {
+        cache.p_sel = lod_level(pcodes, pb, &o2f, c, scale2);
+        cache.parent = pkey;
+    }
+    let p_sel = cache.p_sel;
     let lod_sel = p_sel && lod_level(q.child_lod_codes(), cb, &o2f, c, scale2);
     let fade_on = c.fade && q.flags() & INSTANCE_FLAG_NO_FADE == 0;
     let n = c.fade_frames;
@@ -510,6 +550,7 @@ where
     }
     let mut result = ClusterResult::default();
     let mut lanes = [Lane::default(); 64];
+    let mut cache = ThreadCache::new();
     let wl = width.len();
     for (w, chunk) in items.chunks(wl).enumerate() {
         let mut visible = 0u64;
@@ -529,6 +570,7 @@ where
                 job.snap_fade,
                 &mut lanes[l],
                 &mut result.live,
+                &mut cache,
             );
             match outcome {
                 Outcome::Filter => stats.rejected_filter += 1,
