@@ -11,9 +11,9 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use glam::{DQuat, DVec3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 use rayon::prelude::*;
-use staticscene::demo::{City, CityConfig, city, raster_boxes};
+use staticscene::demo::{City, CityConfig, aerial_camera, city, raster_boxes, street_camera};
 use staticscene::{
     BuildConfig, Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, InstanceState,
     QueryOptions, QueryOutput, QueryParams, ResourceLibrary, STATE_FADING, Scene, TileStreamer,
@@ -34,27 +34,9 @@ fn build_scene(c: &City) -> Scene {
 }
 
 fn views(cfg: &CityConfig) -> Vec<(&'static str, Camera)> {
-    let size = f64::from(cfg.lots[0]) * f64::from(cfg.lot_size);
-    let proj = Mat4::perspective_rh(1.2, 16.0 / 9.0, 0.1, 5000.0);
     vec![
-        (
-            "street",
-            Camera {
-                position: DVec3::new(size * 0.5 - 13.0, 1.7, size * 0.5),
-                rotation: DQuat::from_rotation_y(0.3),
-                projection: proj,
-                reversed_depth: false,
-            },
-        ),
-        (
-            "aerial",
-            Camera {
-                position: DVec3::new(size * 0.1, 250.0, size * 0.1),
-                rotation: DQuat::from_euler(glam::EulerRot::YXZ, -2.35, -0.45, 0.0),
-                projection: proj,
-                reversed_depth: false,
-            },
-        ),
+        ("street", street_camera(cfg)),
+        ("aerial", aerial_camera(cfg)),
     ]
 }
 

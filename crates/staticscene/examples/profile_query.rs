@@ -1,6 +1,6 @@
 //! Runs the street-view query of the demo city in a loop (for `perf`).
 //!
-//! `cargo run -p staticscene --release --example profile_query -- [iterations] [precull 0/1]`
+//! `cargo run -p staticscene --release --features parallel --example profile_query -- [iterations] [precull 0/1] [par 0/1]`
 
 use glam::{DQuat, DVec3, Mat4};
 use staticscene::demo::{CityConfig, city};
@@ -13,6 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let iters: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
     let precull = args.next().map(|s| s != "0").unwrap_or(false);
+    let par = args.next().map(|s| s != "0").unwrap_or(false);
     let cfg = CityConfig::with_instances(1_500_000);
     let c = city(&cfg);
     let mut streamer =
@@ -36,7 +37,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let t = std::time::Instant::now();
     for _ in 0..iters {
-        scene.query(&params, None, &options, &mut out)?;
+        if par {
+            #[cfg(feature = "parallel")]
+            scene.par_query(&params, None, &options, &mut out)?;
+        } else {
+            scene.query(&params, None, &options, &mut out)?;
+        }
     }
     let dt = t.elapsed() / iters as u32;
     println!(

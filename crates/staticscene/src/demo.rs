@@ -495,3 +495,31 @@ pub fn raster_boxes(
     }
     depth
 }
+
+/// The benches' street-level view: standing in the alley along a lot boundary near the
+/// city's centre, eyes at 1.7 m, looking down the alley (-Z), 69° vertical field of view,
+/// 16:9, far plane 5 km.
+#[must_use]
+pub fn street_camera(config: &CityConfig) -> crate::Camera {
+    let mid = config.lots[0] / 2;
+    let x = f64::from(mid) * f64::from(config.lot_size);
+    let z = (f64::from(mid) + 0.5) * f64::from(config.lot_size);
+    crate::Camera {
+        position: config.origin + DVec3::new(x, 1.7, z),
+        rotation: glam::DQuat::from_rotation_y(0.05),
+        projection: Mat4::perspective_rh(1.2, 16.0 / 9.0, 0.1, 5000.0),
+        reversed_depth: false,
+    }
+}
+
+/// The benches' aerial view: 250 m up over one corner, looking across the city.
+#[must_use]
+pub fn aerial_camera(config: &CityConfig) -> crate::Camera {
+    let size = f64::from(config.lots[0]) * f64::from(config.lot_size);
+    crate::Camera {
+        position: config.origin + DVec3::new(size * 0.1, 250.0, size * 0.1),
+        rotation: glam::DQuat::from_euler(glam::EulerRot::YXZ, -2.35, -0.45, 0.0),
+        projection: Mat4::perspective_rh(1.2, 16.0 / 9.0, 0.1, 5000.0),
+        reversed_depth: false,
+    }
+}

@@ -139,9 +139,9 @@ impl HiZ {
     }
 
     /// The occlusion test of the world box `[min, max]` (floating space), projected with
-    /// `clip_from_floating` (the matrix the depth was rendered with) onto this pyramid.
-    /// `scan_levels`: when the 2x2-texel level is `>= scan_levels + 1`... see
-    /// [`occluded_rect`](Self::occluded_rect). True only if every pixel the box can cover
+    /// `clip_from_floating` (the matrix the depth was rendered with) onto this pyramid;
+    /// `scan_levels` as in [`occluded_rect`](Self::occluded_rect). True only if every
+    /// pixel the box can cover
     /// has an occluder in front of the box's nearest point. Boxes reaching behind the
     /// camera (w <= 0 at a corner) are never occluded.
     #[must_use]

@@ -8,7 +8,7 @@
 //! | storage, read | QueryInstances, QueryObjects, QuerySetups, matrices, bounds | [`TileBuffers`] |
 //! | texture | last frame's HiZ pyramid | [`HiZ`] |
 //! | storage, read-write | LOD fade states, one byte per instance | `fade` |
-//! | storage, atomic | instance counter + [`DrawableSetupInstance`]s | `instance_counter`, `instances` |
+//! | storage, atomic | instance counter + [`DrawableSetupInstance`](crate::DrawableSetupInstance)s | `instance_counter`, `instances` |
 //! | storage, atomic | batch counter + [`DrawableSetupBatch`]es | `batch_counter`, `batches` |
 //! | dispatch | the cluster's instance range | [`ClusterJob`] |
 //!
@@ -34,7 +34,7 @@
 //!    selected and towards `0` when not. An instance fading in and the one it replaces
 //!    fading out have opacities `k / N` and `(N - k) / N`: they always sum to one.
 //! 8. **Output**: visible threads (frustum, size and occlusion passed, and LOD selected or
-//!    fade state above zero) append a [`DrawableSetupInstance`] with one aggregated atomic
+//!    fade state above zero) append a [`DrawableSetupInstance`](crate::DrawableSetupInstance) with one aggregated atomic
 //!    per wave, and the first visible thread of each run of one setup appends a
 //!    [`DrawableSetupBatch`], through [`wave::Wave::batch_output_with`].
 //!
