@@ -124,7 +124,7 @@ fn flat_query(
     let w_row = m.row(3);
     let n = p.fade_frames as u8;
     for (i, (it, fs)) in items.iter().zip(fade.iter_mut()).enumerate() {
-        if u32::from(it.filter) & p.filter == 0 {
+        if u32::from(it.filter) & p.filter_mask == 0 {
             continue;
         }
         let s2 = (it.lod_scale * p.lod_point[3]).powi(2);

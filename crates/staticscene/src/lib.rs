@@ -27,8 +27,10 @@
 //!   `wave`'s run-grouped append.
 //! - [`hiz`]: the conservative depth pyramid ([`HiZ`]; non-power-of-two sizes, reversed
 //!   depth) and the box test against it.
-//! - [`output`]: [`DrawableSetupInstance`] (64 B, or 112 B with the previous transform)
-//!   and [`DrawableSetupBatch`] (48 B).
+//! - [`output`]: the batched output, [`DrawableSetupInstance`] (64 B, or 112 B with the
+//!   previous transform) and [`DrawableSetupBatch`] (48 B).
+//! - [`wgsl`]: [`STATICSCENE_WGSL`], the WGSL twin of the records and the per-thread
+//!   tests, validated by naga, its constants and struct layouts tied to the Rust ones.
 //! - [`demo`]: a procedural city (1.5M instances for the benches) and a box rasteriser
 //!   for depth buffers.
 //!
@@ -113,6 +115,7 @@ pub mod resource;
 pub mod scene;
 pub mod tile;
 pub mod view;
+pub mod wgsl;
 
 pub use error::{Error, Field};
 pub use hiz::{HIZ_DEPTH_EPSILON, HiZ, HiZLevel};
@@ -134,6 +137,7 @@ pub use view::{
     QUERY_FLAG_SIZE, QueryParams, ViewDesc, ViewKind, box_outside_frustum, snap_origin,
 };
 pub use wave::WaveWidth;
+pub use wgsl::STATICSCENE_WGSL;
 
 /// The largest viewport side the query accepts, pixels.
 pub const MAX_VIEWPORT: u32 = 16384;

@@ -189,7 +189,7 @@ impl Consts {
             lod_scale: p.lod_point[3],
             origin: p.origin(),
             prev_delta: floating_offset(p.origin(), p.prev_origin()),
-            filter: p.filter,
+            filter: p.filter_mask,
             size_on: p.has(QUERY_FLAG_SIZE),
             size_px: p.viewport[2],
             px_per_unit: p.viewport[3],

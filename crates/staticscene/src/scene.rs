@@ -394,7 +394,7 @@ impl Scene {
             planes: params.planes,
             lod_point: params.lod_point(),
             lod_scale: params.lod_point[3],
-            filter: params.filter as u8,
+            filter: params.filter_mask as u8,
             fade,
         };
         let origin = params.origin();

@@ -190,7 +190,7 @@ pub struct QueryParams {
     /// `radius / w` (the larger of `|P00| w / 2` and `|P11| h / 2`).
     pub viewport: [f32; 4],
     /// Filter bits.
-    pub filter: u32,
+    pub filter_mask: u32,
     /// `QUERY_FLAG_*`.
     pub flags: u32,
     /// LOD fade length, frames (1..=127 when fading).
@@ -297,7 +297,7 @@ impl QueryParams {
             origin: [origin.x, origin.y, origin.z, 0],
             prev_origin: [prev.x, prev.y, prev.z, 0],
             viewport: [w as f32, h as f32, view.size_threshold_px, px_per_unit],
-            filter: u32::from(view.filter & crate::FILTER_ALL),
+            filter_mask: u32::from(view.filter & crate::FILTER_ALL),
             flags,
             fade_frames,
             hiz_scan_levels: view.hiz_scan_levels.min(8),

@@ -1,0 +1,252 @@
+//! The WGSL twin of the records and the per-thread tests: [`STATICSCENE_WGSL`], a
+//! binding-free snippet (structs, `const`s, functions, every name prefixed `staticscene_`
+//! / `STATICSCENE_` / `Staticscene`) that the `gpu` crate puts in front of its query pass.
+//! It needs no optional capability (naga validates it with `Caps::CORE`). Each `const`
+//! equals the Rust constant of the same meaning and each struct has the Rust struct's
+//! size and member offsets (unit tests read them back).
+//!
+//! | WGSL | takes | gives |
+//! | --- | --- | --- |
+//! | `StaticsceneQueryInstance`, `StaticsceneQueryObject`, `StaticsceneQuerySetup`, `StaticsceneHalfAabb`, `StaticsceneTransform` | - | the tile's records ([`records`](crate::records)) |
+//! | `StaticsceneDrawableSetupInstance`, `StaticsceneDrawableSetupBatch`, `StaticsceneInstanceState` | - | the output ([`output`](crate::output)) |
+//! | `StaticsceneQueryParams` | - | the uniform block ([`QueryParams`](crate::QueryParams)) |
+//! | `staticscene_filter` / `_flags` / `_setup` / `_object` / `_parent_bounds` / `_child_bounds` / `_matrix` / `_group_end` | instance words | the field |
+//! | `staticscene_parent_lod(q)` / `staticscene_child_lod(q)` | instance words | `vec2(min, max)` codes |
+//! | `staticscene_decode_lod(code)` | finite code | metres, exact |
+//! | `staticscene_lod_selects(codes, d2, scale2)` | codes, squared distance, squared scale | the LOD test (infinity code tested explicitly) |
+//! | `staticscene_f16(bits)` | f16 bits | f32, exact for finite values |
+//! | `staticscene_half_box(b)`, `staticscene_setup_box(s)` | record | `StaticsceneAabb` |
+//! | `staticscene_lod_scale(o)`, `staticscene_ignores_global_lod_scale(o)` | object | scale, flag |
+//! | `staticscene_object_to_floating(o, origin)` | object, snapped origin | transform |
+//! | `staticscene_transform_point`, `staticscene_mul`, `staticscene_transform_aabb` | transforms | as [`Transform4x3`](crate::Transform4x3) |
+//! | `staticscene_dist2(p, box)` | point, box | squared distance |
+//! | `staticscene_box_outside_frustum(planes, box)` | planes, box | the conservative frustum test |
+//! | `staticscene_fade_step(prev, n, lod, in_frustum)` | fade state | next fade state |
+//! | `staticscene_sort_key(setup, depth)` | handle words, nearest depth | key words (low, high) |
+
+/// The WGSL snippet (see the [module docs](self)).
+pub const STATICSCENE_WGSL: &str = include_str!("wgsl/staticscene.wgsl");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::*;
+    use core::mem::offset_of;
+    use shadercheck::{Caps, const_f32, const_u32};
+    use std::string::String;
+    use std::vec::Vec;
+
+    fn module() -> naga::Module {
+        shadercheck::assert_valid("staticscene", STATICSCENE_WGSL, Caps::CORE)
+    }
+
+    #[test]
+    fn constants_match_rust() {
+        let m = module();
+        for (name, v) in [
+            ("STATICSCENE_FILTER_SHIFT", FILTER_SHIFT),
+            ("STATICSCENE_FLAGS_SHIFT", FLAGS_SHIFT),
+            ("STATICSCENE_SETUP_SHIFT", SETUP_SHIFT),
+            ("STATICSCENE_OBJECT_SHIFT", OBJECT_SHIFT),
+            ("STATICSCENE_PARENT_BOUNDS_SHIFT", PARENT_BOUNDS_SHIFT),
+            ("STATICSCENE_CHILD_BOUNDS_SHIFT", CHILD_BOUNDS_SHIFT),
+            ("STATICSCENE_MATRIX_SHIFT", MATRIX_SHIFT),
+            ("STATICSCENE_PARENT_LOD_MIN_SHIFT", PARENT_LOD_MIN_SHIFT),
+            ("STATICSCENE_PARENT_LOD_MAX_SHIFT", PARENT_LOD_MAX_SHIFT),
+            ("STATICSCENE_CHILD_LOD_MIN_SHIFT", CHILD_LOD_MIN_SHIFT),
+            ("STATICSCENE_CHILD_LOD_MAX_SHIFT", CHILD_LOD_MAX_SHIFT),
+            ("STATICSCENE_GROUP_END_SHIFT", GROUP_END_SHIFT),
+            (
+                "STATICSCENE_INSTANCE_FLAG_NO_OCCLUSION",
+                u32::from(INSTANCE_FLAG_NO_OCCLUSION),
+            ),
+            (
+                "STATICSCENE_INSTANCE_FLAG_NO_FADE",
+                u32::from(INSTANCE_FLAG_NO_FADE),
+            ),
+            (
+                "STATICSCENE_OBJECT_FLAG_IGNORE_GLOBAL_LOD_SCALE",
+                OBJECT_FLAG_IGNORE_GLOBAL_LOD_SCALE,
+            ),
+            (
+                "STATICSCENE_LOD_CODE_INFINITY",
+                u32::from(LOD_CODE_INFINITY),
+            ),
+            ("STATICSCENE_QUERY_FLAG_FADE", QUERY_FLAG_FADE),
+            ("STATICSCENE_QUERY_FLAG_OCCLUSION", QUERY_FLAG_OCCLUSION),
+            (
+                "STATICSCENE_QUERY_FLAG_REVERSED_DEPTH",
+                QUERY_FLAG_REVERSED_DEPTH,
+            ),
+            ("STATICSCENE_QUERY_FLAG_SIZE", QUERY_FLAG_SIZE),
+            ("STATICSCENE_STATE_FADING", STATE_FADING),
+            ("STATICSCENE_STATE_FADING_OUT", STATE_FADING_OUT),
+        ] {
+            assert_eq!(const_u32(&m, name), Some(v), "{name}");
+        }
+        assert_eq!(
+            const_f32(&m, "STATICSCENE_FRUSTUM_TOLERANCE"),
+            Some(FRUSTUM_TOLERANCE)
+        );
+        assert_eq!(
+            const_f32(&m, "STATICSCENE_HIZ_DEPTH_EPSILON"),
+            Some(HIZ_DEPTH_EPSILON)
+        );
+        // Every WGSL constant is one of the above.
+        let names = shadercheck::const_names(&m);
+        assert_eq!(names.len(), 24, "{names:?}");
+        assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
+    }
+
+    fn layout(m: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name}"));
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => (
+                *span,
+                members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap(), m.offset))
+                    .collect(),
+            ),
+            _ => panic!("{name} is not a struct"),
+        }
+    }
+
+    #[test]
+    fn structs_match_rust_layouts() {
+        let m = module();
+        let check = |name: &str, size: usize, offsets: &[(&str, usize)]| {
+            let (span, members) = layout(&m, name);
+            assert_eq!(span as usize, size, "{name} size");
+            assert_eq!(members.len(), offsets.len(), "{name} members");
+            for ((n, o), (wn, wo)) in members.iter().zip(offsets) {
+                assert_eq!((n.as_str(), *o as usize), (*wn, *wo), "{name}");
+            }
+        };
+        check(
+            "StaticsceneQueryInstance",
+            size_of::<QueryInstance>(),
+            &[("words", 0)],
+        );
+        check(
+            "StaticsceneTransform",
+            size_of::<Transform4x3>(),
+            &[("rows", 0)],
+        );
+        check(
+            "StaticsceneQueryObject",
+            size_of::<QueryObject>(),
+            &[
+                (
+                    "object_to_snapped",
+                    offset_of!(QueryObject, object_to_snapped),
+                ),
+                ("snapped", offset_of!(QueryObject, snapped)),
+                ("lod", offset_of!(QueryObject, lod)),
+            ],
+        );
+        check(
+            "StaticsceneQuerySetup",
+            size_of::<QuerySetup>(),
+            &[
+                ("bounds", offset_of!(QuerySetup, bounds_min)),
+                ("handle", offset_of!(QuerySetup, handle)),
+            ],
+        );
+        check(
+            "StaticsceneHalfAabb",
+            size_of::<HalfAabb>(),
+            &[("words", 0)],
+        );
+        check(
+            "StaticsceneInstanceState",
+            size_of::<InstanceState>(),
+            &[("fade", 0), ("flags", 4), ("tile", 8), ("instance", 12)],
+        );
+        check(
+            "StaticsceneDrawableSetupInstance",
+            size_of::<DrawableSetupInstance>(),
+            &[
+                ("state", 0),
+                (
+                    "local_to_floating",
+                    offset_of!(DrawableSetupInstance, local_to_floating),
+                ),
+            ],
+        );
+        check(
+            "StaticsceneDrawableSetupBatch",
+            size_of::<DrawableSetupBatch>(),
+            &[
+                ("sort_key", offset_of!(DrawableSetupBatch, sort_key)),
+                ("setup", offset_of!(DrawableSetupBatch, setup)),
+                ("sphere", offset_of!(DrawableSetupBatch, sphere)),
+                (
+                    "first_instance",
+                    offset_of!(DrawableSetupBatch, first_instance),
+                ),
+                ("flags", offset_of!(DrawableSetupBatch, flags)),
+                ("count", offset_of!(DrawableSetupBatch, count)),
+                ("stride", offset_of!(DrawableSetupBatch, stride)),
+            ],
+        );
+        check(
+            "StaticsceneQueryParams",
+            size_of::<QueryParams>(),
+            &[
+                (
+                    "clip_from_floating",
+                    offset_of!(QueryParams, clip_from_floating),
+                ),
+                (
+                    "hiz_clip_from_floating",
+                    offset_of!(QueryParams, hiz_clip_from_floating),
+                ),
+                ("planes", offset_of!(QueryParams, planes)),
+                ("forward", offset_of!(QueryParams, forward)),
+                ("lod_point", offset_of!(QueryParams, lod_point)),
+                ("origin", offset_of!(QueryParams, origin)),
+                ("prev_origin", offset_of!(QueryParams, prev_origin)),
+                ("viewport", offset_of!(QueryParams, viewport)),
+                ("filter_mask", offset_of!(QueryParams, filter_mask)),
+                ("flags", offset_of!(QueryParams, flags)),
+                ("fade_frames", offset_of!(QueryParams, fade_frames)),
+                ("hiz_scan_levels", offset_of!(QueryParams, hiz_scan_levels)),
+            ],
+        );
+    }
+
+    /// `staticscene_f16`'s arithmetic, transcribed, against `half` for every finite
+    /// pattern (the WGSL itself runs on devices in the gpu crate).
+    #[test]
+    fn wgsl_f16_formula_is_exact() {
+        for h in 0..=u16::MAX {
+            let want = half::f16::from_bits(h);
+            if !want.is_finite() {
+                continue;
+            }
+            let h = u32::from(h);
+            let sign = (h & 0x8000) << 16;
+            let e = (h >> 10) & 0x1f;
+            let m = h & 0x3ff;
+            let normal = f32::from_bits(sign | (((h & 0x7fff) + 0x1c000) << 13));
+            let sub = if sign != 0 { -1.0 } else { 1.0 } * m as f32 * 5.960_464_5e-8;
+            let got = if e == 0 { sub } else { normal };
+            assert_eq!(got, want.to_f32(), "{h:#x}");
+        }
+    }
+
+    #[test]
+    fn every_function_is_prefixed() {
+        let m = module();
+        assert!(m.functions.iter().count() >= 20);
+        for (_, f) in m.functions.iter() {
+            assert!(f.name.as_deref().unwrap_or("").starts_with("staticscene_"));
+        }
+        assert!(m.entry_points.is_empty());
+    }
+}
