@@ -100,7 +100,7 @@ mod wgsl;
 pub use error::MortonError;
 pub use path::Path;
 pub use quantize::{Quantizer2, Quantizer3};
-pub use sort::{MAX_SORT_KEYS, SortKey, sort_permutation, sort_permutation_into};
+pub use sort::{MAX_SORT_KEYS, SortKey, Sorter, sort_permutation, sort_permutation_into};
 pub use wgsl::WGSL;
 
 /// Bits per axis of a 2D code in a u32.

@@ -19,7 +19,7 @@ use alloc::vec::Vec;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-use crate::sort::{check_len, offsets, trivial};
+use crate::sort::{Pair, check_len, histograms, offsets, sort_range, top_digit};
 use crate::{MortonError, Path, Quantizer2, Quantizer3, SortKey};
 
 /// Points per rayon task in the quantise+encode functions: large enough that a task costs
@@ -106,8 +106,10 @@ impl Quantizer2 {
 /// Below this many keys [`par_sort_permutation`] sorts on the calling thread.
 pub const PAR_SORT_MIN: usize = 1 << 16;
 
-/// [`crate::sort_permutation`] on all rayon threads: the same stable LSD radix sort, with
-/// per-thread digit counts and scatters into disjoint ranges, so the result is identical.
+/// [`crate::sort_permutation`] on all rayon threads: the first split on the most
+/// significant varying digit is counted and scattered by chunks in parallel (each chunk into
+/// its own slots), then the 256 buckets are sorted in parallel. A stable sort's result is
+/// unique, so it equals the sequential one (tested).
 pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonError> {
     check_len(keys.len())?;
     if keys.len() < PAR_SORT_MIN {
@@ -118,109 +120,109 @@ pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonEr
     // A few chunks per thread so an uneven machine still balances.
     let chunk = n.div_ceil(threads * 4).max(4096);
 
-    // Which digits vary at all: one parallel pass of full histograms.
-    let total = keys
-        .par_chunks(chunk)
-        .map(|c| {
-            let mut h = [[0u32; 256]; 8];
-            for &k in c {
-                let k = k.to_u64();
-                for (d, hd) in h.iter_mut().enumerate().take(K::BYTES) {
-                    hd[((k >> (8 * d)) & 0xff) as usize] += 1;
+    // Which digits vary: one parallel pass of full histograms.
+    let total = keys.par_chunks(chunk).map(histograms).reduce(
+        || [[0u32; 256]; 8],
+        |mut a, b| {
+            for (ad, bd) in a.iter_mut().zip(&b) {
+                for (x, y) in ad.iter_mut().zip(bd) {
+                    *x += y;
                 }
             }
-            h
-        })
-        .reduce(
-            || [[0u32; 256]; 8],
-            |mut a, b| {
-                for (ad, bd) in a.iter_mut().zip(&b) {
-                    for (x, y) in ad.iter_mut().zip(bd) {
-                        *x += y;
-                    }
-                }
-                a
-            },
-        );
-    let passes: Vec<u32> = (0..K::BYTES as u32)
-        .filter(|&d| !trivial(&total[d as usize], n))
-        .collect();
-    if passes.is_empty() {
+            a
+        },
+    );
+    let Some(top) = top_digit::<K>(&total, n) else {
         return Ok((0..n as u32).collect());
-    }
+    };
 
-    // Pairs as (key, index), 16 bytes; the sort moves them between two buffers.
-    let mut a: Vec<(u64, u32)> = keys
-        .par_iter()
-        .enumerate()
-        .map(|(i, &k)| (k.to_u64(), i as u32))
-        .collect();
-    let mut b: Vec<(u64, u32)> = alloc::vec![(0, 0); n];
-    for &d in &passes {
-        scatter_pass(&a, &mut b, chunk, 8 * d, &total[d as usize]);
-        core::mem::swap(&mut a, &mut b);
-    }
-    Ok(a.par_iter().map(|&(_, i)| i).collect())
-}
-
-/// A raw output pointer shared by the scatter tasks, each writing only its own slots.
-#[derive(Clone, Copy)]
-struct Out(*mut (u64, u32));
-// SAFETY: the tasks write disjoint slots (per-chunk, per-digit ranges computed from exact
-// counts), and the buffer outlives the parallel scope.
-unsafe impl Send for Out {}
-// SAFETY: as above.
-unsafe impl Sync for Out {}
-
-impl Out {
-    /// The pointer (a method, so closures capture the whole `Sync` wrapper).
-    fn get(self) -> *mut (u64, u32) {
-        self.0
-    }
-}
-
-/// One stable counting-sort pass on the digit at `shift`: per-chunk counts, then each chunk
-/// scatters into its own ranges (chunk `c`'s slots for digit `v` follow those of every
-/// earlier chunk's digit `v`).
-fn scatter_pass(
-    src: &[(u64, u32)],
-    dst: &mut [(u64, u32)],
-    chunk: usize,
-    shift: u32,
-    total: &[u32; 256],
-) {
-    let counts: Vec<[u32; 256]> = src
+    // Per-chunk counts of the top digit, then each chunk scatters its pairs into its own
+    // slots (chunk `c`'s slots for digit `v` follow every earlier chunk's).
+    let counts: Vec<[u32; 256]> = keys
         .par_chunks(chunk)
         .map(|c| {
             let mut h = [0u32; 256];
-            for &(k, _) in c {
-                h[((k >> shift) & 0xff) as usize] += 1;
+            for &k in c {
+                h[k.pair(0).digit(top)] += 1;
             }
             h
         })
         .collect();
     let mut starts: Vec<[u32; 256]> = Vec::with_capacity(counts.len());
-    let mut running = offsets(total);
+    let mut running = offsets(&total[top as usize]);
     for h in &counts {
         starts.push(running);
         for (r, &c) in running.iter_mut().zip(h) {
             *r += c;
         }
     }
-    let out = Out(dst.as_mut_ptr());
-    let len = dst.len();
-    src.par_chunks(chunk)
+    let mut a: Vec<K::Pair> = alloc::vec![K::Pair::default(); n];
+    let out = Out(a.as_mut_ptr());
+    keys.par_chunks(chunk)
         .zip(starts.into_par_iter())
-        .for_each(|(c, mut o)| {
-            for &e in c {
-                let digit = ((e.0 >> shift) & 0xff) as usize;
+        .enumerate()
+        .for_each(|(c, (ks, mut o))| {
+            let base = c * chunk;
+            for (i, &k) in ks.iter().enumerate() {
+                let p = k.pair((base + i) as u32);
+                let digit = p.digit(top);
                 let slot = o[digit] as usize;
-                debug_assert!(slot < len);
-                // SAFETY: `slot` lies in this chunk's own range for `digit` (its exclusive
-                // prefix over all digits and earlier chunks plus its running count), which
-                // is inside `dst` (counts sum to `len`) and written by no other task.
-                unsafe { out.get().add(slot).write(e) };
+                debug_assert!(slot < n);
+                // SAFETY: `slot` lies in this chunk's own range for `digit` (the exclusive
+                // prefix over all smaller digits and over earlier chunks' counts of this
+                // digit, plus this chunk's running count), which is inside `a` (the counts
+                // sum to `n`) and written by no other task.
+                unsafe { out.get().add(slot).write(p) };
                 o[digit] += 1;
             }
         });
+
+    // Sort the buckets below the top digit, in parallel over disjoint ranges, each writing
+    // its indices into its own range of the output.
+    let mut b: Vec<K::Pair> = alloc::vec![K::Pair::default(); n];
+    let mut perm = alloc::vec![0u32; n];
+    let mut ranges = Vec::with_capacity(256);
+    let (mut ra, mut rb, mut rp) = (&mut a[..], &mut b[..], &mut perm[..]);
+    for &len in total[top as usize].iter() {
+        let (ha, ta) = core::mem::take(&mut ra).split_at_mut(len as usize);
+        let (hb, tb) = core::mem::take(&mut rb).split_at_mut(len as usize);
+        let (hp, tp) = core::mem::take(&mut rp).split_at_mut(len as usize);
+        if len > 0 {
+            ranges.push((ha, hb, hp));
+        }
+        (ra, rb, rp) = (ta, tb, tp);
+    }
+    // Largest buckets first, for balance.
+    ranges.sort_by_key(|(x, _, _)| core::cmp::Reverse(x.len()));
+    ranges.into_par_iter().for_each(|(x, y, out)| {
+        let in_b = x.len() > 1 && top > 0 && sort_range(x, y, top - 1);
+        let src: &[K::Pair] = if in_b { y } else { x };
+        for (o, p) in out.iter_mut().zip(src) {
+            *o = p.index();
+        }
+    });
+    Ok(perm)
+}
+
+/// A raw output pointer shared by the scatter tasks, each writing only its own slots.
+struct Out<P>(*mut P);
+
+impl<P> Clone for Out<P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<P> Copy for Out<P> {}
+
+// SAFETY: the tasks write disjoint slots (per-chunk, per-digit ranges computed from exact
+// counts), and the buffer outlives the parallel loop; `P` is `Send`.
+unsafe impl<P: Send> Send for Out<P> {}
+// SAFETY: as above.
+unsafe impl<P: Send> Sync for Out<P> {}
+
+impl<P> Out<P> {
+    /// The pointer (a method, so closures capture the whole `Sync` wrapper).
+    fn get(self) -> *mut P {
+        self.0
+    }
 }
