@@ -66,13 +66,13 @@ use alloc::vec;
 use alloc::vec::Vec;
 use core::sync::atomic::{AtomicU8, Ordering};
 
-use visbuf::VisLayout;
+use visbuf::{VIS_NONE, VisLayout};
 use wave::WaveWidth;
 
 use crate::Error;
-use crate::decode::{Decoder, Px};
+use crate::decode::{Decoded, Decoder, Px};
 use crate::plan::{MAX_BATCH_GROUPS_PER_PASS, MAX_PASSES, MicroBatchInfo, VERTEX_CHUNK_SIZE};
-use crate::vrs;
+use crate::{fused, vrs};
 
 /// Side of a loose tile in pixels.
 pub const TILE_SIZE: u32 = 128;
@@ -414,16 +414,6 @@ impl PixelStats {
             + u64::from(self.unknown)
             + u64::from(self.out_of_range)
     }
-
-    #[inline(always)]
-    fn count(&mut self, px: &Px) {
-        match px {
-            Px::Empty => self.empty += 1,
-            Px::Unknown => self.unknown += 1,
-            Px::OutOfRange => self.out_of_range += 1,
-            Px::Valid(_) => self.valid += 1,
-        }
-    }
 }
 
 /// One wave of pixel shading (WGSL `TilingWaveCommand`), 16 bytes: which tile, pass and
@@ -621,27 +611,70 @@ impl<'a> Frame<'a> {
         )
     }
 
-    /// Calls `f(x, y, word, px)` for every pixel of tile `t`, row-major, counting `stats`.
+    /// Calls `f(x, y, n, word, decoded)` for every run of `n` valid pixels of tile `t`
+    /// with the same word, starting at `(x, y)` (row-major, runs never leave a row), and
+    /// counts every pixel in `stats`. Decodes once per change of word.
     #[inline(always)]
-    pub fn for_each_pixel(
+    pub fn for_each_run(
         &self,
         t: usize,
         stats: &mut PixelStats,
-        mut f: impl FnMut(u32, u32, u32, Px),
+        mut f: impl FnMut(u32, u32, u32, u32, Decoded),
     ) {
         let (x0, y0, x1, y1) = self.tile_rect(t);
         let w = self.vis.width as usize;
+        let masked = self.vis.valid.is_some();
+        let mut last_word = VIS_NONE;
+        let mut last = Px::Empty;
+        let (mut empty, mut unknown, mut out_of_range, mut valid) = (0u32, 0u32, 0u32, 0u32);
         for y in y0..y1 {
-            let row = y as usize * w;
-            let words = &self.vis.words[row + x0 as usize..row + x1 as usize];
-            for (i, &word) in words.iter().enumerate() {
-                let x = x0 + i as u32;
-                let valid = self.vis.mask_bit(row + x as usize);
-                let px = self.dec.decode(word, valid);
-                stats.count(&px);
-                f(x, y, word, px);
+            let row = y as usize * w + x0 as usize;
+            let words = &self.vis.words[row..row + (x1 - x0) as usize];
+            let len = words.len();
+            let mut i = 0;
+            while i < len {
+                let word = words[i];
+                let mut j = i + 1;
+                if masked {
+                    if word == VIS_NONE || !self.vis.mask_bit(row + i) {
+                        empty += 1;
+                        i += 1;
+                        continue;
+                    }
+                    while j < len && words[j] == word && self.vis.mask_bit(row + j) {
+                        j += 1;
+                    }
+                } else {
+                    while j < len && words[j] == word {
+                        j += 1;
+                    }
+                    if word == VIS_NONE {
+                        empty += (j - i) as u32;
+                        i = j;
+                        continue;
+                    }
+                }
+                let n = (j - i) as u32;
+                if word != last_word {
+                    last_word = word;
+                    last = self.dec.decode(word, true);
+                }
+                match last {
+                    Px::Valid(d) => {
+                        valid += n;
+                        f(x0 + i as u32, y, n, word, d);
+                    }
+                    Px::Unknown => unknown += n,
+                    Px::OutOfRange => out_of_range += n,
+                    Px::Empty => empty += n,
+                }
+                i = j;
             }
         }
+        stats.empty += empty;
+        stats.unknown += unknown;
+        stats.out_of_range += out_of_range;
+        stats.valid += valid;
     }
 
     /// With VRS: the pixel mask of the shading sample pixel `(x, y)` carries, or `None`
@@ -658,10 +691,8 @@ impl<'a> Frame<'a> {
 /// Phase 1, one tile: `masks` is the tile's row of `P` masks.
 pub(crate) fn finalize_tile(f: &Frame<'_>, t: usize, masks: &mut [u32]) -> PixelStats {
     let mut stats = PixelStats::default();
-    f.for_each_pixel(t, &mut stats, |_, _, _, px| {
-        if let Px::Valid(d) = px {
-            masks[usize::from(d.pg >> 5)] |= 1 << (d.pg & 31);
-        }
+    f.for_each_run(t, &mut stats, |_, _, _, _, d| {
+        masks[usize::from(d.pg >> 5)] |= 1 << (d.pg & 31);
     });
     stats
 }
@@ -748,15 +779,123 @@ impl CounterLut {
     }
 }
 
-/// Marks the chunks of the triangle of a valid pixel; false if an index was bad.
+/// The triangles of one tile's valid pixels, gathered during the pixel scan and marked in
+/// the cull buffer after it. A direct-mapped cache of words folds most repeats into one
+/// request; the marking then runs in two loops whose iterations are independent (load
+/// each triangle's indices into chunk numbers, then set the chunks' bytes), so their cache
+/// misses overlap. Triangles with bad indices are rare: their pixels are counted by a
+/// second look at the tile only when there are any.
+pub(crate) struct TileMarks {
+    slots: Vec<u32>,
+    requests: Vec<MarkRequest>,
+    chunks: Vec<u32>,
+    bad_words: Vec<u32>,
+}
+
+#[derive(Clone, Copy)]
+struct MarkRequest {
+    word: u32,
+    mb: u32,
+    instance: u32,
+    prim: u32,
+}
+
+impl TileMarks {
+    const BITS: u32 = 12;
+
+    pub fn new() -> Self {
+        Self {
+            slots: vec![VIS_NONE; 1 << Self::BITS],
+            requests: Vec::new(),
+            chunks: Vec::new(),
+            bad_words: Vec::new(),
+        }
+    }
+
+    /// Starts a tile.
+    pub fn begin(&mut self) {
+        self.slots.fill(VIS_NONE);
+        self.requests.clear();
+    }
+
+    /// Records a run of valid pixels of word `word`.
+    #[inline(always)]
+    pub fn add(&mut self, word: u32, d: &Decoded) {
+        let h = (word.wrapping_mul(0x9e37_79b1) >> (32 - Self::BITS)) as usize;
+        if self.slots[h] == word {
+            return;
+        }
+        self.slots[h] = word;
+        self.requests.push(MarkRequest {
+            word,
+            mb: d.mb,
+            instance: d.instance,
+            prim: d.prim,
+        });
+    }
+
+    /// Marks every recorded triangle of tile `t`; returns the valid pixels whose triangle
+    /// has bad indices.
+    pub fn finish(
+        &mut self,
+        f: &Frame<'_>,
+        t: usize,
+        table: &[MicroBatchInfo],
+        indices: &[u32],
+        cull: &[AtomicU8],
+        chunk_count: u32,
+    ) -> u32 {
+        self.chunks.clear();
+        self.bad_words.clear();
+        for r in &self.requests {
+            if !triangle_chunks(
+                &table[r.mb as usize],
+                r.instance,
+                r.prim,
+                indices,
+                chunk_count,
+                &mut self.chunks,
+            ) {
+                self.bad_words.push(r.word);
+            }
+        }
+        let mut prev = u32::MAX;
+        for &c in &self.chunks {
+            if c != prev {
+                let cell = &cull[c as usize];
+                if cell.load(Ordering::Relaxed) == 0 {
+                    cell.store(1, Ordering::Relaxed);
+                }
+                prev = c;
+            }
+        }
+        if self.bad_words.is_empty() {
+            return 0;
+        }
+        self.bad_words.sort_unstable();
+        self.bad_words.dedup();
+        let mut bad = 0;
+        let mut ignore = PixelStats::default();
+        f.for_each_run(t, &mut ignore, |_, _, n, word, _| {
+            if self.bad_words.binary_search(&word).is_ok() {
+                bad += n;
+            }
+        });
+        bad
+    }
+}
+
+/// Appends the cull-buffer chunks of the triangle of a valid pixel to `out` (those that
+/// exist); false if an index was bad (past the index buffer, at or past the vertex count,
+/// or a chunk past the buffer).
 #[inline(always)]
-pub(crate) fn mark_vertices(
+pub(crate) fn triangle_chunks(
     row: &MicroBatchInfo,
     instance: u32,
     prim: u32,
     indices: &[u32],
-    cull: &[AtomicU8],
     chunk_count: u32,
+    out: &mut Vec<u32>,
 ) -> bool {
     let first = u64::from(row.first_index) + 3 * u64::from(prim);
     let Some(tri) = indices.get(first as usize..first as usize + 3) else {
@@ -775,10 +914,7 @@ pub(crate) fn mark_vertices(
             ok = false;
             continue;
         }
-        let cell = &cull[chunk as usize];
-        if cell.load(Ordering::Relaxed) == 0 {
-            cell.store(1, Ordering::Relaxed);
-        }
+        out.push(chunk as u32);
     }
     ok
 }
@@ -794,47 +930,34 @@ pub(crate) fn count_tile(
     counts_t: &mut [u32],
     cull: &[AtomicU8],
     chunk_count: u32,
-    lut: &mut CounterLut,
+    (lut, marks): &mut (CounterLut, TileMarks),
 ) -> PixelStats {
     lut.fill(masks_t, offsets_t);
+    marks.begin();
     let mut stats = PixelStats::default();
     let mut dropped = 0u32;
     let mut commands = 0u32;
-    let mut bad = 0u32;
-    // The last word whose triangle was marked, and whether its indices were good.
-    let mut last: Option<(u32, bool)> = None;
-    f.for_each_pixel(t, &mut stats, |x, y, word, px| {
-        let Px::Valid(d) = px else { return };
-        let ok = match last {
-            Some((w, ok)) if w == word => ok,
-            _ => {
-                let ok = mark_vertices(
-                    &table[d.mb as usize],
-                    d.instance,
-                    d.prim,
-                    indices,
-                    cull,
-                    chunk_count,
-                );
-                last = Some((word, ok));
-                ok
-            }
+    let vrs = f.vis.layout == VisLayout::Vrs;
+    f.for_each_run(t, &mut stats, |x, y, n, word, d| {
+        marks.add(word, &d);
+        let samples = if vrs {
+            (x..x + n)
+                .filter(|&xx| f.sample(xx, y, word).is_some())
+                .count() as u32
+        } else {
+            n
         };
-        bad += u32::from(!ok);
-        if f.sample(x, y, word).is_none() {
-            return;
-        }
         match lut.get(masks_t, d.pg) {
             Some(c) => {
-                counts_t[c] += 1;
-                commands += 1;
+                counts_t[c] += samples;
+                commands += samples;
             }
-            None => dropped += 1,
+            None => dropped += samples,
         }
     });
     stats.commands = commands;
     stats.dropped = dropped;
-    stats.bad_indices = bad;
+    stats.bad_indices = marks.finish(f, t, table, indices, cull, chunk_count);
     stats
 }
 
@@ -921,7 +1044,7 @@ pub fn mid_classify(
     let (ranges, _) = tile_counter_ranges(&f, masks, &mid.counter_offsets)?;
     let mut counts = vec![0u32; mid.counter_count as usize];
     let cull = cull_buffer(config.chunk_count);
-    let mut lut = CounterLut::new();
+    let mut scratch = (CounterLut::new(), TileMarks::new());
     let mut stats = PixelStats::default();
     let p = f.passes;
     for (t, counts_t) in split_at_starts(&mut counts, &ranges)
@@ -938,7 +1061,7 @@ pub fn mid_classify(
             counts_t,
             &cull,
             config.chunk_count,
-            &mut lut,
+            &mut scratch,
         );
         stats = stats.merge(s);
     }
@@ -1013,27 +1136,35 @@ pub(crate) fn output_tile(
     let mut stats = PixelStats::default();
     let mut written = 0u32;
     let mut dropped = 0u32;
-    f.for_each_pixel(t, &mut stats, |x, y, word, px| {
-        let Px::Valid(d) = px else { return };
-        let Some(mask) = f.sample(x, y, word) else {
-            return;
-        };
+    f.for_each_run(t, &mut stats, |x, y, n, word, d| {
         let Some(c) = lut.get(masks_t, d.pg) else {
-            dropped += 1;
+            dropped += if f.vis.layout == VisLayout::Standard {
+                n
+            } else {
+                (x..x + n)
+                    .filter(|&xx| f.sample(xx, y, word).is_some())
+                    .count() as u32
+            };
             return;
         };
-        let n = finals_t[c];
-        if n >= counts_t[c] {
-            dropped += 1;
-            return;
+        let base = (pixel_offsets_t[c] - cmd_base) as usize;
+        for xx in x..x + n {
+            let cmd = match f.vis.layout {
+                VisLayout::Standard => pixel_command(xx - x0, y - y0),
+                VisLayout::Vrs => match f.sample(xx, y, word) {
+                    Some(mask) => vrs::quad_command((xx - x0) >> 1, (y - y0) >> 1, mask),
+                    None => continue,
+                },
+            };
+            let k = finals_t[c];
+            if k >= counts_t[c] {
+                dropped += 1;
+                continue;
+            }
+            commands_t[base + k as usize] = cmd;
+            finals_t[c] = k + 1;
+            written += 1;
         }
-        let cmd = match f.vis.layout {
-            VisLayout::Standard => pixel_command(x - x0, y - y0),
-            VisLayout::Vrs => vrs::quad_command((x - x0) >> 1, (y - y0) >> 1, mask),
-        };
-        commands_t[(pixel_offsets_t[c] - cmd_base + n) as usize] = cmd;
-        finals_t[c] = n + 1;
-        written += 1;
     });
     stats.commands = written;
     stats.dropped = dropped;
@@ -1147,7 +1278,10 @@ pub fn classify_output(
     Ok(out)
 }
 
-/// All three phases with one validity (the vis buffer's).
+/// All three phases with one validity (the vis buffer's), fused into one scan per tile:
+/// the same outputs as [`classify_phases`] (running [`laydown_finalize`],
+/// [`mid_classify`] and [`classify_output`] in turn), faster on the CPU because each tile
+/// is read once while it is in cache.
 ///
 /// ```
 /// use tiling::{classify, ClassifyConfig, MicroBatchInfo};
@@ -1170,6 +1304,37 @@ pub fn classify_output(
 /// # Ok::<(), tiling::Error>(())
 /// ```
 pub fn classify(
+    vis: &VisBuffer<'_>,
+    table: &[MicroBatchInfo],
+    indices: &[u32],
+    config: &ClassifyConfig,
+) -> Result<Classification, Error> {
+    let f = Frame::new(vis, table, config)?;
+    let mut masks = vec![0u32; vis.tile_count() as usize * f.passes];
+    let cull = cull_buffer(config.chunk_count);
+    let mut scratch = fused::Scratch::new();
+    let tiles = masks
+        .chunks_mut(f.passes)
+        .enumerate()
+        .map(|(t, m)| {
+            fused::tile(
+                &f,
+                t,
+                table,
+                indices,
+                &cull,
+                config.chunk_count,
+                m,
+                &mut scratch,
+            )
+        })
+        .collect();
+    Ok(fused::assemble(&f, config, masks, tiles, cull))
+}
+
+/// All three phases run as the GPU runs them: [`laydown_finalize`], [`mid_classify`],
+/// [`classify_output`], each over the whole frame. Equal to [`classify`].
+pub fn classify_phases(
     vis: &VisBuffer<'_>,
     table: &[MicroBatchInfo],
     indices: &[u32],

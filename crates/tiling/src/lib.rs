@@ -82,6 +82,7 @@ compile_error!("tiling needs visbuf's float math: enable the `std` (default) or 
 pub mod classify;
 mod decode;
 mod error;
+mod fused;
 pub mod measure;
 #[cfg(feature = "parallel")]
 pub mod parallel;
@@ -93,7 +94,8 @@ pub mod wgsl;
 pub use classify::{
     Classification, ClassifyConfig, ClassifyOutput, MidClassify, PassDispatch, PixelStats,
     TILE_SIZE, TilingParams, VisBuffer, WaveCommand, canonical_sort, classify, classify_output,
-    command_sort_key, laydown_finalize, mid_classify, pixel_command, unpack_pixel_command,
+    classify_phases, command_sort_key, laydown_finalize, mid_classify, pixel_command,
+    unpack_pixel_command,
 };
 pub use error::Error;
 pub use measure::{TalkMeasurements, depth_equal_waves, measure};

@@ -26,13 +26,13 @@ use core::sync::atomic::AtomicU8;
 
 use rayon::prelude::*;
 
-use crate::Error;
 use crate::classify::{
     Classification, ClassifyConfig, ClassifyOutput, CounterLut, Frame, MidClassify, PixelStats,
-    VisBuffer, check_masks, check_mid, count_tile, cull_buffer, exclusive_scan, finalize_tile,
-    output_tile, split_at_starts, tile_counter_ranges, write_waves,
+    TileMarks, VisBuffer, check_masks, check_mid, count_tile, cull_buffer, exclusive_scan,
+    finalize_tile, output_tile, split_at_starts, tile_counter_ranges, write_waves,
 };
 use crate::plan::MicroBatchInfo;
+use crate::{Error, fused};
 
 /// [`crate::laydown_finalize`] over tiles in parallel.
 pub fn laydown_finalize(
@@ -73,20 +73,23 @@ pub fn mid_classify(
     let stats = split_at_starts(&mut counts, &ranges)
         .into_par_iter()
         .enumerate()
-        .map_init(CounterLut::new, |lut, (t, counts_t)| {
-            count_tile(
-                &f,
-                t,
-                table,
-                indices,
-                &masks[t * p..(t + 1) * p],
-                &offsets[t * p..(t + 1) * p],
-                counts_t,
-                &cull,
-                config.chunk_count,
-                lut,
-            )
-        })
+        .map_init(
+            || (CounterLut::new(), TileMarks::new()),
+            |scratch, (t, counts_t)| {
+                count_tile(
+                    &f,
+                    t,
+                    table,
+                    indices,
+                    &masks[t * p..(t + 1) * p],
+                    &offsets[t * p..(t + 1) * p],
+                    counts_t,
+                    &cull,
+                    config.chunk_count,
+                    scratch,
+                )
+            },
+        )
         .reduce(PixelStats::default, PixelStats::merge);
     mid.command_count = exclusive_scan(counts.iter().copied(), &mut mid.pixel_offsets);
     mid.counts = counts;
@@ -146,8 +149,28 @@ pub fn classify_output(
     Ok(out)
 }
 
-/// [`crate::classify`] (all three phases) with each phase's tiles in parallel.
+/// [`crate::classify`] (all three phases fused per tile) over tiles in parallel.
 pub fn classify(
+    vis: &VisBuffer<'_>,
+    table: &[MicroBatchInfo],
+    indices: &[u32],
+    config: &ClassifyConfig,
+) -> Result<Classification, Error> {
+    let f = Frame::new(vis, table, config)?;
+    let mut masks = vec![0u32; vis.tile_count() as usize * f.passes];
+    let cull = cull_buffer(config.chunk_count);
+    let tiles = masks
+        .par_chunks_mut(f.passes)
+        .enumerate()
+        .map_init(fused::Scratch::new, |s, (t, m)| {
+            fused::tile(&f, t, table, indices, &cull, config.chunk_count, m, s)
+        })
+        .collect();
+    Ok(fused::assemble(&f, config, masks, tiles, cull))
+}
+
+/// [`crate::classify_phases`] with each phase's tiles in parallel.
+pub fn classify_phases(
     vis: &VisBuffer<'_>,
     table: &[MicroBatchInfo],
     indices: &[u32],

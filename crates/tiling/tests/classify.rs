@@ -138,6 +138,9 @@ fn run_case(
     assert_eq!(got.output.passes, want.output.passes);
     assert_eq!(got.output.stats, want.output.stats);
     assert_eq!(got, want);
+    // The phases run one after another (as the GPU runs them) give the same.
+    let phases = tiling::classify_phases(&vis, &scene.plan.table, &scene.indices, &cfg).unwrap();
+    assert_eq!(phases, want, "classify_phases");
     assert_eq!(got.output.stats.pixels(), u64::from(w * h));
     check_invariants(
         &words,

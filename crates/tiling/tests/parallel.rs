@@ -36,10 +36,17 @@ fn check(seed: u64, w: u32, h: u32, layout: VisLayout, masked: bool) {
     let out_seq = tiling::classify_output(&vis, table, &cfg, &m_seq, &mid_seq).unwrap();
     let out_par = tiling::parallel::classify_output(&vis, table, &cfg, &m_seq, &mid_seq).unwrap();
     assert_eq!(out_seq, out_par);
+    let fused = tiling::classify(&vis, table, &scene.indices, &cfg).unwrap();
     assert_eq!(
-        tiling::classify(&vis, table, &scene.indices, &cfg).unwrap(),
+        fused,
         tiling::parallel::classify(&vis, table, &scene.indices, &cfg).unwrap()
     );
+    assert_eq!(
+        fused,
+        tiling::parallel::classify_phases(&vis, table, &scene.indices, &cfg).unwrap()
+    );
+    assert_eq!(fused.mid, mid_seq);
+    assert_eq!(fused.output, out_seq);
 }
 
 #[test]
