@@ -94,4 +94,4 @@ pub use lights::{
     DeferredLight, DeferredTileDepth, LightClass, LightClassifier, LightPath, ShadowFade,
     cull_tiles, tile_depth_ranges,
 };
-pub use wgsl::{DEPTH_WGSL, GBUFFER_WGSL, WGSL};
+pub use wgsl::{DEPTH_WGSL, GBUFFER_WGSL, LIGHTS_WGSL, SHADOW_WGSL, WGSL};

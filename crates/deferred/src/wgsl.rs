@@ -8,10 +8,19 @@ pub const GBUFFER_WGSL: &str = include_str!("wgsl/gbuffer.wgsl");
 /// Position from depth: the fast symmetric-perspective path and the inverse-matrix path.
 pub const DEPTH_WGSL: &str = include_str!("wgsl/depth.wgsl");
 
-/// Every module above, concatenated (none depends on another).
+/// Tiled light culling's per-tile test, the light and tile-depth structs, and the
+/// depth-bounds emulation. Needs [`DEPTH_WGSL`] in front of it.
+pub const LIGHTS_WGSL: &str = include_str!("wgsl/lights.wgsl");
+
+/// Stable cascade lookup, the MSAA PCF tap record and the edge tests.
+pub const SHADOW_WGSL: &str = include_str!("wgsl/shadow.wgsl");
+
+/// Every module above, concatenated in dependency order.
 pub const WGSL: &str = concat!(
     include_str!("wgsl/gbuffer.wgsl"),
-    include_str!("wgsl/depth.wgsl")
+    include_str!("wgsl/depth.wgsl"),
+    include_str!("wgsl/lights.wgsl"),
+    include_str!("wgsl/shadow.wgsl")
 );
 
 #[cfg(test)]
@@ -78,7 +87,40 @@ mod tests {
     }
 
     /// Every module, with the capability set it is validated under.
-    const MODULES: &[(&str, &str)] = &[("GBUFFER_WGSL", GBUFFER_WGSL), ("DEPTH_WGSL", DEPTH_WGSL)];
+    const MODULES: &[(&str, &str, &str)] = &[
+        ("GBUFFER_WGSL", "", GBUFFER_WGSL),
+        ("DEPTH_WGSL", "", DEPTH_WGSL),
+        ("LIGHTS_WGSL", DEPTH_WGSL, LIGHTS_WGSL),
+        ("SHADOW_WGSL", "", SHADOW_WGSL),
+    ];
+
+    #[test]
+    fn lights_and_shadow_wgsl_match_rust() {
+        use crate::lights::*;
+        let src = alloc::format!("{DEPTH_WGSL}{LIGHTS_WGSL}");
+        let m = assert_valid("deferred LIGHTS_WGSL", &src, Caps::CORE);
+        for (name, value) in [
+            ("DEFERRED_TILE_SIZE", TILE_SIZE),
+            ("DEFERRED_MAX_LIGHTS_PER_TILE", MAX_LIGHTS_PER_TILE),
+            ("DEFERRED_LIGHT_FLAG_SHADOW", LIGHT_FLAG_SHADOW),
+            ("DEFERRED_LIGHT_FLAG_SPOT", LIGHT_FLAG_SPOT),
+        ] {
+            assert_eq!(const_u32(&m, name), Some(value), "WGSL const {name}");
+        }
+        let (offsets, size) = struct_layout(&m, "DeferredLight");
+        assert_eq!(size as usize, size_of::<DeferredLight>());
+        assert_eq!(offsets, [0, 12, 16, 28, 32, 44]);
+        let (offsets, size) = struct_layout(&m, "DeferredTileDepth");
+        assert_eq!(size as usize, size_of::<DeferredTileDepth>());
+        assert_eq!(offsets, [0, 4]);
+        let m = assert_valid("deferred SHADOW_WGSL", SHADOW_WGSL, Caps::CORE);
+        let (offsets, size) = struct_layout(&m, "DeferredCascade");
+        assert_eq!(size as usize, size_of::<crate::DeferredCascade>());
+        assert_eq!(offsets, [0, 64, 68, 72, 76]);
+        let (offsets, size) = struct_layout(&m, "DeferredPcfTap");
+        assert_eq!(size as usize, size_of::<crate::msaa::DeferredPcfTap>());
+        assert_eq!(offsets, [0, 8, 12]);
+    }
 
     /// The byte offsets of a WGSL struct's members, and its size.
     fn struct_layout(m: &naga::Module, name: &str) -> (alloc::vec::Vec<u32>, u32) {
@@ -106,8 +148,15 @@ mod tests {
     #[test]
     fn modules_are_binding_free_prefixed_and_concatenate() {
         let mut all = alloc::string::String::new();
-        for (name, src) in MODULES {
-            let m = assert_valid(name, src, Caps::CORE);
+        for (name, needs, src) in MODULES {
+            // Validate with what it needs in front, then check only its own items.
+            let with = alloc::format!("{needs}{src}");
+            assert_valid(name, &with, Caps::CORE);
+            let m = match naga::front::wgsl::parse_str(src) {
+                Ok(m) => m,
+                // A module that names items of the one it needs parses only with it.
+                Err(_) => naga::front::wgsl::parse_str(&with).unwrap(),
+            };
             assert!(
                 m.global_variables.is_empty(),
                 "{name}: has bindings / module-scope vars"

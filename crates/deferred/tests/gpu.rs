@@ -1,0 +1,513 @@
+//! CPU/GPU agreement: the WGSL twins run on a real adapter (lavapipe in CI, any Vulkan,
+//! Metal or DX12 device otherwise) against the Rust functions they mirror. A machine
+//! without any GPU driver fails here with the adapter error: install Mesa's lavapipe
+//! (`mesa-vulkan-drivers`).
+//!
+//! Where the two sides may legitimately round differently (device `pow`/`log2`/division,
+//! the precise normal encoder choosing between two codes at a near-tie) the tests allow
+//! exactly that and count it; everything else must match bit for bit.
+
+use std::sync::OnceLock;
+
+use deferred::lights::{TILE_SIZE, TileFrustum, tile_counts};
+use deferred::normal::oct_decode;
+use deferred::{
+    DEPTH_WGSL, DeferredLight, DeferredTileDepth, DepthMode, GBUFFER_WGSL, Kz2Texels, LIGHTS_WGSL,
+    OctTexels, Perspective, Surface,
+};
+use glam::{Vec2, Vec3};
+
+struct Gpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+}
+
+fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .unwrap_or_else(|e| {
+            panic!("no GPU adapter ({e}): install a Vulkan driver such as lavapipe")
+        });
+        let info = adapter.get_info();
+        eprintln!("adapter: {} ({:?})", info.name, info.backend);
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
+                .expect("device");
+        Gpu { device, queue }
+    })
+}
+
+/// Runs `body` for `items` invocations with `input: array<u32>` and `output: array<u32>`
+/// bound, after `prelude`; returns `items * out_stride` output words.
+fn run(prelude: &str, body: &str, input: &[u32], items: u32, out_stride: usize) -> Vec<u32> {
+    use wgpu::util::DeviceExt;
+    let src = format!(
+        "{prelude}
+@group(0) @binding(0) var<storage, read> input: array<u32>;
+@group(0) @binding(1) var<storage, read_write> output: array<u32>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
+    let i = gid.x;
+    if i >= {items}u {{ return; }}
+    {body}
+}}"
+    );
+    let g = gpu();
+    let d = &g.device;
+    let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: None,
+        source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
+    });
+    let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(if input.is_empty() { &[0u32] } else { input }),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (items as usize * out_stride * 4) as u64;
+    let output = d.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = d.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = d.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(items.div_ceil(64), 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&output, 0, &read, 0, size);
+    g.queue.submit([enc.finish()]);
+    let slice = read.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+    d.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
+    let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().expect("mapped")).to_vec();
+    words
+}
+
+/// xorshift64*.
+struct Rng(u64);
+impl Rng {
+    fn u32(&mut self) -> u32 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 32) as u32
+    }
+    fn f32(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * (self.u32() >> 8) as f32 / (1u32 << 24) as f32
+    }
+    fn unit(&mut self) -> Vec3 {
+        let z = self.f32(-1.0, 1.0);
+        let phi = self.f32(0.0, std::f32::consts::TAU);
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+const SURFACE_WGSL_READ: &str = "
+fn read_surface(i: u32) -> DeferredSurface {
+    let b = i * 14u;
+    var s: DeferredSurface;
+    s.lighting = vec3<f32>(bitcast<f32>(input[b]), bitcast<f32>(input[b + 1u]), bitcast<f32>(input[b + 2u]));
+    s.albedo = vec3<f32>(bitcast<f32>(input[b + 3u]), bitcast<f32>(input[b + 4u]), bitcast<f32>(input[b + 5u]));
+    s.normal = vec3<f32>(bitcast<f32>(input[b + 6u]), bitcast<f32>(input[b + 7u]), bitcast<f32>(input[b + 8u]));
+    s.roughness = bitcast<f32>(input[b + 9u]);
+    s.specular = bitcast<f32>(input[b + 10u]);
+    s.sun_shadow = bitcast<f32>(input[b + 11u]);
+    s.motion = vec2<f32>(bitcast<f32>(input[b + 12u]), bitcast<f32>(input[b + 13u]));
+    return s;
+}
+fn write_surface(o: u32, s: DeferredSurface) {
+    output[o] = bitcast<u32>(s.lighting.x); output[o + 1u] = bitcast<u32>(s.lighting.y);
+    output[o + 2u] = bitcast<u32>(s.lighting.z); output[o + 3u] = bitcast<u32>(s.albedo.x);
+    output[o + 4u] = bitcast<u32>(s.albedo.y); output[o + 5u] = bitcast<u32>(s.albedo.z);
+    output[o + 6u] = bitcast<u32>(s.normal.x); output[o + 7u] = bitcast<u32>(s.normal.y);
+    output[o + 8u] = bitcast<u32>(s.normal.z); output[o + 9u] = bitcast<u32>(s.roughness);
+    output[o + 10u] = bitcast<u32>(s.specular); output[o + 11u] = bitcast<u32>(s.sun_shadow);
+    output[o + 12u] = bitcast<u32>(s.motion.x); output[o + 13u] = bitcast<u32>(s.motion.y);
+}
+";
+
+fn surface_words(s: &Surface) -> [u32; 14] {
+    let f = [
+        s.lighting.x,
+        s.lighting.y,
+        s.lighting.z,
+        s.albedo.x,
+        s.albedo.y,
+        s.albedo.z,
+        s.normal.x,
+        s.normal.y,
+        s.normal.z,
+        s.roughness,
+        s.specular,
+        s.sun_shadow,
+        s.motion.x,
+        s.motion.y,
+    ];
+    f.map(f32::to_bits)
+}
+
+fn surface_from(w: &[u32]) -> Surface {
+    let f = |i: usize| f32::from_bits(w[i]);
+    Surface {
+        lighting: Vec3::new(f(0), f(1), f(2)),
+        albedo: Vec3::new(f(3), f(4), f(5)),
+        normal: Vec3::new(f(6), f(7), f(8)),
+        roughness: f(9),
+        specular: f(10),
+        sun_shadow: f(11),
+        motion: Vec2::new(f(12), f(13)),
+    }
+}
+
+fn surfaces(n: usize) -> Vec<Surface> {
+    let mut rng = Rng(0x5eed_1234_abcd_0001);
+    let mut out: Vec<Surface> = (0..n)
+        .map(|_| Surface {
+            lighting: Vec3::new(rng.f32(0.0, 3.0), rng.f32(0.0, 1.0), rng.f32(0.0, 12.0)),
+            albedo: Vec3::new(rng.f32(0.0, 1.0), rng.f32(0.0, 1.0), rng.f32(0.0, 1.0)),
+            normal: rng.unit(),
+            roughness: rng.f32(0.0, 1.0),
+            specular: rng.f32(0.0, 1.0),
+            sun_shadow: rng.f32(0.0, 1.0),
+            motion: Vec2::new(rng.f32(-40.0, 40.0), rng.f32(-3000.0, 3000.0)),
+        })
+        .collect();
+    // Edge cases: bad values are sanitised the same way on both sides.
+    out.push(Surface {
+        lighting: Vec3::new(f32::NAN, f32::INFINITY, -1.0),
+        albedo: Vec3::new(f32::NAN, 2.0, -1.0),
+        normal: Vec3::new(f32::NAN, 0.0, 0.0),
+        roughness: f32::NAN,
+        specular: f32::INFINITY,
+        sun_shadow: -3.0,
+        motion: Vec2::new(f32::NAN, 1e9),
+    });
+    out.push(Surface {
+        normal: Vec3::ZERO,
+        ..Surface::default()
+    });
+    out.push(Surface {
+        normal: -Vec3::Z,
+        roughness: 0.0,
+        ..Surface::default()
+    });
+    out
+}
+
+#[test]
+fn gbuffer_pack_matches_the_cpu() {
+    let s = surfaces(20_000);
+    let input: Vec<u32> = s.iter().flat_map(surface_words).collect();
+    let prelude = format!("{GBUFFER_WGSL}{SURFACE_WGSL_READ}");
+    let body = "
+    let s = read_surface(i);
+    let k = deferred_gbuffer_kz2_pack(s);
+    let o = deferred_gbuffer_oct_pack(s);
+    let b = i * 9u;
+    output[b] = pack4x8unorm(k.rt0); output[b + 1u] = pack4x8unorm(k.rt1);
+    output[b + 2u] = pack4x8unorm(k.rt2); output[b + 3u] = pack4x8unorm(k.rt3);
+    output[b + 4u] = pack4x8unorm(o.rt0);
+    output[b + 5u] = o.rt1.x | (o.rt1.y << 8u) | (o.rt1.z << 16u) | (o.rt1.w << 24u);
+    output[b + 6u] = deferred_pack_half(o.rt2.x) | (deferred_pack_half(o.rt2.y) << 16u);
+    output[b + 7u] = deferred_pack_half(o.rt2.z) | (deferred_pack_half(o.rt2.w) << 16u);
+    output[b + 8u] = pack4x8unorm(o.rt3);";
+    let out = run(&prelude, body, &input, s.len() as u32, 9);
+    let (mut srgb_off, mut spec_off, mut glow_off, mut normal_ties) = (0, 0, 0, 0);
+    for (i, s) in s.iter().enumerate() {
+        let g = &out[i * 9..(i + 1) * 9];
+        let k = Kz2Texels::pack(s);
+        let o = OctTexels::pack(s);
+        let gb = |w: u32| w.to_le_bytes();
+        // KZ2: exact, but the log-range specular code may sit one off at a rounding tie.
+        assert_eq!(gb(g[1]), k.rt1, "{i} KZ2 RT1 {s:?}");
+        assert_eq!(gb(g[3]), k.rt3, "{i} KZ2 RT3");
+        let (gr2, cr2) = (gb(g[2]), k.rt2);
+        assert_eq!(
+            [gr2[0], gr2[1], gr2[3]],
+            [cr2[0], cr2[1], cr2[3]],
+            "{i} KZ2 RT2"
+        );
+        if gr2[2] != cr2[2] {
+            assert!(
+                gr2[2].abs_diff(cr2[2]) == 1,
+                "{i} spec {} vs {}",
+                gr2[2],
+                cr2[2]
+            );
+            spec_off += 1;
+        }
+        for (rt, (gw, cw)) in [(g[0], k.rt0), (g[4], o.rt0)].into_iter().enumerate() {
+            let gw = gb(gw);
+            assert_eq!(gw[..3], cw[..3], "{i} RT0 ({rt})");
+            if gw[3] != cw[3] {
+                assert!(gw[3].abs_diff(cw[3]) == 1);
+                glow_off += 1;
+            }
+        }
+        // Octahedral: the normal code may differ only between two equally good codes.
+        let g1 = gb(g[5]);
+        assert_eq!(g1[3], o.rt1[3], "{i} roughness");
+        let (gcode, ccode) = (g[5] & 0xff_ffff, u32::from_le_bytes(o.rt1) & 0xff_ffff);
+        if gcode != ccode {
+            let n = s.normal.normalize();
+            assert!(
+                oct_decode(gcode).angle_between(n).to_degrees() < 0.0397,
+                "{i}"
+            );
+            normal_ties += 1;
+        }
+        assert_eq!(
+            g[6],
+            u32::from(o.rt2[0]) | u32::from(o.rt2[1]) << 16,
+            "{i} motion"
+        );
+        assert_eq!(
+            g[7],
+            u32::from(o.rt2[2]) | u32::from(o.rt2[3]) << 16,
+            "{i} specular"
+        );
+        let g3 = gb(g[8]);
+        assert_eq!(g3[3], o.rt3[3]);
+        for c in 0..3 {
+            if g3[c] != o.rt3[c] {
+                assert!(
+                    g3[c].abs_diff(o.rt3[c]) == 1,
+                    "{i} sRGB {} vs {}",
+                    g3[c],
+                    o.rt3[c]
+                );
+                srgb_off += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{} surfaces: sRGB codes one off {srgb_off}, spec codes one off {spec_off}, glow one off {glow_off}, normal near-ties {normal_ties}",
+        s.len()
+    );
+    let n = s.len();
+    assert!(
+        srgb_off * 200 < 3 * n && spec_off * 100 < n && glow_off * 100 < n && normal_ties * 100 < n
+    );
+}
+
+#[test]
+fn gbuffer_unpack_matches_the_cpu() {
+    let mut rng = Rng(99);
+    let n = 20_000u32;
+    let input: Vec<u32> = (0..n * 5).map(|_| rng.u32()).collect();
+    let prelude = format!("{GBUFFER_WGSL}{SURFACE_WGSL_READ}");
+    // Texture reads: unorm channels as textureLoad returns them, f16 channels as floats.
+    let body = "
+    let b = i * 5u;
+    let k = deferred_gbuffer_kz2_unpack(unpack4x8unorm(input[b]), unpack4x8unorm(input[b + 1u]),
+        unpack4x8unorm(input[b + 2u]), unpack4x8unorm(input[b + 4u]));
+    let r1 = input[b + 1u];
+    let rt1 = vec4<u32>(r1 & 0xffu, (r1 >> 8u) & 0xffu, (r1 >> 16u) & 0xffu, r1 >> 24u);
+    let rt2 = vec4<f32>(deferred_unpack_half(input[b + 2u] & 0xffffu), deferred_unpack_half(input[b + 2u] >> 16u),
+        deferred_unpack_half(input[b + 3u] & 0xffffu), deferred_unpack_half(input[b + 3u] >> 16u));
+    let o = deferred_gbuffer_oct_unpack(unpack4x8unorm(input[b]), rt1, rt2, unpack4x8unorm(input[b + 4u]));
+    write_surface(i * 28u, k);
+    write_surface(i * 28u + 14u, o);";
+    let out = run(&prelude, body, &input, n, 28);
+    let close = |a: f32, b: f32, what: &str, i: usize| {
+        assert!(
+            (a - b).abs() <= 2e-6 * a.abs().max(b.abs()).max(1.0),
+            "{i} {what}: gpu {a} cpu {b}"
+        );
+    };
+    for i in 0..n as usize {
+        let w = &input[i * 5..(i + 1) * 5];
+        let bytes: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let kz2: Kz2Texels =
+            bytemuck::pod_read_unaligned(&[&bytes[..8], &bytes[8..12], &bytes[16..20]].concat());
+        let oct: OctTexels = bytemuck::pod_read_unaligned(&bytes);
+        for (cpu, gpu) in [
+            (kz2.unpack(), surface_from(&out[i * 28..])),
+            (oct.unpack(), surface_from(&out[i * 28 + 14..])),
+        ] {
+            for (a, b, what) in [
+                (gpu.lighting, cpu.lighting, "lighting"),
+                (gpu.albedo, cpu.albedo, "albedo"),
+                (gpu.normal, cpu.normal, "normal"),
+            ] {
+                for c in 0..3 {
+                    close(a[c], b[c], what, i);
+                }
+            }
+            close(gpu.roughness, cpu.roughness, "roughness", i);
+            close(gpu.specular, cpu.specular, "specular", i);
+            close(gpu.sun_shadow, cpu.sun_shadow, "sun", i);
+            assert_eq!(gpu.motion, cpu.motion, "{i} motion");
+        }
+    }
+}
+
+#[test]
+fn position_from_depth_matches_the_cpu() {
+    let vp = Vec2::new(1920.0, 1080.0);
+    let mut rng = Rng(5);
+    for mode in [DepthMode::Reversed, DepthMode::Standard] {
+        let p = Perspective::try_new(1.1, vp.x / vp.y, 0.1, Some(500.0), mode).unwrap();
+        let proj = p.gpu(vp);
+        let n = 4096u32;
+        let mut input: Vec<u32> = bytemuck::cast_slice(&[proj]).to_vec();
+        let items: Vec<(Vec2, f32)> = (0..n)
+            .map(|_| {
+                (
+                    Vec2::new(rng.f32(0.0, vp.x), rng.f32(0.0, vp.y)),
+                    p.linearize().depth(rng.f32(0.2, 400.0)),
+                )
+            })
+            .collect();
+        for (px, d) in &items {
+            input.extend([px.x.to_bits(), px.y.to_bits(), d.to_bits()]);
+        }
+        let body = "
+    let p = DeferredProjection(vec2<f32>(bitcast<f32>(input[0]), bitcast<f32>(input[1])),
+        bitcast<f32>(input[2]), bitcast<f32>(input[3]),
+        vec4<f32>(bitcast<f32>(input[4]), bitcast<f32>(input[5]), bitcast<f32>(input[6]), bitcast<f32>(input[7])));
+    let b = 8u + i * 3u;
+    let v = deferred_view_position(p, vec2<f32>(bitcast<f32>(input[b]), bitcast<f32>(input[b + 1u])), bitcast<f32>(input[b + 2u]));
+    output[i * 3u] = bitcast<u32>(v.x); output[i * 3u + 1u] = bitcast<u32>(v.y); output[i * 3u + 2u] = bitcast<u32>(v.z);";
+        let out = run(DEPTH_WGSL, body, &input, n, 3);
+        for (i, (px, d)) in items.iter().enumerate() {
+            let cpu = proj.view_position(*px, *d);
+            let gpu = Vec3::new(
+                f32::from_bits(out[i * 3]),
+                f32::from_bits(out[i * 3 + 1]),
+                f32::from_bits(out[i * 3 + 2]),
+            );
+            assert!(
+                (gpu - cpu).length() <= 1e-5 * cpu.length(),
+                "{mode:?} {i}: {gpu} vs {cpu}"
+            );
+        }
+    }
+}
+
+#[test]
+fn light_tile_test_matches_the_cpu() {
+    let vp = Vec2::new(1280.0, 720.0);
+    let p = Perspective::try_new(1.0, vp.x / vp.y, 0.1, None, DepthMode::Reversed).unwrap();
+    let proj = p.gpu(vp);
+    let (tx, ty) = tile_counts(vp.x as u32, vp.y as u32);
+    let mut rng = Rng(21);
+    let lights: Vec<DeferredLight> = (0..64)
+        .map(|i| {
+            let d = rng.f32(1.0, 40.0);
+            let pos = Vec3::new(rng.f32(-1.0, 1.0) * d, rng.f32(-0.6, 0.6) * d, -d);
+            let range = rng.f32(0.3, 6.0);
+            if i % 2 == 0 {
+                DeferredLight::spot(pos, rng.unit(), range, rng.f32(0.1, 1.4), Vec3::ONE)
+            } else {
+                DeferredLight::point(pos, range, Vec3::ONE)
+            }
+        })
+        .collect();
+    let l = p.linearize();
+    let tiles: Vec<(u32, u32, DeferredTileDepth)> = (0..tx * ty)
+        .map(|t| {
+            let a = rng.f32(0.5, 40.0);
+            let b = a + rng.f32(0.0, 20.0);
+            (
+                t % tx,
+                t / tx,
+                DeferredTileDepth {
+                    nearest: l.depth(a),
+                    farthest: l.depth(b),
+                },
+            )
+        })
+        .collect();
+    let mut input: Vec<u32> = bytemuck::cast_slice(&[proj]).to_vec();
+    input.extend_from_slice(bytemuck::cast_slice(&lights));
+    for (x, y, d) in &tiles {
+        input.extend([*x, *y, d.nearest.to_bits(), d.farthest.to_bits()]);
+    }
+    let base = input.len() - tiles.len() * 4;
+    let body = format!(
+        "
+    let p = DeferredProjection(vec2<f32>(bitcast<f32>(input[0]), bitcast<f32>(input[1])),
+        bitcast<f32>(input[2]), bitcast<f32>(input[3]),
+        vec4<f32>(bitcast<f32>(input[4]), bitcast<f32>(input[5]), bitcast<f32>(input[6]), bitcast<f32>(input[7])));
+    let t = {base}u + i * 4u;
+    let f = deferred_tile_frustum(p, vec2<u32>(input[t], input[t + 1u]),
+        DeferredTileDepth(bitcast<f32>(input[t + 2u]), bitcast<f32>(input[t + 3u])));
+    var mask = vec2<u32>(0u);
+    for (var k = 0u; k < 64u; k++) {{
+        let o = 8u + k * 12u;
+        var l: DeferredLight;
+        l.position = vec3<f32>(bitcast<f32>(input[o]), bitcast<f32>(input[o + 1u]), bitcast<f32>(input[o + 2u]));
+        l.range = bitcast<f32>(input[o + 3u]);
+        l.direction = vec3<f32>(bitcast<f32>(input[o + 4u]), bitcast<f32>(input[o + 5u]), bitcast<f32>(input[o + 6u]));
+        l.cos_outer = bitcast<f32>(input[o + 7u]);
+        l.flags = input[o + 11u];
+        if deferred_light_in_tile(f, l) {{
+            mask[k / 32u] |= 1u << (k % 32u);
+        }}
+    }}
+    output[i * 2u] = mask.x;
+    output[i * 2u + 1u] = mask.y;"
+    );
+    let prelude = format!("{DEPTH_WGSL}{LIGHTS_WGSL}");
+    let out = run(&prelude, &body, &input, tiles.len() as u32, 2);
+    let (mut differ, mut pairs) = (0, 0);
+    for (i, (x, y, d)) in tiles.iter().enumerate() {
+        let f = TileFrustum::new(&proj, *x, *y, *d);
+        for (k, light) in lights.iter().enumerate() {
+            let cpu = f.light_visible(light);
+            let gpu = out[i * 2 + k / 32] >> (k % 32) & 1 == 1;
+            pairs += usize::from(cpu);
+            differ += usize::from(cpu != gpu);
+        }
+    }
+    eprintln!(
+        "{} tiles x {} lights: {pairs} pairs, {differ} decisions differ",
+        tiles.len(),
+        lights.len()
+    );
+    assert!(pairs > 100);
+    // Only tangent cases may flip with the device's rounding.
+    assert!(differ * 10_000 <= tiles.len() * lights.len(), "{differ}");
+    let _ = TILE_SIZE;
+}
