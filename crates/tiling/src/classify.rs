@@ -515,6 +515,23 @@ impl PassDispatch {
     }
 }
 
+/// Totals the GPU passes write for the CPU to read back (WGSL `TilingTotals`), 16 bytes.
+/// The CPU twins return them as lengths instead.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Totals {
+    /// Counters (mid classify's `counter_offsets` pass): [`MidClassify::counter_count`].
+    pub counter_count: u32,
+    /// Commands (mid classify's `pixel_offsets` pass): [`MidClassify::command_count`].
+    pub command_count: u32,
+    /// Wave commands (classify output's `wave_offsets` pass).
+    pub wave_count: u32,
+    /// Visible chunks, the vertex wave commands (the vertex pass's `build_pyramid`).
+    pub visible_chunks: u32,
+}
+
+const _: () = assert!(size_of::<Totals>() == 16);
+
 /// Phase 2's outputs.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct MidClassify {

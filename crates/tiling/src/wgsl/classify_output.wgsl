@@ -1,0 +1,230 @@
+// tiling: phase 3, classify output (Rust twin: tiling::classify_output). Three entry
+// points, in this order:
+//   write_commands    (ceil(width / 16), ceil(height / 16), 1)  pixel (or quad) commands
+//   wave_offsets_pass (1, 1, 1)          final counts, wave offsets, pass dispatches
+//   write_waves       (ceil(tiles * passes / 64), 1, 1)          wave commands
+// Zero `final_counts`, `commands` and `stats` before write_commands.
+// Needs visbuf's ID_WGSL, a wave pass module (wave::module_for), common.wgsl and
+// pixel.wgsl in front (bindings 0-3).
+
+// Per (tile, pass): the batch groups used (phase 1).
+@group(0) @binding(4) var<storage, read> masks: array<u32>;
+// Per (tile, pass): first counter (phase 2).
+@group(0) @binding(5) var<storage, read> counter_offsets: array<u32>;
+// Per counter: room for commands, phase 2's counts.
+@group(0) @binding(6) var<storage, read> counts: array<u32>;
+// Per counter: first command (phase 2).
+@group(0) @binding(7) var<storage, read> pixel_offsets: array<u32>;
+// Per counter: commands written (clamped to `counts` by wave_offsets_pass). Zero first.
+@group(0) @binding(8) var<storage, read_write> final_counts: array<atomic<u32>>;
+// The 16-bit commands, two per word (command i: bits 16 (i % 2) of word i / 2). Zero first.
+@group(0) @binding(9) var<storage, read_write> commands: array<atomic<u32>>;
+// Per counter: first wave command.
+@group(0) @binding(10) var<storage, read_write> wave_offsets: array<u32>;
+// The wave commands, pass-major.
+@group(0) @binding(11) var<storage, read_write> waves: array<TilingWaveCommand>;
+// Per pass: the shading dispatch.
+@group(0) @binding(12) var<storage, read_write> passes: array<TilingPassDispatch>;
+// wave_count (written by wave_offsets_pass).
+@group(0) @binding(13) var<storage, read_write> totals: TilingTotals;
+// tiling::PixelStats of write_commands. Zero first.
+@group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
+
+// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
+fn tiling_counter_of(tile: u32, k: u32) -> u32 {
+    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
+    let g = k % TILING_MAX_BATCH_GROUPS;
+    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
+}
+
+var<workgroup> tiling_wg_key: atomic<u32>;
+var<workgroup> tiling_wg_key_plain: u32;
+
+@compute @workgroup_size(16, 16)
+fn write_commands(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    tiling_stats_begin(li);
+    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
+    var key = TILING_NONE;
+    var cmd = 0u;
+    if (gid.x < params.width && gid.y < params.height) {
+        let i = gid.y * params.width + gid.x;
+        let word = tiling_word(i);
+        let px = tiling_decode(word, i);
+        tiling_stat_pixel(px);
+        if (px.kind == TILING_PX_VALID) {
+            let mask = tiling_sample_mask(gid.x, gid.y, word);
+            if (mask != 0u) {
+                let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
+                if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+                    key = px.pg;
+                    cmd = tiling_command(gid.x, gid.y, mask);
+                } else {
+                    tiling_stat(TILING_STAT_DROPPED, 1u);
+                }
+            }
+        }
+    }
+    // Aggregated appends, one (pass, group) of the workgroup at a time.
+    var pending = key != TILING_NONE;
+    loop {
+        if (li == 0u) {
+            atomicStore(&tiling_wg_key, TILING_NONE);
+        }
+        workgroupBarrier();
+        if (pending) {
+            atomicMin(&tiling_wg_key, key);
+        }
+        workgroupBarrier();
+        if (li == 0u) {
+            tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
+        }
+        let k = workgroupUniformLoad(&tiling_wg_key_plain);
+        if (k == TILING_NONE) {
+            break;
+        }
+        let take = pending && key == k;
+        let c = tiling_counter_of(tile, k);
+        let a = wave_append_begin(take, li);
+        var old = 0u;
+        if (a.total != 0u && c < arrayLength(&final_counts)) {
+            old = atomicAdd(&final_counts[c], a.total);
+        }
+        let slot = wave_append_end(a, old);
+        if (take) {
+            pending = false;
+            if (c < arrayLength(&counts) && slot < counts[c]) {
+                let at = pixel_offsets[c] + slot;
+                if (at / 2u < arrayLength(&commands)) {
+                    atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+                }
+                tiling_stat(TILING_STAT_COMMANDS, 1u);
+            } else {
+                tiling_stat(TILING_STAT_DROPPED, 1u);
+            }
+        }
+    }
+    workgroupBarrier();
+    if (li < TILING_STAT_COUNT) {
+        let v = atomicLoad(&tiling_wg_stats[li]);
+        if (v != 0u) {
+            atomicAdd(&stats[li], v);
+        }
+    }
+}
+
+var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_MAX_PASSES>;
+var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_MAX_PASSES>;
+var<workgroup> tiling_wg_pass_first: array<u32, TILING_MAX_PASSES>;
+
+// The (tile, pass) entry t * P + p of pass-major position p * T + t.
+fn tiling_entry_of(pass_major: u32) -> u32 {
+    let tiles = params.tiles_x * params.tiles_y;
+    return (pass_major % tiles) * params.pass_count + pass_major / tiles;
+}
+
+fn tiling_waves_of(n: u32) -> u32 {
+    return (n + params.wave_width - 1u) / params.wave_width;
+}
+
+@compute @workgroup_size(256)
+fn wave_offsets_pass(@builtin(local_invocation_index) li: u32) {
+    atomicStore(&tiling_wg_pass_waves[li], 0u);
+    atomicStore(&tiling_wg_pass_items[li], 0u);
+    tiling_wg_pass_first[li] = 0u;
+    workgroupBarrier();
+    let tiles = params.tiles_x * params.tiles_y;
+    let n = min(tiles * params.pass_count, arrayLength(&masks));
+    let r = tiling_wg_range(li, n);
+    // Clamp each counter to its room, sum this range's waves.
+    var sum = 0u;
+    for (var q = r.x; q < r.y; q++) {
+        let e = tiling_entry_of(q);
+        var bits = masks[e];
+        var c = counter_offsets[e];
+        while (bits != 0u) {
+            bits &= bits - 1u;
+            if (c < arrayLength(&final_counts) && c < arrayLength(&counts)) {
+                let f = min(atomicLoad(&final_counts[c]), counts[c]);
+                atomicStore(&final_counts[c], f);
+                sum += tiling_waves_of(f);
+            }
+            c += 1u;
+        }
+    }
+    let scan = tiling_wg_scan(li, sum);
+    var run = scan.x;
+    for (var q = r.x; q < r.y; q++) {
+        let e = tiling_entry_of(q);
+        let p = q / tiles;
+        if (q % tiles == 0u) {
+            tiling_wg_pass_first[p] = run;
+        }
+        var bits = masks[e];
+        var c = counter_offsets[e];
+        while (bits != 0u) {
+            bits &= bits - 1u;
+            if (c < arrayLength(&final_counts) && c < arrayLength(&counts)) {
+                let f = atomicLoad(&final_counts[c]);
+                if (c < arrayLength(&wave_offsets)) {
+                    wave_offsets[c] = run;
+                }
+                let w = tiling_waves_of(f);
+                run += w;
+                atomicAdd(&tiling_wg_pass_waves[p], w);
+                atomicAdd(&tiling_wg_pass_items[p], f);
+            }
+            c += 1u;
+        }
+    }
+    workgroupBarrier();
+    if (li < params.pass_count && li < arrayLength(&passes)) {
+        passes[li] = tiling_dispatch(
+            tiling_wg_pass_first[li],
+            atomicLoad(&tiling_wg_pass_waves[li]),
+            atomicLoad(&tiling_wg_pass_items[li]),
+        );
+    }
+    if (li == 0u) {
+        totals.wave_count = scan.y;
+    }
+}
+
+@compute @workgroup_size(64)
+fn write_waves(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let e = gid.x;
+    if (e >= params.tiles_x * params.tiles_y * params.pass_count || e >= arrayLength(&masks)) {
+        return;
+    }
+    let t = e / params.pass_count;
+    let p = e % params.pass_count;
+    let tile = (t % params.tiles_x) | ((t / params.tiles_x) << TILING_WAVE_TILE_Y_SHIFT);
+    var bits = masks[e];
+    var c = counter_offsets[e];
+    while (bits != 0u) {
+        let g = firstTrailingBit(bits);
+        bits &= bits - 1u;
+        if (c < arrayLength(&final_counts) && c < arrayLength(&wave_offsets)) {
+            let f = atomicLoad(&final_counts[c]);
+            let first = wave_offsets[c];
+            var k = 0u;
+            var w = 0u;
+            while (k < f) {
+                if (first + w < arrayLength(&waves)) {
+                    waves[first + w] = TilingWaveCommand(
+                        tile,
+                        p | (g << TILING_WAVE_GROUP_SHIFT),
+                        pixel_offsets[c] + k,
+                        min(params.wave_width, f - k),
+                    );
+                }
+                k += params.wave_width;
+                w += 1u;
+            }
+        }
+        c += 1u;
+    }
+}

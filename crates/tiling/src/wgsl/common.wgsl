@@ -1,0 +1,179 @@
+// tiling: constants, buffer structs and helpers shared by every pass (core WGSL, no
+// bindings). Every constant equals the Rust constant of the same meaning in the `tiling`
+// crate (checked by its unit tests); every struct has the layout of the Rust Pod struct
+// named in its comment.
+
+const TILING_TILE_SIZE: u32 = 128u;
+const TILING_TILE_SHIFT: u32 = 7u;
+const TILING_PIXEL_Y_SHIFT: u32 = 7u;
+const TILING_PIXEL_COORD_MASK: u32 = 127u;
+const TILING_QUAD_Y_SHIFT: u32 = 6u;
+const TILING_QUAD_COORD_MASK: u32 = 63u;
+const TILING_QUAD_PIXELS_SHIFT: u32 = 12u;
+const TILING_MAX_PASSES: u32 = 256u;
+const TILING_MAX_BATCH_GROUPS: u32 = 32u;
+const TILING_MAX_PRIMITIVE_BITS: u32 = 16u;
+const TILING_CHUNK_SIZE: u32 = 64u;
+const TILING_UBER_CHUNKS: u32 = 64u;
+const TILING_PYRAMID_FANOUT: u32 = 4u;
+const TILING_MAX_DISPATCH_X: u32 = 65535u;
+const TILING_FLAG_VALIDITY: u32 = 1u;
+const TILING_FLAG_VRS: u32 = 2u;
+const TILING_WAVE_TILE_Y_SHIFT: u32 = 16u;
+const TILING_WAVE_GROUP_SHIFT: u32 = 8u;
+// "No key / no value": larger than any valid key, index or count.
+const TILING_NONE: u32 = 0xffffffffu;
+
+// Indices into the stats buffer (Rust: tiling::PixelStats, 8 x u32).
+const TILING_STAT_VALID: u32 = 0u;
+const TILING_STAT_EMPTY: u32 = 1u;
+const TILING_STAT_UNKNOWN: u32 = 2u;
+const TILING_STAT_OUT_OF_RANGE: u32 = 3u;
+const TILING_STAT_COMMANDS: u32 = 4u;
+const TILING_STAT_DROPPED: u32 = 5u;
+const TILING_STAT_BAD_INDICES: u32 = 6u;
+const TILING_STAT_COUNT: u32 = 8u;
+
+// Rust: tiling::TilingParams, 48 bytes (uniform).
+struct TilingParams {
+    width: u32,
+    height: u32,
+    tiles_x: u32,
+    tiles_y: u32,
+    pass_count: u32,
+    wave_width: u32,
+    flags: u32,
+    table_len: u32,
+    micro_batch_count: u32,
+    chunk_count: u32,
+    uber_count: u32,
+    pad: u32,
+}
+
+// Rust: tiling::MicroBatchInfo, 64 bytes, same field names except `pass_index`. One row
+// per micro-batch ID.
+struct TilingMicroBatchInfo {
+    first_id: u32,
+    id_count: u32,
+    // Rust `pass` (a WGSL keyword).
+    pass_index: u32,
+    batch_group: u32,
+    primitive_bits: u32,
+    primitive_count: u32,
+    vertex_count: u32,
+    instance_count: u32,
+    first_instance: u32,
+    batch: u32,
+    batch_first_instance: u32,
+    first_index: u32,
+    base_vertex: u32,
+    first_chunk: u32,
+    ring_offset: u32,
+    order: u32,
+}
+
+// Rust: tiling::PassInfo, 32 bytes.
+struct TilingPassInfo {
+    first_micro_batch: u32,
+    micro_batch_count: u32,
+    vertex_count: u32,
+    first_chunk: u32,
+    chunk_count: u32,
+    batch_group_count: u32,
+    shader: u32,
+    pad: u32,
+}
+
+// Rust: tiling::WaveCommand, 16 bytes.
+struct TilingWaveCommand {
+    tile: u32,
+    pass_group: u32,
+    first_command: u32,
+    command_count: u32,
+}
+
+// Rust: tiling::PassDispatch, 24 bytes; x, y, z are dispatch_workgroups_indirect's.
+struct TilingPassDispatch {
+    x: u32,
+    y: u32,
+    z: u32,
+    first: u32,
+    count: u32,
+    items: u32,
+}
+
+// Rust: tiling::UberChunk, 16 bytes.
+struct TilingUberChunk {
+    mask_lo: u32,
+    mask_hi: u32,
+    count: u32,
+    pad: u32,
+}
+
+// Rust: tiling::VertexWaveCommand, 8 bytes.
+struct TilingVertexWaveCommand {
+    micro_batch: u32,
+    chunk: u32,
+}
+
+// Rust: tiling::Totals, 16 bytes.
+struct TilingTotals {
+    counter_count: u32,
+    command_count: u32,
+    wave_count: u32,
+    visible_chunks: u32,
+}
+
+// The indirect arguments of `count` commands from `first` (Rust: PassDispatch::new).
+fn tiling_dispatch(first: u32, count: u32, items: u32) -> TilingPassDispatch {
+    let x = min(count, TILING_MAX_DISPATCH_X);
+    let y = (count + TILING_MAX_DISPATCH_X - 1u) / TILING_MAX_DISPATCH_X;
+    return TilingPassDispatch(x, y, select(0u, 1u, count != 0u), first, count, items);
+}
+
+// a + b, or TILING_NONE when it would wrap.
+fn tiling_add_sat(a: u32, b: u32) -> u32 {
+    if (a > TILING_NONE - b) {
+        return TILING_NONE;
+    }
+    return a + b;
+}
+
+// a * b, or TILING_NONE when it would wrap.
+fn tiling_mul_sat(a: u32, b: u32) -> u32 {
+    if (a != 0u && b > TILING_NONE / a) {
+        return TILING_NONE;
+    }
+    return a * b;
+}
+
+// A workgroup-wide exclusive prefix sum over 256 invocations (Hillis-Steele in workgroup
+// memory): returns (this invocation's exclusive prefix, the workgroup's total). Call from
+// uniform control flow with @workgroup_size(256).
+var<workgroup> tiling_scan_a: array<u32, 256>;
+
+fn tiling_wg_scan(li: u32, value: u32) -> vec2<u32> {
+    tiling_scan_a[li] = value;
+    workgroupBarrier();
+    for (var d = 1u; d < 256u; d = d * 2u) {
+        var add = 0u;
+        if (li >= d) {
+            add = tiling_scan_a[li - d];
+        }
+        workgroupBarrier();
+        tiling_scan_a[li] = tiling_scan_a[li] + add;
+        workgroupBarrier();
+    }
+    let inclusive = tiling_scan_a[li];
+    let total = tiling_scan_a[255];
+    workgroupBarrier();
+    return vec2<u32>(inclusive - value, total);
+}
+
+// The half-open slice [begin, end) of `n` items that invocation `li` of 256 walks in the
+// single-workgroup scans (contiguous ranges, so each thread's items are consecutive).
+fn tiling_wg_range(li: u32, n: u32) -> vec2<u32> {
+    let per = (n + 255u) / 256u;
+    let begin = min(li * per, n);
+    return vec2<u32>(begin, min(begin + per, n));
+}

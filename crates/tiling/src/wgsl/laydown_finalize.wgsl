@@ -1,0 +1,35 @@
+// tiling: phase 1, laydown finalise (Rust twin: tiling::laydown_finalize).
+// Bindings 0-3: pixel.wgsl. Dispatch (ceil(width / 16), ceil(height / 16), 1); `masks`
+// zeroed first.
+
+// Per (tile, pass), t * P + p: bit g set when batch group g is used. Zero before the pass.
+@group(0) @binding(4) var<storage, read_write> masks: array<atomic<u32>>;
+
+// This workgroup's masks, one per pass (all its pixels lie in one tile).
+var<workgroup> tiling_wg_masks: array<atomic<u32>, TILING_MAX_PASSES>;
+
+@compute @workgroup_size(16, 16)
+fn laydown_finalize(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    atomicStore(&tiling_wg_masks[li], 0u);
+    workgroupBarrier();
+    if (gid.x < params.width && gid.y < params.height) {
+        let i = gid.y * params.width + gid.x;
+        let px = tiling_decode(tiling_word(i), i);
+        if (px.kind == TILING_PX_VALID) {
+            atomicOr(&tiling_wg_masks[px.pg / TILING_MAX_BATCH_GROUPS], 1u << (px.pg % TILING_MAX_BATCH_GROUPS));
+        }
+    }
+    workgroupBarrier();
+    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
+    if (li < params.pass_count) {
+        let m = atomicLoad(&tiling_wg_masks[li]);
+        let e = tile * params.pass_count + li;
+        if (m != 0u && e < arrayLength(&masks)) {
+            atomicOr(&masks[e], m);
+        }
+    }
+}

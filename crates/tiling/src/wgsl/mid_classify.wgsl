@@ -1,0 +1,183 @@
+// tiling: phase 2, mid classify (Rust twin: tiling::mid_classify). Three entry points, in
+// this order:
+//   counter_offsets  (1, 1, 1)                            prefix sum of popcount(masks)
+//   count_pixels     (ceil(width / 16), ceil(height / 16), 1)  counts + vertex cull buffer
+//   pixel_offsets    (1, 1, 1)                            prefix sum of the counts
+// Zero `counts`, `vertex_cull` and `stats` before count_pixels.
+// Needs visbuf's ID_WGSL, a wave pass module (wave::module_for), common.wgsl and
+// pixel.wgsl in front (bindings 0-3).
+
+// Per (tile, pass): the batch groups used (phase 1's output).
+@group(0) @binding(4) var<storage, read> masks: array<u32>;
+// Per (tile, pass): first counter, the exclusive prefix sum of popcount(masks).
+@group(0) @binding(5) var<storage, read_write> counter_offsets: array<u32>;
+// Per counter: commands counted (pixels, or VRS samples). Zero before count_pixels.
+@group(0) @binding(6) var<storage, read_write> counts: array<atomic<u32>>;
+// Per counter: first pixel command, the exclusive prefix sum of the counts.
+@group(0) @binding(7) var<storage, read_write> pixel_offsets: array<u32>;
+// One byte per 64-vertex chunk, four per word (chunk c: byte c % 4 of word c / 4).
+// Zero before count_pixels.
+@group(0) @binding(8) var<storage, read_write> vertex_cull: array<atomic<u32>>;
+// The shared index buffer: three indices per triangle, local to the geometry.
+@group(0) @binding(9) var<storage, read> indices: array<u32>;
+// counter_count (written by counter_offsets), command_count (by pixel_offsets).
+@group(0) @binding(10) var<storage, read_write> totals: TilingTotals;
+// tiling::PixelStats of count_pixels. Zero before count_pixels.
+@group(0) @binding(11) var<storage, read_write> stats: array<atomic<u32>, 8>;
+
+@compute @workgroup_size(256)
+fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
+    let n = min(params.tiles_x * params.tiles_y * params.pass_count, arrayLength(&masks));
+    let r = tiling_wg_range(li, n);
+    var sum = 0u;
+    for (var i = r.x; i < r.y; i++) {
+        sum += countOneBits(masks[i]);
+    }
+    let scan = tiling_wg_scan(li, sum);
+    var run = scan.x;
+    for (var i = r.x; i < r.y; i++) {
+        if (i < arrayLength(&counter_offsets)) {
+            counter_offsets[i] = run;
+        }
+        run += countOneBits(masks[i]);
+    }
+    if (li == 0u) {
+        totals.counter_count = scan.y;
+    }
+}
+
+// Marks the 64-vertex chunks of a valid pixel's triangle; false if an index is bad (past
+// the index buffer, at or past the vertex count, or a chunk past the cull buffer).
+fn tiling_mark_triangle(px: TilingPixel) -> bool {
+    let row = table[px.mb];
+    let first = tiling_add_sat(row.first_index, 3u * px.prim);
+    let n = arrayLength(&indices);
+    if (n < 3u || first > n - 3u) {
+        return false;
+    }
+    // chunk = first_chunk + (instance * vertex_count + v) / 64 without 64-bit integers,
+    // exactly (a saturated sum is past any chunk count): with vertex_count = 64 a + b,
+    // v = 64 c + d and instance = 64 q + r it is
+    // first_chunk + instance a + c + q b + (r b + d) / 64.
+    let a = row.vertex_count / TILING_CHUNK_SIZE;
+    let b = row.vertex_count % TILING_CHUNK_SIZE;
+    let q = px.instance / TILING_CHUNK_SIZE;
+    let r = px.instance % TILING_CHUNK_SIZE;
+    let whole = tiling_add_sat(tiling_add_sat(row.first_chunk, tiling_mul_sat(px.instance, a)), q * b);
+    var ok = true;
+    for (var k = 0u; k < 3u; k++) {
+        let v = indices[first + k];
+        if (v >= row.vertex_count) {
+            ok = false;
+            continue;
+        }
+        let part = (r * b + v % TILING_CHUNK_SIZE) / TILING_CHUNK_SIZE;
+        let chunk = tiling_add_sat(whole, v / TILING_CHUNK_SIZE + part);
+        if (chunk >= params.chunk_count || chunk / 4u >= arrayLength(&vertex_cull)) {
+            ok = false;
+            continue;
+        }
+        atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
+    }
+    return ok;
+}
+
+// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
+fn tiling_counter_of(tile: u32, k: u32) -> u32 {
+    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
+    let g = k % TILING_MAX_BATCH_GROUPS;
+    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
+}
+
+var<workgroup> tiling_wg_key: atomic<u32>;
+var<workgroup> tiling_wg_key_plain: u32;
+
+@compute @workgroup_size(16, 16)
+fn count_pixels(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    tiling_stats_begin(li);
+    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
+    var key = TILING_NONE;
+    if (gid.x < params.width && gid.y < params.height) {
+        let i = gid.y * params.width + gid.x;
+        let word = tiling_word(i);
+        let px = tiling_decode(word, i);
+        tiling_stat_pixel(px);
+        if (px.kind == TILING_PX_VALID) {
+            if (!tiling_mark_triangle(px)) {
+                tiling_stat(TILING_STAT_BAD_INDICES, 1u);
+            }
+            if (tiling_sample_mask(gid.x, gid.y, word) != 0u) {
+                let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
+                if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+                    key = px.pg;
+                    tiling_stat(TILING_STAT_COMMANDS, 1u);
+                } else {
+                    tiling_stat(TILING_STAT_DROPPED, 1u);
+                }
+            }
+        }
+    }
+    // Aggregated appends, one (pass, group) of the workgroup at a time, smallest first:
+    // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
+    var pending = key != TILING_NONE;
+    loop {
+        if (li == 0u) {
+            atomicStore(&tiling_wg_key, TILING_NONE);
+        }
+        workgroupBarrier();
+        if (pending) {
+            atomicMin(&tiling_wg_key, key);
+        }
+        workgroupBarrier();
+        if (li == 0u) {
+            tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
+        }
+        let k = workgroupUniformLoad(&tiling_wg_key_plain);
+        if (k == TILING_NONE) {
+            break;
+        }
+        let take = pending && key == k;
+        let a = wave_append_begin(take, li);
+        if (a.total != 0u) {
+            let c = tiling_counter_of(tile, k);
+            if (c < arrayLength(&counts)) {
+                atomicAdd(&counts[c], a.total);
+            }
+        }
+        if (take) {
+            pending = false;
+        }
+    }
+    workgroupBarrier();
+    if (li < TILING_STAT_COUNT) {
+        let v = atomicLoad(&tiling_wg_stats[li]);
+        if (v != 0u) {
+            atomicAdd(&stats[li], v);
+        }
+    }
+}
+
+@compute @workgroup_size(256)
+fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
+    let n = min(totals.counter_count, arrayLength(&counts));
+    let r = tiling_wg_range(li, n);
+    var sum = 0u;
+    for (var i = r.x; i < r.y; i++) {
+        sum += atomicLoad(&counts[i]);
+    }
+    let scan = tiling_wg_scan(li, sum);
+    var run = scan.x;
+    for (var i = r.x; i < r.y; i++) {
+        if (i < arrayLength(&pixel_offsets)) {
+            pixel_offsets[i] = run;
+        }
+        run += atomicLoad(&counts[i]);
+    }
+    if (li == 0u) {
+        totals.command_count = scan.y;
+    }
+}
