@@ -31,6 +31,7 @@
 //!   previous transform) and [`DrawableSetupBatch`] (48 B).
 //! - [`wgsl`]: [`STATICSCENE_WGSL`], the WGSL twin of the records and the per-thread
 //!   tests, validated by naga, its constants and struct layouts tied to the Rust ones.
+//! - [`baseline`]: the benches' flat loop (no tiles, clusters or packing).
 //! - [`demo`]: a procedural city (1.5M instances for the benches) and a box rasteriser
 //!   for depth buffers.
 //!
@@ -101,6 +102,7 @@ extern crate std;
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("staticscene needs float math: enable the `std` (default) or `libm` feature");
 
+pub mod baseline;
 mod dedup;
 pub mod demo;
 mod error;

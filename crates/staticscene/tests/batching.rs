@@ -195,3 +195,119 @@ fn previous_transform_follows_the_previous_origin() {
         );
     }
 }
+
+#[test]
+fn packed_query_draws_what_the_flat_loop_draws() {
+    // The unpacked f32 baseline (no tiles, clusters, packing, memo) over the same scene
+    // draws the same instances, fading and all, frame after frame. (With the pre-cull
+    // off: a cluster the pre-cull skipped restarts its fades from the snapped state, one
+    // frame's difference from per-instance fading when its LOD changed meanwhile.)
+    use staticscene::baseline::{flat_query, flatten_scene};
+    let (mut scene, cfg) = city_scene(60_000, 8);
+    let size = cfg.lots[0] as f64 * f64::from(cfg.lot_size);
+    // Flat record k is instance k of the tiles in scene order.
+    let mut base = std::collections::HashMap::new();
+    let mut k = 0u32;
+    for t in scene.tiles() {
+        base.insert(t.id().0, k);
+        k += t.instances().len() as u32;
+    }
+    for frame in 0..8 {
+        let cam = street(size, frame as f64 * 0.4, 0.3 + 0.05 * frame as f64);
+        let mut view = ViewDesc::camera(cam, [640, 360]);
+        view.fade_frames = 3;
+        let params = QueryParams::new(&view).unwrap();
+        let mut out = QueryOutput::<DrawableSetupInstance>::new();
+        let options = QueryOptions {
+            precull: false,
+            ..QueryOptions::default()
+        };
+        // Both start the frame from the query's fade states, so any difference comes
+        // from this frame's decisions.
+        let mut fade: Vec<u8> = scene
+            .tiles()
+            .iter()
+            .flat_map(|t| (0..t.instances().len()).map(|i| scene.fade_state(t.id(), i).unwrap()))
+            .collect();
+        scene.query(&params, None, &options, &mut out).unwrap();
+        let mut got: Vec<(u32, u32, u32)> = out
+            .instances
+            .iter()
+            .map(|i| {
+                (
+                    base[&i.state.tile] + i.state.instance,
+                    i.state.fade.to_bits(),
+                    i.state.flags,
+                )
+            })
+            .collect();
+        got.sort_unstable();
+        let (mut fo, mut fb) = (Vec::new(), Vec::new());
+        // Records in this frame's floating space: the same f32 arithmetic as the query.
+        let flat = flatten_scene(&scene, params.origin());
+        flat_query(
+            &flat,
+            &mut fade,
+            &params,
+            params.origin(),
+            None,
+            &mut fo,
+            &mut fb,
+            0,
+        );
+        let want: Vec<(u32, u32, u32)> = fo
+            .iter()
+            .map(|i| (i.state.instance, i.state.fade.to_bits(), i.state.flags))
+            .collect();
+        assert!(got.len() > 100);
+        // Differences may only come from f32 rounding at a LOD boundary (the two loops
+        // sum the same products in different orders): each differing instance must sit
+        // within 1e-5 of one of its four LOD distances, measured in f64.
+        let gs: std::collections::BTreeSet<_> = got.iter().copied().collect();
+        let ws: std::collections::BTreeSet<_> = want.iter().copied().collect();
+        let lod_point = params.lod_point().as_dvec3();
+        let mut differing = 0;
+        for &(k, _, _) in gs.symmetric_difference(&ws) {
+            let f = &flat[k as usize];
+            let s = f64::from(f.lod_scale * params.lod_point[3]);
+            let near = |(lo, hi, a, b): (glam::Vec3, glam::Vec3, f32, f32)| {
+                let c = corners(lo, hi, |p| {
+                    let r = &f.object_to_world.rows;
+                    DVec3::new(
+                        f64::from(r[0][0]) * p.x
+                            + f64::from(r[0][1]) * p.y
+                            + f64::from(r[0][2]) * p.z
+                            + f64::from(r[0][3]),
+                        f64::from(r[1][0]) * p.x
+                            + f64::from(r[1][1]) * p.y
+                            + f64::from(r[1][2]) * p.z
+                            + f64::from(r[1][3]),
+                        f64::from(r[2][0]) * p.x
+                            + f64::from(r[2][1]) * p.y
+                            + f64::from(r[2][2]) * p.z
+                            + f64::from(r[2][3]),
+                    )
+                });
+                let mn = c.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
+                let mx = c.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
+                let d = (mn - lod_point)
+                    .max(lod_point - mx)
+                    .max(DVec3::ZERO)
+                    .length();
+                [a, b].iter().any(|&x| {
+                    let x = f64::from(x) * s;
+                    x.is_finite() && (d - x).abs() <= 1e-5 * x.max(1.0)
+                })
+            };
+            assert!(
+                near(f.parent) || near(f.child),
+                "frame {frame}: instance {k} differs away from any LOD boundary"
+            );
+            differing += 1;
+        }
+        assert!(
+            differing * 1000 <= got.len(),
+            "frame {frame}: {differing} differ"
+        );
+    }
+}
