@@ -8,6 +8,7 @@
 
 use std::time::{Duration, Instant};
 
+use staticscene::baseline::{flat_query, flatten_scene};
 use staticscene::demo::{CityConfig, aerial_camera, city, raster_boxes, street_camera};
 use staticscene::{
     BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
@@ -100,6 +101,38 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 );
             }
         }
+        // The flat baseline, sequential.
+        let flat = flatten_scene(&scene, glam::IVec3::ZERO);
+        let mut fade = vec![0u8; flat.len()];
+        let (mut fo, mut fb) = (Vec::new(), Vec::new());
+        let (w0, c0) = (Instant::now(), cpu());
+        let mut k = 0u32;
+        while w0.elapsed() < Duration::from_secs(3) {
+            fo.clear();
+            fb.clear();
+            flat_query(
+                &flat,
+                &mut fade,
+                &params,
+                glam::IVec3::ZERO,
+                Some(&hiz),
+                &mut fo,
+                &mut fb,
+                0,
+            );
+            k += 1;
+        }
+        let wall = w0.elapsed().as_secs_f64() / f64::from(k);
+        let cpu_t = (cpu() - c0).as_secs_f64() / f64::from(k);
+        println!(
+            "{name:6} flat loop (baseline) sequential: wall {:6.2} ms ({:5.1} ns/instance), CPU {:6.2} ms ({:5.1} ns/instance/core), {} visible, {} items",
+            wall * 1e3,
+            wall * 1e9 / n,
+            cpu_t * 1e3,
+            cpu_t * 1e9 / n,
+            fo.len(),
+            fb.len()
+        );
     }
     Ok(())
 }
