@@ -18,11 +18,13 @@
 
 mod deferred;
 mod framealloc;
+mod morton;
 mod staticscene;
 mod visbuf;
 mod wave;
 pub use deferred::*;
 pub use framealloc::*;
+pub use morton::*;
 pub use staticscene::*;
 pub use visbuf::*;
 pub use wave::*;
@@ -36,6 +38,8 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("deferred_normal_codecs", deferred_normal_codecs),
     ("framealloc_pool_ops", framealloc_pool_ops),
     ("framealloc_stream_ops", framealloc_stream_ops),
+    ("morton_decode", morton_decode),
+    ("morton_roundtrip", morton_roundtrip),
     ("staticscene_instance_decode", staticscene_instance_decode),
     ("staticscene_build", staticscene_build),
     ("staticscene_query", staticscene_query),

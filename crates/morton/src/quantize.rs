@@ -16,7 +16,9 @@
 //!
 //! Edge cases, all tested:
 //! - positions outside the box, including ±infinity, clamp to the nearest cell;
-//! - an axis with `min == max` (a flat scene) maps every position to cell 0 on that axis;
+//! - an axis with `min == max` (a flat scene) maps every position to cell 0 on that axis,
+//!   and so does one thinner than `2^bits / f32::MAX` world units (about 6e-33 at 21
+//!   bits), whose cells would be too small for f32 arithmetic;
 //! - a NaN component is an error, [`MortonError::NanPosition`]. The batch functions still
 //!   write every key, with each NaN component mapped to cell 0, and return the index of the
 //!   first NaN point: the fast loop has no branch, the check is an OR across the batch;
@@ -43,18 +45,15 @@ use glam::{UVec2, UVec3, Vec2, Vec3};
 use crate::{BITS2_U32, BITS2_U64, BITS3_U32, BITS3_U64, MortonError, Path, magic};
 
 /// One axis's scale: cells per world unit, `2^bits / (max - min)`, computed in f64 and
-/// rounded once to f32; 0 for a flat axis, capped at `f32::MAX` for a tiny one.
+/// rounded once to f32; 0 for a flat axis, and for one so thin that the scale would not fit
+/// an f32 (extent below `2^bits / f32::MAX`, about 6e-33 at 21 bits).
 fn axis_scale(min: f32, max: f32, bits: u32) -> f32 {
     let extent = max as f64 - min as f64;
     if extent <= 0.0 {
         return 0.0;
     }
     let s = (1u64 << bits) as f64 / extent;
-    if s > f32::MAX as f64 {
-        f32::MAX
-    } else {
-        s as f32
-    }
+    if s > f32::MAX as f64 { 0.0 } else { s as f32 }
 }
 
 /// One coordinate onto the grid: `t = (p - min) * scale`, clamped to `[0, top]` with

@@ -85,14 +85,26 @@ fn flat_and_tiny_axes() {
             UVec3::new(1023, 0, 0)
         );
     }
-    // A subnormal extent: the scale saturates at f32::MAX; below and at min is cell 0,
-    // anything a normal number above lands in the last cell.
+    // Axes too thin for f32 cells (a subnormal extent, or 1e-38 at 20 bits) count as
+    // flat; one just thick enough still puts max in the last cell.
     let tiny = f32::from_bits(1);
-    let q = Quantizer3::new(Vec3::ZERO, Vec3::splat(tiny), 10).unwrap();
-    assert_eq!(q.scale(), Vec3::splat(f32::MAX));
-    assert_eq!(q.quantize(Vec3::ZERO).unwrap(), UVec3::ZERO);
-    assert_eq!(q.quantize(Vec3::splat(-tiny)).unwrap(), UVec3::ZERO);
-    assert_eq!(q.quantize(Vec3::splat(1e-30)).unwrap(), UVec3::splat(1023));
+    let q = Quantizer3::new(Vec3::ZERO, Vec3::new(tiny, 1e-38, 1e-30), 20).unwrap();
+    assert_eq!(q.scale().x, 0.0);
+    assert_eq!(q.scale().y, 0.0);
+    assert!(q.scale().z > 0.0);
+    assert_eq!(
+        q.quantize(Vec3::new(tiny, 1e-38, 1e-30)).unwrap(),
+        UVec3::new(0, 0, (1 << 20) - 1)
+    );
+    assert_eq!(q.quantize(Vec3::splat(-1.0)).unwrap(), UVec3::ZERO);
+    // The fuzzer's case: a box of about 1e-37 at 20 bits.
+    let q = Quantizer3::new(
+        Vec3::new(0.0, -9.489765e-38, 0.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        20,
+    )
+    .unwrap();
+    assert_eq!(q.quantize(Vec3::new(1.0, 0.0, 1.0)).unwrap().y, 0);
 }
 
 #[test]
