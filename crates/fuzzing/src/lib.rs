@@ -20,12 +20,14 @@ mod deferred;
 mod framealloc;
 mod morton;
 mod staticscene;
+mod tiling;
 mod visbuf;
 mod wave;
 pub use deferred::*;
 pub use framealloc::*;
 pub use morton::*;
 pub use staticscene::*;
+pub use tiling::*;
 pub use visbuf::*;
 pub use wave::*;
 
@@ -43,6 +45,8 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("staticscene_instance_decode", staticscene_instance_decode),
     ("staticscene_build", staticscene_build),
     ("staticscene_query", staticscene_query),
+    ("tiling_classify", tiling_classify),
+    ("tiling_plan", tiling_plan),
     ("visbuf_id_decode", visbuf_id_decode),
     ("visbuf_vertex_decode", visbuf_vertex_decode),
     ("visbuf_encode_provoking", visbuf_encode_provoking),
