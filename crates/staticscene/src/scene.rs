@@ -450,6 +450,13 @@ impl Scene {
     /// Runs a view's query, sequentially: the pre-cull, then [`query_cluster`](crate::query_cluster)
     /// for each job in order, appending to `out` (cleared first). Camera views (with
     /// [`QUERY_FLAG_FADE`](crate::QUERY_FLAG_FADE)) read and update the fade states.
+    ///
+    /// The pre-cull never changes what is drawn without fading (tested). With fading, a
+    /// cluster still fading out is never rejected for its LOD range, and a cluster skipped
+    /// for being outside the frustum starts its next run from snapped states (`N` where
+    /// the LOD is selected, else 0), as its instances would have snapped off screen; the
+    /// only difference from running every instance every frame is one fade step for an
+    /// instance whose LOD switched on the very frame its cluster came back into view.
     pub fn query<I: OutputInstance>(
         &mut self,
         params: &QueryParams,
