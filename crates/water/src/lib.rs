@@ -40,6 +40,7 @@ pub mod parallel;
 pub mod progress;
 pub mod specaa;
 pub mod tiles;
+pub mod world;
 
 pub use error::Error;
 pub use progress::{Progress, Stage, no_progress};

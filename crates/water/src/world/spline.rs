@@ -32,15 +32,18 @@ pub(crate) struct SplineSample {
 fn catmull_rom(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, t: f32) -> Vec3 {
     let t2 = t * t;
     let t3 = t2 * t;
-    ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+    ((2.0 * p1)
+        + (p2 - p0) * t
+        + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
         + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
         * 0.5
 }
 
-/// Samples the uniform Catmull–Rom spline through `points` (end points duplicated) so that
-/// consecutive samples are at most `max_step` metres apart horizontally (measured on the
-/// control polygon, with a factor of safety). Width, depth and speed are interpolated
-/// linearly between control points (no overshoot).
+/// Samples the river's centre line so that consecutive samples are at most `max_step`
+/// metres apart horizontally: the uniform Catmull–Rom spline through the points (end points
+/// duplicated) in x and y; height, width, depth and speed linearly between control points,
+/// so a waterfall (a steep drop between two close points) never overshoots above its top
+/// or below its foot.
 pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample> {
     let n = points.len();
     let mut out = Vec::new();
@@ -69,8 +72,9 @@ pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample>
         let steps = (math::ceil(len / max_step.max(1e-3)) as usize).clamp(1, 1 << 16);
         for s in 0..steps {
             let t = s as f32 / steps as f32;
+            let xy = catmull_rom(p0, a.position, b.position, p3, t);
             out.push(SplineSample {
-                position: catmull_rom(p0, a.position, b.position, p3, t),
+                position: Vec3::new(xy.x, xy.y, math::mix(a.position.z, b.position.z, t)),
                 width: math::mix(a.width, b.width, t),
                 depth: math::mix(a.depth, b.depth, t),
                 speed: math::mix(a.speed, b.speed, t),
@@ -105,19 +109,26 @@ mod tests {
 
     #[test]
     fn passes_through_the_control_points() {
-        let pts: Vec<RiverPoint> = [Vec3::ZERO, Vec3::new(10.0, 0.0, -1.0), Vec3::new(20.0, 5.0, -2.0)]
-            .into_iter()
-            .map(|p| RiverPoint {
-                position: p,
-                width: 4.0,
-                depth: 1.0,
-                speed: 1.0,
-            })
-            .collect();
+        let pts: Vec<RiverPoint> = [
+            Vec3::ZERO,
+            Vec3::new(10.0, 0.0, -1.0),
+            Vec3::new(20.0, 5.0, -2.0),
+        ]
+        .into_iter()
+        .map(|p| RiverPoint {
+            position: p,
+            width: 4.0,
+            depth: 1.0,
+            speed: 1.0,
+        })
+        .collect();
         let s = flatten(&pts, 0.5);
         assert_eq!(s[0].position, Vec3::ZERO);
         assert_eq!(s.last().unwrap().position, pts[2].position);
-        assert!(s.iter().any(|x| (x.position - pts[1].position).length() < 1e-5));
+        assert!(
+            s.iter()
+                .any(|x| (x.position - pts[1].position).length() < 1e-5)
+        );
         for w in s.windows(2) {
             assert!((w[1].position.truncate() - w[0].position.truncate()).length() <= 0.5 + 1e-4);
         }
