@@ -74,6 +74,7 @@ fn encode3_u32(c: &mut Criterion) {
                     for (((o, &x), &y), &z) in $out.iter_mut().zip(xs).zip(ys).zip(zs) {
                         *o = $f(black_box(x), black_box(y), black_box(z));
                     }
+                    black_box(&mut $out);
                 })
             });
         };
@@ -161,6 +162,7 @@ fn encode3_u64(c: &mut Criterion) {
                     for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
                         *o = $f(black_box(x), black_box(y), black_box(z));
                     }
+                    black_box(&mut out);
                 })
             });
         };
@@ -231,6 +233,7 @@ fn encode2(c: &mut Criterion) {
                         for ((o, &x), &y) in $out.iter_mut().zip(xs).zip(ys) {
                             *o = $f(black_box(x), black_box(y));
                         }
+                        black_box(&mut $out);
                     })
                 });
             };
@@ -308,6 +311,7 @@ fn decode(c: &mut Criterion) {
             for (o, &k) in acc.iter_mut().zip(&k32) {
                 *o = morton::decode3_u32(black_box(k));
             }
+            black_box(&mut acc);
         })
     });
     g.bench_function("scalar/zorder_u8", |b| {
@@ -316,6 +320,7 @@ fn decode(c: &mut Criterion) {
                 let [x, y, z]: [u8; 3] = zorder::coord_of(black_box(k & 0xff_ffff));
                 *o = [x as u32, y as u32, z as u32];
             }
+            black_box(&mut acc);
         })
     });
     g.bench_function("scalar/morton_encoding_u8", |b| {
@@ -324,6 +329,7 @@ fn decode(c: &mut Criterion) {
                 let [x, y, z]: [u8; 3] = morton_encoding::morton_decode(black_box(k & 0xff_ffff));
                 *o = [x as u32, y as u32, z as u32];
             }
+            black_box(&mut acc);
         })
     });
     for path in Path::available() {
@@ -362,6 +368,7 @@ fn decode(c: &mut Criterion) {
             for (o, &k) in acc.iter_mut().zip(&k64) {
                 *o = morton::decode3_u64(black_box(k));
             }
+            black_box(&mut acc);
         })
     });
     g.bench_function("scalar/zorder_u16", |b| {
@@ -370,6 +377,7 @@ fn decode(c: &mut Criterion) {
                 let [x, y, z]: [u16; 3] = zorder::coord_of(black_box(k & 0xffff_ffff_ffff));
                 *o = [x as u32, y as u32, z as u32];
             }
+            black_box(&mut acc);
         })
     });
     g.bench_function("scalar/morton_encoding_u16", |b| {
@@ -379,6 +387,7 @@ fn decode(c: &mut Criterion) {
                     morton_encoding::morton_decode(black_box(k & 0xffff_ffff_ffff));
                 *o = [x as u32, y as u32, z as u32];
             }
+            black_box(&mut acc);
         })
     });
     for path in Path::available() {
@@ -404,6 +413,7 @@ fn decode(c: &mut Criterion) {
                     for (o, &k) in acc2.iter_mut().zip(&d.k64) {
                         *o = morton::decode2_u64(black_box(k));
                     }
+                    black_box(&mut acc2);
                 })
             });
             g.bench_function("scalar/zorder", |b| {
@@ -411,6 +421,7 @@ fn decode(c: &mut Criterion) {
                     for (o, &k) in acc2.iter_mut().zip(&d.k64) {
                         *o = zorder::coord_of(black_box(k));
                     }
+                    black_box(&mut acc2);
                 })
             });
             for path in Path::available() {
@@ -431,6 +442,7 @@ fn decode(c: &mut Criterion) {
                     for (o, &k) in acc2.iter_mut().zip(&d.k32) {
                         *o = morton::decode2_u32(black_box(k));
                     }
+                    black_box(&mut acc2);
                 })
             });
             g.bench_function("scalar/zorder", |b| {
@@ -439,6 +451,7 @@ fn decode(c: &mut Criterion) {
                         let [x, y]: [u16; 2] = zorder::coord_of(black_box(k));
                         *o = [x as u32, y as u32];
                     }
+                    black_box(&mut acc2);
                 })
             });
             for path in Path::available() {
@@ -470,6 +483,7 @@ fn hilbert3(c: &mut Criterion) {
             for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
                 *o = hilbert::encode3_u32(black_box(x), black_box(y), black_box(z));
             }
+            black_box(&mut out);
         })
     });
     g.bench_function("encode_u32/batch/morton_best", |b| {
@@ -480,6 +494,7 @@ fn hilbert3(c: &mut Criterion) {
             for (((o, &x), &y), &z) in out64.iter_mut().zip(xs).zip(ys).zip(zs) {
                 *o = hilbert::encode3_u64(black_box(x), black_box(y), black_box(z));
             }
+            black_box(&mut out64);
         })
     });
     g.bench_function("encode_u64/batch/morton_best", |b| {
@@ -495,6 +510,7 @@ fn hilbert3(c: &mut Criterion) {
                     black_box(z) as u16,
                 ]);
             }
+            black_box(&mut out64);
         })
     });
     g.bench_function("encode_u8/scalar/lindel", |b| {
@@ -506,6 +522,7 @@ fn hilbert3(c: &mut Criterion) {
                     black_box(z) as u8,
                 ]);
             }
+            black_box(&mut out);
         })
     });
     let mut acc = vec![[0u32; 3]; N];
@@ -515,6 +532,7 @@ fn hilbert3(c: &mut Criterion) {
             for (o, &k) in acc.iter_mut().zip(&keys) {
                 *o = hilbert::decode3_u32(black_box(k));
             }
+            black_box(&mut acc);
         })
     });
     g.bench_function("decode_u16/scalar/lindel", |b| {
@@ -523,6 +541,7 @@ fn hilbert3(c: &mut Criterion) {
                 let [x, y, z]: [u16; 3] = lindel::hilbert_decode(black_box(k as u64));
                 *o = [x as u32, y as u32, z as u32];
             }
+            black_box(&mut acc);
         })
     });
     // The Morton code of the same points, for the price ratio.

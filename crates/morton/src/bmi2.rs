@@ -46,6 +46,7 @@ pub(crate) fn encode3_u32(x: u32, y: u32, z: u32) -> u32 {
 /// 3D-32 decode with `pext`.
 #[inline]
 #[target_feature(enable = "bmi2")]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
 pub(crate) fn decode3_u32(code: u32) -> [u32; 3] {
     [
         _pext_u32(code, M3_X as u32 & 0x3fff_ffff),
@@ -64,6 +65,7 @@ pub(crate) fn encode2_u64(x: u32, y: u32) -> u64 {
 /// 2D-64 decode with `pext`.
 #[inline]
 #[target_feature(enable = "bmi2")]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
 pub(crate) fn decode2_u64(code: u64) -> [u32; 2] {
     [_pext_u64(code, M2_X) as u32, _pext_u64(code, M2_Y) as u32]
 }
@@ -78,10 +80,50 @@ pub(crate) fn encode3_u64(x: u32, y: u32, z: u32) -> u64 {
 /// 3D-64 decode with `pext`.
 #[inline]
 #[target_feature(enable = "bmi2")]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
 pub(crate) fn decode3_u64(code: u64) -> [u32; 3] {
     [
         _pext_u64(code, M3_X) as u32,
         _pext_u64(code, M3_Y) as u32,
         _pext_u64(code, M3_Z) as u32,
+    ]
+}
+
+// The packed forms serve the run-time dispatch of the scalar decoders (`std` only).
+
+/// [`decode2_u64`] packed as `x | y << 32`: returned in one register, so a call from code
+/// without BMI2 (run-time dispatch) does not go through memory.
+#[inline]
+#[target_feature(enable = "bmi2")]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
+pub(crate) fn decode2_u64_packed(code: u64) -> u64 {
+    let [x, y] = decode2_u64(code);
+    x as u64 | (y as u64) << 32
+}
+
+/// [`decode3_u64`] packed as `x | y << 21 | z << 42`.
+#[inline]
+#[target_feature(enable = "bmi2")]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
+pub(crate) fn decode3_u64_packed(code: u64) -> u64 {
+    let [x, y, z] = decode3_u64(code);
+    x as u64 | (y as u64) << 21 | (z as u64) << 42
+}
+
+/// Unpacks `x | y << 32`.
+#[inline(always)]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
+pub(crate) fn unpack2(p: u64) -> [u32; 2] {
+    [p as u32, (p >> 32) as u32]
+}
+
+/// Unpacks `x | y << 21 | z << 42`.
+#[inline(always)]
+#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
+pub(crate) fn unpack3(p: u64) -> [u32; 3] {
+    [
+        (p & 0x1f_ffff) as u32,
+        ((p >> 21) & 0x1f_ffff) as u32,
+        (p >> 42) as u32,
     ]
 }

@@ -44,9 +44,12 @@
 //! # What is here
 //!
 //! - Scalar [`encode2_u32`], [`decode2_u32`], [`encode2_u64`], [`decode2_u64`],
-//!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`]: magic bits, or
-//!   BMI2 `pdep`/`pext` when the build enables `target_feature = "bmi2"`; the `const`
-//!   magic-bits versions are in [`magic`]; `try_` variants check the range.
+//!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`]: BMI2
+//!   `pdep`/`pext` inlined when the build enables `target_feature = "bmi2"`; otherwise the
+//!   32-bit codes go through small tables (4.5 KiB in all) and the 64-bit ones call BMI2 where the CPU has a fast
+//!   `pdep` (run-time detection under `std`) or use magic bits. The `const` magic-bits
+//!   versions are in [`magic`]; `try_` variants check the range. For many keys use
+//!   [`batch`], which vectorises.
 //! - [`batch`]: the same over slices (struct-of-arrays or `[[u32; N]]`), on the fastest
 //!   [`Path`] this CPU has: AVX-512 or AVX2 vectorised magic bits, BMI2 where `pdep` is fast
 //!   (not AMD Zen 1/2, where it is microcoded), scalar otherwise. With `std` the path is
@@ -89,6 +92,9 @@ mod bmi2;
 mod error;
 pub mod hilbert;
 pub mod locality;
+// Unused when the build has BMI2: the scalar encoders then inline `pdep`.
+#[cfg_attr(all(target_arch = "x86_64", target_feature = "bmi2"), allow(dead_code))]
+mod lut;
 pub mod magic;
 #[cfg(feature = "parallel")]
 pub mod parallel;
@@ -133,24 +139,46 @@ pub const MASK3_Y_U64: u64 = 0x2492_4924_9249_2492;
 /// The bits of z in a 3D u64 code (2, 5, ..., 62).
 pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 
-/// Uses BMI2 when the build enables it (`-C target-feature=+bmi2` or a `target-cpu` that
-/// has it); otherwise, with `std` on x86-64, BMI2 when the CPU has a fast `pdep` (checked
-/// once, then one predictable branch per call); magic bits everywhere else.
+/// Defines a scalar function: BMI2 when the build enables it (`-C target-feature=+bmi2` or
+/// a `target-cpu` that has it); otherwise `$fallback`: `lut` (a table lookup, on every
+/// CPU), or `dispatch`, which with `std` on x86-64 calls BMI2 when the CPU has a fast
+/// `pdep` (checked once, then one predictable branch per call) and uses magic bits
+/// everywhere else. `$unpack` turns a BMI2 decoder's packed register result back into an
+/// array (see `bmi2::decode3_u64_packed`).
 macro_rules! scalar {
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty) => {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
         $(#[$doc])*
         #[inline]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
             #[cfg(all(target_arch = "x86_64", target_feature = "bmi2"))]
+            // SAFETY: the build enables BMI2, so every CPU it runs on has it.
+            unsafe {
+                bmi2::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", target_feature = "bmi2")))]
             {
+                lut::$name($($arg),*)
+            }
+        }
+    };
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        dispatch $bmi2_fn:ident $(, $unpack:ident)?) => {
+        $(#[$doc])*
+        #[inline]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(all(target_arch = "x86_64", target_feature = "bmi2"))]
+            // SAFETY: the build enables BMI2, so every CPU it runs on has it.
+            unsafe {
                 bmi2::$name($($arg),*)
             }
             #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
             {
                 if path::scalar_pdep() {
                     // SAFETY: checked at run time that the CPU has BMI2.
-                    return unsafe { bmi2::$name($($arg),*) };
+                    let r = unsafe { bmi2::$bmi2_fn($($arg),*) };
+                    return $(bmi2::$unpack)?(r);
                 }
                 magic::$name($($arg),*)
             }
@@ -165,39 +193,39 @@ macro_rules! scalar {
 scalar!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
-    encode2_u32(x: u32, y: u32) -> u32
+    encode2_u32(x: u32, y: u32) -> u32, lut
 );
 scalar!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
-    decode2_u32(code: u32) -> [u32; 2]
+    decode2_u32(code: u32) -> [u32; 2], lut
 );
 scalar!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
-    encode3_u32(x: u32, y: u32, z: u32) -> u32
+    encode3_u32(x: u32, y: u32, z: u32) -> u32, lut
 );
 scalar!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
-    decode3_u32(code: u32) -> [u32; 3]
+    decode3_u32(code: u32) -> [u32; 3], lut
 );
 scalar!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
-    encode2_u64(x: u32, y: u32) -> u64
+    encode2_u64(x: u32, y: u32) -> u64, dispatch encode2_u64
 );
 scalar!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
-    decode2_u64(code: u64) -> [u32; 2]
+    decode2_u64(code: u64) -> [u32; 2], dispatch decode2_u64_packed, unpack2
 );
 scalar!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
     /// bit 63 is zero).
-    encode3_u64(x: u32, y: u32, z: u32) -> u64
+    encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch encode3_u64
 );
 scalar!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
-    decode3_u64(code: u64) -> [u32; 3]
+    decode3_u64(code: u64) -> [u32; 3], dispatch decode3_u64_packed, unpack3
 );
 
 #[inline]

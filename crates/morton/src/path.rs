@@ -131,13 +131,14 @@ mod cpu {
         flags() & FAST_PDEP != 0
     }
     /// BMI2 present and `pdep` fast: what the scalar functions check per call.
+    #[cfg(not(target_feature = "bmi2"))]
     #[inline(always)]
     pub(crate) fn scalar_pdep() -> bool {
         flags() & (BMI2 | FAST_PDEP) == BMI2 | FAST_PDEP
     }
 }
 
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "bmi2")))]
 pub(crate) use cpu::scalar_pdep;
 
 #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
