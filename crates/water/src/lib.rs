@@ -27,6 +27,7 @@ pub mod decal;
 pub mod edt;
 mod error;
 pub mod flow;
+pub mod flowbake;
 pub mod foam;
 pub mod gbuffer;
 pub mod hash;

@@ -85,3 +85,28 @@ pub fn signed_edt(
     }
     DistanceField::from_values(width, height, values)
 }
+
+/// [`crate::flowbake::bake_flow`] with the smoothing iterations on all rayon threads (the
+/// seeds and the flood are sequential by nature: a priority order).
+pub fn bake_flow(
+    input: &crate::flowbake::FlowBakeInput<'_>,
+    s: &crate::flowbake::FlowBakeSettings,
+    progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
+) -> Result<crate::flowbake::FlowField, Error> {
+    use crate::flowbake::{field, prepare, smooth_row};
+    let (g, mut flow, fixed) = prepare(input, s, progress)?;
+    let mut next = flow.clone();
+    for it in 0..s.smoothing_iterations {
+        next.par_chunks_mut(g.w)
+            .enumerate()
+            .for_each(|(y, row)| smooth_row(&g, &flow, &fixed, y, row));
+        core::mem::swap(&mut flow, &mut next);
+        report(
+            progress,
+            Stage::FlowSmooth,
+            u64::from(it + 1),
+            u64::from(s.smoothing_iterations),
+        )?;
+    }
+    Ok(field(input, g.w, g.h, flow))
+}

@@ -61,7 +61,7 @@
 //! | texels, 3 words | height (f32, `0xffffffff` = no water), flow `pack2x16float(x, y)`, `pack2x16float(depth, s)` |
 
 mod bake;
-mod spline;
+pub(crate) mod spline;
 
 use alloc::vec::Vec;
 use core::ops::ControlFlow;
