@@ -23,6 +23,7 @@ extern crate std;
 #[cfg(not(any(feature = "std", feature = "libm")))]
 compile_error!("water needs float math: enable the `std` (default) or `libm` feature");
 
+pub mod atlas;
 pub mod decal;
 pub mod edt;
 mod error;
