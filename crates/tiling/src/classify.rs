@@ -70,7 +70,7 @@ use visbuf::{VIS_NONE, VisLayout};
 use wave::WaveWidth;
 
 use crate::Error;
-use crate::decode::{Decoded, Decoder, Px};
+use crate::decode::{Decoded, Decoder, KIND_VALID};
 use crate::plan::{MAX_BATCH_GROUPS_PER_PASS, MAX_PASSES, MicroBatchInfo, VERTEX_CHUNK_SIZE};
 use crate::{fused, vrs};
 
@@ -628,70 +628,46 @@ impl<'a> Frame<'a> {
         )
     }
 
-    /// Calls `f(x, y, n, word, decoded)` for every run of `n` valid pixels of tile `t`
-    /// with the same word, starting at `(x, y)` (row-major, runs never leave a row), and
-    /// counts every pixel in `stats`. Decodes once per change of word.
+    /// Calls `f(x, y, word, valid, decoded)` for every pixel of tile `t`, row-major,
+    /// counting every pixel in `stats`. The decode has no branches; pixels that are not
+    /// valid come with the (pass, group) [`TRASH_PG`], so a caller may also do its
+    /// bookkeeping without one.
     #[inline(always)]
-    pub fn for_each_run(
+    pub fn for_each_pixel(
         &self,
         t: usize,
         stats: &mut PixelStats,
-        mut f: impl FnMut(u32, u32, u32, u32, Decoded),
+        mut f: impl FnMut(u32, u32, u32, bool, Decoded),
     ) {
         let (x0, y0, x1, y1) = self.tile_rect(t);
         let w = self.vis.width as usize;
-        let masked = self.vis.valid.is_some();
-        let mut last_word = VIS_NONE;
-        let mut last = Px::Empty;
-        let (mut empty, mut unknown, mut out_of_range, mut valid) = (0u32, 0u32, 0u32, 0u32);
+        let mut kinds = [0u32; 4];
         for y in y0..y1 {
             let row = y as usize * w + x0 as usize;
             let words = &self.vis.words[row..row + (x1 - x0) as usize];
-            let len = words.len();
-            let mut i = 0;
-            while i < len {
-                let word = words[i];
-                let mut j = i + 1;
-                if masked {
-                    if word == VIS_NONE || !self.vis.mask_bit(row + i) {
-                        empty += 1;
-                        i += 1;
-                        continue;
-                    }
-                    while j < len && words[j] == word && self.vis.mask_bit(row + j) {
-                        j += 1;
-                    }
-                } else {
-                    while j < len && words[j] == word {
-                        j += 1;
-                    }
-                    if word == VIS_NONE {
-                        empty += (j - i) as u32;
-                        i = j;
-                        continue;
+            match self.vis.valid {
+                None => {
+                    for (i, &word) in words.iter().enumerate() {
+                        let (k, d) = self.dec.classify(word, true);
+                        kinds[(k & 3) as usize] += 1;
+                        f(x0 + i as u32, y, word, k == KIND_VALID, d);
                     }
                 }
-                let n = (j - i) as u32;
-                if word != last_word {
-                    last_word = word;
-                    last = self.dec.decode(word, true);
-                }
-                match last {
-                    Px::Valid(d) => {
-                        valid += n;
-                        f(x0 + i as u32, y, n, word, d);
+                Some(m) => {
+                    for (i, &word) in words.iter().enumerate() {
+                        let p = row + i;
+                        let bit = (m[p >> 5] >> (p & 31)) & 1 == 1;
+                        let (k, d) = self.dec.classify(word, bit);
+                        kinds[(k & 3) as usize] += 1;
+                        f(x0 + i as u32, y, word, k == KIND_VALID, d);
                     }
-                    Px::Unknown => unknown += n,
-                    Px::OutOfRange => out_of_range += n,
-                    Px::Empty => empty += n,
                 }
-                i = j;
             }
         }
-        stats.empty += empty;
-        stats.unknown += unknown;
-        stats.out_of_range += out_of_range;
-        stats.valid += valid;
+        stats.empty += kinds[0];
+        stats.unknown += kinds[1];
+        stats.out_of_range += kinds[2];
+        stats.valid += kinds[3];
     }
 
     /// With VRS: the pixel mask of the shading sample pixel `(x, y)` carries, or `None`
@@ -708,8 +684,10 @@ impl<'a> Frame<'a> {
 /// Phase 1, one tile: `masks` is the tile's row of `P` masks.
 pub(crate) fn finalize_tile(f: &Frame<'_>, t: usize, masks: &mut [u32]) -> PixelStats {
     let mut stats = PixelStats::default();
-    f.for_each_run(t, &mut stats, |_, _, _, _, d| {
-        masks[usize::from(d.pg >> 5)] |= 1 << (d.pg & 31);
+    f.for_each_pixel(t, &mut stats, |_, _, _, valid, d| {
+        if valid {
+            masks[usize::from(d.pg >> 5)] |= 1 << (d.pg & 31);
+        }
     });
     stats
 }
@@ -797,19 +775,21 @@ impl CounterLut {
 }
 
 /// The triangles of one tile's valid pixels, gathered during the pixel scan and marked in
-/// the cull buffer after it. A direct-mapped cache of words folds most repeats into one
-/// request; the marking then runs in two loops whose iterations are independent (load
+/// the cull buffer after it. A direct-mapped cache of words (per thread, kept from tile to
+/// tile) folds most repeats into one request; the marking then runs in two loops whose iterations are independent (load
 /// each triangle's indices into chunk numbers, then set the chunks' bytes), so their cache
 /// misses overlap. Triangles with bad indices are rare: their pixels are counted by a
 /// second look at the tile only when there are any.
 pub(crate) struct TileMarks {
     slots: Vec<u32>,
+    /// Room for one request per pixel of a tile; the first `n` are the tile's.
     requests: Vec<MarkRequest>,
+    n: usize,
     chunks: Vec<u32>,
     bad_words: Vec<u32>,
 }
 
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct MarkRequest {
     word: u32,
     mb: u32,
@@ -818,37 +798,45 @@ struct MarkRequest {
 }
 
 impl TileMarks {
-    const BITS: u32 = 12;
+    const BITS: u32 = 14;
 
     pub fn new() -> Self {
         Self {
             slots: vec![VIS_NONE; 1 << Self::BITS],
-            requests: Vec::new(),
+            requests: vec![MarkRequest::default(); (TILE_SIZE * TILE_SIZE) as usize + 1],
+            n: 0,
             chunks: Vec::new(),
             bad_words: Vec::new(),
         }
     }
 
-    /// Starts a tile.
+    /// Starts a tile. The cache of words persists from tile to tile (a cached word's
+    /// triangle is marked, and words with bad indices are taken out of it).
     pub fn begin(&mut self) {
-        self.slots.fill(VIS_NONE);
-        self.requests.clear();
+        self.n = 0;
     }
 
-    /// Records a run of valid pixels of word `word`.
     #[inline(always)]
-    pub fn add(&mut self, word: u32, d: &Decoded) {
-        let h = (word.wrapping_mul(0x9e37_79b1) >> (32 - Self::BITS)) as usize;
-        if self.slots[h] == word {
-            return;
-        }
-        self.slots[h] = word;
-        self.requests.push(MarkRequest {
+    fn hash(word: u32) -> usize {
+        (word.wrapping_mul(0x9e37_79b1) >> (32 - Self::BITS)) as usize
+    }
+
+    /// Records pixel word `word` if `valid` (without a branch: the request is always
+    /// written, and kept only when it is valid and new).
+    #[inline(always)]
+    pub fn add(&mut self, word: u32, d: &Decoded, valid: bool) {
+        let slot = &mut self.slots[Self::hash(word)];
+        let new = valid & (*slot != word);
+        *slot = if valid { word } else { *slot };
+        // At most one request per pixel of the tile, so `n` stays within the buffer.
+        let at = self.n.min(self.requests.len() - 1);
+        self.requests[at] = MarkRequest {
             word,
             mb: d.mb,
             instance: d.instance,
             prim: d.prim,
-        });
+        };
+        self.n += usize::from(new);
     }
 
     /// Marks every recorded triangle of tile `t`; returns the valid pixels whose triangle
@@ -864,7 +852,7 @@ impl TileMarks {
     ) -> u32 {
         self.chunks.clear();
         self.bad_words.clear();
-        for r in &self.requests {
+        for r in &self.requests[..self.n] {
             if !triangle_chunks(
                 &table[r.mb as usize],
                 r.instance,
@@ -891,11 +879,19 @@ impl TileMarks {
         }
         self.bad_words.sort_unstable();
         self.bad_words.dedup();
+        // Bad triangles are requested again in every tile that has them, so each tile
+        // counts its own bad pixels.
+        for &w in &self.bad_words {
+            let slot = &mut self.slots[Self::hash(w)];
+            if *slot == w {
+                *slot = VIS_NONE;
+            }
+        }
         let mut bad = 0;
         let mut ignore = PixelStats::default();
-        f.for_each_run(t, &mut ignore, |_, _, n, word, _| {
-            if self.bad_words.binary_search(&word).is_ok() {
-                bad += n;
+        f.for_each_pixel(t, &mut ignore, |_, _, word, valid, _| {
+            if valid && self.bad_words.binary_search(&word).is_ok() {
+                bad += 1;
             }
         });
         bad
@@ -954,22 +950,17 @@ pub(crate) fn count_tile(
     let mut stats = PixelStats::default();
     let mut dropped = 0u32;
     let mut commands = 0u32;
-    let vrs = f.vis.layout == VisLayout::Vrs;
-    f.for_each_run(t, &mut stats, |x, y, n, word, d| {
-        marks.add(word, &d);
-        let samples = if vrs {
-            (x..x + n)
-                .filter(|&xx| f.sample(xx, y, word).is_some())
-                .count() as u32
-        } else {
-            n
-        };
+    f.for_each_pixel(t, &mut stats, |x, y, word, valid, d| {
+        marks.add(word, &d, valid);
+        if !valid || f.sample(x, y, word).is_none() {
+            return;
+        }
         match lut.get(masks_t, d.pg) {
             Some(c) => {
-                counts_t[c] += samples;
-                commands += samples;
+                counts_t[c] += 1;
+                commands += 1;
             }
-            None => dropped += samples,
+            None => dropped += 1,
         }
     });
     stats.commands = commands;
@@ -1153,35 +1144,29 @@ pub(crate) fn output_tile(
     let mut stats = PixelStats::default();
     let mut written = 0u32;
     let mut dropped = 0u32;
-    f.for_each_run(t, &mut stats, |x, y, n, word, d| {
-        let Some(c) = lut.get(masks_t, d.pg) else {
-            dropped += if f.vis.layout == VisLayout::Standard {
-                n
-            } else {
-                (x..x + n)
-                    .filter(|&xx| f.sample(xx, y, word).is_some())
-                    .count() as u32
-            };
+    f.for_each_pixel(t, &mut stats, |x, y, word, valid, d| {
+        if !valid {
+            return;
+        }
+        let Some(mask) = f.sample(x, y, word) else {
             return;
         };
-        let base = (pixel_offsets_t[c] - cmd_base) as usize;
-        for xx in x..x + n {
-            let cmd = match f.vis.layout {
-                VisLayout::Standard => pixel_command(xx - x0, y - y0),
-                VisLayout::Vrs => match f.sample(xx, y, word) {
-                    Some(mask) => vrs::quad_command((xx - x0) >> 1, (y - y0) >> 1, mask),
-                    None => continue,
-                },
-            };
-            let k = finals_t[c];
-            if k >= counts_t[c] {
-                dropped += 1;
-                continue;
-            }
-            commands_t[base + k as usize] = cmd;
-            finals_t[c] = k + 1;
-            written += 1;
+        let Some(c) = lut.get(masks_t, d.pg) else {
+            dropped += 1;
+            return;
+        };
+        let k = finals_t[c];
+        if k >= counts_t[c] {
+            dropped += 1;
+            return;
         }
+        let cmd = match f.vis.layout {
+            VisLayout::Standard => pixel_command(x - x0, y - y0),
+            VisLayout::Vrs => vrs::quad_command((x - x0) >> 1, (y - y0) >> 1, mask),
+        };
+        commands_t[(pixel_offsets_t[c] - cmd_base + k) as usize] = cmd;
+        finals_t[c] = k + 1;
+        written += 1;
     });
     stats.commands = written;
     stats.dropped = dropped;

@@ -13,6 +13,18 @@ pub(crate) type PassGroup = u16;
 /// Entry of a row that names nothing valid.
 const INVALID: PassGroup = PassGroup::MAX;
 
+/// The (pass, group) given to pixels that are not valid: one past every real one, so
+/// per-(pass, group) arrays of [`PG_SLOTS`] entries can absorb them without a branch.
+pub(crate) const TRASH_PG: PassGroup =
+    (crate::plan::MAX_PASSES * MAX_BATCH_GROUPS_PER_PASS) as PassGroup;
+
+/// Entries of a per-(pass, group) array that [`TRASH_PG`] may index.
+pub(crate) const PG_SLOTS: usize = TRASH_PG as usize + MAX_BATCH_GROUPS_PER_PASS as usize;
+
+/// The kind [`Decoder::classify`] returns for a valid pixel (0 empty, 1 unknown, 2 out of
+/// range).
+pub(crate) const KIND_VALID: u32 = 3;
+
 /// Precomputed per micro-batch ID.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Entry {
@@ -96,12 +108,47 @@ impl Decoder {
     pub fn new(table: &[MicroBatchInfo], passes: u32, layout: VisLayout) -> Self {
         // IDs past the layout's range can never be named by a word.
         let n = table.len().min(layout.micro_batch_ids() as usize);
-        let entries = table[..n]
+        let mut entries: Vec<Entry> = table[..n]
             .iter()
             .enumerate()
             .map(|(id, row)| entry(id as u32, row, passes, layout))
             .collect();
+        // The sentinel every ID past the table maps to.
+        entries.push(Entry {
+            pg: INVALID,
+            bits: PrimitiveBits::default(),
+            field_limit: 0,
+            prim_count: 0,
+            first_id: 0,
+        });
         Self { layout, entries }
+    }
+
+    /// The pixel's kind (0 empty, 1 unknown, 2 out of range, [`KIND_VALID`]) and its
+    /// decode, without branches: invalid pixels get [`TRASH_PG`]. `bit` is the validity
+    /// bitmask's bit (true without one). The same rules as [`Decoder::decode`].
+    #[inline(always)]
+    pub fn classify(&self, word: u32, bit: bool) -> (u32, Decoded) {
+        let id = VisId(word);
+        let mb = id.micro_batch(self.layout);
+        let last = self.entries.len() - 1;
+        let e = &self.entries[(mb as usize).min(last)];
+        let field = id.instance_field(e.bits);
+        let prim = id.primitive(e.bits);
+        let present = (word != VIS_NONE) & bit;
+        let known = e.pg != INVALID;
+        let in_range = (field < e.field_limit) & (prim < e.prim_count);
+        let kind = u32::from(present) * (1 + u32::from(known) * (1 + u32::from(in_range)));
+        let pg = if kind == KIND_VALID { e.pg } else { TRASH_PG };
+        (
+            kind,
+            Decoded {
+                pg,
+                mb,
+                instance: visbuf::instance_index(mb, e.first_id, field, e.bits),
+                prim,
+            },
+        )
     }
 
     /// The pixel's classification, validity bit already applied by the caller (`valid`).
@@ -112,7 +159,7 @@ impl Decoder {
         }
         let id = VisId(word);
         let mb = id.micro_batch(self.layout);
-        let Some(e) = self.entries.get(mb as usize) else {
+        let Some(e) = self.entries[..self.entries.len() - 1].get(mb as usize) else {
             return Px::Unknown;
         };
         if e.pg == INVALID {

@@ -4,11 +4,13 @@
 //! [`mid_classify`] and [`classify_output`] in turn with one validity (the tests check it);
 //! the phase functions remain the pass-shaped twins of the GPU passes.
 //!
-//! Per tile: the scan ORs the batch-group masks, counts commands per `pass * 32 + group`,
-//! marks the vertex cull buffer and records each command with its (pass, group); the
-//! tile's counters are the set bits of its masks in (pass, group) order, so a counting sort
-//! by counter puts the tile's commands in their final order, and because the layout is
-//! tile-major the tiles' counts and commands concatenate into the frame's.
+//! Per tile: the scan decodes every pixel without branches (invalid pixels get a trash
+//! (pass, group) and are written but not kept), records each triangle once for the vertex
+//! cull buffer, and keeps each command with its (pass, group). The counts per (pass,
+//! group) give the masks (every (pass, group) with a valid pixel in the tile has a sample
+//! in it); the tile's counters are the set bits of its masks in (pass, group) order, so a
+//! counting sort by counter puts the tile's commands in their final order, and because the
+//! layout is tile-major the tiles' counts and commands concatenate into the frame's.
 //!
 //! [`laydown_finalize`]: crate::laydown_finalize
 //! [`mid_classify`]: crate::mid_classify
@@ -21,44 +23,39 @@ use core::sync::atomic::{AtomicU8, Ordering};
 use visbuf::VisLayout;
 
 use crate::classify::{
-    Classification, ClassifyConfig, ClassifyOutput, Frame, MidClassify, PixelStats, TileMarks,
-    pixel_command, write_waves,
+    Classification, ClassifyConfig, ClassifyOutput, Frame, MidClassify, PixelStats, TILE_SIZE,
+    TileMarks, pixel_command, write_waves,
 };
-use crate::plan::{MAX_BATCH_GROUPS_PER_PASS, MAX_PASSES, MicroBatchInfo};
+use crate::decode::{KIND_VALID, PG_SLOTS};
+use crate::plan::MicroBatchInfo;
 use crate::vrs;
 
 /// Per-thread scratch, reused from tile to tile.
 pub(crate) struct Scratch {
-    /// Per `pass * 32 + group`: commands counted in this tile (reset after each tile; a
-    /// tile has at most 16 384).
+    /// Per `pass * 32 + group` (and the trash slot): commands counted in this tile (reset
+    /// after each tile; a tile has at most 16 384).
     pg_count: Vec<u16>,
     /// Per `pass * 32 + group`: the tile-local counter (valid for the tile's mask bits).
     lut: Vec<u16>,
+    /// The tile's commands in scan order and their `pass * 32 + group`: room for one per
+    /// pixel, the first `n` are kept.
+    cmd: Vec<u16>,
+    pg: Vec<u16>,
     /// The tile's triangles, marked in the cull buffer after the scan.
     marks: TileMarks,
-    /// The tile's runs of commands in scan order.
-    runs: Vec<Run>,
 }
 
 impl Scratch {
     pub fn new() -> Self {
-        let n = MAX_PASSES as usize * MAX_BATCH_GROUPS_PER_PASS as usize;
+        let pixels = (TILE_SIZE * TILE_SIZE) as usize;
         Self {
-            pg_count: vec![0; n],
-            lut: vec![0; n],
+            pg_count: vec![0; PG_SLOTS],
+            lut: vec![0; PG_SLOTS],
+            cmd: vec![0; pixels + 1],
+            pg: vec![0; pixels + 1],
             marks: TileMarks::new(),
-            runs: Vec::with_capacity(128 * 128),
         }
     }
-}
-
-/// `n` consecutive commands `cmd, cmd + 1, ..` of one (pass, group): a run of pixels of
-/// one word (always `n = 1` with VRS).
-#[derive(Clone, Copy)]
-pub(crate) struct Run {
-    pg: u16,
-    cmd: u16,
-    n: u16,
 }
 
 /// One tile's share of the frame's outputs.
@@ -80,40 +77,74 @@ pub(crate) fn tile(
     masks_t: &mut [u32],
     s: &mut Scratch,
 ) -> TileOut {
-    s.runs.clear();
     let (x0, y0, _, _) = f.tile_rect(t);
     let mut stats = PixelStats::default();
-    let vrs = f.vis.layout() == VisLayout::Vrs;
     s.marks.begin();
+    let mut n = 0usize;
+    let last = s.cmd.len() - 1;
     let Scratch {
         pg_count,
-        runs,
+        cmd,
+        pg,
         marks,
         ..
     } = s;
-    f.for_each_run(t, &mut stats, |x, y, n, word, d| {
-        masks_t[usize::from(d.pg >> 5)] |= 1 << (d.pg & 31);
-        marks.add(word, &d);
-        if vrs {
-            for xx in x..x + n {
-                if let Some(mask) = vrs::sample_mask(&f.vis, xx, y, word) {
-                    pg_count[usize::from(d.pg)] += 1;
-                    runs.push(Run {
-                        pg: d.pg,
-                        cmd: vrs::quad_command((xx - x0) >> 1, (y - y0) >> 1, mask),
-                        n: 1,
-                    });
-                }
+    if f.vis.layout() == VisLayout::Vrs {
+        f.for_each_pixel(t, &mut stats, |x, y, word, valid, d| {
+            marks.add(word, &d, valid);
+            if !valid {
+                return;
             }
-        } else {
-            pg_count[usize::from(d.pg)] += n as u16;
-            runs.push(Run {
-                pg: d.pg,
-                cmd: pixel_command(x - x0, y - y0),
-                n: n as u16,
-            });
+            if let Some(mask) = vrs::sample_mask(&f.vis, x, y, word) {
+                cmd[n] = vrs::quad_command((x - x0) >> 1, (y - y0) >> 1, mask);
+                pg[n] = d.pg;
+                n += 1;
+            }
+        });
+    } else {
+        // Without branches: every pixel's command is written, valid ones are kept. The
+        // loop is written out (not through a closure) so it stays one tight body.
+        let (_, _, x1, y1) = f.tile_rect(t);
+        let w = f.vis.width() as usize;
+        let mask = f.vis.validity();
+        let mut kinds = [0u32; 4];
+        for y in y0..y1 {
+            let row = y as usize * w + x0 as usize;
+            let words = &f.vis.words()[row..row + (x1 - x0) as usize];
+            for (i, &word) in words.iter().enumerate() {
+                let bit = match mask {
+                    None => true,
+                    Some(m) => (m[(row + i) >> 5] >> ((row + i) & 31)) & 1 == 1,
+                };
+                let (k, d) = f.dec.classify(word, bit);
+                kinds[(k & 3) as usize] += 1;
+                let valid = k == KIND_VALID;
+                marks.add(word, &d, valid);
+                let at = n.min(last);
+                cmd[at] = pixel_command(i as u32, y - y0);
+                pg[at] = d.pg;
+                n += usize::from(valid);
+            }
         }
-    });
+        stats.empty += kinds[0];
+        stats.unknown += kinds[1];
+        stats.out_of_range += kinds[2];
+        stats.valid += kinds[3];
+    }
+    // Counts per (pass, group), then the masks from them (every (pass, group) with a
+    // valid pixel in the tile has a sample in it, so these are the laydown-finalise masks
+    // too). No branch per command.
+    for &k in &pg[..n] {
+        pg_count[usize::from(k)] += 1;
+    }
+    for (p, m) in masks_t.iter_mut().enumerate() {
+        let row = &pg_count[p * 32..p * 32 + 32];
+        let mut bits = 0u32;
+        for (g, &c) in row.iter().enumerate() {
+            bits |= u32::from(c != 0) << g;
+        }
+        *m = bits;
+    }
     // The tile's counters: its mask bits in (pass, group) order.
     let mut counts = Vec::new();
     for (p, &m) in masks_t.iter().enumerate() {
@@ -124,27 +155,23 @@ pub(crate) fn tile(
             let k = p * 32 + g;
             s.lut[k] = counts.len() as u16;
             counts.push(u32::from(s.pg_count[k]));
-            s.pg_count[k] = 0;
         }
     }
-    // Counting sort of the runs by counter (stable: scan order within a counter); a run's
-    // pixel commands are consecutive (x in the low bits, never past the row).
+    s.pg_count.fill(0);
+    // Counting sort of the commands by counter (stable: scan order within a counter).
     let mut next: Vec<u32> = Vec::with_capacity(counts.len());
     let mut sum = 0;
-    for &n in &counts {
+    for &c in &counts {
         next.push(sum);
-        sum += n;
+        sum += c;
     }
-    let mut commands = vec![0u16; sum as usize];
-    for r in &s.runs {
-        let slot = &mut next[usize::from(s.lut[usize::from(r.pg)])];
-        let at = *slot as usize;
-        for (k, c) in commands[at..at + usize::from(r.n)].iter_mut().enumerate() {
-            *c = r.cmd + k as u16;
-        }
-        *slot += u32::from(r.n);
+    let mut commands = vec![0u16; n];
+    for (&c, &k) in s.cmd[..n].iter().zip(&s.pg[..n]) {
+        let slot = &mut next[usize::from(s.lut[usize::from(k)])];
+        commands[*slot as usize] = c;
+        *slot += 1;
     }
-    stats.commands = sum;
+    stats.commands = n as u32;
     stats.bad_indices = s.marks.finish(f, t, table, indices, cull, chunk_count);
     TileOut {
         counts,

@@ -9,18 +9,22 @@
 //!   passes). Output: the MicroBatchInfoTable ([`MicroBatchInfo`], indexed by micro-batch
 //!   ID), the micro-batch order buffer, [`PassInfo`] and the per-instance
 //!   ([`InstanceRef`]) mapping the laydown writes.
-//! - [`classify`]: the three classification phases over a `width x height` vis buffer:
+//! - [`classify`](mod@classify): the three classification phases over a `width x height` vis buffer:
 //!   [`laydown_finalize`] (per 128x128 tile and pass, a mask of batch groups),
 //!   [`mid_classify`] (compact counter offsets, pixel counts, the vertex cull buffer,
 //!   pixel-command offsets) and [`classify_output`] (16-bit pixel commands, final counts,
-//!   [`WaveCommand`]s, one [`PassDispatch`] per pass). [`classify`] runs all three.
+//!   [`WaveCommand`]s, one [`PassDispatch`] per pass). [`classify_phases`] runs the
+//!   three in turn, as the GPU does; [`classify()`] computes the same outputs in one scan
+//!   per tile (the fast CPU path).
 //! - [`vrs`]: with the VRS word layout, quad commands (12-bit quad index, 4-bit pixel
 //!   mask) and the wave's work expansion into its per-pixel broadcast list.
 //! - [`vertex`]: uber chunks, the histogram pyramid and the micro-batch-ID deltas that
 //!   turn the vertex cull buffer into [`VertexWaveCommand`]s and per-pass dispatches.
-//! - [`measure`]: the talk's closing tables (pixel-shading waves with depth equal against
+//! - [`measure`](mod@measure): the talk's closing tables (pixel-shading waves with depth equal against
 //!   deferred texturing, unfilled lanes, vertices before and after chunk culling).
-//! - [`wgsl`]: the GPU twins, complete WGSL compute modules with the same buffer layouts.
+//! - [`wgsl`]: the GPU twins, complete WGSL compute modules (`visbuf`'s ID decoding and
+//!   `wave`'s appends built in) with the same buffer layouts, their bindings and dispatch
+//!   sizes tabled there. `tests/device.rs` runs them against these CPU twins bit for bit.
 //! - `parallel` (feature `parallel`): the classification over tiles on many threads
 //!   (rayon), equal to the sequential result.
 //!

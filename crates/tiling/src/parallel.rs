@@ -149,7 +149,7 @@ pub fn classify_output(
     Ok(out)
 }
 
-/// [`crate::classify`] (all three phases fused per tile) over tiles in parallel.
+/// [`crate::classify()`] (all three phases fused per tile) over tiles in parallel.
 pub fn classify(
     vis: &VisBuffer<'_>,
     table: &[MicroBatchInfo],
