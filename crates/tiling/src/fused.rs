@@ -61,7 +61,7 @@ impl Scratch {
 /// One tile's share of the frame's outputs.
 pub(crate) struct TileOut {
     counts: Vec<u32>,
-    commands: Vec<u16>,
+    pub commands: Vec<u16>,
     stats: PixelStats,
 }
 
@@ -188,21 +188,44 @@ pub(crate) fn assemble(
     tiles: Vec<TileOut>,
     cull: Vec<AtomicU8>,
 ) -> Classification {
+    assemble_with(f, config, masks, tiles, cull, |tiles, commands| {
+        for (t, out) in tiles.iter().zip(commands) {
+            out.copy_from_slice(&t.commands);
+        }
+    })
+}
+
+/// [`assemble`] with the tiles' commands copied into their places (one slice per tile, in
+/// order) by `copy`.
+pub(crate) fn assemble_with(
+    f: &Frame<'_>,
+    config: &ClassifyConfig,
+    masks: Vec<u32>,
+    tiles: Vec<TileOut>,
+    cull: Vec<AtomicU8>,
+    copy: impl FnOnce(&[TileOut], Vec<&mut [u16]>),
+) -> Classification {
     let mut mid = MidClassify::default();
     mid.counter_count = crate::classify::exclusive_scan(
         masks.iter().map(|m| m.count_ones()),
         &mut mid.counter_offsets,
     );
     let counters: usize = tiles.iter().map(|t| t.counts.len()).sum();
-    let total: usize = tiles.iter().map(|t| t.commands.len()).sum();
     let mut counts = Vec::with_capacity(counters);
-    let mut commands = Vec::with_capacity(total);
     let mut stats = PixelStats::default();
+    let mut ranges = Vec::with_capacity(tiles.len());
+    let mut at = 0;
     for t in &tiles {
         counts.extend_from_slice(&t.counts);
-        commands.extend_from_slice(&t.commands);
         stats = stats.merge(t.stats);
+        ranges.push((at, at + t.commands.len()));
+        at += t.commands.len();
     }
+    let mut commands = vec![0u16; at];
+    copy(
+        &tiles,
+        crate::classify::split_at_starts(&mut commands, &ranges),
+    );
     drop(tiles);
     mid.command_count =
         crate::classify::exclusive_scan(counts.iter().copied(), &mut mid.pixel_offsets);

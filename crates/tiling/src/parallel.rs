@@ -166,7 +166,19 @@ pub fn classify(
             fused::tile(&f, t, table, indices, &cull, config.chunk_count, m, s)
         })
         .collect();
-    Ok(fused::assemble(&f, config, masks, tiles, cull))
+    Ok(fused::assemble_with(
+        &f,
+        config,
+        masks,
+        tiles,
+        cull,
+        |tiles, commands| {
+            commands
+                .into_par_iter()
+                .zip(tiles)
+                .for_each(|(out, t)| out.copy_from_slice(&t.commands));
+        },
+    ))
 }
 
 /// [`crate::classify_phases`] with each phase's tiles in parallel.
