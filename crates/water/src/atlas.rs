@@ -537,9 +537,9 @@ impl FlowAtlas {
             let f = (l - fl).clamp(Vec2::ZERO, Vec2::ONE);
             let o = self.slot_origin(slot);
             let (x, y) = (o.x + (fl.x + 1.0) as u32, o.y + (fl.y + 1.0) as u32);
-            let a = self.texel(x, y).lerp(self.texel(x + 1, y), f.x);
-            let b = self.texel(x, y + 1).lerp(self.texel(x + 1, y + 1), f.x);
-            return Some(a.lerp(b, f.y) * max_speed);
+            let a = math::mix2(self.texel(x, y), self.texel(x + 1, y), f.x);
+            let b = math::mix2(self.texel(x, y + 1), self.texel(x + 1, y + 1), f.x);
+            return Some(math::mix2(a, b, f.y) * max_speed);
         }
         let (ww, wh) = (self.texels[header::WORLD_W], self.texels[header::WORLD_H]);
         let top = self.texels[header::WORLD_TOP];
@@ -550,9 +550,9 @@ impl FlowAtlas {
         let f = u - fl;
         let (x0, y0) = (fl.x as u32, fl.y as u32);
         let (x1, y1) = ((x0 + 1).min(ww - 1), (y0 + 1).min(wh - 1));
-        let a = self.texel(x0, top + y0).lerp(self.texel(x1, top + y0), f.x);
-        let b = self.texel(x0, top + y1).lerp(self.texel(x1, top + y1), f.x);
-        Some(a.lerp(b, f.y) * max_speed)
+        let a = math::mix2(self.texel(x0, top + y0), self.texel(x1, top + y0), f.x);
+        let b = math::mix2(self.texel(x0, top + y1), self.texel(x1, top + y1), f.x);
+        Some(math::mix2(a, b, f.y) * max_speed)
     }
 }
 

@@ -42,7 +42,12 @@ pub mod parallel;
 pub mod progress;
 pub mod specaa;
 pub mod tiles;
+mod wgsl;
 pub mod world;
 
 pub use error::Error;
 pub use progress::{Progress, Stage, no_progress};
+pub use wgsl::{
+    ATLAS_WGSL, DECAL_WGSL, FLOW_WGSL, FOAM_WGSL, GBUFFER_WGSL, MATERIAL_WGSL, NOISE_WGSL,
+    NORMALS_WGSL, OPTICS_WGSL, SPECAA_WGSL, TILES_WGSL, WGSL, WORLD_WGSL,
+};

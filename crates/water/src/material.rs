@@ -80,8 +80,8 @@ impl WaterMaterial {
         let dominant = if t < 0.5 { self } else { other };
         WaterMaterial {
             medium: Medium {
-                absorption: self.medium.absorption.lerp(other.medium.absorption, t),
-                scattering: self.medium.scattering.lerp(other.medium.scattering, t),
+                absorption: math::mix3(self.medium.absorption, other.medium.absorption, t),
+                scattering: math::mix3(self.medium.scattering, other.medium.scattering, t),
             },
             roughness: l(self.roughness, other.roughness),
             max_roughness: l(self.max_roughness, other.max_roughness),

@@ -115,6 +115,19 @@ pub fn mix(a: f32, b: f32, t: f32) -> f32 {
     a + (b - a) * t
 }
 
+/// [`mix`] per component of a `Vec2` (`a + (b - a) t`, as WGSL's `mix` is written in the
+/// twins; glam's `lerp` rounds differently).
+#[inline]
+pub fn mix2(a: glam::Vec2, b: glam::Vec2, t: f32) -> glam::Vec2 {
+    a + (b - a) * t
+}
+
+/// [`mix`] per component of a `Vec3`.
+#[inline]
+pub fn mix3(a: glam::Vec3, b: glam::Vec3, t: f32) -> glam::Vec3 {
+    a + (b - a) * t
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

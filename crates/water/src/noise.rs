@@ -64,6 +64,9 @@ pub const OCTAVES_FAR: u32 = 3;
 /// Scale from the gradient noise's range (about `[-1/sqrt 2, 1/sqrt 2]`) to `[-1, 1]`.
 pub const NOISE_SCALE: f32 = core::f32::consts::SQRT_2;
 
+/// Seed of the per-octave offsets.
+pub const OCTAVE_SEED: u32 = 0x5eed;
+
 /// The per-octave offset added to the fixed-point position (in 2^-32 periods), so octaves
 /// do not line up at the origin. The WGSL twin computes the same from `water_pcg`.
 #[inline]
@@ -72,7 +75,7 @@ pub const fn octave_offset(octave: u32, axis: u32) -> u32 {
     pcg(octave
         .wrapping_mul(2)
         .wrapping_add(axis)
-        .wrapping_add(0x5eed))
+        .wrapping_add(OCTAVE_SEED))
 }
 
 /// The 8 gradient directions (unit vectors at multiples of 45 degrees).
@@ -373,6 +376,30 @@ impl Default for FbmParams {
     }
 }
 
+/// [`FbmParams`] and the texture's slope variance as the WGSL FBM takes them (uniform or
+/// storage), 32 bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Default, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
+pub struct WaterFbmParams {
+    /// Texture periods per metre, octave 0.
+    pub frequency: f32,
+    /// Metres, octave 0.
+    pub amplitude: f32,
+    /// Amplitude ratio per octave.
+    pub gain: f32,
+    /// Metres.
+    pub lod_distance: f32,
+    /// Octaves near.
+    pub octaves_near: u32,
+    /// Octaves far.
+    pub octaves_far: u32,
+    /// [`NoiseTexture::slope_variance`].
+    pub slope_variance: f32,
+    /// Padding.
+    pub _pad: u32,
+}
+const _: () = assert!(size_of::<WaterFbmParams>() == 32);
+
 /// One FBM sample with octave LOD.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FbmSample {
@@ -497,7 +524,8 @@ impl<'a> Fbm<'a> {
         h
     }
 
-    /// The continuous octave count at view distance `distance` (metres; NaN counts as far).
+    /// The continuous octave count at view distance `distance` (metres; NaN counts as
+    /// near, like `water_fbm_octave_count`'s `select`).
     #[must_use]
     pub fn octave_count(&self, distance: f32) -> f32 {
         let (near, far) = (
@@ -506,10 +534,22 @@ impl<'a> Fbm<'a> {
         );
         let d0 = self.params.lod_distance;
         let d = if distance > d0 { distance } else { d0 };
-        if d.is_nan() {
-            return far;
-        }
         (near - math::log2(d / d0)).clamp(far, near)
+    }
+
+    /// The parameters as the WGSL twins take them (`WaterFbmParams`).
+    #[must_use]
+    pub fn gpu_params(&self) -> WaterFbmParams {
+        WaterFbmParams {
+            frequency: self.params.frequency,
+            amplitude: self.params.amplitude,
+            gain: self.params.gain,
+            lod_distance: self.params.lod_distance,
+            octaves_near: self.params.octaves_near,
+            octaves_far: self.params.octaves_far,
+            slope_variance: self.texture.slope_variance,
+            _pad: 0,
+        }
     }
 
     /// Height, gradient and dropped slope variance at `p` (metres) seen from `distance`
