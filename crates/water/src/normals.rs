@@ -14,6 +14,12 @@
 //!   extrapolation predicts the centre best. With a perspective camera a plane's `1 / z`,
 //!   not `z`, is linear in screen space, so the extrapolation is done in `1 / z`.
 //!
+//! A one-sided difference is the tangent half a sample away, off by the curvature over
+//! that half step (1.7 degrees on a 1 m sphere 3 m away at 96 pixels across). So where
+//! both sides continue the surface about equally well (the worse error within
+//! [`SMOOTH_RATIO`] times the better plus [`SMOOTH_EPSILON`]), the central difference is
+//! used instead; the one-sided choice only acts at discontinuities.
+//!
 //! # Conventions
 //!
 //! The depth buffer holds *linear view depth*: metres along the view axis, positive, `+inf`
@@ -24,6 +30,12 @@
 use glam::{UVec2, Vec2, Vec3};
 
 use crate::math;
+
+/// Both sides of an axis count as continuing the surface (and the central difference is
+/// used) when the worse side's error is at most this times the better side's ...
+pub const SMOOTH_RATIO: f32 = 2.0;
+/// ... plus this fraction of the depth (5 taps; of 1/depth for 9 taps).
+pub const SMOOTH_EPSILON: f32 = 1e-4;
 
 /// A pinhole camera for view-space positions from depth.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -135,15 +147,17 @@ impl DepthView<'_> {
     fn tangent(&self, x: i64, y: i64, c: f32, sx: i64, sy: i64, taps: Taps) -> Option<Vec3> {
         let pc = self.pos(x, y, c);
         let (b1, a1) = (self.at(x - sx, y - sy), self.at(x + sx, y + sy));
-        let use_before = match taps {
+        // How badly each side continues the centre's surface (infinite: no depth there).
+        let (eb, ea) = match taps {
             Taps::Five => {
-                if !valid(b1) {
-                    false
-                } else if !valid(a1) {
-                    true
-                } else {
-                    (b1 - c).abs() < (a1 - c).abs()
-                }
+                let jump = |n: f32| {
+                    if valid(n) {
+                        (n - c).abs()
+                    } else {
+                        f32::INFINITY
+                    }
+                };
+                (jump(b1), jump(a1))
             }
             Taps::Nine => {
                 let (b2, a2) = (
@@ -161,18 +175,25 @@ impl DepthView<'_> {
                         f32::INFINITY
                     }
                 };
-                let (eb, ea) = (err(b1, b2), err(a1, a2));
-                if eb.is_infinite() && ea.is_infinite() {
-                    return None;
-                }
-                eb < ea
+                (err(b1, b2), err(a1, a2))
             }
         };
-        if use_before {
-            valid(b1).then(|| pc - self.pos(x - sx, y - sy, b1))
-        } else {
-            valid(a1).then(|| self.pos(x + sx, y + sy, a1) - pc)
+        if eb.is_infinite() && ea.is_infinite() {
+            return None;
         }
+        let before = || self.pos(x - sx, y - sy, b1);
+        let after = || self.pos(x + sx, y + sy, a1);
+        // Both sides continue the surface about equally well (a smooth surface): the
+        // central difference, which is exact to second order. Otherwise the better side.
+        let (lo, hi) = if eb < ea { (eb, ea) } else { (ea, eb) };
+        let tol = match taps {
+            Taps::Five => SMOOTH_EPSILON * c,
+            Taps::Nine => SMOOTH_EPSILON / c,
+        };
+        if hi <= SMOOTH_RATIO * lo + tol {
+            return Some((after() - before()) * 0.5);
+        }
+        Some(if eb < ea { pc - before() } else { after() - pc })
     }
 
     /// The reconstructed view-space normal at pixel `p`, sampling `radius` pixels away, or

@@ -150,7 +150,12 @@ mod tests {
             "NORMALS_WGSL",
             "",
             NORMALS_WGSL,
-            &[("WATER_TAPS_FIVE", V::U(5)), ("WATER_TAPS_NINE", V::U(9))],
+            &[
+                ("WATER_TAPS_FIVE", V::U(5)),
+                ("WATER_TAPS_NINE", V::U(9)),
+                ("WATER_SMOOTH_RATIO", V::F(crate::normals::SMOOTH_RATIO)),
+                ("WATER_SMOOTH_EPSILON", V::F(crate::normals::SMOOTH_EPSILON)),
+            ],
         );
     }
 

@@ -5,6 +5,8 @@
 
 const WATER_TAPS_FIVE: u32 = 5u;
 const WATER_TAPS_NINE: u32 = 9u;
+const WATER_SMOOTH_RATIO: f32 = 2.0;
+const WATER_SMOOTH_EPSILON: f32 = 0.0001;
 
 fn water_depth_valid(d: f32) -> bool {
     return d > 0.0 && d < 3.0e38;
@@ -48,12 +50,14 @@ fn water_depth_tangent(depth: texture_2d<f32>, p: vec2<i32>, c: f32, step: vec2<
     let pc = water_view_position(vec2<f32>(p) + 0.5, c, size, tan_half_fov);
     let b1 = water_depth_at(depth, p - step);
     let a1 = water_depth_at(depth, p + step);
-    var use_before = false;
+    let big = 3.4028235e38;
+    var eb = big;
+    var ea = big;
+    var tol = WATER_SMOOTH_EPSILON * c;
     if (taps == WATER_TAPS_NINE) {
+        tol = WATER_SMOOTH_EPSILON / c;
         let b2 = water_depth_at(depth, p - 2 * step);
         let a2 = water_depth_at(depth, p + 2 * step);
-        var eb = 3.4028235e38;
-        var ea = 3.4028235e38;
         if (water_depth_valid(b1) && water_depth_valid(b2)) {
             eb = abs(2.0 / b1 - 1.0 / b2 - 1.0 / c);
         } else if (water_depth_valid(b1)) {
@@ -64,27 +68,26 @@ fn water_depth_tangent(depth: texture_2d<f32>, p: vec2<i32>, c: f32, step: vec2<
         } else if (water_depth_valid(a1)) {
             ea = abs(1.0 / a1 - 1.0 / c) * 2.0;
         }
-        if (eb >= 3.4028235e38 && ea >= 3.4028235e38) {
-            return WaterTangent(false, vec3<f32>(0.0));
-        }
-        use_before = eb < ea;
     } else {
-        if (!water_depth_valid(b1)) {
-            use_before = false;
-        } else if (!water_depth_valid(a1)) {
-            use_before = true;
-        } else {
-            use_before = abs(b1 - c) < abs(a1 - c);
+        if (water_depth_valid(b1)) {
+            eb = abs(b1 - c);
+        }
+        if (water_depth_valid(a1)) {
+            ea = abs(a1 - c);
         }
     }
-    if (use_before) {
-        if (!water_depth_valid(b1)) {
-            return WaterTangent(false, vec3<f32>(0.0));
-        }
-        return WaterTangent(true, pc - water_view_position(vec2<f32>(p - step) + 0.5, b1, size, tan_half_fov));
-    }
-    if (!water_depth_valid(a1)) {
+    if (eb >= big && ea >= big) {
         return WaterTangent(false, vec3<f32>(0.0));
+    }
+    let lo = min(eb, ea);
+    let hi = max(eb, ea);
+    if (hi <= WATER_SMOOTH_RATIO * lo + tol) {
+        let before = water_view_position(vec2<f32>(p - step) + 0.5, b1, size, tan_half_fov);
+        let after = water_view_position(vec2<f32>(p + step) + 0.5, a1, size, tan_half_fov);
+        return WaterTangent(true, (after - before) * 0.5);
+    }
+    if (eb < ea) {
+        return WaterTangent(true, pc - water_view_position(vec2<f32>(p - step) + 0.5, b1, size, tan_half_fov));
     }
     return WaterTangent(true, water_view_position(vec2<f32>(p + step) + 0.5, a1, size, tan_half_fov) - pc);
 }
