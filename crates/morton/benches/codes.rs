@@ -243,6 +243,11 @@ fn encode2(c: &mut Criterion) {
             scalar!("scalar/zorder", out32, |x: u32, y: u32| zorder::index_of([
                 x as u16, y as u16
             ]));
+            if let Some(tok) = zorder_bmi2() {
+                scalar!("scalar/zorder_bmi2", out32, |x: u32, y: u32| {
+                    zorder::bmi2::index_of([x as u16, y as u16], tok)
+                });
+            }
             scalar!("scalar/morton_encoding", out32, |x: u32, y: u32| {
                 morton_encoding::morton_encode([x as u16, y as u16])
             });
@@ -323,6 +328,17 @@ fn decode(c: &mut Criterion) {
             black_box(&mut acc);
         })
     });
+    if let Some(tok) = zorder_bmi2() {
+        g.bench_function("scalar/zorder_bmi2_u8", |b| {
+            b.iter(|| {
+                for (o, &k) in acc.iter_mut().zip(&k32) {
+                    let [x, y, z]: [u8; 3] = zorder::bmi2::coord_of(black_box(k & 0xff_ffff), tok);
+                    *o = [x as u32, y as u32, z as u32];
+                }
+                black_box(&mut acc);
+            })
+        });
+    }
     g.bench_function("scalar/morton_encoding_u8", |b| {
         b.iter(|| {
             for (o, &k) in acc.iter_mut().zip(&k32) {
@@ -380,6 +396,18 @@ fn decode(c: &mut Criterion) {
             black_box(&mut acc);
         })
     });
+    if let Some(tok) = zorder_bmi2() {
+        g.bench_function("scalar/zorder_bmi2_u16", |b| {
+            b.iter(|| {
+                for (o, &k) in acc.iter_mut().zip(&k64) {
+                    let [x, y, z]: [u16; 3] =
+                        zorder::bmi2::coord_of(black_box(k & 0xffff_ffff_ffff), tok);
+                    *o = [x as u32, y as u32, z as u32];
+                }
+                black_box(&mut acc);
+            })
+        });
+    }
     g.bench_function("scalar/morton_encoding_u16", |b| {
         b.iter(|| {
             for (o, &k) in acc.iter_mut().zip(&k64) {
@@ -424,6 +452,16 @@ fn decode(c: &mut Criterion) {
                     black_box(&mut acc2);
                 })
             });
+            if let Some(tok) = zorder_bmi2() {
+                g.bench_function("scalar/zorder_bmi2", |b| {
+                    b.iter(|| {
+                        for (o, &k) in acc2.iter_mut().zip(&d.k64) {
+                            *o = zorder::bmi2::coord_of(black_box(k), tok);
+                        }
+                        black_box(&mut acc2);
+                    })
+                });
+            }
             for path in Path::available() {
                 g.bench_with_input(
                     BenchmarkId::new("batch/morton", format!("{path:?}")),
@@ -454,6 +492,17 @@ fn decode(c: &mut Criterion) {
                     black_box(&mut acc2);
                 })
             });
+            if let Some(tok) = zorder_bmi2() {
+                g.bench_function("scalar/zorder_bmi2", |b| {
+                    b.iter(|| {
+                        for (o, &k) in acc2.iter_mut().zip(&d.k32) {
+                            let [x, y]: [u16; 2] = zorder::bmi2::coord_of(black_box(k), tok);
+                            *o = [x as u32, y as u32];
+                        }
+                        black_box(&mut acc2);
+                    })
+                });
+            }
             for path in Path::available() {
                 g.bench_with_input(
                     BenchmarkId::new("batch/morton", format!("{path:?}")),

@@ -89,41 +89,102 @@ pub(crate) fn decode3_u64(code: u64) -> [u32; 3] {
     ]
 }
 
-// The packed forms serve the run-time dispatch of the scalar decoders (`std` only).
+/// `pdep`/`pext` as inline assembly, for the scalar functions' run-time dispatch: unlike a
+/// `#[target_feature]` function, they inline into code compiled without BMI2, so a
+/// dispatched call costs one predictable branch, not a call and return.
+#[cfg(all(feature = "std", not(target_feature = "bmi2")))]
+pub(crate) mod asm {
+    use core::arch::asm;
 
-/// [`decode2_u64`] packed as `x | y << 32`: returned in one register, so a call from code
-/// without BMI2 (run-time dispatch) does not go through memory.
-#[inline]
-#[target_feature(enable = "bmi2")]
-#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
-pub(crate) fn decode2_u64_packed(code: u64) -> u64 {
-    let [x, y] = decode2_u64(code);
-    x as u64 | (y as u64) << 32
-}
+    use super::{M2_X, M2_Y, M3_X, M3_Y, M3_Z};
 
-/// [`decode3_u64`] packed as `x | y << 21 | z << 42`.
-#[inline]
-#[target_feature(enable = "bmi2")]
-#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
-pub(crate) fn decode3_u64_packed(code: u64) -> u64 {
-    let [x, y, z] = decode3_u64(code);
-    x as u64 | (y as u64) << 21 | (z as u64) << 42
-}
+    /// `pdep` on u64.
+    ///
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    unsafe fn pdep(v: u64, mask: u64) -> u64 {
+        let r: u64;
+        // SAFETY: the caller guarantees BMI2; `pdep` touches no memory or flags.
+        unsafe {
+            asm!("pdep {r}, {v}, {m}", r = lateout(reg) r, v = in(reg) v, m = in(reg) mask, options(pure, nomem, nostack, preserves_flags))
+        };
+        r
+    }
 
-/// Unpacks `x | y << 32`.
-#[inline(always)]
-#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
-pub(crate) fn unpack2(p: u64) -> [u32; 2] {
-    [p as u32, (p >> 32) as u32]
-}
+    /// `pext` on u64.
+    ///
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    unsafe fn pext(v: u64, mask: u64) -> u64 {
+        let r: u64;
+        // SAFETY: the caller guarantees BMI2; `pext` touches no memory or flags.
+        unsafe {
+            asm!("pext {r}, {v}, {m}", r = lateout(reg) r, v = in(reg) v, m = in(reg) mask, options(pure, nomem, nostack, preserves_flags))
+        };
+        r
+    }
 
-/// Unpacks `x | y << 21 | z << 42`.
-#[inline(always)]
-#[cfg_attr(any(not(feature = "std"), target_feature = "bmi2"), allow(dead_code))]
-pub(crate) fn unpack3(p: u64) -> [u32; 3] {
-    [
-        (p & 0x1f_ffff) as u32,
-        ((p >> 21) & 0x1f_ffff) as u32,
-        (p >> 42) as u32,
-    ]
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn encode2_u64(x: u32, y: u32) -> u64 {
+        // SAFETY: forwarded.
+        unsafe { pdep(x as u64, M2_X) | pdep(y as u64, M2_Y) }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn encode3_u64(x: u32, y: u32, z: u32) -> u64 {
+        // SAFETY: forwarded.
+        unsafe { pdep(x as u64, M3_X) | pdep(y as u64, M3_Y) | pdep(z as u64, M3_Z) }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn decode2_u64(code: u64) -> [u32; 2] {
+        // SAFETY: forwarded.
+        unsafe { [pext(code, M2_X) as u32, pext(code, M2_Y) as u32] }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn decode3_u64(code: u64) -> [u32; 3] {
+        // SAFETY: forwarded.
+        unsafe {
+            [
+                pext(code, M3_X) as u32,
+                pext(code, M3_Y) as u32,
+                pext(code, M3_Z) as u32,
+            ]
+        }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn encode2_u32(x: u32, y: u32) -> u32 {
+        // SAFETY: forwarded; the masks keep 16 bits per axis.
+        unsafe { encode2_u64(x & 0xffff, y & 0xffff) as u32 }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn decode2_u32(code: u32) -> [u32; 2] {
+        // SAFETY: forwarded.
+        unsafe { decode2_u64(code as u64) }
+    }
+
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    pub(crate) unsafe fn decode3_u32(code: u32) -> [u32; 3] {
+        // SAFETY: forwarded; the 64-bit masks select the same bits of a 30-bit code.
+        unsafe { decode3_u64((code & 0x3fff_ffff) as u64) }
+    }
 }

@@ -45,11 +45,12 @@
 //!
 //! - Scalar [`encode2_u32`], [`decode2_u32`], [`encode2_u64`], [`decode2_u64`],
 //!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`]: BMI2
-//!   `pdep`/`pext` inlined when the build enables `target_feature = "bmi2"`; otherwise the
-//!   32-bit codes go through small tables (4.5 KiB in all) and the 64-bit ones call BMI2 where the CPU has a fast
-//!   `pdep` (run-time detection under `std`) or use magic bits. The `const` magic-bits
-//!   versions are in [`magic`]; `try_` variants check the range. For many keys use
-//!   [`batch`], which vectorises.
+//!   `pdep`/`pext` inlined when the build enables `target_feature = "bmi2"`. Otherwise
+//!   [`encode3_u32`] looks up a 4 KiB table, and the others run `pdep`/`pext` inline (as
+//!   assembly, no call) where the CPU has a fast `pdep` (run-time detection under `std`,
+//!   one predictable branch per call), else small tables (32-bit codes) or magic bits
+//!   (64-bit codes). The `const` magic-bits versions are in [`magic`]; `try_` variants
+//!   check the range. For many keys use [`batch`], which vectorises.
 //! - [`batch`]: the same over slices (struct-of-arrays or `[[u32; N]]`), on the fastest
 //!   [`Path`] this CPU has: AVX-512 or AVX2 vectorised magic bits, BMI2 where `pdep` is fast
 //!   (not AMD Zen 1/2, where it is microcoded), scalar otherwise. With `std` the path is
@@ -140,11 +141,10 @@ pub const MASK3_Y_U64: u64 = 0x2492_4924_9249_2492;
 pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 
 /// Defines a scalar function: BMI2 when the build enables it (`-C target-feature=+bmi2` or
-/// a `target-cpu` that has it); otherwise `$fallback`: `lut` (a table lookup, on every
-/// CPU), or `dispatch`, which with `std` on x86-64 calls BMI2 when the CPU has a fast
-/// `pdep` (checked once, then one predictable branch per call) and uses magic bits
-/// everywhere else. `$unpack` turns a BMI2 decoder's packed register result back into an
-/// array (see `bmi2::decode3_u64_packed`).
+/// a `target-cpu` that has it); otherwise either `lut` (a table lookup, on every CPU), or
+/// `dispatch($fallback)`: with `std` on x86-64, inline `pdep`/`pext` when the CPU has a
+/// fast `pdep` (checked once, then one predictable branch per call, no call), and
+/// `$fallback` (`lut` or `magic`) everywhere else.
 macro_rules! scalar {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
         $(#[$doc])*
@@ -163,7 +163,7 @@ macro_rules! scalar {
         }
     };
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
-        dispatch $bmi2_fn:ident $(, $unpack:ident)?) => {
+        dispatch($fallback:ident)) => {
         $(#[$doc])*
         #[inline]
         #[must_use]
@@ -177,14 +177,13 @@ macro_rules! scalar {
             {
                 if path::scalar_pdep() {
                     // SAFETY: checked at run time that the CPU has BMI2.
-                    let r = unsafe { bmi2::$bmi2_fn($($arg),*) };
-                    return $(bmi2::$unpack)?(r);
+                    return unsafe { bmi2::asm::$name($($arg),*) };
                 }
-                magic::$name($($arg),*)
+                $fallback::$name($($arg),*)
             }
             #[cfg(not(all(target_arch = "x86_64", any(target_feature = "bmi2", feature = "std"))))]
             {
-                magic::$name($($arg),*)
+                $fallback::$name($($arg),*)
             }
         }
     };
@@ -193,11 +192,11 @@ macro_rules! scalar {
 scalar!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
-    encode2_u32(x: u32, y: u32) -> u32, lut
+    encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
 );
 scalar!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
-    decode2_u32(code: u32) -> [u32; 2], lut
+    decode2_u32(code: u32) -> [u32; 2], dispatch(lut)
 );
 scalar!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
@@ -208,24 +207,24 @@ scalar!(
 scalar!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
-    decode3_u32(code: u32) -> [u32; 3], lut
+    decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
 );
 scalar!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
-    encode2_u64(x: u32, y: u32) -> u64, dispatch encode2_u64
+    encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
 );
 scalar!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
-    decode2_u64(code: u64) -> [u32; 2], dispatch decode2_u64_packed, unpack2
+    decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
 );
 scalar!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
     /// bit 63 is zero).
-    encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch encode3_u64
+    encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
 );
 scalar!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
-    decode3_u64(code: u64) -> [u32; 3], dispatch decode3_u64_packed, unpack3
+    decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
 );
 
 #[inline]
