@@ -22,6 +22,7 @@ mod morton;
 mod staticscene;
 mod tiling;
 mod visbuf;
+mod water;
 mod wave;
 pub use deferred::*;
 pub use framealloc::*;
@@ -29,6 +30,7 @@ pub use morton::*;
 pub use staticscene::*;
 pub use tiling::*;
 pub use visbuf::*;
+pub use water::*;
 pub use wave::*;
 
 /// A fuzz target body: takes arbitrary bytes, panics only on a real defect.
@@ -51,6 +53,12 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("visbuf_vertex_decode", visbuf_vertex_decode),
     ("visbuf_encode_provoking", visbuf_encode_provoking),
     ("visbuf_encode_xor", visbuf_encode_xor),
+    ("water_query", water_query),
+    ("water_world_decode", water_world_decode),
+    ("water_edt", water_edt),
+    ("water_flow_bake", water_flow_bake),
+    ("water_atlas_decode", water_atlas_decode),
+    ("water_data_word", water_data_word),
     ("wave_append", wave_append),
     ("wave_batch", wave_batch),
 ];

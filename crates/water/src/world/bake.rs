@@ -8,7 +8,7 @@ use core::ops::ControlFlow;
 use glam::Vec2;
 use half::f16;
 
-use super::spline::{SplineSample, closest_on_segment, flatten};
+use super::spline::{SplineSample, closest_on_segment, flatten_bounded};
 use super::*;
 use crate::math;
 use crate::progress::{Stage, report};
@@ -245,25 +245,46 @@ fn bake_river(
 ) -> Result<(), Error> {
     let texel = s.texel_size;
     let n = s.tile_texels as i64;
+    let max_tiles = MAX_WORLD_WORDS / ((n as u64 + 1).pow(2) * u64::from(TEXEL_WORDS));
     let side = (n + 1) as usize;
-    let samples: Vec<SplineSample> = flatten(&river.points, texel * 0.5);
-    for seg in samples.windows(2) {
+    let too_big = |value: u64| Error::LimitExceeded {
+        what: "texels a river's segments cover",
+        value,
+        limit: MAX_RIVER_TEXELS,
+        limit_name: "MAX_RIVER_TEXELS",
+    };
+    let samples: Vec<SplineSample> =
+        flatten_bounded(&river.points, texel * 0.5, MAX_RIVER_TEXELS as usize)
+            .ok_or(too_big(MAX_RIVER_TEXELS + 1))?;
+    // The texel range under each segment's capsule, and the total, before any work.
+    let ranges: Vec<(i64, i64, i64, i64)> = samples
+        .windows(2)
+        .map(|seg| {
+            let (a2, b2) = (seg[0].position.truncate(), seg[1].position.truncate());
+            let r = seg[0].width.max(seg[1].width) * 0.5;
+            let lo = (a2.min(b2) - r) / texel;
+            let hi = (a2.max(b2) + r) / texel;
+            (
+                math::ceil(lo.x) as i64,
+                math::ceil(lo.y) as i64,
+                math::floor(hi.x) as i64,
+                math::floor(hi.y) as i64,
+            )
+        })
+        .collect();
+    let total: u64 = ranges
+        .iter()
+        .map(|&(x0, y0, x1, y1)| {
+            ((x1 - x0 + 1).max(0) as u64).saturating_mul((y1 - y0 + 1).max(0) as u64)
+        })
+        .fold(0u64, u64::saturating_add);
+    if total > MAX_RIVER_TEXELS {
+        return Err(too_big(total));
+    }
+    for (seg, &(x0, y0, x1, y1)) in samples.windows(2).zip(&ranges) {
         let (a, b) = (seg[0], seg[1]);
         let (a2, b2) = (a.position.truncate(), b.position.truncate());
         let dir = (b2 - a2).normalize_or_zero();
-        let r = a.width.max(b.width) * 0.5;
-        let lo = (a2.min(b2) - r) / texel;
-        let hi = (a2.max(b2) + r) / texel;
-        let (x0, y0) = (math::ceil(lo.x) as i64, math::ceil(lo.y) as i64);
-        let (x1, y1) = (math::floor(hi.x) as i64, math::floor(hi.y) as i64);
-        if (x1 - x0 + 1) * (y1 - y0 + 1) > 1 << 26 {
-            return Err(Error::LimitExceeded {
-                what: "texels under one river segment",
-                value: ((x1 - x0 + 1) * (y1 - y0 + 1)) as u64,
-                limit: 1 << 26,
-                limit_name: "(a river wider than 8192 texels)",
-            });
-        }
         for gy in y0..=y1 {
             for gx in x0..=x1 {
                 let p = Vec2::new(gx as f32 * texel, gy as f32 * texel);
@@ -291,6 +312,14 @@ fn bake_river(
                     let (ktx, kty) = (tx - ox, ty - oy);
                     let (clx, cly) = (lx + ox * n, ly + oy * n);
                     let key = (index, ktx as i32, kty as i32);
+                    if !tiles.contains_key(&key) && tiles.len() as u64 >= max_tiles {
+                        return Err(Error::LimitExceeded {
+                            what: "river tiles",
+                            value: max_tiles + 1,
+                            limit: max_tiles,
+                            limit_name: "MAX_WORLD_WORDS / texel words per tile",
+                        });
+                    }
                     let tile = tiles.entry(key).or_insert_with(|| TileBuild {
                         river: index,
                         material: river.material,

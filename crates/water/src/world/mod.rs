@@ -117,6 +117,9 @@ pub const MAX_BODIES: u32 = 1 << KIND_SHIFT;
 pub const MAX_POINTS_PER_BODY: u32 = 1 << 20;
 /// Most words in a baked world: an 8192 x 8192 `R32Uint` texture (the core wgpu limit).
 pub const MAX_WORLD_WORDS: u64 = 8192 * 8192;
+/// Most texels one river may cover (summed over the bounding boxes of its segments'
+/// capsules), checked before any rasterising (the world bake and the flow bake).
+pub const MAX_RIVER_TEXELS: u64 = 1 << 26;
 /// Largest coordinate magnitude accepted, metres (f32 keeps 1/16 m there... and finer).
 pub const MAX_COORDINATE: f32 = 1.0e6;
 

@@ -44,11 +44,41 @@ fn catmull_rom(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, t: f32) -> Vec3 {
 /// duplicated) in x and y; height, width, depth and speed linearly between control points,
 /// so a waterfall (a steep drop between two close points) never overshoots above its top
 /// or below its foot.
+#[cfg(test)]
 pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample> {
+    flatten_bounded(points, max_step, usize::MAX).unwrap_or_default()
+}
+
+/// Steps for the segment from point `i` to `i + 1`.
+fn segment_steps(points: &[RiverPoint], i: usize, max_step: f32) -> usize {
     let n = points.len();
-    let mut out = Vec::new();
+    let at = |i: isize| points[i.clamp(0, n as isize - 1) as usize].position;
+    let (a, b) = (points[i].position, points[i + 1].position);
+    let (p0, p3) = (at(i as isize - 1), at(i as isize + 2));
+    // The curve segment is no longer than the control polygon around it.
+    let len = (a.truncate() - p0.truncate()).length()
+        + (b.truncate() - a.truncate()).length()
+        + (p3.truncate() - b.truncate()).length();
+    (math::ceil(len / max_step.max(1e-3)) as usize).clamp(1, 1 << 16)
+}
+
+/// [`flatten`], or `None` if it would take more than `max_samples` samples.
+pub(crate) fn flatten_bounded(
+    points: &[RiverPoint],
+    max_step: f32,
+    max_samples: usize,
+) -> Option<Vec<SplineSample>> {
+    let n = points.len();
+    let total: usize = (0..n.saturating_sub(1))
+        .map(|i| segment_steps(points, i, max_step))
+        .sum::<usize>()
+        + 1;
+    if total > max_samples {
+        return None;
+    }
+    let mut out = Vec::with_capacity(total);
     if n == 0 {
-        return out;
+        return Some(out);
     }
     if n == 1 {
         let p = points[0];
@@ -58,18 +88,14 @@ pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample>
             depth: p.depth,
             speed: p.speed,
         });
-        return out;
+        return Some(out);
     }
     let at = |i: isize| points[i.clamp(0, n as isize - 1) as usize].position;
     for i in 0..n - 1 {
         let (a, b) = (points[i], points[i + 1]);
         let p0 = at(i as isize - 1);
         let p3 = at(i as isize + 2);
-        // The curve segment is no longer than the control polygon around it.
-        let len = (a.position.truncate() - p0.truncate()).length()
-            + (b.position.truncate() - a.position.truncate()).length()
-            + (p3.truncate() - b.position.truncate()).length();
-        let steps = (math::ceil(len / max_step.max(1e-3)) as usize).clamp(1, 1 << 16);
+        let steps = segment_steps(points, i, max_step);
         for s in 0..steps {
             let t = s as f32 / steps as f32;
             let xy = catmull_rom(p0, a.position, b.position, p3, t);
@@ -88,7 +114,7 @@ pub(crate) fn flatten(points: &[RiverPoint], max_step: f32) -> Vec<SplineSample>
         depth: last.depth,
         speed: last.speed,
     });
-    out
+    Some(out)
 }
 
 /// Closest point on segment `a -> b` to `p` (2D): parameter in `[0, 1]` and distance.
