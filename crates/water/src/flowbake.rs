@@ -287,6 +287,9 @@ pub(crate) fn grid<'a>(sdf: &'a DistanceField, texel_size: f32, s: &FlowBakeSett
         for x in 0..w {
             let i = y * w + x;
             let d = sdf.values()[i];
+            if !(d > 0.0) {
+                continue; // land: no flow, no guide
+            }
             closeness[i] = math::saturate(1.0 - d / bank);
             let gr = sdf.gradient(x as u32, y as u32);
             let reliable = math::smoothstep(0.5, 0.8, gr.length());
@@ -439,14 +442,15 @@ pub(crate) fn seed(
     Ok(())
 }
 
-/// The flood: Dijkstra with a bucket queue over integer costs.
+/// The flood: Dijkstra with a bucket queue over integer costs. Returns which texels it
+/// reached.
 fn flood(
     g: &Grid<'_>,
     s: &FlowBakeSettings,
     flow: &mut [Vec2],
     fixed: &[bool],
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
-) -> Result<(), Error> {
+) -> Result<Vec<bool>, Error> {
     let (w, h) = (g.w, g.h);
     let n = w * h;
     // Step cost factor per texel in 1/16 units: 16 * (1 + penalty * closeness).
@@ -528,15 +532,23 @@ fn flood(
         }
     }
     report(progress, Stage::FlowFill, water_total, water_total)?;
-    Ok(())
+    Ok(done)
 }
 
-/// One Jacobi smoothing row: `out` is row `y` of the new field.
-pub(crate) fn smooth_row(g: &Grid<'_>, flow: &[Vec2], fixed: &[bool], y: usize, out: &mut [Vec2]) {
+/// One Jacobi smoothing row: `out` is row `y` of the new field. Texels the flood did not
+/// reach (water cut off from every seed) keep zero flow.
+pub(crate) fn smooth_row(
+    g: &Grid<'_>,
+    flow: &[Vec2],
+    fixed: &[bool],
+    reached: &[bool],
+    y: usize,
+    out: &mut [Vec2],
+) {
     let (w, h) = (g.w, g.h);
     for x in 0..w {
         let i = y * w + x;
-        if fixed[i] || !g.water(i) {
+        if fixed[i] || !reached[i] {
             out[x] = flow[i];
             continue;
         }
@@ -564,7 +576,7 @@ pub(crate) fn prepare<'a>(
     input: &FlowBakeInput<'a>,
     s: &FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
-) -> Result<(Grid<'a>, Vec<Vec2>, Vec<bool>), Error> {
+) -> Result<(Grid<'a>, Vec<Vec2>, Vec<bool>, Vec<bool>), Error> {
     check(input, s)?;
     let g = grid(input.sdf, input.texel_size, s);
     let n = g.w * g.h;
@@ -572,8 +584,8 @@ pub(crate) fn prepare<'a>(
     let mut fixed = vec![false; n];
     seed(input, &g, &mut flow, &mut fixed)?;
     report(progress, Stage::FlowSeeds, 1, 1)?;
-    flood(&g, s, &mut flow, &fixed, progress)?;
-    Ok((g, flow, fixed))
+    let reached = flood(&g, s, &mut flow, &fixed, progress)?;
+    Ok((g, flow, fixed, reached))
 }
 
 /// Bakes flow over the grid of `input.sdf` (see the module docs), single-threaded.
@@ -582,11 +594,11 @@ pub fn bake_flow(
     s: &FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<FlowField, Error> {
-    let (g, mut flow, fixed) = prepare(input, s, progress)?;
+    let (g, mut flow, fixed, reached) = prepare(input, s, progress)?;
     let mut next = flow.clone();
     for it in 0..s.smoothing_iterations {
         for (y, row) in next.chunks_mut(g.w).enumerate() {
-            smooth_row(&g, &flow, &fixed, y, row);
+            smooth_row(&g, &flow, &fixed, &reached, y, row);
         }
         core::mem::swap(&mut flow, &mut next);
         report(

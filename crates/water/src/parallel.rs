@@ -94,12 +94,12 @@ pub fn bake_flow(
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<crate::flowbake::FlowField, Error> {
     use crate::flowbake::{field, prepare, smooth_row};
-    let (g, mut flow, fixed) = prepare(input, s, progress)?;
+    let (g, mut flow, fixed, reached) = prepare(input, s, progress)?;
     let mut next = flow.clone();
     for it in 0..s.smoothing_iterations {
         next.par_chunks_mut(g.w)
             .enumerate()
-            .for_each(|(y, row)| smooth_row(&g, &flow, &fixed, y, row));
+            .for_each(|(y, row)| smooth_row(&g, &flow, &fixed, &reached, y, row));
         core::mem::swap(&mut flow, &mut next);
         report(
             progress,
