@@ -275,6 +275,11 @@ fn encode2(c: &mut Criterion) {
             scalar!("scalar/zorder", out64, |x: u32, y: u32| zorder::index_of([
                 x, y
             ]));
+            if let Some(tok) = zorder_bmi2() {
+                scalar!("scalar/zorder_bmi2", out64, |x: u32, y: u32| {
+                    zorder::bmi2::index_of([x, y], tok)
+                });
+            }
             scalar!("scalar/morton_encoding", out64, |x: u32, y: u32| {
                 morton_encoding::morton_encode([x, y])
             });
