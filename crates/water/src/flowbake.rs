@@ -571,12 +571,20 @@ pub(crate) fn smooth_row(
     }
 }
 
+/// The flooded state the smoothing starts from.
+pub(crate) struct Prepared<'a> {
+    pub(crate) g: Grid<'a>,
+    pub(crate) flow: Vec<Vec2>,
+    pub(crate) fixed: Vec<bool>,
+    pub(crate) reached: Vec<bool>,
+}
+
 /// The flood fill and seeds, shared by the sequential and parallel bakers.
 pub(crate) fn prepare<'a>(
     input: &FlowBakeInput<'a>,
     s: &FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
-) -> Result<(Grid<'a>, Vec<Vec2>, Vec<bool>, Vec<bool>), Error> {
+) -> Result<Prepared<'a>, Error> {
     check(input, s)?;
     let g = grid(input.sdf, input.texel_size, s);
     let n = g.w * g.h;
@@ -585,7 +593,12 @@ pub(crate) fn prepare<'a>(
     seed(input, &g, &mut flow, &mut fixed)?;
     report(progress, Stage::FlowSeeds, 1, 1)?;
     let reached = flood(&g, s, &mut flow, &fixed, progress)?;
-    Ok((g, flow, fixed, reached))
+    Ok(Prepared {
+        g,
+        flow,
+        fixed,
+        reached,
+    })
 }
 
 /// Bakes flow over the grid of `input.sdf` (see the module docs), single-threaded.
@@ -594,7 +607,12 @@ pub fn bake_flow(
     s: &FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<FlowField, Error> {
-    let (g, mut flow, fixed, reached) = prepare(input, s, progress)?;
+    let Prepared {
+        g,
+        mut flow,
+        fixed,
+        reached,
+    } = prepare(input, s, progress)?;
     let mut next = flow.clone();
     for it in 0..s.smoothing_iterations {
         for (y, row) in next.chunks_mut(g.w).enumerate() {

@@ -93,8 +93,13 @@ pub fn bake_flow(
     s: &crate::flowbake::FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<crate::flowbake::FlowField, Error> {
-    use crate::flowbake::{field, prepare, smooth_row};
-    let (g, mut flow, fixed, reached) = prepare(input, s, progress)?;
+    use crate::flowbake::{Prepared, field, prepare, smooth_row};
+    let Prepared {
+        g,
+        mut flow,
+        fixed,
+        reached,
+    } = prepare(input, s, progress)?;
     let mut next = flow.clone();
     for it in 0..s.smoothing_iterations {
         next.par_chunks_mut(g.w)

@@ -3,7 +3,7 @@
 //! Every baker takes `progress: &mut impl FnMut(Progress) -> ControlFlow<()>`. It is called
 //! from the calling thread only (the parallel bakers report between batches), so a plain
 //! closure that updates a progress bar works; returning `ControlFlow::Break(())` stops the
-//! bake with [`Error::Cancelled`](crate::Error::Cancelled). Pass [`no_progress`] to ignore
+//! bake with [`Error::Cancelled`]. Pass [`no_progress`] to ignore
 //! it.
 //!
 //! ```
