@@ -70,6 +70,13 @@ fn sort(c: &mut Criterion) {
         g.bench_with_input(BenchmarkId::new("u32/radix_par", n), &k32, |b, k| {
             b.iter(|| morton::parallel::par_sort_permutation(black_box(k)).unwrap())
         });
+        g.bench_with_input(BenchmarkId::new("u32/radix_par_reused", n), &k32, |b, k| {
+            b.iter(|| {
+                sorter
+                    .par_sort_permutation_into(black_box(k), &mut perm)
+                    .unwrap()
+            })
+        });
         g.bench_with_input(
             BenchmarkId::new("u32/std_stable_indices", n),
             &k32,
@@ -98,6 +105,13 @@ fn sort(c: &mut Criterion) {
         });
         g.bench_with_input(BenchmarkId::new("u64/radix_par", n), &k64, |b, k| {
             b.iter(|| morton::parallel::par_sort_permutation(black_box(k)).unwrap())
+        });
+        g.bench_with_input(BenchmarkId::new("u64/radix_par_reused", n), &k64, |b, k| {
+            b.iter(|| {
+                sorter
+                    .par_sort_permutation_into(black_box(k), &mut perm)
+                    .unwrap()
+            })
         });
         g.bench_with_input(
             BenchmarkId::new("u64/std_unstable_pairs", n),

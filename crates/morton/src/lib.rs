@@ -59,13 +59,16 @@
 //!   (clamped; NaN is an error), and quantise+encode over slices.
 //! - [`hilbert`]: Hilbert curve encode/decode in 2D and 3D (better locality, dearer), and
 //!   [`locality`], a metric to choose between the curves on your data.
-//! - [`sort_permutation`]: a stable LSD radix sort of u32/u64 keys returning the
-//!   permutation; `parallel::par_sort_permutation` under the `parallel` feature.
+//! - [`sort_permutation`]: a stable radix sort of u32/u64 keys returning the permutation
+//!   (split on the top varying byte, then cache-sized least-significant-digit passes);
+//!   [`Sorter`] keeps its buffers for sorting every frame; `parallel::par_sort_permutation`
+//!   under the `parallel` feature.
 //! - [`WGSL`]: the GPU twin of the 32-bit codes and the quantiser.
 //!
 //! # Features
 //!
-//! `std` (default): run-time CPU detection for the batch paths, `std::error::Error`.
+//! `std` (default): run-time CPU detection for the batch paths and the scalar BMI2
+//! dispatch, `std::error::Error`.
 //! `libm`: float math without `std` (for glam). `parallel`: rayon versions of the
 //! quantise+encode and the sort, equal to the sequential results. Without `std` the crate is
 //! `no_std` and needs `alloc` only for sorting.

@@ -20,7 +20,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::sort::{Pair, check_len, histograms, offsets, sort_range, top_digit};
-use crate::{MortonError, Path, Quantizer2, Quantizer3, SortKey};
+use crate::{MortonError, Path, Quantizer2, Quantizer3, SortKey, Sorter};
 
 /// Points per rayon task in the quantise+encode functions: large enough that a task costs
 /// far more than its scheduling, small enough to balance two to a few dozen threads.
@@ -111,10 +111,33 @@ pub const PAR_SORT_MIN: usize = 1 << 16;
 /// its own slots), then the 256 buckets are sorted in parallel. A stable sort's result is
 /// unique, so it equals the sequential one (tested).
 pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonError> {
-    check_len(keys.len())?;
-    if keys.len() < PAR_SORT_MIN {
-        return crate::sort_permutation(keys);
+    let mut out = Vec::new();
+    Sorter::new().par_sort_permutation_into(keys, &mut out)?;
+    Ok(out)
+}
+
+impl<K: SortKey> Sorter<K> {
+    /// [`par_sort_permutation`] into `out` (cleared first) with this sorter's buffers.
+    pub fn par_sort_permutation_into(
+        &mut self,
+        keys: &[K],
+        out: &mut Vec<u32>,
+    ) -> Result<(), MortonError> {
+        check_len(keys.len())?;
+        if keys.len() < PAR_SORT_MIN {
+            return self.sort_permutation_into(keys, out);
+        }
+        par_sort(keys, &mut self.a, &mut self.b, out);
+        Ok(())
     }
+}
+
+fn par_sort<K: SortKey>(
+    keys: &[K],
+    a: &mut Vec<K::Pair>,
+    b: &mut Vec<K::Pair>,
+    out: &mut Vec<u32>,
+) {
     let n = keys.len();
     let threads = rayon::current_num_threads().max(1);
     // A few chunks per thread so an uneven machine still balances.
@@ -132,8 +155,10 @@ pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonEr
             a
         },
     );
+    out.clear();
     let Some(top) = top_digit::<K>(&total, n) else {
-        return Ok((0..n as u32).collect());
+        out.extend(0..n as u32);
+        return;
     };
 
     // Per-chunk counts of the top digit, then each chunk scatters its pairs into its own
@@ -156,8 +181,10 @@ pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonEr
             *r += c;
         }
     }
-    let mut a: Vec<K::Pair> = alloc::vec![K::Pair::default(); n];
-    let out = Out(a.as_mut_ptr());
+    a.resize(n, K::Pair::default());
+    b.resize(n, K::Pair::default());
+    out.resize(n, 0);
+    let dst = Out(a.as_mut_ptr());
     keys.par_chunks(chunk)
         .zip(starts.into_par_iter())
         .enumerate()
@@ -172,17 +199,15 @@ pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonEr
                 // prefix over all smaller digits and over earlier chunks' counts of this
                 // digit, plus this chunk's running count), which is inside `a` (the counts
                 // sum to `n`) and written by no other task.
-                unsafe { out.get().add(slot).write(p) };
+                unsafe { dst.get().add(slot).write(p) };
                 o[digit] += 1;
             }
         });
 
     // Sort the buckets below the top digit, in parallel over disjoint ranges, each writing
     // its indices into its own range of the output.
-    let mut b: Vec<K::Pair> = alloc::vec![K::Pair::default(); n];
-    let mut perm = alloc::vec![0u32; n];
     let mut ranges = Vec::with_capacity(256);
-    let (mut ra, mut rb, mut rp) = (&mut a[..], &mut b[..], &mut perm[..]);
+    let (mut ra, mut rb, mut rp) = (&mut a[..n], &mut b[..n], &mut out[..n]);
     for &len in total[top as usize].iter() {
         let (ha, ta) = core::mem::take(&mut ra).split_at_mut(len as usize);
         let (hb, tb) = core::mem::take(&mut rb).split_at_mut(len as usize);
@@ -201,7 +226,6 @@ pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonEr
             *o = p.index();
         }
     });
-    Ok(perm)
 }
 
 /// A raw output pointer shared by the scatter tasks, each writing only its own slots.

@@ -148,8 +148,8 @@ pub fn sort_permutation_into<K: SortKey>(
 /// }
 /// ```
 pub struct Sorter<K: SortKey> {
-    a: Vec<K::Pair>,
-    b: Vec<K::Pair>,
+    pub(crate) a: Vec<K::Pair>,
+    pub(crate) b: Vec<K::Pair>,
 }
 
 impl<K: SortKey> Default for Sorter<K> {

@@ -77,3 +77,19 @@ fn sort_equals_sequential() {
     let small = [3u32, 1, 2];
     assert_eq!(parallel::par_sort_permutation(&small).unwrap(), [1, 2, 0]);
 }
+
+#[test]
+fn sorter_parallel_reuse_equals_sequential() {
+    let pts = points(120_000, 5);
+    let q = Quantizer3::new(Vec3::splat(-100.0), Vec3::splat(100.0), 21).unwrap();
+    let mut keys = vec![0u64; pts.len()];
+    q.morton_u64_slice(&pts, &mut keys).unwrap();
+    let mut sorter = morton::Sorter::new();
+    let mut perm = vec![7u32; 3];
+    for len in [120_000, 70_000, 100, 120_000] {
+        sorter
+            .par_sort_permutation_into(&keys[..len], &mut perm)
+            .unwrap();
+        assert_eq!(perm, sort_permutation(&keys[..len]).unwrap(), "len {len}");
+    }
+}
