@@ -300,7 +300,14 @@ impl NoiseTexture {
     /// Bilinear sample at fixed-point `(x, y)` and its derivatives per texel.
     #[inline]
     fn sample_fixed_grad(&self, x: u32, y: u32) -> (f32, f32, f32) {
-        let s = self.shift;
+        self.sample_l::<0>(x, y)
+    }
+
+    /// [`NoiseTexture::sample_fixed_grad`] for a texture of `2^L` texels per side, with
+    /// constant shifts (`L = 0`: the size read at run time).
+    #[inline(always)]
+    fn sample_l<const L: u32>(&self, x: u32, y: u32) -> (f32, f32, f32) {
+        let s = if L == 0 { self.shift } else { 32 - L };
         let (ix, iy) = (x >> s, y >> s);
         // The next 24 bits below the texel index are the fraction, exact in f32.
         let tx = ((x << (32 - s)) >> 8) as f32 * (1.0 / 16_777_216.0);
@@ -340,6 +347,27 @@ pub fn to_fixed(u: f32) -> u32 {
     let t = x as i64;
     let t = if (t as f32) > x { t.wrapping_sub(1) } else { t };
     t as u32
+}
+
+/// Calls `self.$f::<L>(args)` with `L` the texture's `log2(size)` as a constant, so the
+/// texel addressing compiles to constant shifts (every size the texture accepts has an
+/// arm; `L = 0` reads the size at run time).
+macro_rules! dispatch {
+    ($self:ident . $f:ident ( $($arg:expr),* )) => {
+        match $self.texture.size.trailing_zeros() {
+            2 => $self.$f::<2>($($arg),*),
+            3 => $self.$f::<3>($($arg),*),
+            4 => $self.$f::<4>($($arg),*),
+            5 => $self.$f::<5>($($arg),*),
+            6 => $self.$f::<6>($($arg),*),
+            7 => $self.$f::<7>($($arg),*),
+            8 => $self.$f::<8>($($arg),*),
+            9 => $self.$f::<9>($($arg),*),
+            10 => $self.$f::<10>($($arg),*),
+            11 => $self.$f::<11>($($arg),*),
+            _ => $self.$f::<0>($($arg),*),
+        }
+    };
 }
 
 /// FBM parameters. Lengths are metres, frequencies texture periods per metre.
@@ -511,15 +539,24 @@ impl<'a> Fbm<'a> {
     #[inline]
     #[must_use]
     pub fn height(&self, p: Vec2) -> f32 {
-        let x = to_fixed(p.x * self.params.frequency);
-        let y = to_fixed(p.y * self.params.frequency);
+        dispatch!(self.height_l(p))
+    }
+
+    #[inline(always)]
+    fn height_l<const L: u32>(&self, p: Vec2) -> f32 {
+        let mut x = to_fixed(p.x * self.params.frequency);
+        let mut y = to_fixed(p.y * self.params.frequency);
         let n = self.params.octaves_near as usize;
         let mut h = 0.0;
-        for (k, (&a, &[ox, oy])) in self.amp[..n].iter().zip(&self.offset[..n]).enumerate() {
+        for (&a, &[ox, oy]) in self.amp[..n].iter().zip(&self.offset[..n]) {
             let v = self
                 .texture
-                .sample_fixed((x << k).wrapping_add(ox), (y << k).wrapping_add(oy));
+                .sample_l::<L>(x.wrapping_add(ox), y.wrapping_add(oy))
+                .0;
             h += a * v;
+            // Frequency doubles: an exact shift of the fixed-point position.
+            x <<= 1;
+            y <<= 1;
         }
         h
     }
@@ -556,9 +593,14 @@ impl<'a> Fbm<'a> {
     /// metres away. Octaves with zero weight are not sampled.
     #[must_use]
     pub fn sample(&self, p: Vec2, distance: f32) -> FbmSample {
+        dispatch!(self.sample_at_l(p, distance))
+    }
+
+    #[inline(always)]
+    fn sample_at_l<const L: u32>(&self, p: Vec2, distance: f32) -> FbmSample {
         let c = self.octave_count(distance);
-        let x = to_fixed(p.x * self.params.frequency);
-        let y = to_fixed(p.y * self.params.frequency);
+        let mut x = to_fixed(p.x * self.params.frequency);
+        let mut y = to_fixed(p.y * self.params.frequency);
         let texels_per_period = self.texture.size as f32;
         let mut out = FbmSample {
             octaves: c,
@@ -571,13 +613,15 @@ impl<'a> Fbm<'a> {
                 let [ox, oy] = self.offset[k];
                 let (v, dx, dy) = self
                     .texture
-                    .sample_fixed_grad((x << k).wrapping_add(ox), (y << k).wrapping_add(oy));
+                    .sample_l::<L>(x.wrapping_add(ox), y.wrapping_add(oy));
                 let a = self.amp[k] * w;
                 out.height += a * v;
                 out.gradient += Vec2::new(dx, dy) * (a * f);
             }
             out.dropped_variance += (1.0 - w * w) * self.var[k];
             f *= 2.0;
+            x <<= 1;
+            y <<= 1;
         }
         out
     }
@@ -585,9 +629,14 @@ impl<'a> Fbm<'a> {
     /// Height with the octave LOD at `distance`, without gradient.
     #[must_use]
     pub fn height_lod(&self, p: Vec2, distance: f32) -> f32 {
+        dispatch!(self.height_lod_l(p, distance))
+    }
+
+    #[inline(always)]
+    fn height_lod_l<const L: u32>(&self, p: Vec2, distance: f32) -> f32 {
         let c = self.octave_count(distance);
-        let x = to_fixed(p.x * self.params.frequency);
-        let y = to_fixed(p.y * self.params.frequency);
+        let mut x = to_fixed(p.x * self.params.frequency);
+        let mut y = to_fixed(p.y * self.params.frequency);
         let mut h = 0.0;
         for k in 0..self.params.octaves_near as usize {
             let w = math::saturate(c - k as f32);
@@ -597,8 +646,11 @@ impl<'a> Fbm<'a> {
             let [ox, oy] = self.offset[k];
             let v = self
                 .texture
-                .sample_fixed((x << k).wrapping_add(ox), (y << k).wrapping_add(oy));
+                .sample_l::<L>(x.wrapping_add(ox), y.wrapping_add(oy))
+                .0;
             h += self.amp[k] * w * v;
+            x <<= 1;
+            y <<= 1;
         }
         h
     }

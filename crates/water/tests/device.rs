@@ -515,9 +515,16 @@ fn flow_foam_optics_specaa_material_and_data_word_match_the_cpu() {
         // Floats within an ulp or two (GPUs may fuse the multiply-add), indices exact.
         for j in 0..12 {
             let (g, c) = (f(out[16 * k + j]), f(cpu_words[j]));
-            assert!((g - c).abs() <= 2e-7 * c.abs().max(1.0), "blend at {t}, field {j}: {g} vs {c}");
+            assert!(
+                (g - c).abs() <= 2e-7 * c.abs().max(1.0),
+                "blend at {t}, field {j}: {g} vs {c}"
+            );
         }
-        assert_eq!(&out[16 * k + 12..16 * k + 15], &cpu_words[12..15], "blend at {t}");
+        assert_eq!(
+            &out[16 * k + 12..16 * k + 15],
+            &cpu_words[12..15],
+            "blend at {t}"
+        );
     }
 }
 
