@@ -9,7 +9,9 @@ use gpu::context::{self, GpuContext, HeadlessOptions};
 /// Vulkan driver fails here, with the message saying how to install one.
 pub fn ctx() -> &'static GpuContext {
     static CTX: OnceLock<GpuContext> = OnceLock::new();
-    CTX.get_or_init(|| context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}")))
+    CTX.get_or_init(|| {
+        context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+    })
 }
 
 /// xorshift64*.
@@ -44,6 +46,13 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
 }}"
     );
     let c = ctx();
-    gpu::kernel::run_u32_kernel(&c.device, &c.queue, &src, input, items, items as usize * out_stride)
-        .unwrap_or_else(|e| panic!("{e}\n--- kernel ---\n{src}"))
+    gpu::kernel::run_u32_kernel(
+        &c.device,
+        &c.queue,
+        &src,
+        input,
+        items,
+        items as usize * out_stride,
+    )
+    .unwrap_or_else(|e| panic!("{e}\n--- kernel ---\n{src}"))
 }

@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec4};
 use visbuf::{PrimitiveBits, VisFields, VisId, VisLayout};
 
-use crate::gpu_common::{run, Rng};
+use crate::gpu_common::{Rng, run};
 
 #[test]
 fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
@@ -41,7 +41,12 @@ fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
         assert_eq!(got[0], want_mb, "word {:#x} p {p}", word.0);
         assert_eq!(got[1], field, "word {:#x} p {p}", word.0);
         assert_eq!(got[2], prim, "word {:#x} p {p}", word.0);
-        let fields = VisFields { micro_batch: want_mb, instance: field, primitive: prim, rate: visbuf::ShadingRate::Rate1x1 };
+        let fields = VisFields {
+            micro_batch: want_mb,
+            instance: field,
+            primitive: prim,
+            rate: visbuf::ShadingRate::Rate1x1,
+        };
         if let Ok(repacked) = VisId::pack(VisLayout::Standard, bits, fields) {
             assert_eq!(got[3], repacked.0, "repack of {:#x} p {p}", word.0);
         }
@@ -60,7 +65,10 @@ fn barycentrics_and_derivatives_match_the_cpu() {
             let w = rng.f32(0.2, 60.0);
             Vec4::new(rng.f32(-1.2, 1.2) * w, rng.f32(-1.2, 1.2) * w, 0.1, w)
         });
-        let pixel = Vec2::new(rng.f32(0.0, 1920.0).floor() + 0.5, rng.f32(0.0, 1080.0).floor() + 0.5);
+        let pixel = Vec2::new(
+            rng.f32(0.0, 1920.0).floor() + 0.5,
+            rng.f32(0.0, 1080.0).floor() + 0.5,
+        );
         for c in clip {
             input.extend(c.to_array().map(f32::to_bits));
         }
@@ -84,8 +92,15 @@ fn barycentrics_and_derivatives_match_the_cpu() {
     let mut worst = 0.0f32;
     for (k, (clip, pixel)) in cases.iter().enumerate() {
         let cpu = visbuf::bary::barycentrics(*clip, *pixel, viewport);
-        let g: Vec<f32> = out[9 * k..9 * k + 9].iter().map(|&w| f32::from_bits(w)).collect();
-        for (i, want) in [cpu.lambda, cpu.ddx, cpu.ddy].iter().flat_map(|v| v.to_array()).enumerate() {
+        let g: Vec<f32> = out[9 * k..9 * k + 9]
+            .iter()
+            .map(|&w| f32::from_bits(w))
+            .collect();
+        for (i, want) in [cpu.lambda, cpu.ddx, cpu.ddy]
+            .iter()
+            .flat_map(|v| v.to_array())
+            .enumerate()
+        {
             // Relative to the weights' own scale (they sum to 1, derivatives to 0).
             let scale = 1.0 + cpu.lambda.abs().max_element();
             let err = (g[i] - want).abs() / scale;

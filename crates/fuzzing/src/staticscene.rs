@@ -5,10 +5,10 @@
 use glam::{Affine3A, DQuat, DVec3, Mat3, Mat4, Vec3};
 use staticscene::{
     Aabb, BuildConfig, Camera, ClusterJob, DrawableSetupBatch, DrawableSetupInstance, Error,
-    HalfAabb, LodDistance, LodLevel, MeshNode, MeshPart, PlacedObject, QueryInstance,
-    QueryObject, QueryOptions, QueryOutput, QueryParams, QuerySetup, QueryStats,
-    ResourceLibrary, Scene, StaticMesh, StreamingGroup, TileBuffers, TileStreamer,
-    Transform4x3, ViewDesc, WaveWidth, query_cluster,
+    HalfAabb, LodDistance, LodLevel, MeshNode, MeshPart, PlacedObject, QueryInstance, QueryObject,
+    QueryOptions, QueryOutput, QueryParams, QuerySetup, QueryStats, ResourceLibrary, Scene,
+    StaticMesh, StreamingGroup, TileBuffers, TileStreamer, Transform4x3, ViewDesc, WaveWidth,
+    query_cluster,
 };
 
 use crate::Input;
@@ -28,10 +28,18 @@ pub fn staticscene_instance_decode(data: &[u8]) {
             assert_eq!(q.setup(), u32::from(f.setup));
             assert_eq!(q.matrix(), u32::from(f.matrix));
             assert_eq!(q.group_end(), f.group_end);
-            for d in [f.parent_lod.min, f.parent_lod.max, f.child_lod.min, f.child_lod.max] {
+            for d in [
+                f.parent_lod.min,
+                f.parent_lod.max,
+                f.child_lod.min,
+                f.child_lod.max,
+            ] {
                 let m = d.metres();
                 assert!(m >= 0.0);
-                assert_eq!(LodDistance::from_metres(m).expect("decoded distance encodes"), d);
+                assert_eq!(
+                    LodDistance::from_metres(m).expect("decoded distance encodes"),
+                    d
+                );
             }
         }
         Err(e) => {
@@ -47,8 +55,15 @@ pub fn staticscene_instance_decode(data: &[u8]) {
     if let Ok(c) = LodDistance::from_metres(d) {
         let back = c.metres();
         if d.is_finite() {
-            let bound = if d < 4.0 { 1.0 / 128.0 } else { f64::from(d) / 512.0 };
-            assert!((f64::from(back) - f64::from(d)).abs() <= bound + 1e-9, "{d} -> {back}");
+            let bound = if d < 4.0 {
+                1.0 / 128.0
+            } else {
+                f64::from(d) / 512.0
+            };
+            assert!(
+                (f64::from(back) - f64::from(d)).abs() <= bound + 1e-9,
+                "{d} -> {back}"
+            );
         } else {
             assert_eq!(back, f32::INFINITY);
         }
@@ -104,7 +119,11 @@ fn node(input: &mut Input<'_>, depth: u32, handles: &mut u64) -> MeshNode {
                     let b = a + small_f32(input).abs();
                     LodLevel {
                         min: a,
-                        max: if input.u8() % 4 == 0 { f32::INFINITY } else { b },
+                        max: if input.u8().is_multiple_of(4) {
+                            f32::INFINITY
+                        } else {
+                            b
+                        },
                         node: node(input, depth + 1, handles),
                     }
                 })
@@ -147,7 +166,7 @@ pub fn staticscene_build(data: &[u8]) {
         split_above: usize::from(input.u8() % 64),
         orphan_below: usize::from(input.u8() % 16),
         min_cluster: usize::from(input.u8() % 16),
-        partition: if input.u8() % 2 == 0 {
+        partition: if input.u8().is_multiple_of(2) {
             staticscene::Partition::AxisSplit
         } else {
             staticscene::Partition::MortonBuckets
@@ -162,16 +181,24 @@ pub fn staticscene_build(data: &[u8]) {
             .map(|_| {
                 let raw = input.u8() < 20;
                 let position = if raw {
-                    DVec3::new(f64::from(input.f32()), f64::from(input.f32()), f64::from(input.f32()))
+                    DVec3::new(
+                        f64::from(input.f32()),
+                        f64::from(input.f32()),
+                        f64::from(input.f32()),
+                    )
                 } else {
-                    DVec3::new(f64::from(small_f32(&mut input)) * 100.0, 0.0, f64::from(small_f32(&mut input)) * 100.0)
+                    DVec3::new(
+                        f64::from(small_f32(&mut input)) * 100.0,
+                        0.0,
+                        f64::from(small_f32(&mut input)) * 100.0,
+                    )
                 };
                 PlacedObject {
                     resource: usize::from(input.u8() % 5),
                     position,
                     linear: Mat3::from_diagonal(Vec3::splat(if raw { input.f32() } else { 1.0 })),
                     lod_scale: if raw { input.f32() } else { 1.0 },
-                    ignore_global_lod_scale: input.u8() % 2 == 0,
+                    ignore_global_lod_scale: input.u8().is_multiple_of(2),
                 }
             })
             .collect();
@@ -228,7 +255,11 @@ pub fn staticscene_build(data: &[u8]) {
         }
     }
     let cam = Camera {
-        position: DVec3::new(f64::from(small_f32(&mut input)), 2.0, f64::from(small_f32(&mut input))),
+        position: DVec3::new(
+            f64::from(small_f32(&mut input)),
+            2.0,
+            f64::from(small_f32(&mut input)),
+        ),
         rotation: DQuat::from_rotation_y(f64::from(small_f32(&mut input))),
         projection: Mat4::perspective_rh(1.0, 1.5, 0.1, 1000.0),
         reversed_depth: false,
@@ -275,8 +306,12 @@ pub fn staticscene_query(data: &[u8]) {
             handle: input.u64(),
         })
         .collect();
-    let transforms: Vec<Transform4x3> = (0..input.u8() % 3).map(|_| Transform4x3::IDENTITY).collect();
-    let bounds: Vec<HalfAabb> = (0..input.u8() % 4).map(|_| bytemuck::cast(input.bytes::<12>())).collect();
+    let transforms: Vec<Transform4x3> = (0..input.u8() % 3)
+        .map(|_| Transform4x3::IDENTITY)
+        .collect();
+    let bounds: Vec<HalfAabb> = (0..input.u8() % 4)
+        .map(|_| bytemuck::cast(input.bytes::<12>()))
+        .collect();
     let tile = TileBuffers {
         tile: 0,
         instances: &instances,
@@ -289,7 +324,7 @@ pub fn staticscene_query(data: &[u8]) {
         position: DVec3::ZERO,
         rotation: DQuat::from_rotation_y(f64::from(small_f32(&mut input))),
         projection: Mat4::perspective_rh(1.0, 1.0, 0.1, 1e4),
-        reversed_depth: input.u8() % 2 == 0,
+        reversed_depth: input.u8().is_multiple_of(2),
     };
     let mut view = ViewDesc::camera(cam, [32, 32]);
     view.fade_frames = u32::from(input.u8() % 10);
@@ -299,21 +334,34 @@ pub fn staticscene_query(data: &[u8]) {
     let job = ClusterJob {
         first: u32::from(input.u8() % 90),
         count: u32::from(input.u8() % 90),
-        snap_fade: input.u8() % 2 == 0,
+        snap_fade: input.u8().is_multiple_of(2),
     };
     let mut fade = vec![0u8; usize::from(input.u8() % 100)];
     let mut out = vec![DrawableSetupInstance::default(); usize::from(input.u8() % 40)];
     let mut batches = vec![DrawableSetupBatch::default(); usize::from(input.u8() % 40)];
     let (ci, cb) = (core::cell::Cell::new(0u32), core::cell::Cell::new(0u32));
     let mut stats = QueryStats::default();
-    let r = query_cluster(&params, &tile, None, &mut fade, job, WaveWidth::W16, &ci, &mut out, &cb, &mut batches, &mut stats);
+    let r = query_cluster(
+        &params,
+        &tile,
+        None,
+        &mut fade,
+        job,
+        WaveWidth::W16,
+        &ci,
+        &mut out,
+        &cb,
+        &mut batches,
+        &mut stats,
+    );
     match r {
         Ok(_) => {
             assert_eq!(stats.instances, u64::from(job.count));
             assert_eq!(u64::from(ci.get()), stats.visible);
             assert_eq!(
                 stats.dropped,
-                stats.visible.saturating_sub(out.len() as u64) + stats.batches.saturating_sub(batches.len() as u64)
+                stats.visible.saturating_sub(out.len() as u64)
+                    + stats.batches.saturating_sub(batches.len() as u64)
             );
         }
         Err(e) => assert!(matches!(e, Error::Config { .. }), "{e}"),

@@ -31,8 +31,11 @@ pub enum PrimitiveIdPath {
 
 impl PrimitiveIdPath {
     /// Every path, best first.
-    pub const ALL: [PrimitiveIdPath; 3] =
-        [PrimitiveIdPath::Builtin, PrimitiveIdPath::PerVertexXor, PrimitiveIdPath::ProvokingVertex];
+    pub const ALL: [PrimitiveIdPath; 3] = [
+        PrimitiveIdPath::Builtin,
+        PrimitiveIdPath::PerVertexXor,
+        PrimitiveIdPath::ProvokingVertex,
+    ];
 
     /// The device features this path needs.
     pub fn required_features(self) -> wgpu::Features {
@@ -86,8 +89,9 @@ impl ActivePaths {
                 .contains(wgpu::Features::SUBGROUP)
                 .then_some((info.subgroup_min_size, info.subgroup_max_size)),
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
-            timestamps_inside_encoders: features
-                .contains(wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS),
+            timestamps_inside_encoders: features.contains(
+                wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
+            ),
             f16: features.contains(wgpu::Features::SHADER_F16),
         }
     }
@@ -106,7 +110,10 @@ pub struct HeadlessOptions {
 
 impl Default for HeadlessOptions {
     fn default() -> Self {
-        Self { disable_features: wgpu::Features::empty(), backend_validation: false }
+        Self {
+            disable_features: wgpu::Features::empty(),
+            backend_validation: false,
+        }
     }
 }
 
@@ -140,7 +147,13 @@ pub fn adapter_line(info: &wgpu::AdapterInfo) -> String {
     } else {
         format!("{} {}", info.driver, info.driver_info)
     };
-    format!("{} ({:?}, {:?}, {})", info.name, info.backend, info.device_type, driver.trim())
+    format!(
+        "{} ({:?}, {:?}, {})",
+        info.name,
+        info.backend,
+        info.device_type,
+        driver.trim()
+    )
 }
 
 /// Creates a device without a window: the high-performance adapter first, any adapter
@@ -168,7 +181,9 @@ pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
         }))
         .map_err(|_| first)
     })
-    .map_err(|e| Error::NoAdapter { reason: e.to_string() })?;
+    .map_err(|e| Error::NoAdapter {
+        reason: e.to_string(),
+    })?;
 
     let features = adapter.features() & OPTIONAL_FEATURES & !options.disable_features;
     let info = adapter.get_info();
@@ -183,7 +198,14 @@ pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
     }))
     .map_err(|e| Error::RequestDevice(e.to_string()))?;
     let paths = ActivePaths::for_device(device.features(), &info);
-    Ok(GpuContext { instance, adapter, device, queue, info, paths })
+    Ok(GpuContext {
+        instance,
+        adapter,
+        device,
+        queue,
+        info,
+        paths,
+    })
 }
 
 /// Runs `f` inside validation and out-of-memory error scopes on `device`, turning what they

@@ -8,7 +8,8 @@
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
 use crate::scene::{
-    AlbedoLayer, Batch, Camera, Lighting, Material, MaterialId, Mesh, MeshId, PointLight, Scene, ShaderKind,
+    AlbedoLayer, Batch, Camera, Lighting, Material, MaterialId, Mesh, MeshId, PointLight, Scene,
+    ShaderKind,
 };
 
 /// Which demo scene.
@@ -46,7 +47,11 @@ pub struct DemoOptions {
 
 impl Default for DemoOptions {
     fn default() -> Self {
-        Self { scene: DemoScene::Forest, seed: 1, density: 1.0 }
+        Self {
+            scene: DemoScene::Forest,
+            seed: 1,
+            density: 1.0,
+        }
     }
 }
 
@@ -83,7 +88,9 @@ impl Rng {
 }
 
 fn hash2(x: i32, y: i32, seed: u32) -> u32 {
-    let mut h = (x as u32).wrapping_mul(0x8da6_b343) ^ (y as u32).wrapping_mul(0xd816_3841) ^ seed.wrapping_mul(0xcb1a_b31f);
+    let mut h = (x as u32).wrapping_mul(0x8da6_b343)
+        ^ (y as u32).wrapping_mul(0xd816_3841)
+        ^ seed.wrapping_mul(0xcb1a_b31f);
     h ^= h >> 15;
     h = h.wrapping_mul(0x2c1b_3c6d);
     h ^= h >> 12;
@@ -136,7 +143,12 @@ struct MeshBuilder {
 
 impl MeshBuilder {
     fn new(name: &str) -> Self {
-        Self { mesh: Mesh { name: name.to_owned(), ..Mesh::default() } }
+        Self {
+            mesh: Mesh {
+                name: name.to_owned(),
+                ..Mesh::default()
+            },
+        }
     }
 
     fn vertex(&mut self, p: Vec3, n: Vec3, uv: Vec2) -> u16 {
@@ -185,7 +197,10 @@ impl MeshBuilder {
         let mut bit = vec![Vec3::ZERO; m.positions.len()];
         for t in m.indices.chunks_exact(3) {
             let [a, b, c] = [t[0] as usize, t[1] as usize, t[2] as usize];
-            let (e1, e2) = (m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+            let (e1, e2) = (
+                m.positions[b] - m.positions[a],
+                m.positions[c] - m.positions[a],
+            );
             let (d1, d2) = (m.uvs[b] - m.uvs[a], m.uvs[c] - m.uvs[a]);
             let det = d1.x * d2.y - d2.x * d1.y;
             if det.abs() < 1e-12 {
@@ -201,7 +216,11 @@ impl MeshBuilder {
         for i in 0..m.positions.len() {
             let n = m.normals[i];
             let t = (tan[i] - n * n.dot(tan[i])).normalize_or(n.any_orthonormal_vector());
-            let w = if n.cross(t).dot(bit[i]) < 0.0 { -1.0 } else { 1.0 };
+            let w = if n.cross(t).dot(bit[i]) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             m.tangents[i] = t.extend(w);
         }
         self.mesh
@@ -216,7 +235,11 @@ fn terrain_mesh(size: f32, cells: u32, seed: u32) -> Mesh {
             let x = (i as f32 / cells as f32 - 0.5) * size;
             let z = (j as f32 / cells as f32 - 0.5) * size;
             let e = 0.25;
-            let n = Vec3::new(h(x - e, z) - h(x + e, z), 2.0 * e, h(x, z - e) - h(x, z + e));
+            let n = Vec3::new(
+                h(x - e, z) - h(x + e, z),
+                2.0 * e,
+                h(x, z - e) - h(x, z + e),
+            );
             b.vertex(Vec3::new(x, h(x, z), z), n, Vec2::new(x, z) / 4.0);
         }
     }
@@ -239,7 +262,11 @@ fn trunk_mesh() -> Mesh {
         for s in 0..=segs {
             let a = s as f32 / segs as f32 * std::f32::consts::TAU;
             let n = Vec3::new(a.cos(), 0.25, a.sin());
-            b.vertex(Vec3::new(a.cos() * radius, t * height, a.sin() * radius), n, Vec2::new(s as f32 / segs as f32 * 2.0, t * 6.0));
+            b.vertex(
+                Vec3::new(a.cos() * radius, t * height, a.sin() * radius),
+                n,
+                Vec2::new(s as f32 / segs as f32 * 2.0, t * 6.0),
+            );
         }
     }
     for r in 0..rings {
@@ -255,15 +282,28 @@ fn trunk_mesh() -> Mesh {
 fn canopy_mesh(rng: &mut Rng, cards: u32) -> Mesh {
     let mut b = MeshBuilder::new("canopy");
     for _ in 0..cards {
-        let dir = Vec3::new(rng.range(-1.0, 1.0), rng.range(-0.6, 1.0), rng.range(-1.0, 1.0)).normalize_or(Vec3::Y);
-        let centre = Vec3::new(0.0, 7.5, 0.0) + dir * Vec3::new(2.6, 2.4, 2.6) * rng.range(0.35, 1.0);
+        let dir = Vec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-0.6, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize_or(Vec3::Y);
+        let centre =
+            Vec3::new(0.0, 7.5, 0.0) + dir * Vec3::new(2.6, 2.4, 2.6) * rng.range(0.35, 1.0);
         let out = dir;
         let r = out.cross(Vec3::Y).normalize_or(Vec3::X) * 0.75;
         let u = r.cross(out).normalize_or(Vec3::Y) * 0.75;
         let q = Quat::from_axis_angle(out, rng.range(0.0, std::f32::consts::TAU));
         let cell = (rng.f32() * 4.0) as u32;
         let uv0 = Vec2::new((cell % 2) as f32 * 0.5, (cell / 2) as f32 * 0.5);
-        b.card(centre, q * r, q * u, uv0, uv0 + Vec2::splat(0.5), out * 0.15);
+        b.card(
+            centre,
+            q * r,
+            q * u,
+            uv0,
+            uv0 + Vec2::splat(0.5),
+            out * 0.15,
+        );
     }
     b.finish()
 }
@@ -290,7 +330,14 @@ fn tuft_mesh(rng: &mut Rng, cards: u32, height: f32) -> Mesh {
         let r = Vec3::new(a.cos(), 0.0, a.sin()) * 0.35;
         let off = Vec3::new(rng.range(-0.15, 0.15), 0.0, rng.range(-0.15, 0.15));
         let u = Vec3::Y * height * 0.5;
-        b.card(off + u, r, u, Vec2::ZERO, Vec2::ONE, Vec3::new(rng.range(-0.1, 0.1), 0.0, rng.range(-0.1, 0.1)));
+        b.card(
+            off + u,
+            r,
+            u,
+            Vec2::ZERO,
+            Vec2::ONE,
+            Vec3::new(rng.range(-0.1, 0.1), 0.0, rng.range(-0.1, 0.1)),
+        );
     }
     b.finish()
 }
@@ -335,7 +382,11 @@ fn rock_mesh(seed: u32) -> Mesh {
         for s in 0..=segs {
             let u = s as f32 / segs as f32;
             let phi = u * std::f32::consts::TAU;
-            let d = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let d = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
             let k = if s == segs { 0 } else { s };
             let bump = 0.75 + 0.5 * lattice(k as i32, r as i32, seed);
             let p = d * bump * Vec3::new(1.0, 0.6, 0.9);
@@ -359,7 +410,11 @@ const LAYER_SIZE: u32 = 256;
 fn srgb(c: Vec3) -> [u8; 3] {
     let e = |x: f32| {
         let x = x.clamp(0.0, 1.0);
-        let s = if x <= 0.003_130_8 { x * 12.92 } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+        let s = if x <= 0.003_130_8 {
+            x * 12.92
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
         (s * 255.0 + 0.5) as u8
     };
     [e(c.x), e(c.y), e(c.z)]
@@ -390,7 +445,10 @@ fn ground_layer() -> AlbedoLayer {
         let m = tile_noise(uv, 32, 12);
         let dirt = Vec3::new(0.23, 0.16, 0.09);
         let moss = Vec3::new(0.10, 0.17, 0.05);
-        (dirt.lerp(moss, (n * 1.6 - 0.4).clamp(0.0, 1.0)) * (0.7 + 0.6 * m), 1.0)
+        (
+            dirt.lerp(moss, (n * 1.6 - 0.4).clamp(0.0, 1.0)) * (0.7 + 0.6 * m),
+            1.0,
+        )
     })
 }
 
@@ -411,7 +469,10 @@ fn leaf_layer() -> AlbedoLayer {
         let mut shade: f32 = 0.0;
         for k in 0..7u32 {
             let h = hash2(k as i32, id as i32, 77);
-            let c = Vec2::new(0.2 + 0.6 * ((h & 0xff) as f32 / 255.0), 0.2 + 0.6 * (((h >> 8) & 0xff) as f32 / 255.0));
+            let c = Vec2::new(
+                0.2 + 0.6 * ((h & 0xff) as f32 / 255.0),
+                0.2 + 0.6 * (((h >> 8) & 0xff) as f32 / 255.0),
+            );
             let ang = ((h >> 16) & 0xff) as f32 / 255.0 * std::f32::consts::PI;
             let d = cell - c;
             let (s, co) = ang.sin_cos();
@@ -422,7 +483,9 @@ fn leaf_layer() -> AlbedoLayer {
                 shade = shade.max(1.0 - e * 0.5 + 0.3 * (q.y.abs() < 0.006) as u32 as f32);
             }
         }
-        let c = Vec3::new(0.07, 0.19, 0.04).lerp(Vec3::new(0.16, 0.29, 0.06), tile_noise(uv, 16, 31)) * (0.6 + 0.5 * shade);
+        let c = Vec3::new(0.07, 0.19, 0.04)
+            .lerp(Vec3::new(0.16, 0.29, 0.06), tile_noise(uv, 16, 31))
+            * (0.6 + 0.5 * shade);
         (c, alpha)
     })
 }
@@ -473,7 +536,12 @@ fn blade_layer() -> AlbedoLayer {
         let x = (uv.x * 4.0).fract();
         let t = 1.0 - uv.y;
         let tip = 1.0 - ((x - 0.5).abs() * 2.0) > (t - 0.85).max(0.0) / 0.15;
-        let base = [Vec3::new(0.10, 0.22, 0.05), Vec3::new(0.15, 0.25, 0.06), Vec3::new(0.22, 0.27, 0.08), Vec3::new(0.08, 0.18, 0.05)];
+        let base = [
+            Vec3::new(0.10, 0.22, 0.05),
+            Vec3::new(0.15, 0.25, 0.06),
+            Vec3::new(0.22, 0.27, 0.08),
+            Vec3::new(0.08, 0.18, 0.05),
+        ];
         let c = base[variant as usize % 4] * (0.55 + 0.7 * t);
         (c, if tip { 1.0 } else { 0.0 })
     })
@@ -483,7 +551,10 @@ fn rock_layer() -> AlbedoLayer {
     paint(|uv| {
         let n = tile_noise(uv, 8, 41);
         let m = tile_noise(uv, 32, 42);
-        (Vec3::splat(0.22 + 0.2 * n) * Vec3::new(1.0, 0.98, 0.94) * (0.8 + 0.4 * m), 1.0)
+        (
+            Vec3::splat(0.22 + 0.2 * n) * Vec3::new(1.0, 0.98, 0.94) * (0.8 + 0.4 * m),
+            1.0,
+        )
     })
 }
 
@@ -525,8 +596,14 @@ fn forest(seed: u64, density: f32) -> Scene {
         rock_mesh(tseed ^ 0x55),
         canopy_mesh(&mut rng, 160),
     ];
-    let albedo_layers =
-        vec![ground_layer(), bark_layer(), leaf_layer(), fern_layer(), grass_layer(), rock_layer()];
+    let albedo_layers = vec![
+        ground_layer(),
+        bark_layer(),
+        leaf_layer(),
+        fern_layer(),
+        grass_layer(),
+        rock_layer(),
+    ];
     let materials = vec![
         material("ground", ShaderKind::Opaque, 0, 0.9),
         material("bark", ShaderKind::Opaque, 1, 0.8),
@@ -534,7 +611,10 @@ fn forest(seed: u64, density: f32) -> Scene {
         material("fern", ShaderKind::AlphaTested, 3, 0.6),
         material("grass", ShaderKind::AlphaTested, 4, 0.7),
         material("rock", ShaderKind::Opaque, 5, 0.7),
-        Material { tint: Vec3::new(1.15, 1.05, 0.8), ..material("leaves (autumn)", ShaderKind::AlphaTested, 2, 0.6) },
+        Material {
+            tint: Vec3::new(1.15, 1.05, 0.8),
+            ..material("leaves (autumn)", ShaderKind::AlphaTested, 2, 0.6)
+        },
     ];
     // The camera looks along +Z from the south edge; instances fill a wedge in front of it.
     let camera = Camera {
@@ -558,26 +638,69 @@ fn forest(seed: u64, density: f32) -> Scene {
     let green: Vec<Affine3A> = green.into_iter().map(|(_, t)| *t).collect();
     let autumn: Vec<Affine3A> = autumn.into_iter().map(|(_, t)| *t).collect();
     let batches = vec![
-        Batch { mesh: MeshId(0), material: MaterialId(0), instances: vec![Affine3A::IDENTITY] },
-        Batch { mesh: MeshId(1), material: MaterialId(1), instances: trees.clone() },
-        Batch { mesh: MeshId(2), material: MaterialId(2), instances: green },
-        Batch { mesh: MeshId(6), material: MaterialId(6), instances: autumn },
-        Batch { mesh: MeshId(3), material: MaterialId(3), instances: scatter(count(3000.0, density), (0.7, 1.4), &mut rng) },
-        Batch { mesh: MeshId(4), material: MaterialId(4), instances: scatter(count(12000.0, density), (0.8, 1.3), &mut rng) },
-        Batch { mesh: MeshId(5), material: MaterialId(5), instances: scatter(count(300.0, density), (0.4, 1.6), &mut rng) },
+        Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![Affine3A::IDENTITY],
+        },
+        Batch {
+            mesh: MeshId(1),
+            material: MaterialId(1),
+            instances: trees.clone(),
+        },
+        Batch {
+            mesh: MeshId(2),
+            material: MaterialId(2),
+            instances: green,
+        },
+        Batch {
+            mesh: MeshId(6),
+            material: MaterialId(6),
+            instances: autumn,
+        },
+        Batch {
+            mesh: MeshId(3),
+            material: MaterialId(3),
+            instances: scatter(count(3000.0, density), (0.7, 1.4), &mut rng),
+        },
+        Batch {
+            mesh: MeshId(4),
+            material: MaterialId(4),
+            instances: scatter(count(12000.0, density), (0.8, 1.3), &mut rng),
+        },
+        Batch {
+            mesh: MeshId(5),
+            material: MaterialId(5),
+            instances: scatter(count(300.0, density), (0.4, 1.6), &mut rng),
+        },
     ];
     let lighting = Lighting {
         point_lights: vec![
-            PointLight { position: camera.target + Vec3::new(-3.0, 1.5, 4.0), color: Vec3::new(4.0, 2.2, 0.8), radius: 9.0 },
-            PointLight { position: camera.target + Vec3::new(5.0, 1.0, 12.0), color: Vec3::new(0.8, 2.0, 4.0), radius: 10.0 },
+            PointLight {
+                position: camera.target + Vec3::new(-3.0, 1.5, 4.0),
+                color: Vec3::new(4.0, 2.2, 0.8),
+                radius: 9.0,
+            },
+            PointLight {
+                position: camera.target + Vec3::new(5.0, 1.0, 12.0),
+                color: Vec3::new(0.8, 2.0, 4.0),
+                radius: 10.0,
+            },
         ],
         ..Lighting::default()
     };
-    Scene { meshes, materials, albedo_layers, batches, camera, lighting }
+    Scene {
+        meshes,
+        materials,
+        albedo_layers,
+        batches,
+        camera,
+        lighting,
+    }
 }
 
 fn grass(seed: u64, density: f32) -> Scene {
-    let mut rng = Rng(seed ^ 0x6772_6173_73);
+    let mut rng = Rng(seed ^ 0x0067_7261_7373);
     let tseed = seed as u32;
     let size = 120.0;
     let patch = 2.0;
@@ -591,7 +714,10 @@ fn grass(seed: u64, density: f32) -> Scene {
     let materials = vec![
         material("ground", ShaderKind::Opaque, 0, 0.9),
         material("tall grass", ShaderKind::AlphaTested, 1, 0.6),
-        Material { tint: Vec3::new(1.2, 1.1, 0.75), ..material("dry grass", ShaderKind::AlphaTested, 1, 0.6) },
+        Material {
+            tint: Vec3::new(1.2, 1.1, 0.75),
+            ..material("dry grass", ShaderKind::AlphaTested, 1, 0.6)
+        },
         material("rock", ShaderKind::Opaque, 2, 0.7),
     ];
     let camera = Camera {
@@ -610,7 +736,11 @@ fn grass(seed: u64, density: f32) -> Scene {
             let jitter = Vec2::new(rng.range(-0.4, 0.4), rng.range(-0.4, 0.4));
             let s = rng_scale(&mut rng);
             let t = place(x + jitter.x, z + jitter.y, tseed, &mut rng, s);
-            if lattice(i / 3, j / 3, tseed) < 0.3 { dry.push(t) } else { tall.push(t) }
+            if lattice(i / 3, j / 3, tseed) < 0.3 {
+                dry.push(t)
+            } else {
+                tall.push(t)
+            }
         }
     }
     let rocks = (0..count(60.0, density))
@@ -621,12 +751,35 @@ fn grass(seed: u64, density: f32) -> Scene {
         })
         .collect();
     let batches = vec![
-        Batch { mesh: MeshId(0), material: MaterialId(0), instances: vec![Affine3A::IDENTITY] },
-        Batch { mesh: MeshId(1), material: MaterialId(1), instances: tall },
-        Batch { mesh: MeshId(2), material: MaterialId(2), instances: dry },
-        Batch { mesh: MeshId(3), material: MaterialId(3), instances: rocks },
+        Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![Affine3A::IDENTITY],
+        },
+        Batch {
+            mesh: MeshId(1),
+            material: MaterialId(1),
+            instances: tall,
+        },
+        Batch {
+            mesh: MeshId(2),
+            material: MaterialId(2),
+            instances: dry,
+        },
+        Batch {
+            mesh: MeshId(3),
+            material: MaterialId(3),
+            instances: rocks,
+        },
     ];
-    Scene { meshes, materials, albedo_layers, batches, camera, lighting: Lighting::default() }
+    Scene {
+        meshes,
+        materials,
+        albedo_layers,
+        batches,
+        camera,
+        lighting: Lighting::default(),
+    }
 }
 
 fn rng_scale(rng: &mut Rng) -> f32 {
@@ -640,9 +793,14 @@ mod tests {
     #[test]
     fn demo_scenes_validate_and_are_deterministic() {
         for scene in DemoScene::ALL {
-            let o = DemoOptions { scene, seed: 7, density: 0.2 };
+            let o = DemoOptions {
+                scene,
+                seed: 7,
+                density: 0.2,
+            };
             let a = build(&o);
-            a.validate().unwrap_or_else(|e| panic!("{}: {e}", scene.name()));
+            a.validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", scene.name()));
             assert!(a.instance_count() > 10, "{}", scene.name());
             assert_eq!(a, build(&o), "{} is not deterministic", scene.name());
         }
@@ -650,7 +808,11 @@ mod tests {
 
     #[test]
     fn alpha_tested_layers_have_holes_and_opaque_layers_do_not() {
-        let s = build(&DemoOptions { scene: DemoScene::Forest, seed: 1, density: 0.05 });
+        let s = build(&DemoOptions {
+            scene: DemoScene::Forest,
+            seed: 1,
+            density: 0.05,
+        });
         for m in &s.materials {
             let layer = &s.albedo_layers[m.albedo_layer as usize];
             let holes = layer.texels.iter().filter(|t| t[3] < 128).count();

@@ -144,7 +144,11 @@ impl fmt::Display for Error {
             Error::Poll(s) => write!(f, "waiting for the GPU failed: {s}"),
             Error::Map(s) => write!(f, "reading a GPU buffer back failed: {s}"),
             Error::Scene(e) => write!(f, "scene error: {e}"),
-            Error::DeviceLimit { limit, needed, available } => write!(
+            Error::DeviceLimit {
+                limit,
+                needed,
+                available,
+            } => write!(
                 f,
                 "the device limit `{limit}` is {available}, but the request needs {needed}"
             ),
@@ -156,35 +160,65 @@ impl fmt::Display for Error {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SceneError::TooManyPrimitives { mesh, primitives, limit } => write!(
+            SceneError::TooManyPrimitives {
+                mesh,
+                primitives,
+                limit,
+            } => write!(
                 f,
                 "mesh `{mesh}` has {primitives} primitives, over the limit of {limit} per geometry \
                  (16-bit indices; the vis-buffer primitive field); split it"
             ),
-            SceneError::TooManyVertices { mesh, vertices, limit } => write!(
+            SceneError::TooManyVertices {
+                mesh,
+                vertices,
+                limit,
+            } => write!(
                 f,
                 "mesh `{mesh}` has {vertices} vertices, over the {limit} that 16-bit indices address; split it"
             ),
             SceneError::IndexCountNotTriangles { mesh, indices } => {
-                write!(f, "mesh `{mesh}` has {indices} indices, not a multiple of 3")
+                write!(
+                    f,
+                    "mesh `{mesh}` has {indices} indices, not a multiple of 3"
+                )
             }
-            SceneError::IndexOutOfRange { mesh, at, index, vertices } => write!(
+            SceneError::IndexOutOfRange {
+                mesh,
+                at,
+                index,
+                vertices,
+            } => write!(
                 f,
                 "mesh `{mesh}`: index {index} at position {at} is out of range ({vertices} vertices)"
             ),
-            SceneError::AttributeLength { mesh, attribute, len, expected } => write!(
+            SceneError::AttributeLength {
+                mesh,
+                attribute,
+                len,
+                expected,
+            } => write!(
                 f,
                 "mesh `{mesh}`: {attribute} has {len} entries, expected {expected} (one per position)"
             ),
             SceneError::NonFinite { what } => write!(f, "{what} is NaN or infinite"),
             SceneError::UnknownReference { batch, kind, id } => {
-                write!(f, "batch {batch} refers to {kind} {id}, which does not exist")
+                write!(
+                    f,
+                    "batch {batch} refers to {kind} {id}, which does not exist"
+                )
             }
-            SceneError::UnknownTextureLayer { material, layer, layers } => write!(
+            SceneError::UnknownTextureLayer {
+                material,
+                layer,
+                layers,
+            } => write!(
                 f,
                 "material `{material}` uses albedo layer {layer}, but the scene has {layers} layers"
             ),
-            SceneError::TextureSize { layer, detail } => write!(f, "albedo layer {layer}: {detail}"),
+            SceneError::TextureSize { layer, detail } => {
+                write!(f, "albedo layer {layer}: {detail}")
+            }
             SceneError::Tiling(s) => write!(f, "micro batches and passes: {s}"),
             SceneError::Encoding(s) => write!(f, "primitive-ID encoding: {s}"),
         }

@@ -78,7 +78,11 @@ const _: () = assert!(size_of::<GpuPointLight>() == 32);
 pub fn camera_relative_rows(transform: &Affine3A, camera: Vec3) -> [[f32; 4]; 3] {
     let m = Mat4::from(Affine3A::from_translation(-camera) * *transform);
     let r = m.transpose();
-    [r.x_axis.to_array(), r.y_axis.to_array(), r.z_axis.to_array()]
+    [
+        r.x_axis.to_array(),
+        r.y_axis.to_array(),
+        r.z_axis.to_array(),
+    ]
 }
 
 /// The camera-relative view-projection: rotation and projection only.
@@ -89,7 +93,13 @@ pub fn camera_relative_view_proj(camera: &Camera, aspect: f32) -> Mat4 {
 }
 
 /// Fills the frame constants for `camera` and `lighting` at `width` × `height` pixels.
-pub fn frame_uniforms(camera: &Camera, lighting: &Lighting, width: u32, height: u32, point_lights: u32) -> FrameUniforms {
+pub fn frame_uniforms(
+    camera: &Camera,
+    lighting: &Lighting,
+    width: u32,
+    height: u32,
+    point_lights: u32,
+) -> FrameUniforms {
     let aspect = width as f32 / height.max(1) as f32;
     let vp = camera_relative_view_proj(camera, aspect);
     FrameUniforms {
@@ -97,8 +107,17 @@ pub fn frame_uniforms(camera: &Camera, lighting: &Lighting, width: u32, height: 
         inv_view_proj: vp.inverse().to_cols_array_2d(),
         prev_view_proj: vp.to_cols_array_2d(),
         camera_position: camera.position.extend(1.0).to_array(),
-        viewport: [width as f32, height as f32, 1.0 / width.max(1) as f32, 1.0 / height.max(1) as f32],
-        sun_direction: lighting.sun_direction.normalize_or(Vec3::Y).extend(0.0).to_array(),
+        viewport: [
+            width as f32,
+            height as f32,
+            1.0 / width.max(1) as f32,
+            1.0 / height.max(1) as f32,
+        ],
+        sun_direction: lighting
+            .sun_direction
+            .normalize_or(Vec3::Y)
+            .extend(0.0)
+            .to_array(),
         sun_color: lighting.sun_color.extend(0.0).to_array(),
         ambient: lighting.ambient.extend(0.0).to_array(),
         sky: lighting.sky.extend(0.0).to_array(),
@@ -124,7 +143,10 @@ mod tests {
         let rows = camera_relative_rows(&t, cam);
         let p = Vec3::new(0.3, -0.2, 1.0);
         let world = t.transform_point3(p);
-        let rel: Vec<f32> = rows.iter().map(|r| Vec4::from(*r).dot(p.extend(1.0))).collect();
+        let rel: Vec<f32> = rows
+            .iter()
+            .map(|r| Vec4::from(*r).dot(p.extend(1.0)))
+            .collect();
         for k in 0..3 {
             assert!((rel[k] - (world - cam)[k]).abs() < 1e-4);
         }
@@ -132,7 +154,12 @@ mod tests {
 
     #[test]
     fn camera_relative_projection_matches_the_full_one() {
-        let camera = Camera { position: Vec3::new(10.0, 2.0, -5.0), target: Vec3::new(12.0, 1.0, 5.0), fov_y: 1.0, near: 0.1 };
+        let camera = Camera {
+            position: Vec3::new(10.0, 2.0, -5.0),
+            target: Vec3::new(12.0, 1.0, 5.0),
+            fov_y: 1.0,
+            near: 0.1,
+        };
         let full = camera.view_projection(16.0 / 9.0);
         let rel = camera_relative_view_proj(&camera, 16.0 / 9.0);
         let p = Vec3::new(13.0, 0.5, 9.0);
@@ -143,11 +170,16 @@ mod tests {
 
     #[test]
     fn wgsl_structs_match_rust_sizes() {
-        let src = format!("{}{}", FRAME_WGSL, "@group(0) @binding(0) var<uniform> f: FrameUniforms;");
+        let src = format!(
+            "{}{}",
+            FRAME_WGSL, "@group(0) @binding(0) var<uniform> f: FrameUniforms;"
+        );
         let m = shadercheck::assert_valid("frame.wgsl", &src, shadercheck::Caps::CORE);
         let size = |name: &str| {
             m.types.iter().find_map(|(_, t)| match &t.inner {
-                naga::TypeInner::Struct { span, .. } if t.name.as_deref() == Some(name) => Some(*span as usize),
+                naga::TypeInner::Struct { span, .. } if t.name.as_deref() == Some(name) => {
+                    Some(*span as usize)
+                }
                 _ => None,
             })
         };

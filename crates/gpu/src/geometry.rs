@@ -59,14 +59,22 @@ pub struct Geometry {
 impl Geometry {
     /// Encodes every mesh of `meshes` for `path`.
     pub fn build(meshes: &[Mesh], path: PrimitiveIdPath) -> Result<Self, SceneError> {
-        let mut g = Geometry { path: Some(path), ..Geometry::default() };
+        let mut g = Geometry {
+            path: Some(path),
+            ..Geometry::default()
+        };
         for mesh in meshes {
             mesh.validate()?;
             let vertex_count = mesh.positions.len() as u32;
             let encoded = match path {
                 PrimitiveIdPath::Builtin => None,
-                PrimitiveIdPath::ProvokingVertex => Some(visbuf::encode::encode_provoking(&mesh.indices, vertex_count)),
-                PrimitiveIdPath::PerVertexXor => Some(visbuf::encode::encode_xor(&mesh.indices, vertex_count)),
+                PrimitiveIdPath::ProvokingVertex => Some(visbuf::encode::encode_provoking(
+                    &mesh.indices,
+                    vertex_count,
+                )),
+                PrimitiveIdPath::PerVertexXor => {
+                    Some(visbuf::encode::encode_xor(&mesh.indices, vertex_count))
+                }
             }
             .transpose()
             .map_err(|e| SceneError::Encoding(format!("mesh `{}`: {e}", mesh.name)))?;
@@ -89,9 +97,9 @@ impl Geometry {
                     g.added_vertices.push(0);
                 }
                 Some(e) => {
-                    let remapped = e
-                        .remap_vertices(&source)
-                        .map_err(|err| SceneError::Encoding(format!("mesh `{}`: {err}", mesh.name)))?;
+                    let remapped = e.remap_vertices(&source).map_err(|err| {
+                        SceneError::Encoding(format!("mesh `{}`: {err}", mesh.name))
+                    })?;
                     g.vertices.extend_from_slice(&remapped);
                     g.payloads.extend_from_slice(&e.payloads);
                     g.indices.extend_from_slice(&e.indices);
@@ -117,7 +125,11 @@ impl Geometry {
             return None;
         }
         let at = (mesh.first_index + 3 * t) as usize;
-        let corner = |k: usize| self.payloads.get((mesh.base_vertex + self.indices[at + k]) as usize).copied();
+        let corner = |k: usize| {
+            self.payloads
+                .get((mesh.base_vertex + self.indices[at + k]) as usize)
+                .copied()
+        };
         match self.path? {
             PrimitiveIdPath::Builtin => Some(t),
             PrimitiveIdPath::ProvokingVertex => corner(0),
@@ -133,16 +145,26 @@ mod tests {
 
     #[test]
     fn every_path_decodes_every_triangle_and_keeps_its_corners() {
-        let scene = demo::build(&demo::DemoOptions { density: 0.01, ..Default::default() });
+        let scene = demo::build(&demo::DemoOptions {
+            density: 0.01,
+            ..Default::default()
+        });
         for path in PrimitiveIdPath::ALL {
             let g = Geometry::build(&scene.meshes, path).unwrap();
             for (m, mesh) in scene.meshes.iter().enumerate() {
                 let rec = g.meshes[m];
                 for t in 0..mesh.primitive_count() as u32 {
-                    assert_eq!(g.decoded_primitive(m, t), Some(t), "{} mesh {m} tri {t}", path.name());
+                    assert_eq!(
+                        g.decoded_primitive(m, t),
+                        Some(t),
+                        "{} mesh {m} tri {t}",
+                        path.name()
+                    );
                     // The encoded triangle has the same corner positions, in the same winding.
                     let src: Vec<[f32; 3]> = (0..3)
-                        .map(|k| mesh.positions[mesh.indices[3 * t as usize + k] as usize].to_array())
+                        .map(|k| {
+                            mesh.positions[mesh.indices[3 * t as usize + k] as usize].to_array()
+                        })
                         .collect();
                     let enc: Vec<[f32; 3]> = (0..3)
                         .map(|k| {
@@ -152,7 +174,9 @@ mod tests {
                         .collect();
                     let rotations = [[0, 1, 2], [1, 2, 0], [2, 0, 1]];
                     assert!(
-                        rotations.iter().any(|r| (0..3).all(|k| enc[k] == src[r[k]])),
+                        rotations
+                            .iter()
+                            .any(|r| (0..3).all(|k| enc[k] == src[r[k]])),
                         "{} mesh {m} tri {t}: corners or winding changed",
                         path.name()
                     );

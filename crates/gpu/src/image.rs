@@ -18,34 +18,52 @@ pub struct Rgba8Image {
 impl Rgba8Image {
     /// A `width` × `height` image filled with `fill`.
     pub fn new(width: u32, height: u32, fill: [u8; 4]) -> Self {
-        Self { width, height, pixels: vec![fill; (width * height) as usize] }
+        Self {
+            width,
+            height,
+            pixels: vec![fill; (width * height) as usize],
+        }
     }
 
     /// Writes the image as a PNG file.
     pub fn write_png(&self, path: &Path) -> Result<()> {
-        let file = std::fs::File::create(path).map_err(|e| Error::Image(format!("{}: {e}", path.display())))?;
+        let file = std::fs::File::create(path)
+            .map_err(|e| Error::Image(format!("{}: {e}", path.display())))?;
         let mut enc = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
         enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let mut w = enc.write_header().map_err(|e| Error::Image(e.to_string()))?;
-        w.write_image_data(bytemuck::cast_slice(&self.pixels)).map_err(|e| Error::Image(e.to_string()))?;
+        let mut w = enc
+            .write_header()
+            .map_err(|e| Error::Image(e.to_string()))?;
+        w.write_image_data(bytemuck::cast_slice(&self.pixels))
+            .map_err(|e| Error::Image(e.to_string()))?;
         w.finish().map_err(|e| Error::Image(e.to_string()))
     }
 
     /// Reads an RGBA8 PNG (for golden-image tests).
     pub fn read_png(path: &Path) -> Result<Self> {
-        let file = std::fs::File::open(path).map_err(|e| Error::Image(format!("{}: {e}", path.display())))?;
+        let file = std::fs::File::open(path)
+            .map_err(|e| Error::Image(format!("{}: {e}", path.display())))?;
         let mut dec = png::Decoder::new(std::io::BufReader::new(file));
         dec.set_transformations(png::Transformations::EXPAND | png::Transformations::ALPHA);
         let mut reader = dec.read_info().map_err(|e| Error::Image(e.to_string()))?;
         let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
-        let info = reader.next_frame(&mut buf).map_err(|e| Error::Image(e.to_string()))?;
+        let info = reader
+            .next_frame(&mut buf)
+            .map_err(|e| Error::Image(e.to_string()))?;
         if info.color_type != png::ColorType::Rgba || info.bit_depth != png::BitDepth::Eight {
-            return Err(Error::Image(format!("{}: not an RGBA8 PNG", path.display())));
+            return Err(Error::Image(format!(
+                "{}: not an RGBA8 PNG",
+                path.display()
+            )));
         }
         buf.truncate(info.buffer_size());
-        Ok(Self { width: info.width, height: info.height, pixels: bytemuck::pod_collect_to_vec(&buf) })
+        Ok(Self {
+            width: info.width,
+            height: info.height,
+            pixels: bytemuck::pod_collect_to_vec(&buf),
+        })
     }
 }
 
@@ -55,7 +73,12 @@ pub fn id_color(id: u32) -> [u8; 4] {
     h ^= h >> 16;
     h = h.wrapping_mul(0x85eb_ca6b);
     h ^= h >> 13;
-    [(h & 0xff) as u8 | 0x20, ((h >> 8) & 0xff) as u8 | 0x20, ((h >> 16) & 0xff) as u8 | 0x20, 255]
+    [
+        (h & 0xff) as u8 | 0x20,
+        ((h >> 8) & 0xff) as u8 | 0x20,
+        ((h >> 16) & 0xff) as u8 | 0x20,
+        255,
+    ]
 }
 
 /// A heat-map colour for `t` in [0, 1]: black, blue, green, yellow, red, white.
@@ -68,7 +91,11 @@ pub fn heat_color(t: f32) -> [u8; 4] {
         [0.9, 0.1, 0.0],
         [1.0, 1.0, 1.0],
     ];
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 } * (STOPS.len() - 1) as f32;
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    } * (STOPS.len() - 1) as f32;
     let i = (t as usize).min(STOPS.len() - 2);
     let f = t - i as f32;
     let c = |k: usize| ((STOPS[i][k] + (STOPS[i + 1][k] - STOPS[i][k]) * f) * 255.0 + 0.5) as u8;
@@ -115,7 +142,8 @@ mod tests {
     fn png_roundtrip() {
         let mut img = Rgba8Image::new(5, 3, [1, 2, 3, 255]);
         img.pixels[7] = [200, 100, 50, 128];
-        let path = std::env::temp_dir().join(format!("gpu-png-roundtrip-{}.png", std::process::id()));
+        let path =
+            std::env::temp_dir().join(format!("gpu-png-roundtrip-{}.png", std::process::id()));
         img.write_png(&path).unwrap();
         let back = Rgba8Image::read_png(&path).unwrap();
         std::fs::remove_file(&path).ok();

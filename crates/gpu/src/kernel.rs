@@ -54,7 +54,12 @@ pub fn run_u32_kernel(
             compilation_options: Default::default(),
             cache: None,
         });
-        let input = storage_buffer(device, "kernel input", bytemuck::cast_slice(input), wgpu::BufferUsages::empty());
+        let input = storage_buffer(
+            device,
+            "kernel input",
+            bytemuck::cast_slice(input),
+            wgpu::BufferUsages::empty(),
+        );
         let output = storage_buffer(
             device,
             "kernel output",
@@ -65,8 +70,14 @@ pub fn run_u32_kernel(
             label: Some("test kernel"),
             layout: &pipeline.get_bind_group_layout(0),
             entries: &[
-                wgpu::BindGroupEntry { binding: 0, resource: input.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 1, resource: output.as_entire_binding() },
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: input.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: output.as_entire_binding(),
+                },
             ],
         });
         let mut encoder = device.create_command_encoder(&Default::default());

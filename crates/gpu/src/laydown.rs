@@ -49,7 +49,12 @@ pub fn scene_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         binding::storage(2, vf, true),
         binding::storage(3, vf, true),
         binding::storage(4, vf, true),
-        binding::texture(5, S::FRAGMENT, wgpu::TextureSampleType::Float { filterable: true }, wgpu::TextureViewDimension::D2Array),
+        binding::texture(
+            5,
+            S::FRAGMENT,
+            wgpu::TextureSampleType::Float { filterable: true },
+            wgpu::TextureViewDimension::D2Array,
+        ),
         binding::sampler(6, S::FRAGMENT),
     ]
 }
@@ -86,7 +91,11 @@ impl LaydownPipelines {
         let pl = binding::pipeline_layout(device, "laydown", &[&layout]);
         let module = binding::module(device, "laydown", &shaders::laydown(path));
         let (fs_opaque, fs_alpha) = shaders::laydown_entry_points(path);
-        let vs = if path == PrimitiveIdPath::Builtin { "vs_main" } else { "vs_payload" };
+        let vs = if path == PrimitiveIdPath::Builtin {
+            "vs_main"
+        } else {
+            "vs_payload"
+        };
         let make = |label: &str, vs: &str, fs: Option<&str>, vis: bool| {
             let targets = [Some(wgpu::ColorTargetState {
                 format: VIS_FORMAT,
@@ -119,7 +128,12 @@ impl LaydownPipelines {
             vis_opaque: make("laydown vis opaque", vs, Some(fs_opaque), true),
             vis_alpha: make("laydown vis alpha", vs, Some(fs_alpha), true),
             depth_opaque: make("prepass depth opaque", "vs_main", None, false),
-            depth_alpha: make("prepass depth alpha", "vs_main", Some("fs_depth_alpha"), false),
+            depth_alpha: make(
+                "prepass depth alpha",
+                "vs_main",
+                Some("fs_depth_alpha"),
+                false,
+            ),
             layout,
         }
     }
@@ -139,7 +153,10 @@ pub fn record_draws(
     pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     for alpha_pass in [false, true] {
         pass.set_pipeline(if alpha_pass { alpha } else { opaque });
-        for d in draws.iter().filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0) {
+        for d in draws
+            .iter()
+            .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
+        {
             pass.draw_indexed(
                 d.first_index..d.first_index + d.index_count,
                 d.base_vertex as i32,

@@ -18,6 +18,7 @@ pub mod context;
 pub mod demo;
 pub mod error;
 pub mod frame;
+pub mod gbuffer;
 pub mod geometry;
 pub mod image;
 pub mod kernel;

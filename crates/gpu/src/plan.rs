@@ -4,7 +4,7 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use crate::frame::{camera_relative_rows, GpuInstance};
+use crate::frame::{GpuInstance, camera_relative_rows};
 use crate::geometry::Geometry;
 use crate::laydown::Draw;
 use crate::scene::{Scene, ShaderKind};
@@ -71,8 +71,16 @@ pub struct Plan {
 impl Plan {
     /// Lays out instances and lookup tables for `micro_batches` of `scene` with camera-
     /// relative transforms around `camera`.
-    pub fn new(scene: &Scene, geometry: &Geometry, micro_batches: &[PlannedMicroBatch], camera: Vec3) -> Self {
-        let mut plan = Plan { micro_batches: micro_batches.to_vec(), ..Plan::default() };
+    pub fn new(
+        scene: &Scene,
+        geometry: &Geometry,
+        micro_batches: &[PlannedMicroBatch],
+        camera: Vec3,
+    ) -> Self {
+        let mut plan = Plan {
+            micro_batches: micro_batches.to_vec(),
+            ..Plan::default()
+        };
         for mb in micro_batches {
             let batch = &scene.batches[mb.batch as usize];
             let mesh = geometry.meshes[batch.mesh.0];
@@ -93,7 +101,12 @@ impl Plan {
                     material: batch.material.0 as u32,
                 });
             }
-            let row = GpuMicroBatch { first_instance: first_global, first_id: mb.first_id, mesh: batch.mesh.0 as u32, primitive_bits: bits.get() };
+            let row = GpuMicroBatch {
+                first_instance: first_global,
+                first_id: mb.first_id,
+                mesh: batch.mesh.0 as u32,
+                primitive_bits: bits.get(),
+            };
             let end = (mb.first_id + mb.id_count) as usize;
             if plan.micro_batch_ids.len() < end {
                 plan.micro_batch_ids.resize(end, GpuMicroBatch::default());

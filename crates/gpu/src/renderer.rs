@@ -2,12 +2,13 @@
 //! frames by either path.
 
 use crate::binding;
-use crate::context::{scoped, ActivePaths, PrimitiveIdPath};
+use crate::context::{ActivePaths, PrimitiveIdPath, scoped};
 use crate::error::{Error, Result};
-use crate::frame::{frame_uniforms, FrameUniforms, GpuPointLight};
+use crate::frame::{FrameUniforms, GpuPointLight, frame_uniforms};
+use crate::gbuffer;
 use crate::geometry::Geometry;
 use crate::image::Rgba8Image;
-use crate::laydown::{record_draws, LaydownPipelines};
+use crate::laydown::{LaydownPipelines, record_draws};
 use crate::plan::{Plan, PlannedMicroBatch};
 use crate::readback;
 use crate::scene::Scene;
@@ -51,7 +52,13 @@ pub struct RendererConfig {
 
 impl Default for RendererConfig {
     fn default() -> Self {
-        Self { width: 1280, height: 720, primitive_id: None, subgroups: true, mip_bias: 0.0 }
+        Self {
+            width: 1280,
+            height: 720,
+            primitive_id: None,
+            subgroups: true,
+            mip_bias: 0.0,
+        }
     }
 }
 
@@ -65,7 +72,39 @@ pub struct Renderer {
     pub(crate) frame: wgpu::Buffer,
     pub(crate) sampler: wgpu::Sampler,
     pub(crate) laydown: LaydownPipelines,
+    pub(crate) resolve: ComputeStage,
+    pub(crate) lighting: ComputeStage,
+    pub(crate) baseline: wgpu::RenderPipeline,
+    pub(crate) gbuffer_store_group: wgpu::BindGroup,
+    pub(crate) gbuffer_load_group: wgpu::BindGroup,
     pub(crate) timer: GpuTimer,
+}
+
+/// A compute pipeline with the layouts of its bind groups.
+pub(crate) struct ComputeStage {
+    pub(crate) layouts: Vec<wgpu::BindGroupLayout>,
+    pub(crate) pipeline: wgpu::ComputePipeline,
+}
+
+impl ComputeStage {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        source: &str,
+        entry: &str,
+        groups: Vec<Vec<wgpu::BindGroupLayoutEntry>>,
+    ) -> Self {
+        let layouts: Vec<wgpu::BindGroupLayout> = groups
+            .iter()
+            .enumerate()
+            .map(|(i, e)| binding::layout(device, &format!("{label} group {i}"), e))
+            .collect();
+        let refs: Vec<&wgpu::BindGroupLayout> = layouts.iter().collect();
+        let pl = binding::pipeline_layout(device, label, &refs);
+        let module = binding::module(device, label, source);
+        let pipeline = binding::compute_pipeline(device, label, &pl, &module, entry, &[]);
+        Self { layouts, pipeline }
+    }
 }
 
 /// A scene uploaded for one renderer.
@@ -77,6 +116,8 @@ pub struct PreparedScene {
     pub(crate) frame_uniforms: FrameUniforms,
     pub(crate) index_buffer: wgpu::Buffer,
     pub(crate) scene_group: wgpu::BindGroup,
+    pub(crate) resolve_group: wgpu::BindGroup,
+    pub(crate) lighting_group: wgpu::BindGroup,
     pub(crate) _buffers: Vec<wgpu::Buffer>,
     pub(crate) _albedo: wgpu::Texture,
 }
@@ -96,7 +137,11 @@ impl Renderer {
     /// an error naming the feature.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, config: RendererConfig) -> Result<Self> {
         if config.width == 0 || config.height == 0 {
-            return Err(Error::DeviceLimit { limit: "image size (width and height must be at least 1)", needed: 1, available: 0 });
+            return Err(Error::DeviceLimit {
+                limit: "image size (width and height must be at least 1)",
+                needed: 1,
+                available: 0,
+            });
         }
         let max = device.limits().max_texture_dimension_2d;
         if config.width.max(config.height) > max {
@@ -121,7 +166,12 @@ impl Renderer {
             paths.subgroup_size = None;
         }
         scoped(device, || {
-            let targets = Targets::new(device, config.width, config.height, &[]);
+            let targets = Targets::new(
+                device,
+                config.width,
+                config.height,
+                &gbuffer::color_formats(),
+            );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
                 size: size_of::<FrameUniforms>() as u64,
@@ -140,8 +190,68 @@ impl Renderer {
                 ..Default::default()
             });
             let laydown = LaydownPipelines::new(device, paths.primitive_id);
+            let c = wgpu::ShaderStages::COMPUTE;
+            let resolve = ComputeStage::new(
+                device,
+                "resolve",
+                &crate::shaders::resolve(),
+                "resolve_fullscreen",
+                vec![
+                    resolve_layout_entries(),
+                    gbuffer::store_layout_entries(0, c),
+                ],
+            );
+            let lighting = ComputeStage::new(
+                device,
+                "lighting",
+                &crate::shaders::lighting(),
+                "main",
+                vec![
+                    vec![
+                        binding::uniform(0, c),
+                        binding::texture(
+                            1,
+                            c,
+                            wgpu::TextureSampleType::Depth,
+                            wgpu::TextureViewDimension::D2,
+                        ),
+                        binding::storage(2, c, true),
+                        binding::storage_texture(3, c, crate::targets::OUTPUT_FORMAT),
+                    ],
+                    gbuffer::load_layout_entries(0, c),
+                ],
+            );
+            let baseline = baseline_pipeline(device, &laydown.layout, paths.primitive_id);
+            let views: Vec<wgpu::TextureView> = targets
+                .gbuffer
+                .iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect();
+            let resources: Vec<wgpu::BindingResource<'_>> = views
+                .iter()
+                .map(wgpu::BindingResource::TextureView)
+                .collect();
+            let gbuffer_store_group =
+                binding::group(device, "gbuffer store", &resolve.layouts[1], &resources);
+            let gbuffer_load_group =
+                binding::group(device, "gbuffer load", &lighting.layouts[1], &resources);
             let timer = GpuTimer::new(device, queue, 32);
-            Ok(Self { device: device.clone(), queue: queue.clone(), config, paths, targets, frame, sampler, laydown, timer })
+            Ok(Self {
+                device: device.clone(),
+                queue: queue.clone(),
+                config,
+                paths,
+                targets,
+                frame,
+                sampler,
+                laydown,
+                resolve,
+                lighting,
+                baseline,
+                gbuffer_store_group,
+                gbuffer_load_group,
+                timer,
+            })
         })
     }
 
@@ -157,18 +267,47 @@ impl Renderer {
 
     /// Uploads `scene` with micro batches given by the caller (the `tiling` builder's output
     /// in [`Renderer::prepare`]).
-    pub fn prepare_with_micro_batches(&self, scene: &Scene, micro_batches: &[PlannedMicroBatch]) -> Result<PreparedScene> {
+    pub fn prepare_with_micro_batches(
+        &self,
+        scene: &Scene,
+        micro_batches: &[PlannedMicroBatch],
+    ) -> Result<PreparedScene> {
         scene.validate()?;
         let geometry = Geometry::build(&scene.meshes, self.paths.primitive_id)?;
         let plan = Plan::new(scene, &geometry, micro_batches, scene.camera.position);
         let device = &self.device;
         scoped(device, || {
             let none = wgpu::BufferUsages::empty();
-            let vertices = storage_buffer(device, "vertices", bytemuck::cast_slice(&geometry.vertices), none);
-            let payloads = storage_buffer(device, "payloads", bytemuck::cast_slice(&geometry.payloads), none);
-            let index_buffer = storage_buffer(device, "indices", bytemuck::cast_slice(&geometry.indices), wgpu::BufferUsages::INDEX);
-            let instances = storage_buffer(device, "instances", bytemuck::cast_slice(&plan.instances), none);
-            let materials = storage_buffer(device, "materials", bytemuck::cast_slice(&gpu_materials(scene)), none);
+            let vertices = storage_buffer(
+                device,
+                "vertices",
+                bytemuck::cast_slice(&geometry.vertices),
+                none,
+            );
+            let payloads = storage_buffer(
+                device,
+                "payloads",
+                bytemuck::cast_slice(&geometry.payloads),
+                none,
+            );
+            let index_buffer = storage_buffer(
+                device,
+                "indices",
+                bytemuck::cast_slice(&geometry.indices),
+                wgpu::BufferUsages::INDEX,
+            );
+            let instances = storage_buffer(
+                device,
+                "instances",
+                bytemuck::cast_slice(&plan.instances),
+                none,
+            );
+            let materials = storage_buffer(
+                device,
+                "materials",
+                bytemuck::cast_slice(&gpu_materials(scene)),
+                none,
+            );
             let albedo = albedo_texture(device, &self.queue, &scene.albedo_layers);
             let albedo_view = albedo.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -193,13 +332,64 @@ impl Renderer {
                 .point_lights
                 .iter()
                 .map(|l| GpuPointLight {
-                    position_radius: (l.position - scene.camera.position).extend(l.radius).to_array(),
+                    position_radius: (l.position - scene.camera.position)
+                        .extend(l.radius)
+                        .to_array(),
                     color: l.color.extend(0.0).to_array(),
                 })
                 .collect();
-            let point_lights = storage_buffer(device, "point lights", bytemuck::cast_slice(&lights), none);
-            let mut frame_uniforms =
-                frame_uniforms(&scene.camera, &scene.lighting, self.config.width, self.config.height, lights.len() as u32);
+            let point_lights =
+                storage_buffer(device, "point lights", bytemuck::cast_slice(&lights), none);
+            let meshes = storage_buffer(
+                device,
+                "meshes",
+                bytemuck::cast_slice(&geometry.meshes),
+                none,
+            );
+            let micro_batches = storage_buffer(
+                device,
+                "micro batches",
+                bytemuck::cast_slice(&plan.micro_batch_ids),
+                none,
+            );
+            let vis_view = self.targets.vis.create_view(&Default::default());
+            let resolve_group = binding::group(
+                device,
+                "resolve",
+                &self.resolve.layouts[0],
+                &[
+                    self.frame.as_entire_binding(),
+                    vertices.as_entire_binding(),
+                    instances.as_entire_binding(),
+                    materials.as_entire_binding(),
+                    index_buffer.as_entire_binding(),
+                    meshes.as_entire_binding(),
+                    micro_batches.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&albedo_view),
+                    wgpu::BindingResource::Sampler(&self.sampler),
+                    wgpu::BindingResource::TextureView(&vis_view),
+                ],
+            );
+            let depth_view = self.targets.depth.create_view(&Default::default());
+            let output_view = self.targets.output.create_view(&Default::default());
+            let lighting_group = binding::group(
+                device,
+                "lighting",
+                &self.lighting.layouts[0],
+                &[
+                    self.frame.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&depth_view),
+                    point_lights.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(&output_view),
+                ],
+            );
+            let mut frame_uniforms = frame_uniforms(
+                &scene.camera,
+                &scene.lighting,
+                self.config.width,
+                self.config.height,
+                lights.len() as u32,
+            );
             frame_uniforms.mip_bias = self.config.mip_bias;
             Ok(PreparedScene {
                 geometry,
@@ -207,7 +397,17 @@ impl Renderer {
                 frame_uniforms,
                 index_buffer,
                 scene_group,
-                _buffers: vec![vertices, payloads, instances, materials, point_lights],
+                resolve_group,
+                lighting_group,
+                _buffers: vec![
+                    vertices,
+                    payloads,
+                    instances,
+                    materials,
+                    point_lights,
+                    meshes,
+                    micro_batches,
+                ],
                 _albedo: albedo,
             })
         })
@@ -224,13 +424,21 @@ impl Renderer {
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r: f64::from(visbuf::VIS_NONE), g: 0.0, b: 0.0, a: 0.0 }),
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: f64::from(visbuf::VIS_NONE),
+                        g: 0.0,
+                        b: 0.0,
+                        a: 0.0,
+                    }),
                     store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth_view,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
                 stencil_ops: None,
             }),
             timestamp_writes: self.timer.render("laydown"),
@@ -247,21 +455,226 @@ impl Renderer {
         );
     }
 
+    /// Records the full-screen compute resolve into the G-buffer.
+    fn record_resolve_fullscreen(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &PreparedScene,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("material resolve (full screen)"),
+            timestamp_writes: self.timer.compute("resolve"),
+        });
+        pass.set_pipeline(&self.resolve.pipeline);
+        pass.set_bind_group(0, &scene.resolve_group, &[]);
+        pass.set_bind_group(1, &self.gbuffer_store_group, &[]);
+        pass.dispatch_workgroups(
+            self.config.width.div_ceil(8),
+            self.config.height.div_ceil(8),
+            1,
+        );
+    }
+
+    /// Records lighting and tone mapping into the output image.
+    fn record_lighting(&mut self, encoder: &mut wgpu::CommandEncoder, scene: &PreparedScene) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("lighting"),
+            timestamp_writes: self.timer.compute("lighting"),
+        });
+        pass.set_pipeline(&self.lighting.pipeline);
+        pass.set_bind_group(0, &scene.lighting_group, &[]);
+        pass.set_bind_group(1, &self.gbuffer_load_group, &[]);
+        pass.dispatch_workgroups(
+            self.config.width.div_ceil(8),
+            self.config.height.div_ceil(8),
+            1,
+        );
+    }
+
+    /// Records HZD's method: depth prepass with alpha test, then the depth-equal geometry
+    /// pass writing the G-buffer.
+    fn record_baseline(&mut self, encoder: &mut wgpu::CommandEncoder, scene: &PreparedScene) {
+        let depth_view = self.targets.depth.create_view(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("baseline depth prepass"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: self.timer.render("depth prepass"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            record_draws(
+                &mut pass,
+                &scene.plan.draws,
+                &self.laydown.depth_opaque,
+                &self.laydown.depth_alpha,
+                &scene.scene_group,
+                &scene.index_buffer,
+            );
+        }
+        let views: Vec<wgpu::TextureView> = self
+            .targets
+            .gbuffer
+            .iter()
+            .map(|t| t.create_view(&Default::default()))
+            .collect();
+        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = views
+            .iter()
+            .map(|v| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("baseline depth-equal geometry pass"),
+            color_attachments: &colors,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: self.timer.render("depth-equal geometry pass"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
+        record_draws(
+            &mut pass,
+            &scene.plan.draws,
+            &self.baseline,
+            &self.baseline,
+            &scene.scene_group,
+            &scene.index_buffer,
+        );
+    }
+
+    /// Renders `frames` frames of `path` and returns the timings (GPU times are the mean
+    /// over frames after the first, or the first when there is only one).
+    pub fn render_frames(
+        &mut self,
+        scene: &PreparedScene,
+        path: RenderPath,
+        frames: u32,
+    ) -> Result<FrameTimings> {
+        let mut all = Vec::new();
+        for _ in 0..frames.max(1) {
+            all.push(self.render(scene, path)?);
+        }
+        let steady: Vec<&FrameTimings> = if all.len() > 1 {
+            all.iter().skip(1).collect()
+        } else {
+            all.iter().collect()
+        };
+        let n = steady.len() as f64;
+        let mut gpu: Vec<Timing> = Vec::new();
+        for f in &steady {
+            for t in &f.gpu {
+                match gpu.iter_mut().find(|g| g.label == t.label) {
+                    Some(g) => g.ms += t.ms / n,
+                    None => gpu.push(Timing {
+                        label: t.label,
+                        ms: t.ms / n,
+                        passes: t.passes,
+                    }),
+                }
+            }
+        }
+        let wall_ms = steady.iter().map(|f| f.wall_ms).sum::<f64>() / n;
+        Ok(FrameTimings { gpu, wall_ms })
+    }
+
+    /// Renders one frame of `path` into the output image and waits for it.
+    pub fn render(&mut self, scene: &PreparedScene, path: RenderPath) -> Result<FrameTimings> {
+        let device = self.device.clone();
+        let t0 = std::time::Instant::now();
+        scoped(&device, || {
+            self.queue
+                .write_buffer(&self.frame, 0, bytemuck::bytes_of(&scene.frame_uniforms));
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some(path.name()),
+            });
+            match path {
+                RenderPath::Deferred => {
+                    self.record_laydown(&mut encoder, scene);
+                    self.record_resolve_fullscreen(&mut encoder, scene);
+                }
+                RenderPath::Baseline => self.record_baseline(&mut encoder, scene),
+            }
+            self.record_lighting(&mut encoder, scene);
+            self.timer.resolve(&mut encoder);
+            self.queue.submit([encoder.finish()]);
+            crate::context::wait_idle(&device)
+        })?;
+        let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let gpu = self.timer.read(&self.device, &self.queue)?;
+        Ok(FrameTimings { gpu, wall_ms })
+    }
+
+    /// Reads the output image back (sRGB-encoded RGBA8).
+    pub fn read_output(&self) -> Result<Rgba8Image> {
+        let bytes = readback::read_texture(
+            &self.device,
+            &self.queue,
+            &self.targets.output,
+            wgpu::TextureAspect::All,
+            4,
+        )?;
+        Ok(Rgba8Image {
+            width: self.config.width,
+            height: self.config.height,
+            pixels: bytemuck::pod_collect_to_vec(&bytes),
+        })
+    }
+
     /// Renders the laydown only and returns the vis buffer (row-major words) and the depth
     /// buffer: what the classification passes and their CPU twins read.
     pub fn render_laydown(&mut self, scene: &PreparedScene) -> Result<(Vec<u32>, Vec<f32>)> {
         let device = self.device.clone();
         scoped(&device, || {
-            self.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&scene.frame_uniforms));
+            self.queue
+                .write_buffer(&self.frame, 0, bytemuck::bytes_of(&scene.frame_uniforms));
             let mut encoder = device.create_command_encoder(&Default::default());
             self.record_laydown(&mut encoder, scene);
             self.queue.submit([encoder.finish()]);
             Ok(())
         })?;
         let _ = self.timer.read(&self.device, &self.queue)?;
-        let vis = readback::read_texture(&self.device, &self.queue, &self.targets.vis, wgpu::TextureAspect::All, 4)?;
-        let depth = readback::read_texture(&self.device, &self.queue, &self.targets.depth, wgpu::TextureAspect::DepthOnly, 4)?;
-        Ok((bytemuck::pod_collect_to_vec(&vis), bytemuck::pod_collect_to_vec(&depth)))
+        let vis = readback::read_texture(
+            &self.device,
+            &self.queue,
+            &self.targets.vis,
+            wgpu::TextureAspect::All,
+            4,
+        )?;
+        let depth = readback::read_texture(
+            &self.device,
+            &self.queue,
+            &self.targets.depth,
+            wgpu::TextureAspect::DepthOnly,
+            4,
+        )?;
+        Ok((
+            bytemuck::pod_collect_to_vec(&vis),
+            bytemuck::pod_collect_to_vec(&depth),
+        ))
     }
 
     /// The vis buffer colour-coded by (micro batch, instance, primitive), like the talk's
@@ -269,8 +682,76 @@ impl Renderer {
     pub fn vis_debug_view(&self, vis: &[u32]) -> Rgba8Image {
         let mut img = Rgba8Image::new(self.config.width, self.config.height, [0, 0, 0, 255]);
         for (p, &w) in img.pixels.iter_mut().zip(vis) {
-            *p = if w == visbuf::VIS_NONE { [230, 200, 40, 255] } else { crate::image::id_color(w) };
+            *p = if w == visbuf::VIS_NONE {
+                [230, 200, 40, 255]
+            } else {
+                crate::image::id_color(w)
+            };
         }
         img
     }
+}
+
+/// Bind-group 0 of the resolve (see `shaders/resolve_common.wgsl`).
+fn resolve_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let c = wgpu::ShaderStages::COMPUTE;
+    vec![
+        binding::uniform(0, c),
+        binding::storage(1, c, true),
+        binding::storage(2, c, true),
+        binding::storage(3, c, true),
+        binding::storage(4, c, true),
+        binding::storage(5, c, true),
+        binding::storage(6, c, true),
+        binding::texture(
+            7,
+            c,
+            wgpu::TextureSampleType::Float { filterable: true },
+            wgpu::TextureViewDimension::D2Array,
+        ),
+        binding::sampler(8, c),
+        binding::texture(
+            9,
+            c,
+            wgpu::TextureSampleType::Uint,
+            wgpu::TextureViewDimension::D2,
+        ),
+    ]
+}
+
+/// HZD's depth-equal geometry pass: same vertex transform as the prepass, depth `Equal`
+/// without writes, G-buffer from the fragment shader.
+fn baseline_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    path: PrimitiveIdPath,
+) -> wgpu::RenderPipeline {
+    let pl = binding::pipeline_layout(device, "baseline", &[layout]);
+    let module = binding::module(device, "baseline", &crate::shaders::baseline(path));
+    let targets = gbuffer::color_targets();
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("baseline geometry pass"),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs_baseline"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: crate::laydown::primitive_state(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            ..crate::laydown::depth_write_state()
+        }),
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs_baseline"),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }

@@ -5,7 +5,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::context::GpuContext;
-use crate::image::{diff_metrics, Rgba8Image};
+use crate::image::{Rgba8Image, diff_metrics};
 use crate::renderer::{FrameTimings, PreparedScene, RenderPath, Renderer};
 use crate::scene::Scene;
 
@@ -50,8 +50,17 @@ pub struct Report {
 
 impl Report {
     /// Starts a report with the adapter, the active paths and the scene's size.
-    pub fn new(ctx: &GpuContext, scene: &Scene, renderer: &Renderer, prepared: &PreparedScene) -> Self {
-        let mut r = Report { lines: Vec::new(), timings: Vec::new(), images: Vec::new() };
+    pub fn new(
+        ctx: &GpuContext,
+        scene: &Scene,
+        renderer: &Renderer,
+        prepared: &PreparedScene,
+    ) -> Self {
+        let mut r = Report {
+            lines: Vec::new(),
+            timings: Vec::new(),
+            images: Vec::new(),
+        };
         let paths = renderer.paths();
         r.row("adapter", ctx.adapter_line());
         r.row("primitive ID path", paths.primitive_id.name().to_string());
@@ -62,14 +71,33 @@ impl Report {
                 None => "workgroup-atomic fallback".to_string(),
             },
         );
-        r.row("timestamps", if paths.timestamps { "yes" } else { "no (times are wall-clock only)" }.to_string());
+        r.row(
+            "timestamps",
+            if paths.timestamps {
+                "yes"
+            } else {
+                "no (times are wall-clock only)"
+            }
+            .to_string(),
+        );
         let c = renderer.config();
         r.row("resolution", format!("{} x {}", c.width, c.height));
         r.row("instances", group_digits(scene.instance_count() as u64));
         r.row("triangles", group_digits(scene.triangle_count()));
-        r.row("micro batches", group_digits(prepared.plan.micro_batches.len() as u64));
-        let added: u64 = prepared.geometry.added_vertices.iter().map(|&a| u64::from(a)).sum();
-        r.row("vertices added by the primitive-ID encoding", group_digits(added));
+        r.row(
+            "micro batches",
+            group_digits(prepared.plan.micro_batches.len() as u64),
+        );
+        let added: u64 = prepared
+            .geometry
+            .added_vertices
+            .iter()
+            .map(|&a| u64::from(a))
+            .sum();
+        r.row(
+            "vertices added by the primitive-ID encoding",
+            group_digits(added),
+        );
         r
     }
 
@@ -85,11 +113,28 @@ impl Report {
     /// The classification counters and the talk's ratios.
     pub fn classification(&mut self, s: &ClassificationStats) {
         self.row("vis pixels", group_digits(s.vis_pixels));
-        self.row("passes / batch groups", format!("{} / {}", s.passes, s.batch_groups));
+        self.row(
+            "passes / batch groups",
+            format!("{} / {}", s.passes, s.batch_groups),
+        );
         self.row("pixel commands", group_digits(s.pixel_commands));
-        self.row("wave commands", format!("{} (wave width {})", group_digits(s.wave_commands), s.wave_width));
+        self.row(
+            "wave commands",
+            format!(
+                "{} (wave width {})",
+                group_digits(s.wave_commands),
+                s.wave_width
+            ),
+        );
         let lanes = s.wave_commands * u64::from(s.wave_width);
-        self.row("unfilled lanes", format!("{} ({:.1}% of lanes)", group_digits(s.unfilled_lanes), pct(s.unfilled_lanes, lanes)));
+        self.row(
+            "unfilled lanes",
+            format!(
+                "{} ({:.1}% of lanes)",
+                group_digits(s.unfilled_lanes),
+                pct(s.unfilled_lanes, lanes)
+            ),
+        );
         self.row(
             "pixel-shading waves: deferred / depth-equal",
             format!(
@@ -110,10 +155,17 @@ impl Report {
         );
         self.row(
             "command buffer bytes",
-            format!("{} ({:.2} per vis pixel)", group_digits(s.command_bytes), s.command_bytes as f64 / s.vis_pixels.max(1) as f64),
+            format!(
+                "{} ({:.2} per vis pixel)",
+                group_digits(s.command_bytes),
+                s.command_bytes as f64 / s.vis_pixels.max(1) as f64
+            ),
         );
         if let Some(m) = s.gpu_matches_cpu {
-            self.row("GPU classification == CPU twin", if m { "yes" } else { "NO" }.to_string());
+            self.row(
+                "GPU classification == CPU twin",
+                if m { "yes" } else { "NO" }.to_string(),
+            );
         }
     }
 
@@ -124,7 +176,8 @@ impl Report {
 
     /// An output image of a path.
     pub fn image(&mut self, path: RenderPath, file: &Path) {
-        self.images.push((path.name().to_string(), file.to_path_buf()));
+        self.images
+            .push((path.name().to_string(), file.to_path_buf()));
     }
 
     /// A named debug image.
@@ -134,14 +187,24 @@ impl Report {
 
     /// Compares the deferred image with the baseline's.
     pub fn compare(&mut self, deferred: &Rgba8Image, baseline: &Rgba8Image) {
-        if let (Some((mean, _)), Some((_, p99))) = (diff_metrics(deferred, baseline, 0.5), diff_metrics(deferred, baseline, 0.99)) {
-            self.row("deferred vs baseline image", format!("mean abs error {mean:.2} / 255, 99th percentile {p99} / 255"));
+        if let (Some((mean, _)), Some((_, p99))) = (
+            diff_metrics(deferred, baseline, 0.5),
+            diff_metrics(deferred, baseline, 0.99),
+        ) {
+            self.row(
+                "deferred vs baseline image",
+                format!("mean abs error {mean:.2} / 255, 99th percentile {p99} / 255"),
+            );
         }
     }
 }
 
 fn pct(a: u64, b: u64) -> f64 {
-    if b == 0 { 0.0 } else { 100.0 * a as f64 / b as f64 }
+    if b == 0 {
+        0.0
+    } else {
+        100.0 * a as f64 / b as f64
+    }
 }
 
 /// 1234567 -> "1 234 567".
@@ -149,7 +212,7 @@ pub fn group_digits(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(' ');
         }
         out.push(c);
@@ -164,7 +227,11 @@ impl fmt::Display for Report {
             writeln!(f, "{k:<w$}  {v}")?;
         }
         for (path, t) in &self.timings {
-            writeln!(f, "\n{} path, GPU times (timestamp queries, mean over frames):", path.name())?;
+            writeln!(
+                f,
+                "\n{} path, GPU times (timestamp queries, mean over frames):",
+                path.name()
+            )?;
             let total: f64 = t.gpu.iter().map(|x| x.ms).sum();
             for x in &t.gpu {
                 writeln!(f, "  {:<28} {:>9.3} ms", x.label, x.ms)?;

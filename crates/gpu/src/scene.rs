@@ -51,18 +51,32 @@ impl Mesh {
     pub fn validate(&self) -> Result<(), SceneError> {
         let n = self.positions.len();
         let mesh = || self.name.clone();
-        for (attribute, len) in
-            [("normals", self.normals.len()), ("uvs", self.uvs.len()), ("tangents", self.tangents.len())]
-        {
+        for (attribute, len) in [
+            ("normals", self.normals.len()),
+            ("uvs", self.uvs.len()),
+            ("tangents", self.tangents.len()),
+        ] {
             if len != n {
-                return Err(SceneError::AttributeLength { mesh: mesh(), attribute, len, expected: n });
+                return Err(SceneError::AttributeLength {
+                    mesh: mesh(),
+                    attribute,
+                    len,
+                    expected: n,
+                });
             }
         }
         if n > MAX_VERTICES_PER_MESH {
-            return Err(SceneError::TooManyVertices { mesh: mesh(), vertices: n, limit: MAX_VERTICES_PER_MESH });
+            return Err(SceneError::TooManyVertices {
+                mesh: mesh(),
+                vertices: n,
+                limit: MAX_VERTICES_PER_MESH,
+            });
         }
-        if self.indices.len() % 3 != 0 {
-            return Err(SceneError::IndexCountNotTriangles { mesh: mesh(), indices: self.indices.len() });
+        if !self.indices.len().is_multiple_of(3) {
+            return Err(SceneError::IndexCountNotTriangles {
+                mesh: mesh(),
+                indices: self.indices.len(),
+            });
         }
         if self.primitive_count() > MAX_PRIMITIVES_PER_MESH {
             return Err(SceneError::TooManyPrimitives {
@@ -71,15 +85,27 @@ impl Mesh {
                 limit: MAX_PRIMITIVES_PER_MESH,
             });
         }
-        if let Some((at, &index)) = self.indices.iter().enumerate().find(|&(_, &i)| usize::from(i) >= n) {
-            return Err(SceneError::IndexOutOfRange { mesh: mesh(), at, index: index.into(), vertices: n });
+        if let Some((at, &index)) = self
+            .indices
+            .iter()
+            .enumerate()
+            .find(|&(_, &i)| usize::from(i) >= n)
+        {
+            return Err(SceneError::IndexOutOfRange {
+                mesh: mesh(),
+                at,
+                index: index.into(),
+                vertices: n,
+            });
         }
         let finite = self.positions.iter().all(|p| p.is_finite())
             && self.normals.iter().all(|p| p.is_finite())
             && self.uvs.iter().all(|p| p.is_finite())
             && self.tangents.iter().all(|p| p.is_finite());
         if !finite {
-            return Err(SceneError::NonFinite { what: format!("a vertex attribute of mesh `{}`", self.name) });
+            return Err(SceneError::NonFinite {
+                what: format!("a vertex attribute of mesh `{}`", self.name),
+            });
         }
         Ok(())
     }
@@ -87,7 +113,9 @@ impl Mesh {
     /// Object-space bounds (min, max); both zero for an empty mesh.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let mut it = self.positions.iter();
-        let Some(&first) = it.next() else { return (Vec3::ZERO, Vec3::ZERO) };
+        let Some(&first) = it.next() else {
+            return (Vec3::ZERO, Vec3::ZERO);
+        };
         it.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)))
     }
 }
@@ -248,13 +276,21 @@ impl Scene {
             if l.size != size || !l.size.is_power_of_two() {
                 return Err(SceneError::TextureSize {
                     layer: i,
-                    detail: format!("size {} differs from layer 0's {size} or is not a power of two", l.size),
+                    detail: format!(
+                        "size {} differs from layer 0's {size} or is not a power of two",
+                        l.size
+                    ),
                 });
             }
             if l.texels.len() != (l.size as usize).pow(2) {
                 return Err(SceneError::TextureSize {
                     layer: i,
-                    detail: format!("{} texels for a {}x{} layer", l.texels.len(), l.size, l.size),
+                    detail: format!(
+                        "{} texels for a {}x{} layer",
+                        l.texels.len(),
+                        l.size,
+                        l.size
+                    ),
                 });
             }
         }
@@ -266,28 +302,49 @@ impl Scene {
                     layers: self.albedo_layers.len(),
                 });
             }
-            if !(m.tint.is_finite() && m.alpha_cutoff.is_finite() && m.roughness.is_finite() && m.specular.is_finite()) {
-                return Err(SceneError::NonFinite { what: format!("a constant of material `{}`", m.name) });
+            if !(m.tint.is_finite()
+                && m.alpha_cutoff.is_finite()
+                && m.roughness.is_finite()
+                && m.specular.is_finite())
+            {
+                return Err(SceneError::NonFinite {
+                    what: format!("a constant of material `{}`", m.name),
+                });
             }
         }
         for (b, batch) in self.batches.iter().enumerate() {
             if batch.mesh.0 >= self.meshes.len() {
-                return Err(SceneError::UnknownReference { batch: b, kind: "mesh", id: batch.mesh.0 });
+                return Err(SceneError::UnknownReference {
+                    batch: b,
+                    kind: "mesh",
+                    id: batch.mesh.0,
+                });
             }
             if batch.material.0 >= self.materials.len() {
-                return Err(SceneError::UnknownReference { batch: b, kind: "material", id: batch.material.0 });
+                return Err(SceneError::UnknownReference {
+                    batch: b,
+                    kind: "material",
+                    id: batch.material.0,
+                });
             }
             if let Some(i) = batch.instances.iter().position(|t| !t.is_finite()) {
-                return Err(SceneError::NonFinite { what: format!("instance {i} of batch {b}") });
+                return Err(SceneError::NonFinite {
+                    what: format!("instance {i} of batch {b}"),
+                });
             }
         }
         let c = &self.camera;
-        if !(c.position.is_finite() && c.target.is_finite() && c.fov_y.is_finite() && c.near.is_finite())
+        if !(c.position.is_finite()
+            && c.target.is_finite()
+            && c.fov_y.is_finite()
+            && c.near.is_finite())
             || c.near <= 0.0
             || c.fov_y <= 0.0
             || c.position == c.target
         {
-            return Err(SceneError::NonFinite { what: "the camera (or a zero near plane, field of view or view direction)".into() });
+            return Err(SceneError::NonFinite {
+                what: "the camera (or a zero near plane, field of view or view direction)".into(),
+            });
         }
         Ok(())
     }
@@ -301,7 +358,13 @@ impl Scene {
     pub fn triangle_count(&self) -> u64 {
         self.batches
             .iter()
-            .map(|b| b.instances.len() as u64 * self.meshes.get(b.mesh.0).map_or(0, |m| m.primitive_count() as u64))
+            .map(|b| {
+                b.instances.len() as u64
+                    * self
+                        .meshes
+                        .get(b.mesh.0)
+                        .map_or(0, |m| m.primitive_count() as u64)
+            })
             .sum()
     }
 
@@ -309,7 +372,13 @@ impl Scene {
     pub fn vertex_count(&self) -> u64 {
         self.batches
             .iter()
-            .map(|b| b.instances.len() as u64 * self.meshes.get(b.mesh.0).map_or(0, |m| m.positions.len() as u64))
+            .map(|b| {
+                b.instances.len() as u64
+                    * self
+                        .meshes
+                        .get(b.mesh.0)
+                        .map_or(0, |m| m.positions.len() as u64)
+            })
             .sum()
     }
 }

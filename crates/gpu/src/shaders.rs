@@ -7,6 +7,10 @@ const LAYDOWN: &str = include_str!("shaders/laydown.wgsl");
 const LAYDOWN_BUILTIN: &str = include_str!("shaders/laydown_builtin.wgsl");
 const LAYDOWN_PROVOKING: &str = include_str!("shaders/laydown_provoking.wgsl");
 const LAYDOWN_XOR: &str = include_str!("shaders/laydown_xor.wgsl");
+const MATERIAL: &str = include_str!("shaders/material.wgsl");
+const RESOLVE_COMMON: &str = include_str!("shaders/resolve_common.wgsl");
+const BASELINE: &str = include_str!("shaders/baseline.wgsl");
+const LIGHTING: &str = include_str!("shaders/lighting.wgsl");
 
 /// The laydown module for one primitive-ID path (and the baseline's depth prepass, which
 /// uses the same vertex stage so both produce bit-identical depths).
@@ -16,7 +20,58 @@ pub fn laydown(path: PrimitiveIdPath) -> String {
         PrimitiveIdPath::PerVertexXor => ("enable wgpu_per_vertex;\n", LAYDOWN_XOR),
         PrimitiveIdPath::ProvokingVertex => ("", LAYDOWN_PROVOKING),
     };
-    [enable, visbuf::ID_WGSL, crate::upload::SCENE_WGSL, crate::frame::FRAME_WGSL, LAYDOWN, fragment].concat()
+    [
+        enable,
+        visbuf::ID_WGSL,
+        crate::upload::SCENE_WGSL,
+        crate::frame::FRAME_WGSL,
+        LAYDOWN,
+        fragment,
+    ]
+    .concat()
+}
+
+/// The baseline's geometry pass (depth-equal, G-buffer from a fragment shader): the laydown
+/// module of `path` (for its identical vertex transform) plus material evaluation and the
+/// G-buffer's fragment outputs.
+pub fn baseline(path: PrimitiveIdPath) -> String {
+    [
+        laydown(path).as_str(),
+        deferred::GBUFFER_WGSL,
+        MATERIAL,
+        &crate::gbuffer::fragment_wgsl(),
+        BASELINE,
+    ]
+    .concat()
+}
+
+/// The compute material resolve: per-pixel vertex pulling, barycentrics, material, G-buffer
+/// store (group 1).
+pub fn resolve() -> String {
+    [
+        visbuf::ID_WGSL,
+        visbuf::BARY_WGSL,
+        deferred::GBUFFER_WGSL,
+        crate::upload::SCENE_WGSL,
+        crate::frame::FRAME_WGSL,
+        crate::geometry::GEOMETRY_WGSL,
+        crate::plan::PLAN_WGSL,
+        MATERIAL,
+        &crate::gbuffer::store_wgsl(1, 0),
+        RESOLVE_COMMON,
+    ]
+    .concat()
+}
+
+/// Deferred lighting and tone mapping (G-buffer read from group 1).
+pub fn lighting() -> String {
+    [
+        deferred::GBUFFER_WGSL,
+        crate::frame::FRAME_WGSL,
+        &crate::gbuffer::load_wgsl(1, 0),
+        LIGHTING,
+    ]
+    .concat()
 }
 
 /// Fragment entry points of the laydown for `path`: (opaque, alpha-tested).
@@ -41,6 +96,15 @@ pub(crate) fn caps(path: PrimitiveIdPath) -> shadercheck::Caps {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn resolve_lighting_and_baseline_validate() {
+        shadercheck::assert_valid("resolve", &resolve(), shadercheck::Caps::CORE);
+        shadercheck::assert_valid("lighting", &lighting(), shadercheck::Caps::CORE);
+        for path in PrimitiveIdPath::ALL {
+            shadercheck::assert_valid(path.name(), &baseline(path), caps(path));
+        }
+    }
 
     #[test]
     fn laydown_modules_validate_with_only_their_path_capability() {

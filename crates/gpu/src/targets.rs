@@ -37,7 +37,11 @@ fn texture(
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -49,14 +53,35 @@ fn texture(
 
 impl Targets {
     /// Creates the targets for `width` × `height` with G-buffer targets of `gbuffer_formats`.
-    pub fn new(device: &wgpu::Device, width: u32, height: u32, gbuffer_formats: &[wgpu::TextureFormat]) -> Self {
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        gbuffer_formats: &[wgpu::TextureFormat],
+    ) -> Self {
         use wgpu::TextureUsages as U;
-        let depth = texture(device, "depth", width, height, DEPTH_FORMAT, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC);
-        let vis = texture(device, "vis buffer", width, height, VIS_FORMAT, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC);
+        let depth = texture(
+            device,
+            "depth",
+            width,
+            height,
+            DEPTH_FORMAT,
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let vis = texture(
+            device,
+            "vis buffer",
+            width,
+            height,
+            VIS_FORMAT,
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
         let vis_words = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("vis buffer words"),
             size: u64::from(width) * u64::from(height) * 4,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let gbuffer = gbuffer_formats
@@ -73,7 +98,22 @@ impl Targets {
                 )
             })
             .collect();
-        let output = texture(device, "output", width, height, OUTPUT_FORMAT, U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC);
-        Self { width, height, depth, vis, vis_words, gbuffer, output }
+        let output = texture(
+            device,
+            "output",
+            width,
+            height,
+            OUTPUT_FORMAT,
+            U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        Self {
+            width,
+            height,
+            depth,
+            vis,
+            vis_words,
+            gbuffer,
+            output,
+        }
     }
 }

@@ -45,7 +45,13 @@ impl GpuTimer {
                 mapped_at_creation: false,
             })
         });
-        Self { query_set, resolve, labels: Vec::new(), capacity, period_ns: queue.get_timestamp_period() }
+        Self {
+            query_set,
+            resolve,
+            labels: Vec::new(),
+            capacity,
+            period_ns: queue.get_timestamp_period(),
+        }
     }
 
     /// Whether timestamps are recorded.
@@ -65,20 +71,22 @@ impl GpuTimer {
 
     /// Timestamp writes for a compute pass timed under `label`.
     pub fn compute(&mut self, label: &'static str) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.next(label).map(|(qs, i)| wgpu::ComputePassTimestampWrites {
-            query_set: qs,
-            beginning_of_pass_write_index: Some(i),
-            end_of_pass_write_index: Some(i + 1),
-        })
+        self.next(label)
+            .map(|(qs, i)| wgpu::ComputePassTimestampWrites {
+                query_set: qs,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            })
     }
 
     /// Timestamp writes for a render pass timed under `label`.
     pub fn render(&mut self, label: &'static str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        self.next(label).map(|(qs, i)| wgpu::RenderPassTimestampWrites {
-            query_set: qs,
-            beginning_of_pass_write_index: Some(i),
-            end_of_pass_write_index: Some(i + 1),
-        })
+        self.next(label)
+            .map(|(qs, i)| wgpu::RenderPassTimestampWrites {
+                query_set: qs,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            })
     }
 
     /// Records the resolve of this frame's queries into `encoder` (call once, last).
@@ -95,7 +103,9 @@ impl GpuTimer {
     /// first-use order. Clears the timer for the next frame.
     pub fn read(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Timing>> {
         let labels = std::mem::take(&mut self.labels);
-        let Some(buf) = &self.resolve else { return Ok(Vec::new()) };
+        let Some(buf) = &self.resolve else {
+            return Ok(Vec::new());
+        };
         if labels.is_empty() {
             return Ok(Vec::new());
         }
@@ -110,7 +120,11 @@ impl GpuTimer {
                     t.ms += ms;
                     t.passes += 1;
                 }
-                None => out.push(Timing { label, ms, passes: 1 }),
+                None => out.push(Timing {
+                    label,
+                    ms,
+                    passes: 1,
+                }),
             }
         }
         Ok(out)

@@ -69,7 +69,12 @@ struct GpuMaterial {
 
 /// Creates a storage buffer initialised with `data` (at least 4 bytes: wgpu refuses empty
 /// bindings).
-pub fn storage_buffer(device: &wgpu::Device, label: &str, data: &[u8], extra: wgpu::BufferUsages) -> wgpu::Buffer {
+pub fn storage_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[u8],
+    extra: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     let padded;
     let contents = if data.len() < 4 {
         padded = [0u8; 4];
@@ -80,7 +85,10 @@ pub fn storage_buffer(device: &wgpu::Device, label: &str, data: &[u8], extra: wg
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC | extra,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC
+            | extra,
     })
 }
 
@@ -109,14 +117,23 @@ pub fn gpu_materials(scene: &Scene) -> Vec<GpuMaterial> {
 pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
     let to_lin = |c: u8| {
         let s = f32::from(c) / 255.0;
-        if s <= 0.040_45 { s / 12.92 } else { ((s + 0.055) / 1.055).powf(2.4) }
+        if s <= 0.040_45 {
+            s / 12.92
+        } else {
+            ((s + 0.055) / 1.055).powf(2.4)
+        }
     };
     let to_srgb = |x: f32| {
         let x = x.clamp(0.0, 1.0);
-        let s = if x <= 0.003_130_8 { x * 12.92 } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+        let s = if x <= 0.003_130_8 {
+            x * 12.92
+        } else {
+            1.055 * x.powf(1.0 / 2.4) - 0.055
+        };
         (s * 255.0 + 0.5) as u8
     };
-    let coverage = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len().max(1) as f32;
+    let coverage =
+        |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len().max(1) as f32;
     let top_cov = coverage(&layer.texels);
     let mut levels = vec![layer.texels.clone()];
     let mut size = layer.size as usize;
@@ -137,7 +154,12 @@ pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
                     a += f32::from(p[3]) / 255.0;
                 }
                 let c = c / wsum;
-                next.push([to_srgb(c.x), to_srgb(c.y), to_srgb(c.z), (a / 4.0 * 255.0 + 0.5) as u8]);
+                next.push([
+                    to_srgb(c.x),
+                    to_srgb(c.y),
+                    to_srgb(c.z),
+                    (a / 4.0 * 255.0 + 0.5) as u8,
+                ]);
             }
         }
         // Alpha-to-coverage preserving scale (Castaño): find the scale that keeps coverage.
@@ -145,7 +167,11 @@ pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
             let (mut lo, mut hi) = (0.0f32, 8.0f32);
             for _ in 0..16 {
                 let mid = 0.5 * (lo + hi);
-                let cov = next.iter().filter(|p| f32::from(p[3]) * mid >= 127.5).count() as f32 / next.len() as f32;
+                let cov = next
+                    .iter()
+                    .filter(|p| f32::from(p[3]) * mid >= 127.5)
+                    .count() as f32
+                    / next.len() as f32;
                 if cov < top_cov { lo = mid } else { hi = mid }
             }
             for p in &mut next {
@@ -159,13 +185,21 @@ pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
 }
 
 /// Uploads the albedo layers as an `Rgba8UnormSrgb` 2D array with a full mip chain.
-pub fn albedo_texture(device: &wgpu::Device, queue: &wgpu::Queue, layers: &[AlbedoLayer]) -> wgpu::Texture {
+pub fn albedo_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    layers: &[AlbedoLayer],
+) -> wgpu::Texture {
     let size = layers.first().map_or(1, |l| l.size);
     let count = layers.len().max(1) as u32;
     let mip_level_count = size.max(1).ilog2() + 1;
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some("albedo array"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: count },
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: count,
+        },
         mip_level_count,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
@@ -180,12 +214,24 @@ pub fn albedo_texture(device: &wgpu::Device, queue: &wgpu::Queue, layers: &[Albe
                 wgpu::TexelCopyTextureInfo {
                     texture: &texture,
                     mip_level: mip as u32,
-                    origin: wgpu::Origin3d { x: 0, y: 0, z: z as u32 },
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: z as u32,
+                    },
                     aspect: wgpu::TextureAspect::All,
                 },
                 bytemuck::cast_slice(texels),
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * s), rows_per_image: Some(s) },
-                wgpu::Extent3d { width: s, height: s, depth_or_array_layers: 1 },
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * s),
+                    rows_per_image: Some(s),
+                },
+                wgpu::Extent3d {
+                    width: s,
+                    height: s,
+                    depth_or_array_layers: 1,
+                },
             );
         }
     }
@@ -203,7 +249,10 @@ mod tests {
         layouter.sort();
         assert_eq!(
             layouter,
-            vec![("GpuMaterial".to_string(), size_of::<GpuMaterial>() as u32), ("GpuVertex".to_string(), size_of::<GpuVertex>() as u32)]
+            vec![
+                ("GpuMaterial".to_string(), size_of::<GpuMaterial>() as u32),
+                ("GpuVertex".to_string(), size_of::<GpuVertex>() as u32)
+            ]
         );
     }
 
@@ -219,13 +268,22 @@ mod tests {
 
     #[test]
     fn mips_keep_alpha_coverage() {
-        let layer = crate::demo::build(&crate::demo::DemoOptions { density: 0.01, ..Default::default() }).albedo_layers[2].clone();
+        let layer = crate::demo::build(&crate::demo::DemoOptions {
+            density: 0.01,
+            ..Default::default()
+        })
+        .albedo_layers[2]
+            .clone();
         let chain = mip_chain(&layer);
         assert_eq!(chain.len() as u32, layer.size.ilog2() + 1);
         let cov = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len() as f32;
         let top = cov(&chain[0]);
         for (i, level) in chain.iter().enumerate().take(6) {
-            assert!((cov(level) - top).abs() < 0.08, "mip {i}: coverage {} vs {top}", cov(level));
+            assert!(
+                (cov(level) - top).abs() < 0.08,
+                "mip {i}: coverage {} vs {top}",
+                cov(level)
+            );
         }
     }
 }

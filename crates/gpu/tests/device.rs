@@ -12,9 +12,15 @@ fn headless_device_reports_its_paths() {
     let ctx = ctx();
     eprintln!("adapter: {}", ctx.adapter_line());
     eprintln!("paths: {:?}", ctx.paths);
-    assert_eq!(ctx.paths.primitive_id, PrimitiveIdPath::best_for(ctx.device.features()));
+    assert_eq!(
+        ctx.paths.primitive_id,
+        PrimitiveIdPath::best_for(ctx.device.features())
+    );
     if let Some((lo, hi)) = ctx.paths.subgroup_size {
-        assert!(lo.is_power_of_two() && hi >= lo, "subgroup sizes {lo}..{hi}");
+        assert!(
+            lo.is_power_of_two() && hi >= lo,
+            "subgroup sizes {lo}..{hi}"
+        );
     }
 }
 
@@ -40,7 +46,8 @@ fn kernel_runs_and_validation_errors_are_errors() {
           if id.x < arrayLength(&input) { output[id.x] = input[id.x] * 3u + 1u; }
       }";
     let input: Vec<u32> = (0..1000).collect();
-    let out = gpu::kernel::run_u32_kernel(&ctx.device, &ctx.queue, src, &input, 1000, 1000).unwrap();
+    let out =
+        gpu::kernel::run_u32_kernel(&ctx.device, &ctx.queue, src, &input, 1000, 1000).unwrap();
     assert!(out.iter().zip(&input).all(|(o, i)| *o == i * 3 + 1));
     let bad = "@compute @workgroup_size(64) fn main() { let x: u32 = 1.0; }";
     let err = gpu::kernel::run_u32_kernel(&ctx.device, &ctx.queue, bad, &input, 1, 1).unwrap_err();

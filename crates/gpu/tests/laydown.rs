@@ -12,11 +12,18 @@ const W: u32 = 160;
 const H: u32 = 96;
 
 fn test_scene() -> Scene {
-    let demo = gpu::demo::build(&gpu::demo::DemoOptions { density: 0.01, ..Default::default() });
+    let demo = gpu::demo::build(&gpu::demo::DemoOptions {
+        density: 0.01,
+        ..Default::default()
+    });
     // Rocks (opaque, closed) scattered below a camera looking down; one big ground quad
     // made of the terrain mesh.
     let rock = demo.meshes.iter().position(|m| m.name == "rock").unwrap();
-    let terrain = demo.meshes.iter().position(|m| m.name == "terrain").unwrap();
+    let terrain = demo
+        .meshes
+        .iter()
+        .position(|m| m.name == "terrain")
+        .unwrap();
     let meshes = vec![demo.meshes[terrain].clone(), demo.meshes[rock].clone()];
     let mat = Material {
         name: "stone".into(),
@@ -33,7 +40,11 @@ fn test_scene() -> Scene {
         rocks.push(Affine3A::from_scale_rotation_translation(
             Vec3::splat(0.8 + 0.05 * (i % 7) as f32),
             Quat::from_rotation_y(a),
-            Vec3::new((a * 1.3).sin() * 8.0, 2.0 + (i % 5) as f32 * 0.7, (a * 0.9).cos() * 6.0),
+            Vec3::new(
+                (a * 1.3).sin() * 8.0,
+                2.0 + (i % 5) as f32 * 0.7,
+                (a * 0.9).cos() * 6.0,
+            ),
         ));
     }
     Scene {
@@ -41,10 +52,27 @@ fn test_scene() -> Scene {
         materials: vec![mat],
         albedo_layers: vec![demo.albedo_layers[0].clone()],
         batches: vec![
-            Batch { mesh: MeshId(0), material: MaterialId(0), instances: vec![Affine3A::from_scale_rotation_translation(Vec3::splat(0.15), Quat::IDENTITY, Vec3::new(0.0, -3.0, 0.0))] },
-            Batch { mesh: MeshId(1), material: MaterialId(0), instances: rocks },
+            Batch {
+                mesh: MeshId(0),
+                material: MaterialId(0),
+                instances: vec![Affine3A::from_scale_rotation_translation(
+                    Vec3::splat(0.15),
+                    Quat::IDENTITY,
+                    Vec3::new(0.0, -3.0, 0.0),
+                )],
+            },
+            Batch {
+                mesh: MeshId(1),
+                material: MaterialId(0),
+                instances: rocks,
+            },
         ],
-        camera: Camera { position: Vec3::new(0.5, 22.0, -9.0), target: Vec3::new(0.0, 0.0, 0.5), fov_y: 1.0, near: 0.5 },
+        camera: Camera {
+            position: Vec3::new(0.5, 22.0, -9.0),
+            target: Vec3::new(0.0, 0.0, 0.5),
+            fov_y: 1.0,
+            near: 0.5,
+        },
         lighting: Lighting::default(),
     }
 }
@@ -87,7 +115,8 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
     let vp = scene.camera.view_projection(aspect as f32).as_dmat4();
     // Per pixel: best hit, the depth of the runner-up, and whether an edge passes within a
     // hundredth of a pixel of the centre without covering it (ambiguous coverage).
-    let mut out: Vec<(Option<Hit>, f64, bool)> = vec![(None, f64::NEG_INFINITY, false); (W * H) as usize];
+    let mut out: Vec<(Option<Hit>, f64, bool)> =
+        vec![(None, f64::NEG_INFINITY, false); (W * H) as usize];
     for mb in mbs {
         let batch = &scene.batches[mb.batch as usize];
         let mesh = &scene.meshes[batch.mesh.0];
@@ -98,12 +127,24 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
             for (tri, c) in mesh.indices.chunks_exact(3).enumerate() {
                 let clip: Vec<DVec4> = c
                     .iter()
-                    .map(|&k| vp * m.transform_point3(mesh.positions[k as usize].as_dvec3()).extend(1.0))
+                    .map(|&k| {
+                        vp * m
+                            .transform_point3(mesh.positions[k as usize].as_dvec3())
+                            .extend(1.0)
+                    })
                     .collect();
-                assert!(clip.iter().all(|p| p.w > 0.1), "test scene must stay in front of the camera");
+                assert!(
+                    clip.iter().all(|p| p.w > 0.1),
+                    "test scene must stay in front of the camera"
+                );
                 let s: Vec<DVec2> = clip
                     .iter()
-                    .map(|p| DVec2::new((p.x / p.w + 1.0) * 0.5 * f64::from(W), (1.0 - p.y / p.w) * 0.5 * f64::from(H)))
+                    .map(|p| {
+                        DVec2::new(
+                            (p.x / p.w + 1.0) * 0.5 * f64::from(W),
+                            (1.0 - p.y / p.w) * 0.5 * f64::from(H),
+                        )
+                    })
                     .collect();
                 let z: Vec<f64> = clip.iter().map(|p| p.z / p.w).collect();
                 // Screen-space area; front faces are counter-clockwise in NDC, so clockwise
@@ -115,12 +156,23 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
                 let word = VisId::pack(
                     VisLayout::Standard,
                     bits,
-                    VisFields { micro_batch, instance: field, primitive: tri as u32, rate: ShadingRate::Rate1x1 },
+                    VisFields {
+                        micro_batch,
+                        instance: field,
+                        primitive: tri as u32,
+                        rate: ShadingRate::Rate1x1,
+                    },
                 )
                 .unwrap()
                 .0;
-                let lo = s.iter().fold(DVec2::splat(f64::INFINITY), |a, &b| a.min(b)).max(DVec2::ZERO);
-                let hi = s.iter().fold(DVec2::splat(f64::NEG_INFINITY), |a, &b| a.max(b)).min(DVec2::new(f64::from(W), f64::from(H)));
+                let lo = s
+                    .iter()
+                    .fold(DVec2::splat(f64::INFINITY), |a, &b| a.min(b))
+                    .max(DVec2::ZERO);
+                let hi = s
+                    .iter()
+                    .fold(DVec2::splat(f64::NEG_INFINITY), |a, &b| a.max(b))
+                    .min(DVec2::new(f64::from(W), f64::from(H)));
                 for py in lo.y.floor() as u32..(hi.y.ceil() as u32).min(H) {
                     for px in lo.x.floor() as u32..(hi.x.ceil() as u32).min(W) {
                         let q = DVec2::new(f64::from(px) + 0.5, f64::from(py) + 0.5);
@@ -148,9 +200,19 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
                             Some(best) if best.depth >= depth => cell.1 = cell.1.max(depth),
                             Some(best) => {
                                 cell.1 = cell.1.max(best.depth);
-                                cell.0 = Some(Hit { word, depth, margin });
+                                cell.0 = Some(Hit {
+                                    word,
+                                    depth,
+                                    margin,
+                                });
                             }
-                            None => cell.0 = Some(Hit { word, depth, margin }),
+                            None => {
+                                cell.0 = Some(Hit {
+                                    word,
+                                    depth,
+                                    margin,
+                                })
+                            }
                         }
                     }
                 }
@@ -169,11 +231,20 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
     let mut tested = 0;
     for path in PrimitiveIdPath::ALL {
         if !probe.device.features().contains(path.required_features()) {
-            eprintln!("path {} not on this adapter ({}): not tested here", path.name(), probe.adapter_line());
+            eprintln!(
+                "path {} not on this adapter ({}): not tested here",
+                path.name(),
+                probe.adapter_line()
+            );
             continue;
         }
         tested += 1;
-        let config = RendererConfig { width: W, height: H, primitive_id: Some(path), ..Default::default() };
+        let config = RendererConfig {
+            width: W,
+            height: H,
+            primitive_id: Some(path),
+            ..Default::default()
+        };
         let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
         let prepared = renderer.prepare_with_micro_batches(&scene, &mbs).unwrap();
         let (vis, _depth) = renderer.render_laydown(&prepared).unwrap();
@@ -181,19 +252,39 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
         for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
             match hit {
                 Some(h) if h.margin > 0.01 && h.depth - runner_up > 1e-6 && !near_miss => {
-                    assert_eq!(got, h.word, "{}: pixel {i} ({}, {})", path.name(), i as u32 % W, i as u32 / W);
+                    assert_eq!(
+                        got,
+                        h.word,
+                        "{}: pixel {i} ({}, {})",
+                        path.name(),
+                        i as u32 % W,
+                        i as u32 / W
+                    );
                     checked += 1;
                     covered += 1;
                 }
                 None if !near_miss => {
-                    assert_eq!(got, visbuf::VIS_NONE, "{}: pixel {i} should be empty", path.name());
+                    assert_eq!(
+                        got,
+                        visbuf::VIS_NONE,
+                        "{}: pixel {i} should be empty",
+                        path.name()
+                    );
                     checked += 1;
                 }
                 _ => {}
             }
         }
-        assert!(covered > (W * H) as usize / 4, "{}: the scene should cover the image ({covered})", path.name());
-        assert!(checked > (W * H) as usize * 9 / 10, "{}: only {checked} unambiguous pixels", path.name());
+        assert!(
+            covered > (W * H) as usize / 4,
+            "{}: the scene should cover the image ({covered})",
+            path.name()
+        );
+        assert!(
+            checked > (W * H) as usize * 9 / 10,
+            "{}: only {checked} unambiguous pixels",
+            path.name()
+        );
     }
     assert!(tested >= 1);
 }

@@ -1,8 +1,8 @@
 // gpu: deferred lighting in compute (KZ2's sun + ambient + point lights over the G-buffer),
 // then tone mapping into the sRGB-encoded output image. 8x8 pixels per workgroup.
 //
-// Preceded by: deferred's G-buffer WGSL, frame.wgsl, and gbuffer_glue (which defines
-// `Surface` and `gbuffer_surface(pixel)` over the bound G-buffer textures).
+// Preceded by: deferred's G-buffer WGSL, frame.wgsl, and the G-buffer load glue
+// (`gbuffer_surface(pixel) -> DeferredSurface` over the textures bound in group 1).
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var depth_texture: texture_depth_2d;
@@ -62,10 +62,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let v = normalize(-p);
         let n = s.normal;
         let l = frame.sun_direction.xyz;
-        // Foliage cards are thin: light passing through them (wrap) keeps backlit leaves alive.
         let nl = max(dot(n, l), 0.0);
         let diffuse = s.albedo / PI;
-        color = s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
+        color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
         color += frame.sun_color.rgb * (diffuse * nl * s.sun_shadow + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * s.sun_shadow);
         for (var i = 0u; i < frame.point_light_count; i++) {
             let light = point_lights[i];

@@ -1,13 +1,25 @@
 // gpu: the material resolve of one pixel (seed 000's "shade pixels", seed 004's vertex
 // pulling): decode the vis word, pull the triangle's three vertices, transform them,
-// analytic barycentrics and derivatives (visbuf), sample with gradients, fill a Surface.
+// analytic barycentrics and derivatives (visbuf), sample with gradients, fill a
+// DeferredSurface.
 //
-// Needs in scope: visbuf ID + barycentric WGSL, SCENE_WGSL, FRAME_WGSL, GEOMETRY_WGSL,
-// PLAN_WGSL, material.wgsl, and these bindings: frame, vertices, indices, meshes,
-// instances, micro_batches, materials, albedo, albedo_sampler.
+// Needs in scope: visbuf ID + barycentric WGSL, deferred's G-buffer WGSL, SCENE_WGSL,
+// FRAME_WGSL, GEOMETRY_WGSL, PLAN_WGSL, material.wgsl, and the bindings below.
+
+@group(0) @binding(0) var<uniform> frame: FrameUniforms;
+@group(0) @binding(1) var<storage, read> vertices: array<GpuVertex>;
+@group(0) @binding(2) var<storage, read> instances: array<GpuInstance>;
+@group(0) @binding(3) var<storage, read> materials: array<GpuMaterial>;
+@group(0) @binding(4) var<storage, read> indices: array<u32>;
+@group(0) @binding(5) var<storage, read> meshes: array<GpuMesh>;
+@group(0) @binding(6) var<storage, read> micro_batches: array<GpuMicroBatch>;
+@group(0) @binding(7) var albedo: texture_2d_array<f32>;
+@group(0) @binding(8) var albedo_sampler: sampler;
+@group(0) @binding(9) var vis_texture: texture_2d<u32>;
+// group 1: the G-buffer storage textures (gbuffer_store).
 
 struct ResolvedPixel {
-    surface: Surface,
+    surface: DeferredSurface,
     ok: bool,
 }
 
@@ -31,12 +43,9 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     let v0 = vertices[mesh.base_vertex + indices[first]];
     let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
     let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
-    let p0 = gpu_transform_point(inst, v0.position);
-    let p1 = gpu_transform_point(inst, v1.position);
-    let p2 = gpu_transform_point(inst, v2.position);
-    let c0 = frame.view_proj * vec4<f32>(p0, 1.0);
-    let c1 = frame.view_proj * vec4<f32>(p1, 1.0);
-    let c2 = frame.view_proj * vec4<f32>(p2, 1.0);
+    let c0 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v0.position), 1.0);
+    let c1 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v1.position), 1.0);
+    let c2 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v2.position), 1.0);
     let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
     let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
@@ -44,4 +53,20 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     out.surface = material_surface(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n));
     out.ok = true;
     return out;
+}
+
+// Full-screen resolve, 8x8 pixels per workgroup: every pixel reads its own vis word. The
+// diagnostic counterpart of the wave-command resolve (same per-pixel work, no
+// classification); pixels without geometry are left as they are.
+@compute @workgroup_size(8, 8)
+fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(frame.viewport.xy);
+    if id.x >= size.x || id.y >= size.y {
+        return;
+    }
+    let word = textureLoad(vis_texture, vec2<i32>(id.xy), 0).x;
+    let r = resolve_pixel(id.xy, word);
+    if r.ok {
+        gbuffer_store(id.xy, r.surface);
+    }
 }

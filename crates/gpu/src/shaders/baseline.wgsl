@@ -1,0 +1,31 @@
+// gpu: HZD's geometry pass, the method the talk replaces: after the depth prepass (with
+// alpha test), every batch is drawn again with depth test Equal and no alpha test, writing
+// the G-buffer from a fragment shader whose UV gradients come from the hardware's quads.
+//
+// Appended to the laydown module (same bindings, same vertex transform: `@invariant`
+// positions make the depths bit-identical), with material.wgsl and the G-buffer fragment
+// glue in front.
+
+struct BaselineOut {
+    @invariant @builtin(position) clip: vec4<f32>,
+    @location(0) uv: vec2<f32>,
+    @location(1) @interpolate(flat) instance: u32,
+    @location(2) normal: vec3<f32>,
+}
+
+@vertex
+fn vs_baseline(@builtin(vertex_index) vertex: u32, @builtin(instance_index) instance: u32) -> BaselineOut {
+    let l = laydown_vertex(vertex, instance);
+    var out: BaselineOut;
+    out.clip = l.clip;
+    out.uv = l.uv;
+    out.instance = instance;
+    out.normal = gpu_transform_normal(instances[instance], vertices[vertex].normal);
+    return out;
+}
+
+@fragment
+fn fs_baseline(in: BaselineOut) -> GBufferOut {
+    let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal);
+    return gbuffer_fragment(s);
+}
