@@ -3,4 +3,5 @@
 
 mod fuzz_regressions;
 mod gpu_common;
+mod gpu_morton;
 mod gpu_visbuf;

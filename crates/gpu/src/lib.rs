@@ -14,7 +14,9 @@
 //! ```
 
 pub mod binding;
+pub mod classify;
 pub mod context;
+pub mod debug;
 pub mod demo;
 pub mod error;
 pub mod frame;

@@ -2,7 +2,9 @@
 //! frames by either path.
 
 use crate::binding;
+use crate::classify::{ClassifyBuffers, ClassifyPipelines, ClassifySizes, GpuClassification};
 use crate::context::{ActivePaths, PrimitiveIdPath, scoped};
+use crate::error::SceneError;
 use crate::error::{Error, Result};
 use crate::frame::{FrameUniforms, GpuPointLight, frame_uniforms};
 use crate::gbuffer;
@@ -11,10 +13,12 @@ use crate::image::Rgba8Image;
 use crate::laydown::{LaydownPipelines, record_draws};
 use crate::plan::{Plan, PlannedMicroBatch};
 use crate::readback;
+use crate::report::ClassificationStats;
 use crate::scene::Scene;
 use crate::targets::Targets;
 use crate::timing::{GpuTimer, Timing};
 use crate::upload::{albedo_texture, gpu_materials, storage_buffer};
+use wgpu::util::DeviceExt as _;
 
 /// Which rendering path a frame takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -23,6 +27,8 @@ pub enum RenderPath {
     Deferred,
     /// HZD: depth prepass with alpha test, then a depth-equal geometry pass.
     Baseline,
+    /// Diagnostic: laydown, then a full-screen resolve of every pixel (no classification).
+    DeferredFullScreen,
 }
 
 impl RenderPath {
@@ -31,6 +37,7 @@ impl RenderPath {
         match self {
             RenderPath::Deferred => "deferred",
             RenderPath::Baseline => "baseline",
+            RenderPath::DeferredFullScreen => "deferred-fullscreen",
         }
     }
 }
@@ -72,7 +79,11 @@ pub struct Renderer {
     pub(crate) frame: wgpu::Buffer,
     pub(crate) sampler: wgpu::Sampler,
     pub(crate) laydown: LaydownPipelines,
-    pub(crate) resolve: ComputeStage,
+    pub(crate) resolve_layouts: Vec<wgpu::BindGroupLayout>,
+    pub(crate) resolve_fullscreen: wgpu::ComputePipeline,
+    pub(crate) resolve_waves: wgpu::ComputePipeline,
+    pub(crate) classify: ClassifyPipelines,
+    pub(crate) wave_width: wave::WaveWidth,
     pub(crate) lighting: ComputeStage,
     pub(crate) baseline: wgpu::RenderPipeline,
     pub(crate) gbuffer_store_group: wgpu::BindGroup,
@@ -113,6 +124,12 @@ pub struct PreparedScene {
     pub geometry: Geometry,
     /// Instance and lookup tables, draws.
     pub plan: Plan,
+    /// `tiling`'s micro batches, MicroBatchInfoTable, order buffer and passes.
+    pub tiling: tiling::Plan,
+    /// The classification's buffers.
+    pub classification: ClassifyBuffers,
+    pub(crate) waves_group: wgpu::BindGroup,
+    pub(crate) pass_stride: u32,
     pub(crate) frame_uniforms: FrameUniforms,
     pub(crate) index_buffer: wgpu::Buffer,
     pub(crate) scene_group: wgpu::BindGroup,
@@ -191,16 +208,55 @@ impl Renderer {
             });
             let laydown = LaydownPipelines::new(device, paths.primitive_id);
             let c = wgpu::ShaderStages::COMPUTE;
-            let resolve = ComputeStage::new(
+            let wave_width = paths
+                .subgroup_size
+                .and_then(|(_, hi)| wave::WaveWidth::from_lanes(hi).ok())
+                .unwrap_or(wave::WaveWidth::W32);
+            let resolve_layouts = vec![
+                binding::layout(device, "resolve scene", &resolve_layout_entries()),
+                binding::layout(
+                    device,
+                    "resolve gbuffer",
+                    &gbuffer::store_layout_entries(0, c),
+                ),
+                binding::layout(device, "resolve waves", &wave_layout_entries()),
+            ];
+            let resolve_module = binding::module(
                 device,
                 "resolve",
-                &crate::shaders::resolve(),
+                &crate::shaders::resolve(wave_width.lanes()),
+            );
+            let pl2 = binding::pipeline_layout(
+                device,
+                "resolve (full screen)",
+                &[&resolve_layouts[0], &resolve_layouts[1]],
+            );
+            let resolve_fullscreen = binding::compute_pipeline(
+                device,
+                "resolve (full screen)",
+                &pl2,
+                &resolve_module,
                 "resolve_fullscreen",
-                vec![
-                    resolve_layout_entries(),
-                    gbuffer::store_layout_entries(0, c),
+                &[],
+            );
+            let pl3 = binding::pipeline_layout(
+                device,
+                "resolve (wave commands)",
+                &[
+                    &resolve_layouts[0],
+                    &resolve_layouts[1],
+                    &resolve_layouts[2],
                 ],
             );
+            let resolve_waves = binding::compute_pipeline(
+                device,
+                "resolve (wave commands)",
+                &pl3,
+                &resolve_module,
+                "resolve_waves",
+                &[],
+            );
+            let classify = ClassifyPipelines::new(device, paths.subgroup_size.is_some());
             let lighting = ComputeStage::new(
                 device,
                 "lighting",
@@ -232,7 +288,7 @@ impl Renderer {
                 .map(wgpu::BindingResource::TextureView)
                 .collect();
             let gbuffer_store_group =
-                binding::group(device, "gbuffer store", &resolve.layouts[1], &resources);
+                binding::group(device, "gbuffer store", &resolve_layouts[1], &resources);
             let gbuffer_load_group =
                 binding::group(device, "gbuffer load", &lighting.layouts[1], &resources);
             let timer = GpuTimer::new(device, queue, 32);
@@ -245,7 +301,11 @@ impl Renderer {
                 frame,
                 sampler,
                 laydown,
-                resolve,
+                resolve_layouts,
+                resolve_fullscreen,
+                resolve_waves,
+                classify,
+                wave_width,
                 lighting,
                 baseline,
                 gbuffer_store_group,
@@ -265,16 +325,77 @@ impl Renderer {
         &self.config
     }
 
-    /// Uploads `scene` with micro batches given by the caller (the `tiling` builder's output
-    /// in [`Renderer::prepare`]).
-    pub fn prepare_with_micro_batches(
-        &self,
-        scene: &Scene,
-        micro_batches: &[PlannedMicroBatch],
-    ) -> Result<PreparedScene> {
+    /// Validates `scene`, encodes its meshes for the renderer's primitive-ID path, builds
+    /// micro batches and passes with `tiling` (batches sorted by shader, material and a
+    /// Morton code of their instances' mean position; the talk's PS5 limits), and uploads
+    /// everything a frame reads. Limits are errors naming them
+    /// ([`SceneError::Tiling`] for the plan's).
+    pub fn prepare(&self, scene: &Scene) -> Result<PreparedScene> {
         scene.validate()?;
         let geometry = Geometry::build(&scene.meshes, self.paths.primitive_id)?;
+        let positions: Vec<Vec<[f32; 3]>> = scene
+            .batches
+            .iter()
+            .map(|b| {
+                b.instances
+                    .iter()
+                    .map(|t| t.translation.to_array())
+                    .collect()
+            })
+            .collect();
+        let batches: Vec<tiling::Batch<'_>> = scene
+            .batches
+            .iter()
+            .zip(&positions)
+            .map(|(b, pos)| {
+                let m = geometry.meshes[b.mesh.0];
+                tiling::Batch {
+                    shader: scene.materials[b.material.0].shader.id(),
+                    batch_data: b.material.0 as u64,
+                    geometry: tiling::Geometry {
+                        vertex_count: m.vertex_count,
+                        primitive_count: m.primitive_count,
+                        first_index: m.first_index,
+                        base_vertex: m.base_vertex,
+                    },
+                    instances: pos,
+                }
+            })
+            .collect();
+        let tiling_plan = tiling::build_plan(&batches, &tiling::PlanConfig::default())
+            .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
+        let micro_batches: Vec<PlannedMicroBatch> = tiling_plan
+            .micro_batches
+            .iter()
+            .map(|m| PlannedMicroBatch {
+                batch: m.batch,
+                first_instance: m.batch_first_instance,
+                instance_count: m.instance_count,
+                first_id: m.first_id,
+                id_count: m.id_count,
+                pass: m.pass,
+                batch_group: m.batch_group,
+            })
+            .collect();
+        self.upload(scene, geometry, &micro_batches, tiling_plan)
+    }
+
+    fn upload(
+        &self,
+        scene: &Scene,
+        geometry: Geometry,
+        micro_batches: &[PlannedMicroBatch],
+        tiling_plan: tiling::Plan,
+    ) -> Result<PreparedScene> {
         let plan = Plan::new(scene, &geometry, micro_batches, scene.camera.position);
+        debug_assert!(
+            tiling_plan
+                .micro_batches
+                .iter()
+                .zip(&plan.draws)
+                .all(|(m, d)| m.first_instance == d.first_instance),
+            "the instance table follows tiling's processing order"
+        );
         let device = &self.device;
         scoped(device, || {
             let none = wgpu::BufferUsages::empty();
@@ -356,7 +477,7 @@ impl Renderer {
             let resolve_group = binding::group(
                 device,
                 "resolve",
-                &self.resolve.layouts[0],
+                &self.resolve_layouts[0],
                 &[
                     self.frame.as_entire_binding(),
                     vertices.as_entire_binding(),
@@ -391,9 +512,68 @@ impl Renderer {
                 lights.len() as u32,
             );
             frame_uniforms.mip_bias = self.config.mip_bias;
+            let config = tiling::ClassifyConfig::for_plan(&tiling_plan, self.wave_width);
+            let batch_groups: usize = tiling_plan.pass_groups.iter().map(Vec::len).sum();
+            let sizes = ClassifySizes::new(
+                self.config.width,
+                self.config.height,
+                &config,
+                batch_groups as u32,
+            );
+            let classification = ClassifyBuffers::new(
+                device,
+                &self.classify,
+                sizes,
+                config,
+                &tiling_plan.table,
+                tiling_plan.order.len() as u32,
+                &vis_view,
+                &index_buffer,
+            );
+            let stride = u64::from(device.limits().min_uniform_buffer_offset_alignment).max(16);
+            let mut pass_words = vec![0u8; (stride * u64::from(sizes.passes)) as usize];
+            for p in 0..sizes.passes {
+                let at = (stride * u64::from(p)) as usize;
+                pass_words[at..at + 4].copy_from_slice(&p.to_le_bytes());
+            }
+            let pass_uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("resolve pass index"),
+                contents: &pass_words,
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let waves_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("resolve waves"),
+                layout: &self.resolve_layouts[2],
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: classification.waves.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: classification.commands.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: classification.pass_dispatch.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &pass_uniforms,
+                            offset: 0,
+                            size: wgpu::BufferSize::new(16),
+                        }),
+                    },
+                ],
+            });
             Ok(PreparedScene {
                 geometry,
                 plan,
+                tiling: tiling_plan,
+                classification,
+                waves_group,
+                pass_stride: stride as u32,
                 frame_uniforms,
                 index_buffer,
                 scene_group,
@@ -407,6 +587,7 @@ impl Renderer {
                     point_lights,
                     meshes,
                     micro_batches,
+                    pass_uniforms,
                 ],
                 _albedo: albedo,
             })
@@ -465,7 +646,7 @@ impl Renderer {
             label: Some("material resolve (full screen)"),
             timestamp_writes: self.timer.compute("resolve"),
         });
-        pass.set_pipeline(&self.resolve.pipeline);
+        pass.set_pipeline(&self.resolve_fullscreen);
         pass.set_bind_group(0, &scene.resolve_group, &[]);
         pass.set_bind_group(1, &self.gbuffer_store_group, &[]);
         pass.dispatch_workgroups(
@@ -473,6 +654,22 @@ impl Renderer {
             self.config.height.div_ceil(8),
             1,
         );
+    }
+
+    /// Records the material resolve by wave commands: one indirect dispatch per pass.
+    fn record_resolve_waves(&mut self, encoder: &mut wgpu::CommandEncoder, scene: &PreparedScene) {
+        let c = &scene.classification;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("material resolve (wave commands)"),
+            timestamp_writes: self.timer.compute("resolve (wave commands)"),
+        });
+        pass.set_pipeline(&self.resolve_waves);
+        pass.set_bind_group(0, &scene.resolve_group, &[]);
+        pass.set_bind_group(1, &self.gbuffer_store_group, &[]);
+        for p in 0..c.sizes.passes {
+            pass.set_bind_group(2, &scene.waves_group, &[p * scene.pass_stride]);
+            pass.dispatch_workgroups_indirect(&c.pass_dispatch, u64::from(p) * 24);
+        }
     }
 
     /// Records lighting and tone mapping into the output image.
@@ -614,6 +811,18 @@ impl Renderer {
             match path {
                 RenderPath::Deferred => {
                     self.record_laydown(&mut encoder, scene);
+                    scene
+                        .classification
+                        .record_copy(&mut encoder, &self.classify, &mut self.timer);
+                    scene.classification.record_classification(
+                        &mut encoder,
+                        &self.classify,
+                        &mut self.timer,
+                    );
+                    self.record_resolve_waves(&mut encoder, scene);
+                }
+                RenderPath::DeferredFullScreen => {
+                    self.record_laydown(&mut encoder, scene);
                     self.record_resolve_fullscreen(&mut encoder, scene);
                 }
                 RenderPath::Baseline => self.record_baseline(&mut encoder, scene),
@@ -677,6 +886,94 @@ impl Renderer {
         ))
     }
 
+    /// Reads back what the last deferred frame's classification wrote.
+    pub fn read_classification(&self, scene: &PreparedScene) -> Result<GpuClassification> {
+        scene.classification.read(&self.device, &self.queue)
+    }
+
+    /// Uploads `words` (row-major, `width * height`, any values: bad IDs are the
+    /// classification's to count) as the vis buffer, runs the three classification phases
+    /// on them alone, and reads the result back. How tests feed random vis buffers.
+    pub fn classify_words(
+        &mut self,
+        scene: &PreparedScene,
+        words: &[u32],
+    ) -> Result<GpuClassification> {
+        let s = scene.classification.sizes;
+        let n = (s.width * s.height) as usize;
+        if words.len() != n {
+            return Err(Error::DeviceLimit {
+                limit: "vis words (must be width * height of the renderer)",
+                needed: words.len() as u64,
+                available: n as u64,
+            });
+        }
+        let device = self.device.clone();
+        scoped(&device, || {
+            self.queue.write_buffer(
+                &scene.classification.vis_words,
+                0,
+                bytemuck::cast_slice(words),
+            );
+            let mut encoder = device.create_command_encoder(&Default::default());
+            scene.classification.record_classification(
+                &mut encoder,
+                &self.classify,
+                &mut self.timer,
+            );
+            self.timer.resolve(&mut encoder);
+            self.queue.submit([encoder.finish()]);
+            crate::context::wait_idle(&device)
+        })?;
+        let _ = self.timer.read(&self.device, &self.queue)?;
+        self.read_classification(scene)
+    }
+
+    /// The talk's counters for a read-back classification: runs `tiling`'s CPU twin
+    /// (`classify_phases`) on the same vis words, compares every output, and measures
+    /// depth-equal waves and chunk-culled vertices with `tiling::measure`.
+    pub fn classification_statistics(
+        &self,
+        scene: &PreparedScene,
+        gpu: &GpuClassification,
+    ) -> Result<(ClassificationStats, Option<String>)> {
+        let s = scene.classification.sizes;
+        let t = &scene.tiling;
+        let err = |e: tiling::Error| Error::Scene(SceneError::Tiling(e.to_string()));
+        let vis = tiling::VisBuffer::new(&gpu.vis, s.width, s.height, visbuf::VisLayout::Standard)
+            .map_err(err)?;
+        let config = scene.classification.config;
+        let cpu = tiling::classify_phases(&vis, &t.table, &scene.geometry.indices, &config)
+            .map_err(err)?;
+        let mismatch = gpu.mismatch(&cpu);
+        let vertex = tiling::vertex_wave_commands(
+            &cpu.mid.vertex_cull,
+            t.chunk_count,
+            &t.table,
+            &t.order,
+            &t.passes,
+        )
+        .map_err(err)?;
+        let m = tiling::measure(&vis, &t.table, &config, &cpu, &vertex).map_err(err)?;
+        let stats = ClassificationStats {
+            vis_pixels: u64::from(gpu.output_stats.valid),
+            passes: t.passes.len() as u32,
+            batch_groups: t.pass_groups.iter().map(Vec::len).sum::<usize>() as u32,
+            tile_groups: u64::from(gpu.totals.counter_count),
+            pixel_commands: u64::from(gpu.totals.command_count),
+            wave_commands: u64::from(gpu.totals.wave_count),
+            wave_width: config.wave_width.lanes(),
+            unfilled_lanes: u64::from(gpu.totals.wave_count) * u64::from(config.wave_width.lanes())
+                - u64::from(gpu.totals.command_count),
+            depth_equal_waves: m.depth_equal_waves,
+            scene_vertices: m.scene_vertices,
+            vertices_after_chunk_culling: m.visible_vertices,
+            command_bytes: cpu.command_bytes(),
+            gpu_matches_cpu: Some(mismatch.is_none()),
+        };
+        Ok((stats, mismatch))
+    }
+
     /// The vis buffer colour-coded by (micro batch, instance, primitive), like the talk's
     /// slide; pixels without vis-buffer geometry are yellow.
     pub fn vis_debug_view(&self, vis: &[u32]) -> Rgba8Image {
@@ -690,6 +987,27 @@ impl Renderer {
         }
         img
     }
+}
+
+/// Bind-group 2 of the wave-command resolve: wave commands, pixel commands, pass
+/// dispatches, and the pass index (a uniform at a dynamic offset per pass).
+fn wave_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+    let c = wgpu::ShaderStages::COMPUTE;
+    vec![
+        binding::storage(0, c, true),
+        binding::storage(1, c, true),
+        binding::storage(2, c, true),
+        wgpu::BindGroupLayoutEntry {
+            binding: 3,
+            visibility: c,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(16),
+            },
+            count: None,
+        },
+    ]
 }
 
 /// Bind-group 0 of the resolve (see `shaders/resolve_common.wgsl`).

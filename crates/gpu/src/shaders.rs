@@ -46,10 +46,13 @@ pub fn baseline(path: PrimitiveIdPath) -> String {
 }
 
 /// The compute material resolve: per-pixel vertex pulling, barycentrics, material, G-buffer
-/// store (group 1).
-pub fn resolve() -> String {
+/// store (group 1); entry points `resolve_waves` (one workgroup of `wave_width` lanes per
+/// wave command, commands in group 2) and `resolve_fullscreen` (every pixel, diagnostic).
+pub fn resolve(wave_width: u32) -> String {
     [
+        &format!("const RESOLVE_WAVE_WIDTH: u32 = {wave_width}u;\n"),
         visbuf::ID_WGSL,
+        tiling::wgsl::COMMON_WGSL,
         visbuf::BARY_WGSL,
         deferred::GBUFFER_WGSL,
         crate::upload::SCENE_WGSL,
@@ -99,7 +102,8 @@ mod tests {
 
     #[test]
     fn resolve_lighting_and_baseline_validate() {
-        shadercheck::assert_valid("resolve", &resolve(), shadercheck::Caps::CORE);
+        shadercheck::assert_valid("resolve", &resolve(32), shadercheck::Caps::CORE);
+        shadercheck::assert_valid("resolve w8", &resolve(8), shadercheck::Caps::CORE);
         shadercheck::assert_valid("lighting", &lighting(), shadercheck::Caps::CORE);
         for path in PrimitiveIdPath::ALL {
             shadercheck::assert_valid(path.name(), &baseline(path), caps(path));

@@ -77,31 +77,6 @@ fn test_scene() -> Scene {
     }
 }
 
-/// One micro batch per batch, IDs assigned in order with visbuf's range rule.
-fn micro_batches(scene: &Scene) -> Vec<PlannedMicroBatch> {
-    let mut next = 0;
-    scene
-        .batches
-        .iter()
-        .enumerate()
-        .map(|(b, batch)| {
-            let prims = scene.meshes[batch.mesh.0].primitive_count() as u32;
-            let ids = visbuf::micro_batch_ids_needed(prims, batch.instances.len() as u32).unwrap();
-            let mb = PlannedMicroBatch {
-                batch: b as u32,
-                first_instance: 0,
-                instance_count: batch.instances.len() as u32,
-                first_id: next,
-                id_count: ids,
-                pass: 0,
-                batch_group: b as u32,
-            };
-            next += ids;
-            mb
-        })
-        .collect()
-}
-
 /// What an f64 rasteriser sees at one pixel centre.
 #[derive(Clone, Copy)]
 struct Hit {
@@ -226,8 +201,6 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
 fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
     let probe = context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let scene = test_scene();
-    let mbs = micro_batches(&scene);
-    let reference = cpu_raster(&scene, &mbs);
     let mut tested = 0;
     for path in PrimitiveIdPath::ALL {
         if !probe.device.features().contains(path.required_features()) {
@@ -246,7 +219,8 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
             ..Default::default()
         };
         let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
-        let prepared = renderer.prepare_with_micro_batches(&scene, &mbs).unwrap();
+        let prepared = renderer.prepare(&scene).unwrap();
+        let reference = cpu_raster(&scene, &prepared.plan.micro_batches);
         let (vis, _depth) = renderer.render_laydown(&prepared).unwrap();
         let (mut checked, mut covered) = (0, 0);
         for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {

@@ -70,3 +70,35 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
         gbuffer_store(id.xy, r.surface);
     }
 }
+
+// The wave-command resolve (seed 000's "shade pixels"): one workgroup of RESOLVE_WAVE_WIDTH
+// lanes per wave command, one `dispatch_workgroups_indirect` per pass with that pass's
+// PassDispatch. Each lane takes one pixel command of its wave: a pixel of the wave's
+// 128x128 tile that shows the wave's (pass, batch group).
+@group(2) @binding(0) var<storage, read> wave_commands: array<TilingWaveCommand>;
+@group(2) @binding(1) var<storage, read> pixel_commands: array<u32>;
+@group(2) @binding(2) var<storage, read> pass_dispatches: array<TilingPassDispatch>;
+@group(2) @binding(3) var<uniform> resolve_pass: vec4<u32>;
+
+@compute @workgroup_size(RESOLVE_WAVE_WIDTH)
+fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
+    let dispatch = pass_dispatches[resolve_pass.x];
+    let k = wg.y * TILING_MAX_DISPATCH_X + wg.x;
+    if k >= dispatch.count {
+        return;
+    }
+    let wave = wave_commands[dispatch.first + k];
+    if lane >= wave.command_count {
+        return;
+    }
+    let c = wave.first_command + lane;
+    let command = (pixel_commands[c >> 1u] >> (16u * (c & 1u))) & 0xffffu;
+    let tile = vec2<u32>(wave.tile & 0xffffu, wave.tile >> TILING_WAVE_TILE_Y_SHIFT);
+    let pixel = tile * TILING_TILE_SIZE
+        + vec2<u32>(command & TILING_PIXEL_COORD_MASK, (command >> TILING_PIXEL_Y_SHIFT) & TILING_PIXEL_COORD_MASK);
+    let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
+    let r = resolve_pixel(pixel, word);
+    if r.ok {
+        gbuffer_store(pixel, r.surface);
+    }
+}

@@ -1,0 +1,114 @@
+//! Debug views the `render` binary writes: the vis buffer colour-coded by ID (the talk's
+//! slide), wave commands per 128x128 tile as a heat map, and the quad overdraw HZD's
+//! depth-equal pass has. All are computed on the CPU from read-back buffers, so they show
+//! what the GPU wrote.
+
+use std::collections::BTreeMap;
+
+use crate::classify::GpuClassification;
+use crate::image::{Rgba8Image, heat_color, id_color};
+
+/// Colour of pixels without vis-buffer geometry (sky) in the views.
+const EMPTY: [u8; 4] = [230, 200, 40, 255];
+
+/// The vis buffer colour-coded by its word (micro batch, instance, primitive): each
+/// triangle of each instance gets its own colour; pixels without geometry are yellow.
+pub fn vis_ids(width: u32, height: u32, vis: &[u32]) -> Rgba8Image {
+    let mut img = Rgba8Image::new(width, height, EMPTY);
+    for (p, &w) in img.pixels.iter_mut().zip(vis) {
+        if w != visbuf::VIS_NONE {
+            *p = id_color(w);
+        }
+    }
+    img
+}
+
+/// Wave commands per 128x128 tile (summed over passes and batch groups) as a heat map
+/// scaled to the busiest tile, blended over a grey version of the vis buffer so the scene
+/// shows through; tile borders are drawn dark. Returns the image and the busiest tile's
+/// wave count.
+pub fn wave_heatmap(width: u32, height: u32, c: &GpuClassification) -> (Rgba8Image, u32) {
+    let tiles_x = width.div_ceil(tiling::TILE_SIZE);
+    let tiles_y = height.div_ceil(tiling::TILE_SIZE);
+    let mut per_tile = vec![0u32; (tiles_x * tiles_y) as usize];
+    for w in &c.waves {
+        let (x, y) = w.tile_xy();
+        if x < tiles_x && y < tiles_y {
+            per_tile[(y * tiles_x + x) as usize] += 1;
+        }
+    }
+    let max = per_tile.iter().copied().max().unwrap_or(0).max(1);
+    let mut img = Rgba8Image::new(width, height, [0, 0, 0, 255]);
+    for y in 0..height {
+        for x in 0..width {
+            let i = (y * width + x) as usize;
+            let t = (y / tiling::TILE_SIZE) * tiles_x + x / tiling::TILE_SIZE;
+            let heat = heat_color(per_tile[t as usize] as f32 / max as f32);
+            let border = x % tiling::TILE_SIZE == 0 || y % tiling::TILE_SIZE == 0;
+            let grey = if c.vis.get(i).is_some_and(|&w| w != visbuf::VIS_NONE) {
+                90u16
+            } else {
+                40
+            };
+            img.pixels[i] = if border {
+                [20, 20, 20, 255]
+            } else {
+                let mix = |h: u8| ((u16::from(h) * 3 + grey) / 4) as u8;
+                [mix(heat[0]), mix(heat[1]), mix(heat[2]), 255]
+            };
+        }
+    }
+    (img, max)
+}
+
+/// HZD's depth-equal quad overdraw: for every 2x2 pixel quad, the number of distinct
+/// triangles (vis words) visible in it, each of which launches a whole quad in the
+/// depth-equal pass (1: blue, 4: red). Assumes no two triangles tie in depth, as the
+/// vis buffer's single winner already does. Returns the image and the mean quads shaded
+/// per covered quad.
+pub fn quad_overdraw(width: u32, height: u32, vis: &[u32]) -> (Rgba8Image, f64) {
+    let mut img = Rgba8Image::new(width, height, EMPTY);
+    let (mut quads, mut shaded) = (0u64, 0u64);
+    let mut ids: BTreeMap<u32, ()> = BTreeMap::new();
+    for qy in (0..height).step_by(2) {
+        for qx in (0..width).step_by(2) {
+            ids.clear();
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let (x, y) = (qx + dx, qy + dy);
+                if x < width && y < height {
+                    let w = vis[(y * width + x) as usize];
+                    if w != visbuf::VIS_NONE {
+                        ids.insert(w, ());
+                    }
+                }
+            }
+            if ids.is_empty() {
+                continue;
+            }
+            quads += 1;
+            shaded += ids.len() as u64;
+            let colour = heat_color(0.2 + 0.2 * (ids.len() as f32 - 1.0));
+            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let (x, y) = (qx + dx, qy + dy);
+                if x < width && y < height {
+                    img.pixels[(y * width + x) as usize] = colour;
+                }
+            }
+        }
+    }
+    (img, shaded as f64 / quads.max(1) as f64)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quad_overdraw_counts_distinct_triangles_per_quad() {
+        let n = visbuf::VIS_NONE;
+        // 4x2: left quad has 3 triangles, right quad one triangle and a hole.
+        let vis = [1, 2, 7, 7, 3, 1, 7, n];
+        let (_, mean) = quad_overdraw(4, 2, &vis);
+        assert!((mean - 2.0).abs() < 1e-12, "{mean}");
+    }
+}
