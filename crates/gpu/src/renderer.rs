@@ -459,8 +459,15 @@ impl Renderer {
                     color: l.color.extend(0.0).to_array(),
                 })
                 .collect();
+            // At least one row: the binding's size must hold one struct even with no lights
+            // (the uniform's light count says how many rows are real).
+            let rows: &[GpuPointLight] = if lights.is_empty() {
+                &[GpuPointLight::default()]
+            } else {
+                &lights
+            };
             let point_lights =
-                storage_buffer(device, "point lights", bytemuck::cast_slice(&lights), none);
+                storage_buffer(device, "point lights", bytemuck::cast_slice(rows), none);
             let meshes = storage_buffer(
                 device,
                 "meshes",
