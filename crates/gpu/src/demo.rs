@@ -706,8 +706,8 @@ fn grass(seed: u64, density: f32) -> Scene {
     let patch = 2.0;
     let meshes = vec![
         terrain_mesh(size, 96, tseed),
-        blade_patch_mesh(&mut rng, 96, 4, patch * 0.5, 1.1),
-        blade_patch_mesh(&mut rng, 96, 4, patch * 0.5, 0.8),
+        blade_patch_mesh(&mut rng, 256, 3, patch * 0.5, 1.1),
+        blade_patch_mesh(&mut rng, 256, 3, patch * 0.5, 0.8),
         rock_mesh(tseed ^ 0x99),
     ];
     let albedo_layers = vec![ground_layer(), blade_layer(), rock_layer()];
@@ -721,8 +721,8 @@ fn grass(seed: u64, density: f32) -> Scene {
         material("rock", ShaderKind::Opaque, 2, 0.7),
     ];
     let camera = Camera {
-        position: Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.6, -40.0),
-        target: Vec3::new(0.0, terrain_height(0.0, -20.0, tseed) + 0.8, -20.0),
+        position: Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.3, -40.0),
+        target: Vec3::new(0.0, terrain_height(0.0, -25.0, tseed) - 0.6, -25.0),
         fov_y: 60f32.to_radians(),
         near: 0.1,
     };
