@@ -352,7 +352,7 @@ fn blade_patch_mesh(rng: &mut Rng, blades: u32, segments: u32, extent: f32, heig
         let face = side.cross(Vec3::Y);
         let h = height * rng.range(0.6, 1.2);
         let bend = face * rng.range(0.1, 0.5) * h;
-        let width = rng.range(0.025, 0.05);
+        let width = rng.range(0.004, 0.012);
         let u0 = rng.f32() * 0.75;
         let mut prev: Option<(u16, u16)> = None;
         for s in 0..=segments {
@@ -706,8 +706,8 @@ fn grass(seed: u64, density: f32) -> Scene {
     let patch = 2.0;
     let meshes = vec![
         terrain_mesh(size, 96, tseed),
-        blade_patch_mesh(&mut rng, 256, 3, patch * 0.5, 1.1),
-        blade_patch_mesh(&mut rng, 256, 3, patch * 0.5, 0.8),
+        blade_patch_mesh(&mut rng, 512, 3, patch * 0.5, 1.1),
+        blade_patch_mesh(&mut rng, 512, 3, patch * 0.5, 0.8),
         rock_mesh(tseed ^ 0x99),
     ];
     let albedo_layers = vec![ground_layer(), blade_layer(), rock_layer()];
