@@ -191,9 +191,18 @@ impl Report {
             diff_metrics(deferred, baseline, 0.5),
             diff_metrics(deferred, baseline, 0.99),
         ) {
+            let differing = deferred
+                .pixels
+                .iter()
+                .zip(&baseline.pixels)
+                .filter(|(a, b)| a[..3] != b[..3])
+                .count();
             self.row(
                 "deferred vs baseline image",
-                format!("mean abs error {mean:.2} / 255, 99th percentile {p99} / 255"),
+                format!(
+                    "mean abs error {mean:.3} / 255, 99th percentile {p99} / 255, {:.2}% of pixels differ",
+                    100.0 * differing as f64 / deferred.pixels.len().max(1) as f64
+                ),
             );
         }
     }

@@ -13,8 +13,12 @@ use gpu::renderer::{RenderPath, Renderer, RendererConfig};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum SceneArg {
+    /// Alpha-tested foliage cards, grass tufts, trees and rocks over a terrain.
     Forest,
+    /// A tall-grass field of very high vertex density.
     Grass,
+    /// Both, one after the other (the same renderer and device).
+    All,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -45,7 +49,7 @@ enum PrimitiveIdArg {
 #[command(version, about)]
 struct Args {
     /// Which demo scene.
-    #[arg(long, value_enum, default_value = "forest")]
+    #[arg(long, value_enum, default_value = "all")]
     scene: SceneArg,
     /// Image width in pixels.
     #[arg(long, default_value_t = 1280)]
@@ -91,18 +95,6 @@ fn main() -> Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
 
-    let scene_kind = match args.scene {
-        SceneArg::Forest => DemoScene::Forest,
-        SceneArg::Grass => DemoScene::Grass,
-    };
-    let t0 = std::time::Instant::now();
-    let scene = demo::build(&DemoOptions {
-        scene: scene_kind,
-        seed: args.seed,
-        density: args.density,
-    });
-    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
-
     let mut disable = wgpu::Features::empty();
     if args.no_subgroups {
         disable |= wgpu::Features::SUBGROUP;
@@ -124,6 +116,35 @@ fn main() -> Result<()> {
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
+    let scenes: &[DemoScene] = match args.scene {
+        SceneArg::Forest => &[DemoScene::Forest],
+        SceneArg::Grass => &[DemoScene::Grass],
+        SceneArg::All => &DemoScene::ALL,
+    };
+    for (k, &scene_kind) in scenes.iter().enumerate() {
+        if k > 0 {
+            println!();
+        }
+        println!("== {} ==", scene_kind.name());
+        render_scene(&args, &ctx, &mut renderer, scene_kind)?;
+    }
+    Ok(())
+}
+
+/// Builds, prepares and renders one demo scene; writes its images; prints its report.
+fn render_scene(
+    args: &Args,
+    ctx: &context::GpuContext,
+    renderer: &mut Renderer,
+    scene_kind: DemoScene,
+) -> Result<()> {
+    let t0 = std::time::Instant::now();
+    let scene = demo::build(&DemoOptions {
+        scene: scene_kind,
+        seed: args.seed,
+        density: args.density,
+    });
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = std::time::Instant::now();
     let prepared = renderer.prepare(&scene)?;
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
@@ -133,7 +154,7 @@ fn main() -> Result<()> {
         PathArg::Baseline => &[RenderPath::Baseline],
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
     };
-    let mut report = gpu::report::Report::new(&ctx, &scene, &renderer, &prepared);
+    let mut report = gpu::report::Report::new(ctx, &scene, renderer, &prepared);
     report.cpu_ms("scene build (CPU)", build_ms);
     report.cpu_ms(
         "prepare: encode meshes, micro batches, upload (CPU)",
