@@ -200,6 +200,26 @@ impl ClassifyPipelines {
     }
 }
 
+impl ClassifyPipelines {
+    /// Rebuilds the phase 2 and 3 pipelines from other sources with the same bindings
+    /// (timing experiments; the layouts, and so every prepared scene's bind groups, stay).
+    pub(crate) fn rebuild(&mut self, device: &wgpu::Device, mid: &str, output: &str) {
+        let m = module(device, "mid classify (variant)", mid, &self.phase2_layout);
+        self.counter_offsets = m.pipeline("counter_offsets_pass");
+        self.count_pixels = m.pipeline("count_pixels");
+        self.pixel_offsets = m.pipeline("pixel_offsets_pass");
+        let o = module(
+            device,
+            "classify output (variant)",
+            output,
+            &self.phase3_layout,
+        );
+        self.write_commands = o.pipeline("write_commands");
+        self.wave_offsets = o.pipeline("wave_offsets_pass");
+        self.write_waves = o.pipeline("write_waves");
+    }
+}
+
 /// Worst-case sizes of a frame's classification buffers (elements, see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClassifySizes {

@@ -893,6 +893,19 @@ impl Renderer {
         ))
     }
 
+    /// Replaces the WGSL of classification phases 2 and 3 (same bindings and entry points
+    /// as `tiling::wgsl`'s), for timing experiments (`examples/classify_variants.rs`). A
+    /// source that fails validation is an error, after which deferred frames fail until a
+    /// valid source is set.
+    #[doc(hidden)]
+    pub fn set_classification_sources(&mut self, mid: &str, output: &str) -> Result<()> {
+        let device = self.device.clone();
+        scoped(&device, || {
+            self.classify.rebuild(&device, mid, output);
+            Ok(())
+        })
+    }
+
     /// Reads back what the last deferred frame's classification wrote.
     pub fn read_classification(&self, scene: &PreparedScene) -> Result<GpuClassification> {
         scene.classification.read(&self.device, &self.queue)
