@@ -61,12 +61,33 @@ fn main() -> anyhow::Result<()> {
         "atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));",
         "",
     )];
-    let sg_min = [(
-        "        if (pending) {\n            atomicMin(&tiling_wg_key, key);\n        }",
-        "        let m = subgroupMin(select(TILING_NONE, key, pending));\n        if (m != TILING_NONE && li == subgroupBroadcastFirst(li)) {\n            atomicMin(&tiling_wg_key, m);\n        }",
+    let no_index_reads = [(
+        "tiling_mark_triangle(px, tiling_first_of_run(gid.x, gid.y, word))",
+        "true",
     )];
-    let mut variants: Vec<(&str, String, String)> = vec![
-        ("as shipped", mid.to_string(), out.to_string()),
+    let key_loop = [(
+        "const TILING_HIST_LIMIT: u32 = 256u;",
+        "const TILING_HIST_LIMIT: u32 = 0u;",
+    )];
+    // Single-workgroup scans switched off: the buffers they write keep the previous
+    // frame's (identical) values, so the other entry points still see valid offsets.
+    let dummy = |src: &str, entries: &[&str]| {
+        let mut s = src.to_string();
+        for e in entries {
+            let a = format!("fn {e}(");
+            assert!(s.contains(&a), "entry point {e} not found");
+            s = s.replace(&a, &format!("fn {e}_measured("));
+            s.push_str(&format!("\n@compute @workgroup_size(1) fn {e}() {{}}\n"));
+        }
+        s
+    };
+    let variants: Vec<(&str, String, String)> = vec![
+        ("as shipped (keyed histogram)", mid.to_string(), out.to_string()),
+        (
+            "wave-append key loop instead (the >256-counter path)",
+            replaced(mid, &key_loop),
+            replaced(out, &key_loop),
+        ),
         (
             "no workgroup stats atomics",
             replaced(mid, &no_stats),
@@ -82,41 +103,27 @@ fn main() -> anyhow::Result<()> {
             replaced(mid, &no_cull),
             out.to_string(),
         ),
+        (
+            "no index reads in mid (no vertex culling)",
+            replaced(mid, &no_index_reads),
+            out.to_string(),
+        ),
+        (
+            "mid: count_pixels only",
+            dummy(mid, &["counter_offsets_pass", "pixel_offsets_pass"]),
+            out.to_string(),
+        ),
+        (
+            "output: write_commands only",
+            mid.to_string(),
+            dummy(out, &["wave_offsets_pass", "write_waves"]),
+        ),
+        (
+            "output: write_commands + write_waves",
+            mid.to_string(),
+            dummy(out, &["wave_offsets_pass"]),
+        ),
     ];
-    // Single-workgroup scans switched off: the buffers they write keep the previous
-    // frame's (identical) values, so the other entry points still see valid offsets.
-    let dummy = |src: &str, entries: &[&str]| {
-        let mut s = src.to_string();
-        for e in entries {
-            let a = format!("fn {e}(");
-            assert!(s.contains(&a), "entry point {e} not found");
-            s = s.replace(&a, &format!("fn {e}_measured("));
-            s.push_str(&format!("\n@compute @workgroup_size(1) fn {e}() {{}}\n"));
-        }
-        s
-    };
-    variants.push((
-        "mid: count_pixels only",
-        dummy(mid, &["counter_offsets_pass", "pixel_offsets_pass"]),
-        out.to_string(),
-    ));
-    variants.push((
-        "output: write_commands only",
-        mid.to_string(),
-        dummy(out, &["wave_offsets_pass", "write_waves"]),
-    ));
-    variants.push((
-        "output: write_commands + write_waves",
-        mid.to_string(),
-        dummy(out, &["wave_offsets_pass"]),
-    ));
-    if subgroups {
-        variants.push((
-            "key loop: subgroupMin before the LDS atomic",
-            replaced(mid, &sg_min),
-            replaced(out, &sg_min),
-        ));
-    }
     for (name, m, o) in &variants {
         r.set_classification_sources(m, o)?;
         let t = r.render_frames(&prepared, RenderPath::Deferred, 20)?;
@@ -127,11 +134,14 @@ fn main() -> anyhow::Result<()> {
                 .map_or(0.0, |x| x.ms)
         };
         let (mid_ms, out_ms) = (get("classify 2: mid classify"), get("classify 3: output"));
+        let g = r.read_classification(&prepared)?;
+        let (_, mismatch) = r.classification_statistics(&prepared, &g)?;
         println!(
-            "{name:<45} mid {:>7.3} ms  output {:>7.3} ms  finalize {:>6.3} ms",
+            "{name:<45} mid {:>7.3} ms  output {:>7.3} ms  finalize {:>6.3} ms  equal to the CPU twin: {}",
             mid_ms,
             out_ms,
-            get("classify 1: laydown finalize")
+            get("classify 1: laydown finalize"),
+            if mismatch.is_none() { "yes" } else { "no" }
         );
     }
     Ok(())

@@ -8,6 +8,12 @@
 //! appends (path-neutral `wave_append_begin` / `wave_append_end`: one atomic per subgroup
 //! on the subgroup path, per workgroup on the fallback), then this crate's common part
 //! ([`COMMON_WGSL`]: constants, structs, the single-workgroup scan) and the pass.
+//! The two pixel phases (`count_pixels`, `write_commands`) aggregate through a keyed
+//! workgroup histogram (`keyed.wgsl`): a 16x16 block lies in one tile whose counters are
+//! contiguous, so one LDS atomic per pixel and one global atomic per counter of the block
+//! replace the wave-append loop over keys; tiles with more than 256 counters take that loop
+//! (`wave`'s appends, one atomic per subgroup and key). Both give the same counts and, after
+//! [`canonical_sort`](crate::canonical_sort), the same commands; `tests/device.rs` runs both.
 //! The classification modules come in two builds: the plain name needs no optional
 //! feature (validated with `Caps::CORE`), `_SUBGROUP` needs `wgpu::Features::SUBGROUP`;
 //! [`mid_classify_module`] and [`classify_output_module`] pick one.
@@ -118,6 +124,7 @@ const LAYDOWN_SRC: &str = include_str!("wgsl/laydown_finalize.wgsl");
 const MID_SRC: &str = include_str!("wgsl/mid_classify.wgsl");
 const OUTPUT_SRC: &str = include_str!("wgsl/classify_output.wgsl");
 const VERTEX_SRC: &str = include_str!("wgsl/vertex_waves.wgsl");
+const KEYED_SRC: &str = include_str!("wgsl/keyed.wgsl");
 
 const fn joined_len(parts: &[&str]) -> usize {
     let mut n = 0;
@@ -172,23 +179,23 @@ wgsl_module!(
 wgsl_module!(
     /// Phase 2, entry points `counter_offsets_pass`, `count_pixels`,
     /// `pixel_offsets_pass`, with `wave`'s workgroup fallback (core WGSL).
-    MID_CLASSIFY = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, MID_SRC]
+    MID_CLASSIFY = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, MID_SRC, KEYED_SRC]
 );
 
 wgsl_module!(
     /// [`MID_CLASSIFY`] with `wave`'s subgroup path (`wgpu::Features::SUBGROUP`).
-    MID_CLASSIFY_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, MID_SRC]
+    MID_CLASSIFY_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, MID_SRC, KEYED_SRC]
 );
 
 wgsl_module!(
     /// Phase 3, entry points `write_commands`, `wave_offsets_pass`, `write_waves`, with
     /// `wave`'s workgroup fallback (core WGSL).
-    CLASSIFY_OUTPUT = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC]
+    CLASSIFY_OUTPUT = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC, KEYED_SRC]
 );
 
 wgsl_module!(
     /// [`CLASSIFY_OUTPUT`] with `wave`'s subgroup path (`wgpu::Features::SUBGROUP`).
-    CLASSIFY_OUTPUT_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC]
+    CLASSIFY_OUTPUT_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC, KEYED_SRC]
 );
 
 wgsl_module!(

@@ -68,6 +68,39 @@ fn write_commands(
             }
         }
     }
+    let range = tiling_tile_counters(tile, li);
+    if (range.y <= TILING_HIST_LIMIT) {
+        // Keyed histogram (keyed.wgsl): a rank within the block per command, one global
+        // atomic per counter of the block for the block's first slot.
+        atomicStore(&tiling_hist[li], 0u);
+        workgroupBarrier();
+        var rank = 0u;
+        var c = 0u;
+        if (key != TILING_NONE) {
+            c = tiling_counter_of(tile, key);
+            rank = atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_LIMIT - 1u)], 1u);
+        }
+        workgroupBarrier();
+        if (li < range.y) {
+            let v = atomicLoad(&tiling_hist[li]);
+            if (v != 0u && range.x + li < arrayLength(&final_counts)) {
+                tiling_hist_first[li] = atomicAdd(&final_counts[range.x + li], v);
+            }
+        }
+        workgroupBarrier();
+        if (key != TILING_NONE) {
+            let slot = tiling_hist_first[min(c - range.x, TILING_HIST_LIMIT - 1u)] + rank;
+            if (c < arrayLength(&counts) && slot < counts[c]) {
+                let at = pixel_offsets[c] + slot;
+                if (at / 2u < arrayLength(&commands)) {
+                    atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+                }
+                tiling_stat(TILING_STAT_COMMANDS, 1u);
+            } else {
+                tiling_stat(TILING_STAT_DROPPED, 1u);
+            }
+        }
+    } else {
     // Aggregated appends, one (pass, group) of the workgroup at a time.
     var pending = key != TILING_NONE;
     loop {
@@ -106,6 +139,7 @@ fn write_commands(
                 tiling_stat(TILING_STAT_DROPPED, 1u);
             }
         }
+    }
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {

@@ -141,6 +141,23 @@ fn count_pixels(
             }
         }
     }
+    let range = tiling_tile_counters(tile, li);
+    if (range.y <= TILING_HIST_LIMIT) {
+        // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
+        atomicStore(&tiling_hist[li], 0u);
+        workgroupBarrier();
+        if (key != TILING_NONE) {
+            let c = tiling_counter_of(tile, key);
+            atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_LIMIT - 1u)], 1u);
+        }
+        workgroupBarrier();
+        if (li < range.y) {
+            let v = atomicLoad(&tiling_hist[li]);
+            if (v != 0u && range.x + li < arrayLength(&counts)) {
+                atomicAdd(&counts[range.x + li], v);
+            }
+        }
+    } else {
     // Aggregated appends, one (pass, group) of the workgroup at a time, smallest first:
     // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
     var pending = key != TILING_NONE;
@@ -171,6 +188,7 @@ fn count_pixels(
         if (take) {
             pending = false;
         }
+    }
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
