@@ -22,10 +22,6 @@ struct LaydownOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) instance: u32,
     @location(2) @interpolate(flat) payload: u32,
-    // The vis word's (micro batch, instance field, primitive bits) and the material,
-    // read once per vertex rather than from the instance table per fragment.
-    @location(3) @interpolate(flat) id_fields: vec3<u32>,
-    @location(4) @interpolate(flat) material: u32,
 }
 
 fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
@@ -36,8 +32,6 @@ fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
     out.uv = vec2<f32>(v.u, v.v);
     out.instance = instance;
     out.payload = 0u;
-    out.id_fields = vec3<u32>(inst.micro_batch, inst.instance_field, inst.primitive_bits);
-    out.material = inst.material;
     return out;
 }
 
@@ -54,20 +48,21 @@ fn vs_payload(@builtin(vertex_index) vertex: u32, @builtin(instance_index) insta
     return out;
 }
 
-fn alpha_test(uv: vec2<f32>, material: u32) {
-    let m = materials[material];
+fn alpha_test(uv: vec2<f32>, instance: u32) {
+    let m = materials[instances[instance].material];
     let a = textureSample(albedo, albedo_sampler, uv, m.albedo_layer).a;
     if a < m.alpha_cutoff {
         discard;
     }
 }
 
-fn vis_word(id_fields: vec3<u32>, primitive: u32) -> u32 {
-    return visbuf_pack_id(id_fields.x, id_fields.y, primitive, id_fields.z);
+fn vis_word(instance: u32, primitive: u32) -> u32 {
+    let inst = instances[instance];
+    return visbuf_pack_id(inst.micro_batch, inst.instance_field, primitive, inst.primitive_bits);
 }
 
 // Depth-only prepass (baseline): no colour output.
 @fragment
 fn fs_depth_alpha(in: LaydownOut) {
-    alpha_test(in.uv, in.material);
+    alpha_test(in.uv, in.instance);
 }

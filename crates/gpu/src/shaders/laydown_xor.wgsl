@@ -3,17 +3,15 @@ struct LaydownXorIn {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) instance: u32,
     @location(2) @interpolate(per_vertex) payload: array<u32, 3>,
-    @location(3) @interpolate(flat) id_fields: vec3<u32>,
-    @location(4) @interpolate(flat) material: u32,
 }
 
 @fragment
 fn fs_xor(in: LaydownXorIn) -> @location(0) u32 {
-    return vis_word(in.id_fields, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
+    return vis_word(in.instance, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
 }
 
 @fragment
 fn fs_xor_alpha(in: LaydownXorIn) -> @location(0) u32 {
-    alpha_test(in.uv, in.material);
-    return vis_word(in.id_fields, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
+    alpha_test(in.uv, in.instance);
+    return vis_word(in.instance, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
 }
