@@ -82,7 +82,11 @@ fn main() -> anyhow::Result<()> {
         s
     };
     let variants: Vec<(&str, String, String)> = vec![
-        ("as shipped (keyed histogram)", mid.to_string(), out.to_string()),
+        (
+            "as shipped (keyed histogram)",
+            mid.to_string(),
+            out.to_string(),
+        ),
         (
             "wave-append key loop instead (the >256-counter path)",
             replaced(mid, &key_loop),
