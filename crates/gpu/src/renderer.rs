@@ -20,6 +20,9 @@ use crate::timing::{GpuTimer, Timing};
 use crate::upload::{albedo_texture, gpu_materials, storage_buffer};
 use wgpu::util::DeviceExt as _;
 
+/// Wall time [`Renderer::render_frames`] renders before it starts measuring.
+pub const WARM_UP: std::time::Duration = std::time::Duration::from_millis(500);
+
 /// Which rendering path a frame takes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RenderPath {
@@ -770,23 +773,29 @@ impl Renderer {
         );
     }
 
-    /// Renders `frames` frames of `path` and returns the timings (GPU times are the mean
-    /// over frames after the first, or the first when there is only one).
+    /// Renders `path` for at least [`WARM_UP`] of wall time (at least one frame) to bring the
+    /// GPU's clocks up, then `frames` more, and returns the mean timings of those `frames`.
+    /// Without the warm-up, a GPU that idled while the CPU worked (a read-back, the CPU
+    /// twin) measures its first frames at idle clocks: on the H100 the SM clock falls to
+    /// 345 MHz within ~0.5 s of idling and the next frames ran up to 2x slower.
     pub fn render_frames(
         &mut self,
         scene: &PreparedScene,
         path: RenderPath,
         frames: u32,
     ) -> Result<FrameTimings> {
+        let start = std::time::Instant::now();
+        loop {
+            self.render(scene, path)?;
+            if start.elapsed() >= WARM_UP {
+                break;
+            }
+        }
         let mut all = Vec::new();
         for _ in 0..frames.max(1) {
             all.push(self.render(scene, path)?);
         }
-        let steady: Vec<&FrameTimings> = if all.len() > 1 {
-            all.iter().skip(1).collect()
-        } else {
-            all.iter().collect()
-        };
+        let steady: Vec<&FrameTimings> = all.iter().collect();
         let n = steady.len() as f64;
         let mut gpu: Vec<Timing> = Vec::new();
         for f in &steady {

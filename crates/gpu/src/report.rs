@@ -238,7 +238,7 @@ impl fmt::Display for Report {
         for (path, t) in &self.timings {
             writeln!(
                 f,
-                "\n{} path, GPU times (timestamp queries, mean over frames):",
+                "\n{} path, GPU times (timestamp queries, mean over the measured frames after a 0.5 s warm-up):",
                 path.name()
             )?;
             let total: f64 = t.gpu.iter().map(|x| x.ms).sum();

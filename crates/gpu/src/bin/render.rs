@@ -63,7 +63,7 @@ struct Args {
     /// Which rendering path.
     #[arg(long, value_enum, default_value = "both")]
     path: PathArg,
-    /// Frames to render (timings are the mean of all but the first).
+    /// Frames to measure, after 0.5 s of warm-up frames (timings are their mean).
     #[arg(long, default_value_t = 3)]
     frames: u32,
     /// Scene seed.
