@@ -101,6 +101,24 @@ pub const FLAG_VALIDITY: u32 = 1;
 /// Bit of [`TilingParams::flags`]: the words use [`VisLayout::Vrs`] (quad commands).
 pub const FLAG_VRS: u32 = 2;
 
+/// Whether pixel `(x, y)`, holding `word`, starts a triangle run: neither its left nor its
+/// upper neighbour (in the whole buffer, across tile edges) holds the same word with its
+/// validity bit set. Every valid pixel's word is also held by a run start at or above-left
+/// of it, so marking a triangle's vertex chunks only at run starts marks every visible
+/// triangle. Out-of-range coordinates are run starts.
+#[must_use]
+pub fn first_of_run(vis: &VisBuffer<'_>, x: u32, y: u32, word: u32) -> bool {
+    let w = vis.width as usize;
+    let same = |i: usize| {
+        vis.words.get(i) == Some(&word)
+            && vis
+                .valid
+                .is_none_or(|m| m.get(i >> 5).is_some_and(|b| (b >> (i & 31)) & 1 == 1))
+    };
+    let i = y as usize * w + x as usize;
+    !((x > 0 && x < vis.width && same(i - 1)) || (y > 0 && x < vis.width && same(i - w)))
+}
+
 /// The standard-layout pixel command of pixel `(x, y)` within its tile (each `0..128`,
 /// masked).
 #[must_use]
@@ -380,9 +398,11 @@ pub struct PixelStats {
     /// or past the counter's count from mid classify (output). Zero when every phase sees
     /// the same validity.
     pub dropped: u32,
-    /// Mid classify: valid pixels whose triangle has an index past the index buffer, an
-    /// index at or past the geometry's vertex count, or a chunk past the cull buffer
-    /// (their vertices are not marked).
+    /// Mid classify: valid pixels that start a triangle run, see [`first_of_run`], and
+    /// whose triangle has an index past the index buffer, an index at or past the
+    /// geometry's vertex count, or a chunk past the cull buffer (their vertices are not
+    /// marked). Counted per run start rather than per pixel: the GPU reads a triangle's
+    /// indices only at run starts, one set of index loads and chunk marks per run.
     pub bad_indices: u32,
     /// Padding (zero).
     pub pad: u32,
@@ -670,6 +690,12 @@ impl<'a> Frame<'a> {
         stats.valid += kinds[3];
     }
 
+    /// [`first_of_run`] over this frame's vis buffer.
+    #[inline(always)]
+    pub fn first_of_run(&self, x: u32, y: u32, word: u32) -> bool {
+        first_of_run(&self.vis, x, y, word)
+    }
+
     /// With VRS: the pixel mask of the shading sample pixel `(x, y)` carries, or `None`
     /// when another pixel of its block carries it. Without VRS: always `Some(1)`.
     #[inline(always)]
@@ -889,8 +915,8 @@ impl TileMarks {
         }
         let mut bad = 0;
         let mut ignore = PixelStats::default();
-        f.for_each_pixel(t, &mut ignore, |_, _, word, valid, _| {
-            if valid && self.bad_words.binary_search(&word).is_ok() {
+        f.for_each_pixel(t, &mut ignore, |x, y, word, valid, _| {
+            if valid && self.bad_words.binary_search(&word).is_ok() && f.first_of_run(x, y, word) {
                 bad += 1;
             }
         });

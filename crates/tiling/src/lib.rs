@@ -98,8 +98,8 @@ pub mod wgsl;
 pub use classify::{
     Classification, ClassifyConfig, ClassifyOutput, MidClassify, PassDispatch, PixelStats,
     TILE_SIZE, TilingParams, Totals, VisBuffer, WaveCommand, canonical_sort, classify,
-    classify_output, classify_phases, command_sort_key, laydown_finalize, mid_classify,
-    pixel_command, unpack_pixel_command,
+    classify_output, classify_phases, command_sort_key, first_of_run, laydown_finalize,
+    mid_classify, pixel_command, unpack_pixel_command,
 };
 pub use error::Error;
 pub use measure::{TalkMeasurements, depth_equal_waves, measure};

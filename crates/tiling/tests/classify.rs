@@ -343,3 +343,43 @@ fn garbage_words_and_tables_are_counted_never_read_out_of_bounds() {
     assert_eq!(got, want);
     assert!(got.output.stats.unknown > 0);
 }
+
+#[test]
+fn bad_indices_count_run_starts_as_the_naive_reference_does() {
+    let mut rng = Rng(4242);
+    let scene = random_scene(&mut rng, 12, &PlanConfig::default());
+    let (w, h) = (300, 170);
+    // Runs of equal words (random_vis's runs), half of them past a truncated index buffer.
+    let words = random_vis(&mut rng, &scene.plan, w, h, VisLayout::Standard, 12);
+    let indices = &scene.indices[..scene.indices.len() / 2];
+    for masked in [false, true] {
+        let mask = masked.then(|| random_mask(&mut rng, w, h, 70));
+        let mut vis = VisBuffer::new(&words, w, h, VisLayout::Standard).unwrap();
+        if let Some(m) = &mask {
+            vis = vis.with_validity(m).unwrap();
+        }
+        let cfg = ClassifyConfig::for_plan(&scene.plan, WaveWidth::W32);
+        let got = classify(&vis, &scene.plan.table, indices, &cfg).unwrap();
+        let phases = tiling::classify_phases(&vis, &scene.plan.table, indices, &cfg).unwrap();
+        let want = naive_classify(&NaiveInput {
+            words: &words,
+            valid: mask.as_deref(),
+            w,
+            h,
+            layout: VisLayout::Standard,
+            table: &scene.plan.table,
+            indices,
+            passes: cfg.pass_count,
+            wave: 32,
+            chunk_count: cfg.chunk_count,
+        });
+        assert_eq!(got, want, "fused, masked {masked}");
+        assert_eq!(phases, want, "phases, masked {masked}");
+        let bad = want.mid.stats.bad_indices;
+        assert!(
+            bad > 0 && bad < want.mid.stats.valid / 2,
+            "runs make run starts rarer than bad pixels: {bad} of {} valid",
+            want.mid.stats.valid
+        );
+    }
+}

@@ -257,7 +257,15 @@ fn classification_case(
         vis = vis.with_validity(&mask).unwrap();
     }
     let cfg = ClassifyConfig::for_plan(plan, WaveWidth::W16);
-    let cpu = classify_phases(&vis, &plan.table, &scene.indices, &cfg).unwrap();
+    // Seed 2 truncates the index buffer: triangles past it count as bad indices. The
+    // length stays a multiple of 4 words, so the harness's 16-byte padding adds no zero
+    // indices that the shader's arrayLength would see.
+    let indices = if seed == 2 {
+        &scene.indices[..scene.indices.len() / 2 / 12 * 12]
+    } else {
+        &scene.indices[..]
+    };
+    let cpu = classify_phases(&vis, &plan.table, indices, &cfg).unwrap();
     let params = TilingParams::new(&vis, &cfg, plan.table.len() as u32, plan.order.len() as u32);
     let tiles = vis.tile_count() as usize;
     let p = cfg.pass_count as usize;
@@ -318,7 +326,7 @@ fn classification_case(
     p2.zeros(6, counters);
     p2.zeros(7, counters);
     p2.zeros(8, (cfg.chunk_count as usize).div_ceil(4));
-    p2.data(9, &scene.indices);
+    p2.data(9, indices);
     p2.zeros(10, 4);
     p2.zeros(11, 8);
     p2.run("counter_offsets_pass", (1, 1, 1));
@@ -356,6 +364,12 @@ fn classification_case(
         cpu.mid.stats,
         "mid stats, {what}"
     );
+    if seed == 2 {
+        assert!(
+            cpu.mid.stats.bad_indices > 0,
+            "{what}: the truncated case has bad indices"
+        );
+    }
 
     // Phase 3.
     let commands = cpu.mid.command_count as usize;

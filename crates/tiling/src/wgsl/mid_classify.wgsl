@@ -46,11 +46,10 @@ fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
     }
 }
 
-// Whether pixel (x, y), with vis word `word`, is the first of its triangle in scan order
-// among its left and upper neighbours: neither holds the same word with its validity bit
-// set. Every triangle's set of valid pixels has exactly one pixel with no such neighbour
-// in it at its top-left, so marking only from "first" pixels marks every visible
-// triangle, with one atomic per triangle run instead of three per pixel.
+// Whether pixel (x, y), with vis word `word`, starts a triangle run (tiling::first_of_run):
+// neither its left nor its upper neighbour holds the same word with its validity bit set.
+// Every valid pixel's word is also held by a run start, so reading the triangle's indices
+// and marking its chunks only at run starts marks every visible triangle.
 fn tiling_first_of_run(x: u32, y: u32, word: u32) -> bool {
     let i = y * params.width + x;
     if (x > 0u && tiling_word(i - 1u) == word && tiling_valid_bit(i - 1u)) {
@@ -62,11 +61,9 @@ fn tiling_first_of_run(x: u32, y: u32, word: u32) -> bool {
     return true;
 }
 
-// Checks the indices of a valid pixel's triangle and, when `mark`, sets its 64-vertex
-// chunks in the cull buffer; false if an index is bad (past the index buffer, at or past
-// the vertex count, or a chunk past the cull buffer) whether or not it marks, so the
-// bad-index count stays per pixel.
-fn tiling_mark_triangle(px: TilingPixel, mark: bool) -> bool {
+// Marks the 64-vertex chunks of a valid pixel's triangle; false if an index is bad (past
+// the index buffer, at or past the vertex count, or a chunk past the cull buffer).
+fn tiling_mark_triangle(px: TilingPixel) -> bool {
     let row = table[px.mb];
     let first = tiling_add_sat(row.first_index, 3u * px.prim);
     let n = arrayLength(&indices);
@@ -95,9 +92,7 @@ fn tiling_mark_triangle(px: TilingPixel, mark: bool) -> bool {
             ok = false;
             continue;
         }
-        if (mark) {
-            atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
-        }
+        atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
     }
     return ok;
 }
@@ -127,7 +122,7 @@ fn count_pixels(
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
         if (px.kind == TILING_PX_VALID) {
-            if (!tiling_mark_triangle(px, tiling_first_of_run(gid.x, gid.y, word))) {
+            if (tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
                 tiling_stat(TILING_STAT_BAD_INDICES, 1u);
             }
             if (tiling_sample_mask(gid.x, gid.y, word) != 0u) {

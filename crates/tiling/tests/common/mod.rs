@@ -293,11 +293,14 @@ pub fn naive_classify(n: &NaiveInput<'_>) -> Classification {
                 _ => stats.valid += 1,
             }
             let Some(hit) = hit else { continue };
+            // Bad indices count run starts: no valid left or upper neighbour with this word.
+            let same = |j: usize| n.words[j] == n.words[i] && bit(n.valid, j);
+            let run_start = !((x > 0 && same(i - 1)) || (y > 0 && same(i - n.w as usize)));
             // Vertex cull.
             let r = n.table[hit.id as usize];
             let first = r.first_index as u64 + 3 * hit.prim as u64;
             if first + 3 > n.indices.len() as u64 {
-                bad += 1;
+                bad += u32::from(run_start);
             } else {
                 let mut ok = true;
                 for k in 0..3 {
@@ -314,7 +317,7 @@ pub fn naive_classify(n: &NaiveInput<'_>) -> Classification {
                         ok = false;
                     }
                 }
-                bad += u32::from(!ok);
+                bad += u32::from(!ok && run_start);
             }
             let t = ((y / 128) * tiles_x + x / 128) as usize;
             let (tx, ty) = (x % 128, y % 128);
