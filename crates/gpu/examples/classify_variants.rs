@@ -62,8 +62,8 @@ fn main() -> anyhow::Result<()> {
         "",
     )];
     let no_index_reads = [(
-        "tiling_mark_triangle(px, tiling_first_of_run(gid.x, gid.y, word))",
-        "true",
+        "tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)",
+        "false",
     )];
     let key_loop = [(
         "const TILING_HIST_LIMIT: u32 = 256u;",
