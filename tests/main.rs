@@ -4,4 +4,5 @@
 mod fuzz_regressions;
 mod gpu_common;
 mod gpu_morton;
+mod gpu_tiling;
 mod gpu_visbuf;

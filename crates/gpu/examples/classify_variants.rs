@@ -66,7 +66,7 @@ fn main() -> anyhow::Result<()> {
         "false",
     )];
     let key_loop = [(
-        "const TILING_HIST_LIMIT: u32 = 256u;",
+        "const TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;",
         "const TILING_HIST_LIMIT: u32 = 0u;",
     )];
     // Single-workgroup scans switched off: the buffers they write keep the previous

@@ -291,6 +291,12 @@ pub struct ClassifyBuffers {
     phase3_group: wgpu::BindGroup,
 }
 
+/// Words (`u32`) that `n` elements of `T` take.
+fn words_of<T>(n: u32) -> u32 {
+    const { assert!(size_of::<T>().is_multiple_of(4)) };
+    n * (size_of::<T>() / 4) as u32
+}
+
 fn zeroed(
     device: &wgpu::Device,
     label: &str,
@@ -364,19 +370,24 @@ impl ClassifyBuffers {
         let counts = zeroed(device, "counts", s.max_counters, none);
         let pixel_offsets = zeroed(device, "pixel offsets", s.max_counters, none);
         let vertex_cull = zeroed(device, "vertex cull", s.chunk_count.div_ceil(4), none);
-        let totals = zeroed(device, "totals", 4, none);
-        let stats_mid = zeroed(device, "mid stats", 8, none);
+        let totals = zeroed(device, "totals", words_of::<Totals>(1), none);
+        let stats_mid = zeroed(device, "mid stats", words_of::<PixelStats>(1), none);
         let final_counts = zeroed(device, "final counts", s.max_counters, none);
         let commands = zeroed(device, "pixel commands", s.max_commands.div_ceil(2), none);
         let wave_offsets = zeroed(device, "wave offsets", s.max_counters, none);
-        let waves = zeroed(device, "wave commands", s.max_waves * 4, none);
+        let waves = zeroed(
+            device,
+            "wave commands",
+            words_of::<WaveCommand>(s.max_waves),
+            none,
+        );
         let pass_dispatch = zeroed(
             device,
             "pass dispatches",
-            s.passes * 6,
+            words_of::<PassDispatch>(s.passes),
             wgpu::BufferUsages::INDIRECT,
         );
-        let stats_out = zeroed(device, "output stats", 8, none);
+        let stats_out = zeroed(device, "output stats", words_of::<PixelStats>(1), none);
 
         let copy_group = binding::group(
             device,
@@ -564,8 +575,13 @@ impl ClassifyBuffers {
         };
         let s = self.sizes;
         let tp = s.tiles * s.passes;
-        let totals: Totals =
-            bytemuck::pod_read_unaligned(&read_buffer(device, queue, &self.totals, 0, 16)?);
+        let totals: Totals = bytemuck::pod_read_unaligned(&read_buffer(
+            device,
+            queue,
+            &self.totals,
+            0,
+            size_of::<Totals>() as u64,
+        )?);
         let counters = totals.counter_count.min(s.max_counters);
         let commands = totals.command_count.min(s.max_commands);
         let waves = totals.wave_count.min(s.max_waves);
@@ -580,7 +596,11 @@ impl ClassifyBuffers {
         let cull_bytes = read_buffer(device, queue, &self.vertex_cull, 0, self.vertex_cull.size())?;
         let stats = |b: &wgpu::Buffer| -> Result<PixelStats> {
             Ok(bytemuck::pod_read_unaligned(&read_buffer(
-                device, queue, b, 0, 32,
+                device,
+                queue,
+                b,
+                0,
+                size_of::<PixelStats>() as u64,
             )?))
         };
         Ok(GpuClassification {
@@ -599,14 +619,14 @@ impl ClassifyBuffers {
                 queue,
                 &self.waves,
                 0,
-                u64::from(waves) * 16,
+                u64::from(waves) * size_of::<WaveCommand>() as u64,
             )?),
             passes: bytemuck::pod_collect_to_vec(&read_buffer(
                 device,
                 queue,
                 &self.pass_dispatch,
                 0,
-                u64::from(s.passes) * 24,
+                u64::from(s.passes) * size_of::<PassDispatch>() as u64,
             )?),
             output_stats: stats(&self.stats_out)?,
             vis: words(&self.vis_words, s.width * s.height)?,

@@ -3,8 +3,6 @@
 //! depth-equal pass has. All are computed on the CPU from read-back buffers, so they show
 //! what the GPU wrote.
 
-use std::collections::BTreeMap;
-
 use crate::classify::GpuClassification;
 use crate::image::{Rgba8Image, heat_color, id_color};
 
@@ -67,28 +65,36 @@ pub fn wave_heatmap(width: u32, height: u32, c: &GpuClassification) -> (Rgba8Ima
 /// vis buffer's single winner already does. Returns the image and the mean quads shaded
 /// per covered quad.
 pub fn quad_overdraw(width: u32, height: u32, vis: &[u32]) -> (Rgba8Image, f64) {
+    const QUAD: [(u32, u32); 4] = [(0, 0), (1, 0), (0, 1), (1, 1)];
     let mut img = Rgba8Image::new(width, height, EMPTY);
     let (mut quads, mut shaded) = (0u64, 0u64);
-    let mut ids: BTreeMap<u32, ()> = BTreeMap::new();
+    // A pixel past the buffer reads as sky.
+    let word = |x: u32, y: u32| -> Option<u32> {
+        (x < width && y < height)
+            .then(|| vis.get((y * width + x) as usize).copied())
+            .flatten()
+            .filter(|&w| w != visbuf::VIS_NONE)
+    };
     for qy in (0..height).step_by(2) {
         for qx in (0..width).step_by(2) {
-            ids.clear();
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let (x, y) = (qx + dx, qy + dy);
-                if x < width && y < height {
-                    let w = vis[(y * width + x) as usize];
-                    if w != visbuf::VIS_NONE {
-                        ids.insert(w, ());
-                    }
+            // Distinct words among the quad's (up to) four pixels.
+            let mut ids = [0u32; 4];
+            let mut n = 0;
+            for (dx, dy) in QUAD {
+                if let Some(w) = word(qx + dx, qy + dy)
+                    && !ids[..n].contains(&w)
+                {
+                    ids[n] = w;
+                    n += 1;
                 }
             }
-            if ids.is_empty() {
+            if n == 0 {
                 continue;
             }
             quads += 1;
-            shaded += ids.len() as u64;
-            let colour = heat_color(0.2 + 0.2 * (ids.len() as f32 - 1.0));
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            shaded += n as u64;
+            let colour = heat_color(0.2 + 0.2 * (n as f32 - 1.0));
+            for (dx, dy) in QUAD {
                 let (x, y) = (qx + dx, qy + dy);
                 if x < width && y < height {
                     img.pixels[(y * width + x) as usize] = colour;
@@ -110,5 +116,11 @@ mod tests {
         let vis = [1, 2, 7, 7, 3, 1, 7, n];
         let (_, mean) = quad_overdraw(4, 2, &vis);
         assert!((mean - 2.0).abs() < 1e-12, "{mean}");
+        // A short buffer reads as sky where it ends, never out of bounds. Five words: the
+        // left quad keeps 1, 2, 3, the right quad only 7. Three words: 1, 2 and 7.
+        let (_, mean) = quad_overdraw(4, 2, &vis[..5]);
+        assert!((mean - 2.0).abs() < 1e-12, "{mean}");
+        let (_, mean) = quad_overdraw(4, 2, &vis[..3]);
+        assert!((mean - 1.5).abs() < 1e-12, "{mean}");
     }
 }

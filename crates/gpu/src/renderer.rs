@@ -678,7 +678,10 @@ impl Renderer {
         pass.set_bind_group(1, &self.gbuffer_store_group, &[]);
         for p in 0..c.sizes.passes {
             pass.set_bind_group(2, &scene.waves_group, &[p * scene.pass_stride]);
-            pass.dispatch_workgroups_indirect(&c.pass_dispatch, u64::from(p) * 24);
+            pass.dispatch_workgroups_indirect(
+                &c.pass_dispatch,
+                u64::from(p) * size_of::<tiling::PassDispatch>() as u64,
+            );
         }
     }
 
@@ -992,8 +995,9 @@ impl Renderer {
             pixel_commands: u64::from(gpu.totals.command_count),
             wave_commands: u64::from(gpu.totals.wave_count),
             wave_width: config.wave_width.lanes(),
-            unfilled_lanes: u64::from(gpu.totals.wave_count) * u64::from(config.wave_width.lanes())
-                - u64::from(gpu.totals.command_count),
+            unfilled_lanes: (u64::from(gpu.totals.wave_count)
+                * u64::from(config.wave_width.lanes()))
+            .saturating_sub(u64::from(gpu.totals.command_count)),
             depth_equal_waves: m.depth_equal_waves,
             scene_vertices: m.scene_vertices,
             vertices_after_chunk_culling: m.visible_vertices,

@@ -259,6 +259,7 @@ mod tests {
             ("TILING_FLAG_VRS", FLAG_VRS),
             ("TILING_WAVE_TILE_Y_SHIFT", WAVE_TILE_Y_SHIFT),
             ("TILING_WAVE_GROUP_SHIFT", WAVE_GROUP_SHIFT),
+            ("TILING_COMMAND_BITS", u16::BITS),
             ("TILING_NONE", u32::MAX),
             (
                 "TILING_STAT_VALID",

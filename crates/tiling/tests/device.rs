@@ -279,7 +279,7 @@ fn classification_case(
         if keyed {
             src.to_string()
         } else {
-            let limit = "const TILING_HIST_LIMIT: u32 = 256u;";
+            let limit = "const TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;";
             assert!(src.contains(limit));
             src.replace(limit, "const TILING_HIST_LIMIT: u32 = 0u;")
         }

@@ -92,10 +92,8 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
         return;
     }
     let c = wave.first_command + lane;
-    let command = (pixel_commands[c >> 1u] >> (16u * (c & 1u))) & 0xffffu;
-    let tile = vec2<u32>(wave.tile & 0xffffu, wave.tile >> TILING_WAVE_TILE_Y_SHIFT);
-    let pixel = tile * TILING_TILE_SIZE
-        + vec2<u32>(command & TILING_PIXEL_COORD_MASK, (command >> TILING_PIXEL_Y_SHIFT) & TILING_PIXEL_COORD_MASK);
+    let command = tiling_command_in_word(pixel_commands[c / 2u], c);
+    let pixel = tiling_wave_tile_xy(wave.tile) * TILING_TILE_SIZE + tiling_unpack_pixel_command(command);
     let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
     let r = resolve_pixel(pixel, word);
     if r.ok {

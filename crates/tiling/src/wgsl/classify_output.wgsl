@@ -37,6 +37,20 @@ fn tiling_counter_of(tile: u32, k: u32) -> u32 {
     return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
 }
 
+// Writes command `cmd` at `slot` of counter `c` (two 16-bit commands per word) when the
+// counter has room for it, and counts it as written or dropped.
+fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
+    if (c < arrayLength(&counts) && slot < counts[c]) {
+        let at = pixel_offsets[c] + slot;
+        if (at / 2u < arrayLength(&commands)) {
+            atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+        }
+        tiling_stat(TILING_STAT_COMMANDS, 1u);
+    } else {
+        tiling_stat(TILING_STAT_DROPPED, 1u);
+    }
+}
+
 var<workgroup> tiling_wg_key: atomic<u32>;
 var<workgroup> tiling_wg_key_plain: u32;
 
@@ -78,7 +92,7 @@ fn write_commands(
         var c = 0u;
         if (key != TILING_NONE) {
             c = tiling_counter_of(tile, key);
-            rank = atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_LIMIT - 1u)], 1u);
+            rank = atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], 1u);
         }
         workgroupBarrier();
         if (li < range.y) {
@@ -89,57 +103,41 @@ fn write_commands(
         }
         workgroupBarrier();
         if (key != TILING_NONE) {
-            let slot = tiling_hist_first[min(c - range.x, TILING_HIST_LIMIT - 1u)] + rank;
-            if (c < arrayLength(&counts) && slot < counts[c]) {
-                let at = pixel_offsets[c] + slot;
-                if (at / 2u < arrayLength(&commands)) {
-                    atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
-                }
-                tiling_stat(TILING_STAT_COMMANDS, 1u);
-            } else {
-                tiling_stat(TILING_STAT_DROPPED, 1u);
-            }
+            let slot = tiling_hist_first[min(c - range.x, TILING_HIST_SLOTS - 1u)] + rank;
+            tiling_put_command(c, slot, cmd);
         }
     } else {
-    // Aggregated appends, one (pass, group) of the workgroup at a time.
-    var pending = key != TILING_NONE;
-    loop {
-        if (li == 0u) {
-            atomicStore(&tiling_wg_key, TILING_NONE);
-        }
-        workgroupBarrier();
-        if (pending) {
-            atomicMin(&tiling_wg_key, key);
-        }
-        workgroupBarrier();
-        if (li == 0u) {
-            tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
-        }
-        let k = workgroupUniformLoad(&tiling_wg_key_plain);
-        if (k == TILING_NONE) {
-            break;
-        }
-        let take = pending && key == k;
-        let c = tiling_counter_of(tile, k);
-        let a = wave_append_begin(take, li);
-        var old = 0u;
-        if (a.total != 0u && c < arrayLength(&final_counts)) {
-            old = atomicAdd(&final_counts[c], a.total);
-        }
-        let slot = wave_append_end(a, old);
-        if (take) {
-            pending = false;
-            if (c < arrayLength(&counts) && slot < counts[c]) {
-                let at = pixel_offsets[c] + slot;
-                if (at / 2u < arrayLength(&commands)) {
-                    atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
-                }
-                tiling_stat(TILING_STAT_COMMANDS, 1u);
-            } else {
-                tiling_stat(TILING_STAT_DROPPED, 1u);
+        // Aggregated appends, one (pass, group) of the workgroup at a time.
+        var pending = key != TILING_NONE;
+        loop {
+            if (li == 0u) {
+                atomicStore(&tiling_wg_key, TILING_NONE);
+            }
+            workgroupBarrier();
+            if (pending) {
+                atomicMin(&tiling_wg_key, key);
+            }
+            workgroupBarrier();
+            if (li == 0u) {
+                tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
+            }
+            let k = workgroupUniformLoad(&tiling_wg_key_plain);
+            if (k == TILING_NONE) {
+                break;
+            }
+            let take = pending && key == k;
+            let c = tiling_counter_of(tile, k);
+            let a = wave_append_begin(take, li);
+            var old = 0u;
+            if (a.total != 0u && c < arrayLength(&final_counts)) {
+                old = atomicAdd(&final_counts[c], a.total);
+            }
+            let slot = wave_append_end(a, old);
+            if (take) {
+                pending = false;
+                tiling_put_command(c, slot, cmd);
             }
         }
-    }
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {

@@ -21,6 +21,8 @@ const TILING_FLAG_VALIDITY: u32 = 1u;
 const TILING_FLAG_VRS: u32 = 2u;
 const TILING_WAVE_TILE_Y_SHIFT: u32 = 16u;
 const TILING_WAVE_GROUP_SHIFT: u32 = 8u;
+// Bits of one pixel (or quad) command; two share a word of the command buffer.
+const TILING_COMMAND_BITS: u32 = 16u;
 // "No key / no value": larger than any valid key, index or count.
 const TILING_NONE: u32 = 0xffffffffu;
 
@@ -129,6 +131,22 @@ fn tiling_dispatch(first: u32, count: u32, items: u32) -> TilingPassDispatch {
     let x = min(count, TILING_MAX_DISPATCH_X);
     let y = (count + TILING_MAX_DISPATCH_X - 1u) / TILING_MAX_DISPATCH_X;
     return TilingPassDispatch(x, y, select(0u, 1u, count != 0u), first, count, items);
+}
+
+// Tile (x, y) of a wave command's `tile` word (Rust: WaveCommand::tile_xy).
+fn tiling_wave_tile_xy(tile: u32) -> vec2<u32> {
+    return vec2<u32>(tile & ((1u << TILING_WAVE_TILE_Y_SHIFT) - 1u), tile >> TILING_WAVE_TILE_Y_SHIFT);
+}
+
+// Command `i` of a command buffer, given the word that holds it: two 16-bit commands per
+// word, command i in bits 16 (i % 2).. of word i / 2 (classify output's `commands`).
+fn tiling_command_in_word(word: u32, i: u32) -> u32 {
+    return (word >> (TILING_COMMAND_BITS * (i & 1u))) & ((1u << TILING_COMMAND_BITS) - 1u);
+}
+
+// (x, y) within its tile of a standard-layout pixel command (Rust: unpack_pixel_command).
+fn tiling_unpack_pixel_command(cmd: u32) -> vec2<u32> {
+    return vec2<u32>(cmd & TILING_PIXEL_COORD_MASK, (cmd >> TILING_PIXEL_Y_SHIFT) & TILING_PIXEL_COORD_MASK);
 }
 
 // a + b, or TILING_NONE when it would wrap.

@@ -7,9 +7,12 @@
 // barriers per key. Tiles with more than TILING_HIST_LIMIT counters take the loop.
 // Needs `masks` and `counter_offsets` (bindings 4 and 5 of both phases) in scope.
 
-const TILING_HIST_LIMIT: u32 = 256u;
-var<workgroup> tiling_hist: array<atomic<u32>, 256>;
-var<workgroup> tiling_hist_first: array<u32, 256>;
+// One histogram slot per invocation of the 16x16 pixel workgroup (each zeroes its own).
+const TILING_HIST_SLOTS: u32 = 256u;
+// Most counters a tile may have for the histogram path (tests lower it to force the loop).
+const TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;
+var<workgroup> tiling_hist: array<atomic<u32>, TILING_HIST_SLOTS>;
+var<workgroup> tiling_hist_first: array<u32, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_range: vec2<u32>;
 
 // The tile's counters as (first, count), read by the workgroup's first invocation and made

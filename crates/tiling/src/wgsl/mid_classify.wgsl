@@ -143,7 +143,7 @@ fn count_pixels(
         workgroupBarrier();
         if (key != TILING_NONE) {
             let c = tiling_counter_of(tile, key);
-            atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_LIMIT - 1u)], 1u);
+            atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], 1u);
         }
         workgroupBarrier();
         if (li < range.y) {
@@ -153,37 +153,37 @@ fn count_pixels(
             }
         }
     } else {
-    // Aggregated appends, one (pass, group) of the workgroup at a time, smallest first:
-    // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
-    var pending = key != TILING_NONE;
-    loop {
-        if (li == 0u) {
-            atomicStore(&tiling_wg_key, TILING_NONE);
-        }
-        workgroupBarrier();
-        if (pending) {
-            atomicMin(&tiling_wg_key, key);
-        }
-        workgroupBarrier();
-        if (li == 0u) {
-            tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
-        }
-        let k = workgroupUniformLoad(&tiling_wg_key_plain);
-        if (k == TILING_NONE) {
-            break;
-        }
-        let take = pending && key == k;
-        let a = wave_append_begin(take, li);
-        if (a.total != 0u) {
-            let c = tiling_counter_of(tile, k);
-            if (c < arrayLength(&counts)) {
-                atomicAdd(&counts[c], a.total);
+        // Aggregated appends, one (pass, group) of the workgroup at a time, smallest first:
+        // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
+        var pending = key != TILING_NONE;
+        loop {
+            if (li == 0u) {
+                atomicStore(&tiling_wg_key, TILING_NONE);
+            }
+            workgroupBarrier();
+            if (pending) {
+                atomicMin(&tiling_wg_key, key);
+            }
+            workgroupBarrier();
+            if (li == 0u) {
+                tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
+            }
+            let k = workgroupUniformLoad(&tiling_wg_key_plain);
+            if (k == TILING_NONE) {
+                break;
+            }
+            let take = pending && key == k;
+            let a = wave_append_begin(take, li);
+            if (a.total != 0u) {
+                let c = tiling_counter_of(tile, k);
+                if (c < arrayLength(&counts)) {
+                    atomicAdd(&counts[c], a.total);
+                }
+            }
+            if (take) {
+                pending = false;
             }
         }
-        if (take) {
-            pending = false;
-        }
-    }
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
