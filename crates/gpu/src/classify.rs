@@ -698,3 +698,22 @@ impl GpuClassification {
             .or_else(|| first("output stats", &[self.output_stats], &[cpu.output.stats]))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{COPY_VIS_WGSL, ZERO_WGSL, words_of};
+
+    #[test]
+    fn helper_modules_validate() {
+        shadercheck::assert_valid("copy vis", COPY_VIS_WGSL, shadercheck::Caps::CORE);
+        shadercheck::assert_valid("zero", ZERO_WGSL, shadercheck::Caps::CORE);
+    }
+
+    #[test]
+    fn pod_rows_in_words() {
+        assert_eq!(words_of::<tiling::PassDispatch>(3), 18);
+        assert_eq!(words_of::<tiling::WaveCommand>(5), 20);
+        assert_eq!(words_of::<tiling::PixelStats>(1), 8);
+        assert_eq!(words_of::<tiling::Totals>(1), 4);
+    }
+}
