@@ -13,6 +13,9 @@
 
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
+mod pass;
+pub use pass::{assert_composed, check_pass};
+
 /// Which optional capabilities the validator allows: a shader written for the fallback
 /// path is validated with [`Caps::CORE`] to prove that it needs none of them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

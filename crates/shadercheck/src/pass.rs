@@ -1,0 +1,385 @@
+//! Proof that a pass description matches its module: every feature combination composes
+//! and validates, the entry points are the described ones with the described stages and
+//! workgroup sizes, and every binding has the described group, index, name, kind and size.
+
+use naga::proc::Layouter;
+use naga::{AddressSpace, ArraySize, Expression, ImageClass, ImageDimension, ScalarKind};
+use naga::{Handle, Module, ShaderStage, StorageAccess, StorageFormat, Type, TypeInner};
+use shader::{Dim, Format, Kind, Pass, Sample, Size, Stage};
+
+use crate::{Caps, validate};
+
+/// Composes `root` from `library` with `features`, validates it with `caps`, and returns
+/// the module; panics with the composer's or naga's report.
+#[track_caller]
+pub fn assert_composed(
+    library: &[&[shader::Module]],
+    root: &str,
+    features: &[&str],
+    caps: Caps,
+) -> Module {
+    let src = shader::compose(library, root, features)
+        .unwrap_or_else(|e| panic!("composing `{root}` with {features:?}: {e}"));
+    validate(&src, caps).unwrap_or_else(|report| {
+        panic!("WGSL module `{root}` with {features:?} failed naga validation:\n{report}")
+    })
+}
+
+/// Every subset of `features`.
+fn subsets<'a>(features: &[&'a str]) -> Vec<Vec<&'a str>> {
+    (0..1u32 << features.len())
+        .map(|bits| {
+            features
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| bits >> i & 1 == 1)
+                .map(|(_, f)| *f)
+                .collect()
+        })
+        .collect()
+}
+
+/// Checks `pass` against its module under every combination of its features, each
+/// validated with `caps(features)` (the narrowest capabilities that combination needs),
+/// and returns the modules in subset order (the empty set first). Panics with a report
+/// naming the pass, the features and what differs.
+#[track_caller]
+pub fn check_pass<P>(pass: &Pass<P>, caps: impl Fn(&[&str]) -> Caps) -> Vec<Module> {
+    subsets(pass.features)
+        .into_iter()
+        .map(|features| {
+            let src = pass
+                .source(&features)
+                .unwrap_or_else(|e| panic!("pass `{}` with {features:?}: {e}", pass.name));
+            let module = validate(&src, caps(&features)).unwrap_or_else(|report| {
+                panic!(
+                    "pass `{}` with {features:?} failed naga validation:\n{report}",
+                    pass.name
+                )
+            });
+            if let Err(problems) = compare(pass, &module) {
+                panic!(
+                    "pass `{}` with {features:?} does not match its description:\n  {}",
+                    pass.name,
+                    problems.join("\n  ")
+                );
+            }
+            module
+        })
+        .collect()
+}
+
+fn override_name(m: &Module, h: Handle<Expression>) -> Option<&str> {
+    match m.global_expressions[h] {
+        Expression::Override(o) => m.overrides[o].name.as_deref(),
+        _ => None,
+    }
+}
+
+/// The smallest buffer size a binding of type `ty` accepts.
+fn min_size(m: &Module, layouter: &Layouter, ty: Handle<Type>) -> u32 {
+    match &m.types[ty].inner {
+        TypeInner::Array {
+            size: ArraySize::Dynamic,
+            stride,
+            ..
+        } => *stride,
+        TypeInner::Struct { members, .. } => match members.last() {
+            Some(last) => match m.types[last.ty].inner {
+                TypeInner::Array {
+                    size: ArraySize::Dynamic,
+                    stride,
+                    ..
+                } => last.offset + stride,
+                _ => layouter[ty].size,
+            },
+            None => layouter[ty].size,
+        },
+        _ => layouter[ty].size,
+    }
+}
+
+fn dim_of(dim: ImageDimension, arrayed: bool) -> Option<Dim> {
+    match (dim, arrayed) {
+        (ImageDimension::D2, false) => Some(Dim::D2),
+        (ImageDimension::D2, true) => Some(Dim::D2Array),
+        (ImageDimension::D3, false) => Some(Dim::D3),
+        _ => None,
+    }
+}
+
+fn format_of(f: StorageFormat) -> Option<Format> {
+    Some(match f {
+        StorageFormat::Rgba8Unorm => Format::Rgba8Unorm,
+        StorageFormat::Rgba8Uint => Format::Rgba8Uint,
+        StorageFormat::Rgba16Float => Format::Rgba16Float,
+        StorageFormat::R32Uint => Format::R32Uint,
+        StorageFormat::R32Float => Format::R32Float,
+        _ => return None,
+    })
+}
+
+/// The kind the module declares for a global, in the description's terms (`filterable`
+/// is the description's to say: naga cannot know).
+fn kind_of(m: &Module, layouter: &Layouter, g: &naga::GlobalVariable, want: Kind) -> Option<Kind> {
+    match g.space {
+        AddressSpace::Uniform => Some(Kind::Uniform {
+            size: layouter[g.ty].size,
+            dynamic: matches!(want, Kind::Uniform { dynamic: true, .. }),
+        }),
+        AddressSpace::Storage { access } => Some(Kind::Storage {
+            writable: access.contains(StorageAccess::STORE),
+            size: min_size(m, layouter, g.ty),
+        }),
+        AddressSpace::Handle => match m.types[g.ty].inner {
+            TypeInner::Sampler { comparison: false } => Some(Kind::Sampler),
+            TypeInner::Image {
+                dim,
+                arrayed,
+                class,
+            } => {
+                let dim = dim_of(dim, arrayed)?;
+                match class {
+                    ImageClass::Sampled { kind, multi: false } => Some(Kind::Texture {
+                        sample: match kind {
+                            ScalarKind::Float => match want {
+                                Kind::Texture {
+                                    sample: s @ Sample::Float { .. },
+                                    ..
+                                } => s,
+                                _ => Sample::Float { filterable: false },
+                            },
+                            ScalarKind::Uint => Sample::Uint,
+                            ScalarKind::Sint => Sample::Sint,
+                            _ => return None,
+                        },
+                        dim,
+                    }),
+                    ImageClass::Depth { multi: false } => Some(Kind::Texture {
+                        sample: Sample::Depth,
+                        dim,
+                    }),
+                    ImageClass::Storage { format, access }
+                        if access == StorageAccess::STORE =>
+                    {
+                        Some(Kind::StorageTexture {
+                            format: format_of(format)?,
+                            dim,
+                        })
+                    }
+                    _ => None,
+                }
+            }
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// Everything in which `module` differs from `pass`'s description.
+fn compare<P>(pass: &Pass<P>, m: &Module) -> Result<(), Vec<String>> {
+    let mut problems = Vec::new();
+    let mut layouter = Layouter::default();
+    if let Err(e) = layouter.update(m.to_ctx()) {
+        return Err(vec![format!("layout: {e}")]);
+    }
+    for e in pass.entries {
+        let Some(ep) = m.entry_points.iter().find(|ep| ep.name == e.name) else {
+            problems.push(format!("entry point `{}` is not in the module", e.name));
+            continue;
+        };
+        match (e.stage, ep.stage) {
+            (Stage::Vertex, ShaderStage::Vertex) | (Stage::Fragment, ShaderStage::Fragment) => {}
+            (Stage::Compute(size), ShaderStage::Compute) => {
+                for (i, s) in size.iter().enumerate() {
+                    let over = ep
+                        .workgroup_size_overrides
+                        .and_then(|o| o[i])
+                        .map(|h| override_name(m, h));
+                    let ok = match s {
+                        Size::Fixed(n) => over.is_none() && ep.workgroup_size[i] == *n,
+                        Size::Override(name) => over == Some(Some(name)),
+                    };
+                    if !ok {
+                        problems.push(format!(
+                            "entry point `{}`: workgroup size dimension {i} is {:?} (override {:?}), described {s:?}",
+                            e.name, ep.workgroup_size[i], over
+                        ));
+                    }
+                }
+            }
+            (want, got) => problems.push(format!(
+                "entry point `{}` is a {got:?} stage, described {want:?}",
+                e.name
+            )),
+        }
+    }
+    for ep in &m.entry_points {
+        if !pass.entries.iter().any(|e| e.name == ep.name) {
+            problems.push(format!("entry point `{}` is not described", ep.name));
+        }
+    }
+    for (gi, group) in pass.groups.iter().enumerate() {
+        for (bi, b) in group.bindings.iter().enumerate() {
+            let found = m.global_variables.iter().find(|(_, g)| {
+                g.binding
+                    .as_ref()
+                    .is_some_and(|r| r.group as usize == gi && r.binding as usize == bi)
+            });
+            let Some((_, g)) = found else {
+                problems.push(format!(
+                    "group {gi} (`{}`) binding {bi} (`{}`) is not declared",
+                    group.name, b.name
+                ));
+                continue;
+            };
+            if g.name.as_deref() != Some(b.name) {
+                problems.push(format!(
+                    "@group({gi}) @binding({bi}) is named `{}`, described `{}`",
+                    g.name.as_deref().unwrap_or("?"),
+                    b.name
+                ));
+            }
+            let got = kind_of(m, &layouter, g, b.kind);
+            if got != Some(b.kind) {
+                problems.push(format!(
+                    "`{}` (@group({gi}) @binding({bi})) is {got:?}, described {:?}",
+                    b.name, b.kind
+                ));
+            }
+        }
+    }
+    for (_, g) in m.global_variables.iter() {
+        if let Some(r) = &g.binding {
+            let described = pass
+                .groups
+                .get(r.group as usize)
+                .is_some_and(|grp| (r.binding as usize) < grp.bindings.len());
+            if !described {
+                problems.push(format!(
+                    "`{}` (@group({}) @binding({})) is not described",
+                    g.name.as_deref().unwrap_or("?"),
+                    r.group,
+                    r.binding
+                ));
+            }
+        }
+    }
+    for z in pass.zeroed {
+        match pass.binding(z) {
+            Ok((_, _, b)) if matches!(b.kind, Kind::Storage { writable: true, .. }) => {}
+            _ => problems.push(format!(
+                "zeroed buffer `{z}` is not a read_write storage binding"
+            )),
+        }
+    }
+    for e in pass.entries {
+        if let shader::Dispatch::Indirect(name) = e.dispatch
+            && pass.binding(name).is_err()
+        {
+            problems.push(format!(
+                "entry point `{}` dispatches indirectly from `{name}`, which is not a binding",
+                e.name
+            ));
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shader::{Binding, Dispatch, Entry, Group};
+
+    const LIB: &[shader::Module] = &[shader::Module::new(
+        "t::pass",
+        "struct TParams { n: u32, m: u32 }
+@group(0) @binding(0) var<uniform> params: TParams;
+@group(0) @binding(1) var<storage, read_write> counts: array<atomic<u32>>;
+@group(1) @binding(0) var image: texture_2d<u32>;
+override T_WIDTH: u32 = 32u;
+@compute @workgroup_size(T_WIDTH)
+fn count(@builtin(global_invocation_id) id: vec3<u32>) {
+#if twice
+    atomicAdd(&counts[0], 2u * textureLoad(image, vec2<i32>(id.xy), 0).x + params.n);
+#else
+    atomicAdd(&counts[0], textureLoad(image, vec2<i32>(id.xy), 0).x + params.n);
+#endif
+}
+",
+    )];
+
+    macro_rules! pass {
+        ($bindings:expr, $size:expr) => {
+            Pass {
+                name: "t",
+                module: "t::pass",
+                library: &[LIB],
+                features: &["twice"],
+                groups: &[
+                    Group {
+                        name: "a",
+                        bindings: $bindings,
+                    },
+                    Group {
+                        name: "b",
+                        bindings: &[Binding::new("image", Kind::texture_2d(Sample::Uint))],
+                    },
+                ],
+                entries: &[Entry {
+                    name: "count",
+                    stage: Stage::Compute([$size, Size::Fixed(1), Size::Fixed(1)]),
+                    dispatch: Dispatch::Once,
+                }],
+                zeroed: &["counts"],
+            }
+        };
+    }
+
+    const GOOD: &[Binding] = &[
+        Binding::new("params", Kind::uniform(8)),
+        Binding::new("counts", Kind::read_write(4)),
+    ];
+
+    #[test]
+    fn a_matching_description_passes_under_every_feature_set() {
+        static P: Pass = pass!(GOOD, Size::Override("T_WIDTH"));
+        assert_eq!(check_pass(&P, |_| Caps::CORE).len(), 2);
+    }
+
+    fn problems(p: &Pass) -> Vec<String> {
+        let src = p.source(&[]).unwrap();
+        compare(p, &validate(&src, Caps::CORE).unwrap()).unwrap_err()
+    }
+
+    #[test]
+    fn mismatches_are_named() {
+        static SIZE: Pass = pass!(GOOD, Size::Fixed(32));
+        assert!(problems(&SIZE)[0].contains("workgroup size"), "{:?}", problems(&SIZE));
+        static NAME: &[Binding] = &[
+            Binding::new("params", Kind::uniform(8)),
+            Binding::new("totals", Kind::read_write(4)),
+        ];
+        static P1: Pass = pass!(NAME, Size::Override("T_WIDTH"));
+        assert!(problems(&P1).iter().any(|p| p.contains("named `counts`")));
+        static KIND: &[Binding] = &[
+            Binding::new("params", Kind::uniform(8)),
+            Binding::new("counts", Kind::read(4)),
+        ];
+        static P2: Pass = pass!(KIND, Size::Override("T_WIDTH"));
+        assert!(problems(&P2).iter().any(|p| p.contains("`counts`")));
+        static SIZE2: &[Binding] = &[
+            Binding::new("params", Kind::uniform(16)),
+            Binding::new("counts", Kind::read_write(4)),
+        ];
+        static P3: Pass = pass!(SIZE2, Size::Override("T_WIDTH"));
+        assert!(problems(&P3).iter().any(|p| p.contains("`params`")));
+        static MISSING: &[Binding] = &[Binding::new("params", Kind::uniform(8))];
+        static P4: Pass = pass!(MISSING, Size::Override("T_WIDTH"));
+        assert!(problems(&P4).iter().any(|p| p.contains("not described")));
+    }
+}
