@@ -44,7 +44,7 @@ impl Module {
     /// # Errors
     /// A malformed directive ([`Error::Directive`]).
     pub fn imports(&self, features: &[&str]) -> Result<Vec<&'static str>, Error> {
-        Ok(parse(self, features)?.imports)
+        Ok(parse(self.name, self.source, features)?.imports)
     }
 }
 
@@ -58,18 +58,18 @@ pub enum Error {
         /// The name looked up.
         name: String,
         /// The module whose `#import` named it (`None` for the root).
-        imported_by: Option<&'static str>,
+        imported_by: Option<String>,
     },
     /// The modules import each other in a cycle (the chain, first module repeated last).
     Cycle {
         /// Module names along the cycle.
-        chain: Vec<&'static str>,
+        chain: Vec<String>,
     },
     /// A line starting with `#` that is not a directive, or a directive in the wrong
     /// place (`#else` or `#endif` without `#if`, an `#if` left open, a bad feature name).
     Directive {
         /// The module.
-        module: &'static str,
+        module: String,
         /// Its line (1-based).
         line: usize,
         /// What is wrong.
@@ -81,7 +81,7 @@ pub enum Error {
         /// The feature.
         feature: String,
         /// The root module.
-        root: &'static str,
+        root: String,
     },
     /// A feature a pass does not declare (see [`Pass::features`](crate::Pass::features)).
     UndeclaredFeature {
@@ -167,7 +167,7 @@ impl std::error::Error for Error {}
 
 /// A module's lines under one feature set: its imports and the lines it keeps.
 struct Parsed<'s> {
-    imports: Vec<&'static str>,
+    imports: Vec<&'s str>,
     /// Kept lines, directives removed.
     body: Vec<&'s str>,
     /// Every feature name an `#if` reads, active or not.
@@ -180,9 +180,9 @@ fn feature_name(s: &str) -> bool {
         && chars.all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
-fn parse(module: &Module, features: &[&str]) -> Result<Parsed<'static>, Error> {
+fn parse<'s>(name: &str, source: &'s str, features: &[&str]) -> Result<Parsed<'s>, Error> {
     let err = |line: usize, problem: &'static str| Error::Directive {
-        module: module.name,
+        module: name.into(),
         line: line + 1,
         problem,
     };
@@ -195,7 +195,7 @@ fn parse(module: &Module, features: &[&str]) -> Result<Parsed<'static>, Error> {
         reads: Vec::new(),
     };
     let active = |stack: &[(bool, bool, usize)]| stack.last().is_none_or(|&(a, outer, _)| a && outer);
-    for (i, line) in module.source.lines().enumerate() {
+    for (i, line) in source.lines().enumerate() {
         let t = line.trim();
         let Some(directive) = t.strip_prefix('#') else {
             if active(&stack) {
@@ -279,38 +279,38 @@ fn is_global_directive(line: &str) -> bool {
 struct Composer<'a> {
     library: &'a [&'a [Module]],
     features: &'a [&'a str],
-    done: Vec<&'static str>,
-    stack: Vec<&'static str>,
-    directives: Vec<&'static str>,
+    done: Vec<&'a str>,
+    stack: Vec<&'a str>,
+    directives: Vec<&'a str>,
     body: String,
-    reads: BTreeSet<&'static str>,
+    reads: BTreeSet<&'a str>,
 }
 
-impl Composer<'_> {
-    fn visit(&mut self, module: Module) -> Result<(), Error> {
-        if self.done.contains(&module.name) {
+impl<'a> Composer<'a> {
+    fn visit(&mut self, name: &'a str, source: &'a str) -> Result<(), Error> {
+        if self.done.contains(&name) {
             return Ok(());
         }
-        if let Some(at) = self.stack.iter().position(|&m| m == module.name) {
-            let mut chain = self.stack[at..].to_vec();
-            chain.push(module.name);
+        if let Some(at) = self.stack.iter().position(|&m| m == name) {
+            let mut chain: Vec<String> = self.stack[at..].iter().map(|&m| m.into()).collect();
+            chain.push(name.into());
             return Err(Error::Cycle { chain });
         }
-        let parsed = parse(&module, self.features)?;
+        let parsed = parse(name, source, self.features)?;
         self.reads.extend(parsed.reads.iter().copied());
-        self.stack.push(module.name);
-        for &name in &parsed.imports {
-            let Some(m) = find(self.library, name) else {
+        self.stack.push(name);
+        for &import in &parsed.imports {
+            let Some(m) = find(self.library, import) else {
                 return Err(Error::UnknownModule {
-                    name: name.into(),
-                    imported_by: Some(module.name),
+                    name: import.into(),
+                    imported_by: Some(name.into()),
                 });
             };
-            self.visit(m)?;
+            self.visit(m.name, m.source)?;
         }
         self.stack.pop();
         self.body.push_str("// ---- ");
-        self.body.push_str(module.name);
+        self.body.push_str(name);
         self.body.push_str(" ----\n");
         for line in parsed.body {
             if is_global_directive(line) {
@@ -323,7 +323,7 @@ impl Composer<'_> {
                 self.body.push('\n');
             }
         }
-        self.done.push(module.name);
+        self.done.push(name);
         Ok(())
     }
 }
@@ -350,12 +350,26 @@ impl Composer<'_> {
 /// An unknown module name, an import cycle, a malformed directive, or a feature that no
 /// `#if` of the composed modules reads.
 pub fn compose(library: &[&[Module]], root: &str, features: &[&str]) -> Result<String, Error> {
-    let Some(root_module) = find(library, root) else {
+    let Some(m) = find(library, root) else {
         return Err(Error::UnknownModule {
             name: root.into(),
             imported_by: None,
         });
     };
+    compose_source(library, m.name, m.source, features)
+}
+
+/// [`compose`] with a root that is not in `library`: `source`, named `name` in errors.
+/// How tests put a kernel in front of a crate's modules.
+///
+/// # Errors
+/// As [`compose`].
+pub fn compose_source(
+    library: &[&[Module]],
+    name: &str,
+    source: &str,
+    features: &[&str],
+) -> Result<String, Error> {
     let mut c = Composer {
         library,
         features,
@@ -365,11 +379,11 @@ pub fn compose(library: &[&[Module]], root: &str, features: &[&str]) -> Result<S
         body: String::new(),
         reads: BTreeSet::new(),
     };
-    c.visit(root_module)?;
+    c.visit(name, source)?;
     if let Some(unused) = features.iter().find(|f| !c.reads.contains(**f)) {
         return Err(Error::UnusedFeature {
             feature: (*unused).into(),
-            root: root_module.name,
+            root: name.into(),
         });
     }
     let mut out = String::new();
@@ -385,7 +399,6 @@ pub fn compose(library: &[&[Module]], root: &str, features: &[&str]) -> Result<S
 mod tests {
     use super::*;
     use alloc::string::ToString;
-    use alloc::vec;
 
     const A: Module = Module::new("t::a", "const T_A: u32 = 1u;\n");
     const B: Module = Module::new("t::b", "#import t::a\nconst T_B: u32 = T_A;\n");
@@ -447,7 +460,7 @@ mod tests {
         assert_eq!(
             bad("X\n#endif\n"),
             Error::Directive {
-                module: "t::bad",
+                module: "t::bad".into(),
                 line: 2,
                 problem: "`#endif` without `#if`"
             }
@@ -461,7 +474,7 @@ mod tests {
             bad("#import t::nope\n"),
             Error::UnknownModule {
                 name: "t::nope".into(),
-                imported_by: Some("t::bad")
+                imported_by: Some("t::bad".into())
             }
         );
         assert!(matches!(
@@ -483,7 +496,7 @@ mod tests {
         assert_eq!(
             compose(&[&[x, y, z]], "t::x", &[]),
             Err(Error::Cycle {
-                chain: vec!["t::x", "t::y", "t::z", "t::x"]
+                chain: ["t::x", "t::y", "t::z", "t::x"].map(String::from).to_vec()
             })
         );
     }
@@ -496,9 +509,15 @@ mod tests {
             compose(&[&[m]], "t::m", &["subgroup"]),
             Err(Error::UnusedFeature {
                 feature: "subgroup".into(),
-                root: "t::m"
+                root: "t::m".into()
             })
         );
+    }
+
+    #[test]
+    fn a_root_outside_the_library_composes() {
+        let s = compose_source(&[&[A, B]], "kernel", "#import t::b\nK\n", &[]).unwrap();
+        assert_eq!(order(&s), ["t::a", "t::b", "kernel"]);
     }
 
     #[test]

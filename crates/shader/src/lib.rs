@@ -85,7 +85,7 @@ mod pass;
 #[cfg(feature = "wgpu")]
 pub mod pipeline;
 
-pub use compose::{Error, Module, compose};
+pub use compose::{Error, Module, compose, compose_source};
 pub use pass::{
     Binding, Dim, Dispatch, Entry, Format, Group, Kind, MAX_WORKGROUPS_X, Pass, Sample, Size,
     Stage, StageCounts,
