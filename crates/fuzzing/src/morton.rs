@@ -2,7 +2,7 @@
 //! roundtrips, every width, every batch path, the Hilbert curve, the quantiser and the sort.
 
 use glam::Vec3;
-use morton::{MortonError, Path, Quantizer3, batch, hilbert};
+use morton::{Error, Path, Quantizer3, batch, hilbert};
 
 use crate::Input;
 
@@ -99,7 +99,7 @@ pub fn morton_roundtrip(data: &[u8]) {
         let fits10 = x < 1024 && y < 1024 && z < 1024;
         match morton::try_encode3_u32(x, y, z) {
             Ok(k) => assert!(fits10 && k == morton::encode3_u32(x, y, z)),
-            Err(MortonError::CoordinateTooLarge { max, .. }) => assert!(!fits10 && max == 1023),
+            Err(Error::CoordinateTooLarge { max, .. }) => assert!(!fits10 && max == 1023),
             Err(e) => panic!("unexpected {e}"),
         }
         assert_eq!(
@@ -174,7 +174,7 @@ pub fn morton_roundtrip(data: &[u8]) {
         let (lo, hi) = (floats[0].min(floats[1]), floats[0].max(floats[1]));
         match Quantizer3::new(lo, hi, bits) {
             Ok(q) => quantizer_checks(&q, &floats[2..]),
-            Err(MortonError::BadBounds { axis, min, max }) => {
+            Err(Error::BadBounds { axis, min, max }) => {
                 assert!(
                     !(min.is_finite() && max.is_finite() && min <= max),
                     "axis {axis}"
@@ -203,7 +203,7 @@ fn quantizer_checks(q: &Quantizer3, pts: &[Vec3]) {
                     }
                 }
             }
-            Err(MortonError::NanPosition { index: 0 }) => assert!(p.is_nan()),
+            Err(Error::NanPosition { index: 0 }) => assert!(p.is_nan()),
             Err(e) => panic!("unexpected {e}"),
         }
     }
@@ -211,7 +211,7 @@ fn quantizer_checks(q: &Quantizer3, pts: &[Vec3]) {
     let r = q.morton_u64_slice(pts, &mut k64);
     match first_nan {
         None => assert_eq!(r, Ok(())),
-        Some(i) => assert_eq!(r, Err(MortonError::NanPosition { index: i })),
+        Some(i) => assert_eq!(r, Err(Error::NanPosition { index: i })),
     }
     for (k, &p) in k64.iter().zip(pts) {
         let c = q.quantize_unchecked_nan(p);
@@ -222,7 +222,7 @@ fn quantizer_checks(q: &Quantizer3, pts: &[Vec3]) {
     if q.bits() > 10 {
         assert_eq!(
             r,
-            Err(MortonError::BadBits {
+            Err(Error::BadBits {
                 bits: q.bits(),
                 max: 10
             })

@@ -2,7 +2,7 @@
 //! past `u32::MAX`) and output sizes through the aggregated append and the run-grouped
 //! batch output, checked against naive loops. Nothing here may panic except a check.
 
-use wave::{Batch, CountedAtomicU32, LaneMask, PerLane, Wave, WaveError, WaveWidth};
+use wave::{Batch, CountedAtomicU32, Error, LaneMask, PerLane, Wave, WaveWidth};
 
 use crate::Input;
 
@@ -11,7 +11,7 @@ fn width(input: &mut Input<'_>) -> WaveWidth {
     let lanes = u32::from(input.u8());
     match WaveWidth::from_lanes(lanes) {
         Ok(w) => w,
-        Err(WaveError::UnsupportedWidth { lanes: l }) => {
+        Err(Error::UnsupportedWidth { lanes: l }) => {
             assert_eq!(l, lanes);
             // Map the byte onto a supported width so every input exercises the model.
             WaveWidth::ALL[(lanes % 4) as usize]
@@ -83,7 +83,7 @@ pub fn wave_append(data: &[u8]) {
             }
             assert_eq!(ranges.atomic_ops(), usize::from(!wave.is_empty()));
         }
-        Err(WaveError::AppendTooLarge { total: t }) => {
+        Err(Error::AppendTooLarge { total: t }) => {
             assert_eq!(t, total);
             assert!(total > u64::from(u32::MAX));
             assert_eq!(ranges.atomic_ops(), 0);

@@ -8,7 +8,7 @@
 //! [`crate::magic`], written with iterators so that LLVM vectorises it across lanes; the
 //! BMI2 path is one `pdep`/`pext` per axis per key.
 //!
-//! Slices must have equal lengths ([`MortonError::LengthMismatch`] otherwise, nothing
+//! Slices must have equal lengths ([`Error::LengthMismatch`] otherwise, nothing
 //! written). Coordinates above the code's bits per axis are masked, as in
 //! [`crate::encode3_u32`].
 //!
@@ -23,14 +23,14 @@
 //! assert_eq!(back[3], [1023, 1023, 1023]);
 //! ```
 
-use crate::{MortonError, Path, magic};
+use crate::{Error, Path, magic};
 
 #[inline(always)]
-fn check(what: &'static str, expected: usize, got: usize) -> Result<(), MortonError> {
+fn check(what: &'static str, expected: usize, got: usize) -> Result<(), Error> {
     if expected == got {
         Ok(())
     } else {
-        Err(MortonError::LengthMismatch {
+        Err(Error::LengthMismatch {
             what,
             expected,
             got,
@@ -39,11 +39,11 @@ fn check(what: &'static str, expected: usize, got: usize) -> Result<(), MortonEr
 }
 
 #[inline(always)]
-fn available(path: Path) -> Result<(), MortonError> {
+fn available(path: Path) -> Result<(), Error> {
     if path.is_available() {
         Ok(())
     } else {
-        Err(MortonError::PathUnavailable { path })
+        Err(Error::PathUnavailable { path })
     }
 }
 
@@ -155,13 +155,13 @@ macro_rules! public {
     ) => {
         $(#[$doc])*
         #[inline]
-        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), MortonError> {
+        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
             $with(Path::best(), $first $(, $arg)*)
         }
 
         #[doc = concat!("[`", stringify!($name), "`] on a given [`Path`]; ",
-            "[`MortonError::PathUnavailable`] if this CPU or build lacks it.")]
-        pub fn $with(path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), MortonError> {
+            "[`Error::PathUnavailable`] if this CPU or build lacks it.")]
+        pub fn $with(path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
             available(path)?;
             $( check(stringify!($arg), $first.len(), $arg.len())?; )*
             $kernel::run(path, $first $(, $arg)*);

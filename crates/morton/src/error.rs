@@ -6,7 +6,7 @@ use core::fmt;
 /// names the limit, the value and the item involved.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
-pub enum MortonError {
+pub enum Error {
     /// A coordinate does not fit the bits per axis of the chosen code (only the `try_`
     /// encoders check; the plain ones ignore the excess bits).
     CoordinateTooLarge {
@@ -64,7 +64,7 @@ pub enum MortonError {
     },
 }
 
-impl fmt::Display for MortonError {
+impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Self::CoordinateTooLarge { axis, value, max } => write!(
@@ -104,4 +104,4 @@ impl fmt::Display for MortonError {
 }
 
 #[cfg(feature = "std")]
-impl std::error::Error for MortonError {}
+impl std::error::Error for Error {}

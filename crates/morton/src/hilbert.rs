@@ -31,7 +31,7 @@
 //! assert_eq!(steps, 1);
 //! ```
 
-use crate::{BITS2_U32, BITS3_U32, BITS3_U64, MortonError, Path, magic};
+use crate::{BITS2_U32, BITS3_U32, BITS3_U64, Error, Path, magic};
 
 /// All ones where bit `q` of `v` is set, else zero.
 #[inline(always)]
@@ -486,7 +486,7 @@ mod skilling {
 /// The Hilbert key of an `N`-dimensional point with `bits` per axis (`bits` in 1..=32,
 /// `N * bits <= 64`), the general form the fixed-width functions specialise; axis 0 is
 /// the most significant in each group. For tests and odd widths; not tuned.
-pub fn encode_generic<const N: usize>(point: [u32; N], bits: u32) -> Result<u64, MortonError> {
+pub fn encode_generic<const N: usize>(point: [u32; N], bits: u32) -> Result<u64, Error> {
     check_generic::<N>(bits)?;
     let mut x = point;
     for v in &mut x {
@@ -503,7 +503,7 @@ pub fn encode_generic<const N: usize>(point: [u32; N], bits: u32) -> Result<u64,
 }
 
 /// The inverse of [`encode_generic`].
-pub fn decode_generic<const N: usize>(key: u64, bits: u32) -> Result<[u32; N], MortonError> {
+pub fn decode_generic<const N: usize>(key: u64, bits: u32) -> Result<[u32; N], Error> {
     check_generic::<N>(bits)?;
     let g = key ^ (key >> 1);
     let mut x = [0u32; N];
@@ -518,12 +518,12 @@ pub fn decode_generic<const N: usize>(key: u64, bits: u32) -> Result<[u32; N], M
     Ok(undo_up(x, bits))
 }
 
-fn check_generic<const N: usize>(bits: u32) -> Result<(), MortonError> {
+fn check_generic<const N: usize>(bits: u32) -> Result<(), Error> {
     let max = if N == 0 { 0 } else { (64 / N as u32).min(32) };
     if (1..=max).contains(&bits) {
         Ok(())
     } else {
-        Err(MortonError::BadBits { bits, max })
+        Err(Error::BadBits { bits, max })
     }
 }
 
@@ -556,13 +556,13 @@ kernels!(h2_32, map2, (xs: &[u32], ys: &[u32], out: &mut [u32]),
 kernels!(h2_64, map2, (xs: &[u32], ys: &[u32], out: &mut [u64]),
     scalar: encode2_u64, bmi2: encode2_u64, simd: skilling::encode2_u64);
 
-fn prepare(path: Path, n: usize, lens: &[(&'static str, usize)]) -> Result<(), MortonError> {
+fn prepare(path: Path, n: usize, lens: &[(&'static str, usize)]) -> Result<(), Error> {
     if !path.is_available() {
-        return Err(MortonError::PathUnavailable { path });
+        return Err(Error::PathUnavailable { path });
     }
     for &(what, got) in lens {
         if got != n {
-            return Err(MortonError::LengthMismatch {
+            return Err(Error::LengthMismatch {
                 what,
                 expected: n,
                 got,
@@ -573,12 +573,7 @@ fn prepare(path: Path, n: usize, lens: &[(&'static str, usize)]) -> Result<(), M
 }
 
 /// 3D Hilbert keys into u32 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode3_u32_soa(
-    xs: &[u32],
-    ys: &[u32],
-    zs: &[u32],
-    out: &mut [u32],
-) -> Result<(), MortonError> {
+pub fn encode3_u32_soa(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u32]) -> Result<(), Error> {
     encode3_u32_soa_with(Path::best(), xs, ys, zs, out)
 }
 
@@ -589,7 +584,7 @@ pub fn encode3_u32_soa_with(
     ys: &[u32],
     zs: &[u32],
     out: &mut [u32],
-) -> Result<(), MortonError> {
+) -> Result<(), Error> {
     prepare(
         path,
         xs.len(),
@@ -600,12 +595,7 @@ pub fn encode3_u32_soa_with(
 }
 
 /// 3D Hilbert keys into u64 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode3_u64_soa(
-    xs: &[u32],
-    ys: &[u32],
-    zs: &[u32],
-    out: &mut [u64],
-) -> Result<(), MortonError> {
+pub fn encode3_u64_soa(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u64]) -> Result<(), Error> {
     encode3_u64_soa_with(Path::best(), xs, ys, zs, out)
 }
 
@@ -616,7 +606,7 @@ pub fn encode3_u64_soa_with(
     ys: &[u32],
     zs: &[u32],
     out: &mut [u64],
-) -> Result<(), MortonError> {
+) -> Result<(), Error> {
     prepare(
         path,
         xs.len(),
@@ -627,7 +617,7 @@ pub fn encode3_u64_soa_with(
 }
 
 /// 2D Hilbert keys into u32 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode2_u32_soa(xs: &[u32], ys: &[u32], out: &mut [u32]) -> Result<(), MortonError> {
+pub fn encode2_u32_soa(xs: &[u32], ys: &[u32], out: &mut [u32]) -> Result<(), Error> {
     encode2_u32_soa_with(Path::best(), xs, ys, out)
 }
 
@@ -637,14 +627,14 @@ pub fn encode2_u32_soa_with(
     xs: &[u32],
     ys: &[u32],
     out: &mut [u32],
-) -> Result<(), MortonError> {
+) -> Result<(), Error> {
     prepare(path, xs.len(), &[("ys", ys.len()), ("out", out.len())])?;
     h2_32::run(path, xs, ys, out);
     Ok(())
 }
 
 /// 2D Hilbert keys into u64 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode2_u64_soa(xs: &[u32], ys: &[u32], out: &mut [u64]) -> Result<(), MortonError> {
+pub fn encode2_u64_soa(xs: &[u32], ys: &[u32], out: &mut [u64]) -> Result<(), Error> {
     encode2_u64_soa_with(Path::best(), xs, ys, out)
 }
 
@@ -654,7 +644,7 @@ pub fn encode2_u64_soa_with(
     xs: &[u32],
     ys: &[u32],
     out: &mut [u64],
-) -> Result<(), MortonError> {
+) -> Result<(), Error> {
     prepare(path, xs.len(), &[("ys", ys.len()), ("out", out.len())])?;
     h2_64::run(path, xs, ys, out);
     Ok(())

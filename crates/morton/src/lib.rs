@@ -107,7 +107,7 @@ pub mod quantize;
 pub mod sort;
 mod wgsl;
 
-pub use error::MortonError;
+pub use error::Error;
 pub use path::Path;
 pub use quantize::{Quantizer2, Quantizer3};
 pub use sort::{MAX_SORT_KEYS, SortKey, Sorter, sort_permutation, sort_permutation_into};
@@ -231,7 +231,7 @@ scalar!(
 );
 
 #[inline]
-fn fits(axis: u8, value: u32, bits: u32) -> Result<(), MortonError> {
+fn fits(axis: u8, value: u32, bits: u32) -> Result<(), Error> {
     let max = if bits >= 32 {
         u32::MAX
     } else {
@@ -240,19 +240,19 @@ fn fits(axis: u8, value: u32, bits: u32) -> Result<(), MortonError> {
     if value <= max {
         Ok(())
     } else {
-        Err(MortonError::CoordinateTooLarge { axis, value, max })
+        Err(Error::CoordinateTooLarge { axis, value, max })
     }
 }
 
 /// [`encode2_u32`], rejecting coordinates of more than 16 bits.
-pub fn try_encode2_u32(x: u32, y: u32) -> Result<u32, MortonError> {
+pub fn try_encode2_u32(x: u32, y: u32) -> Result<u32, Error> {
     fits(0, x, BITS2_U32)?;
     fits(1, y, BITS2_U32)?;
     Ok(encode2_u32(x, y))
 }
 
 /// [`encode3_u32`], rejecting coordinates of more than 10 bits.
-pub fn try_encode3_u32(x: u32, y: u32, z: u32) -> Result<u32, MortonError> {
+pub fn try_encode3_u32(x: u32, y: u32, z: u32) -> Result<u32, Error> {
     fits(0, x, BITS3_U32)?;
     fits(1, y, BITS3_U32)?;
     fits(2, z, BITS3_U32)?;
@@ -260,7 +260,7 @@ pub fn try_encode3_u32(x: u32, y: u32, z: u32) -> Result<u32, MortonError> {
 }
 
 /// [`encode3_u64`], rejecting coordinates of more than 21 bits.
-pub fn try_encode3_u64(x: u32, y: u32, z: u32) -> Result<u64, MortonError> {
+pub fn try_encode3_u64(x: u32, y: u32, z: u32) -> Result<u64, Error> {
     fits(0, x, BITS3_U64)?;
     fits(1, y, BITS3_U64)?;
     fits(2, z, BITS3_U64)?;
@@ -268,6 +268,6 @@ pub fn try_encode3_u64(x: u32, y: u32, z: u32) -> Result<u64, MortonError> {
 }
 
 /// [`encode2_u64`]: every u32 coordinate fits, so this never fails; here for symmetry.
-pub fn try_encode2_u64(x: u32, y: u32) -> Result<u64, MortonError> {
+pub fn try_encode2_u64(x: u32, y: u32) -> Result<u64, Error> {
     Ok(encode2_u64(x, y))
 }

@@ -23,7 +23,7 @@
 use alloc::vec::Vec;
 use glam::{UVec2, UVec3};
 
-use crate::{MortonError, hilbert, sort_permutation};
+use crate::{Error, hilbert, sort_permutation};
 
 /// A space-filling curve to order cells by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -48,7 +48,7 @@ pub struct Locality {
 
 /// The permutation that orders 3D cells along `curve` (21 bits per axis; higher bits are
 /// ignored). Ties (equal cells) keep input order.
-pub fn curve_order3(curve: Curve, cells: &[UVec3]) -> Result<Vec<u32>, MortonError> {
+pub fn curve_order3(curve: Curve, cells: &[UVec3]) -> Result<Vec<u32>, Error> {
     let keys: Vec<u64> = cells
         .iter()
         .map(|c| match curve {
@@ -60,7 +60,7 @@ pub fn curve_order3(curve: Curve, cells: &[UVec3]) -> Result<Vec<u32>, MortonErr
 }
 
 /// The permutation that orders 2D cells along `curve` (32 bits per axis).
-pub fn curve_order2(curve: Curve, cells: &[UVec2]) -> Result<Vec<u32>, MortonError> {
+pub fn curve_order2(curve: Curve, cells: &[UVec2]) -> Result<Vec<u32>, Error> {
     let keys: Vec<u64> = cells
         .iter()
         .map(|c| match curve {

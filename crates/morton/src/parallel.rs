@@ -20,7 +20,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
 use crate::sort::{Pair, check_len, histograms, offsets, sort_range, top_digit};
-use crate::{MortonError, Path, Quantizer2, Quantizer3, SortKey, Sorter};
+use crate::{Error, Path, Quantizer2, Quantizer3, SortKey, Sorter};
 
 /// Points per rayon task in the quantise+encode functions: large enough that a task costs
 /// far more than its scheduling, small enough to balance two to a few dozen threads.
@@ -31,22 +31,22 @@ pub const QUANTIZE_CHUNK: usize = 1 << 15;
 fn par_chunks<P: Sync, C: Send>(
     points: &[P],
     out: &mut [C],
-    f: impl Fn(&[P], &mut [C]) -> Result<(), MortonError> + Sync,
-) -> Result<(), MortonError> {
+    f: impl Fn(&[P], &mut [C]) -> Result<(), Error> + Sync,
+) -> Result<(), Error> {
     if points.len() != out.len() {
-        return Err(MortonError::LengthMismatch {
+        return Err(Error::LengthMismatch {
             what: "out",
             expected: points.len(),
             got: out.len(),
         });
     }
-    let errors: Vec<MortonError> = points
+    let errors: Vec<Error> = points
         .par_chunks(QUANTIZE_CHUNK)
         .zip(out.par_chunks_mut(QUANTIZE_CHUNK))
         .enumerate()
         .filter_map(|(c, (p, o))| match f(p, o) {
             Ok(()) => None,
-            Err(MortonError::NanPosition { index }) => Some(MortonError::NanPosition {
+            Err(Error::NanPosition { index }) => Some(Error::NanPosition {
                 index: c * QUANTIZE_CHUNK + index,
             }),
             Err(e) => Some(e),
@@ -61,21 +61,13 @@ fn par_chunks<P: Sync, C: Send>(
 
 impl Quantizer3 {
     /// [`Quantizer3::morton_u32_slice`] on all rayon threads.
-    pub fn par_morton_u32_slice(
-        &self,
-        points: &[Vec3],
-        out: &mut [u32],
-    ) -> Result<(), MortonError> {
+    pub fn par_morton_u32_slice(&self, points: &[Vec3], out: &mut [u32]) -> Result<(), Error> {
         let path = Path::best();
         par_chunks(points, out, |p, o| self.morton_u32_slice_with(path, p, o))
     }
 
     /// [`Quantizer3::morton_u64_slice`] on all rayon threads.
-    pub fn par_morton_u64_slice(
-        &self,
-        points: &[Vec3],
-        out: &mut [u64],
-    ) -> Result<(), MortonError> {
+    pub fn par_morton_u64_slice(&self, points: &[Vec3], out: &mut [u64]) -> Result<(), Error> {
         let path = Path::best();
         par_chunks(points, out, |p, o| self.morton_u64_slice_with(path, p, o))
     }
@@ -83,21 +75,13 @@ impl Quantizer3 {
 
 impl Quantizer2 {
     /// [`Quantizer2::morton_u32_slice`] on all rayon threads.
-    pub fn par_morton_u32_slice(
-        &self,
-        points: &[Vec2],
-        out: &mut [u32],
-    ) -> Result<(), MortonError> {
+    pub fn par_morton_u32_slice(&self, points: &[Vec2], out: &mut [u32]) -> Result<(), Error> {
         let path = Path::best();
         par_chunks(points, out, |p, o| self.morton_u32_slice_with(path, p, o))
     }
 
     /// [`Quantizer2::morton_u64_slice`] on all rayon threads.
-    pub fn par_morton_u64_slice(
-        &self,
-        points: &[Vec2],
-        out: &mut [u64],
-    ) -> Result<(), MortonError> {
+    pub fn par_morton_u64_slice(&self, points: &[Vec2], out: &mut [u64]) -> Result<(), Error> {
         let path = Path::best();
         par_chunks(points, out, |p, o| self.morton_u64_slice_with(path, p, o))
     }
@@ -110,7 +94,7 @@ pub const PAR_SORT_MIN: usize = 1 << 16;
 /// significant varying digit is counted and scattered by chunks in parallel (each chunk into
 /// its own slots), then the 256 buckets are sorted in parallel. A stable sort's result is
 /// unique, so it equals the sequential one (tested).
-pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonError> {
+pub fn par_sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, Error> {
     let mut out = Vec::new();
     Sorter::new().par_sort_permutation_into(keys, &mut out)?;
     Ok(out)
@@ -122,7 +106,7 @@ impl<K: SortKey> Sorter<K> {
         &mut self,
         keys: &[K],
         out: &mut Vec<u32>,
-    ) -> Result<(), MortonError> {
+    ) -> Result<(), Error> {
         check_len(keys.len())?;
         if keys.len() < PAR_SORT_MIN {
             return self.sort_permutation_into(keys, out);

@@ -19,11 +19,11 @@
 //! - an axis with `min == max` (a flat scene) maps every position to cell 0 on that axis,
 //!   and so does one thinner than `2^bits / f32::MAX` world units (about 6e-33 at 21
 //!   bits), whose cells would be too small for f32 arithmetic;
-//! - a NaN component is an error, [`MortonError::NanPosition`]. The batch functions still
+//! - a NaN component is an error, [`Error::NanPosition`]. The batch functions still
 //!   write every key, with each NaN component mapped to cell 0, and return the index of the
 //!   first NaN point: the fast loop has no branch, the check is an OR across the batch;
-//! - bounds must be finite with `min <= max` ([`MortonError::BadBounds`]); the bits per
-//!   axis must fit the key ([`MortonError::BadBits`]).
+//! - bounds must be finite with `min <= max` ([`Error::BadBounds`]); the bits per
+//!   axis must fit the key ([`Error::BadBits`]).
 //!
 //! ```
 //! use glam::{UVec3, Vec3};
@@ -42,7 +42,7 @@
 
 use glam::{UVec2, UVec3, Vec2, Vec3};
 
-use crate::{BITS2_U32, BITS2_U64, BITS3_U32, BITS3_U64, MortonError, Path, magic};
+use crate::{BITS2_U32, BITS2_U64, BITS3_U32, BITS3_U64, Error, Path, magic};
 
 /// One axis's scale: cells per world unit, `2^bits / (max - min)`, computed in f64 and
 /// rounded once to f32; 0 for a flat axis, and for one so thin that the scale would not fit
@@ -69,19 +69,19 @@ fn cell(p: f32, min: f32, scale: f32, top: f32) -> u32 {
     i as u32
 }
 
-fn check_bits(bits: u32, max: u32) -> Result<(), MortonError> {
+fn check_bits(bits: u32, max: u32) -> Result<(), Error> {
     if (1..=max).contains(&bits) {
         Ok(())
     } else {
-        Err(MortonError::BadBits { bits, max })
+        Err(Error::BadBits { bits, max })
     }
 }
 
-fn check_axis(axis: u8, min: f32, max: f32) -> Result<(), MortonError> {
+fn check_axis(axis: u8, min: f32, max: f32) -> Result<(), Error> {
     if min.is_finite() && max.is_finite() && min <= max {
         Ok(())
     } else {
-        Err(MortonError::BadBounds { axis, min, max })
+        Err(Error::BadBounds { axis, min, max })
     }
 }
 
@@ -99,7 +99,7 @@ pub struct Quantizer3 {
 impl Quantizer3 {
     /// A quantiser for the box `[min, max]` (world units) with `bits` per axis, `1..=21`
     /// ([`BITS3_U64`]); 32-bit keys need `bits <= 10` ([`BITS3_U32`]).
-    pub fn new(min: Vec3, max: Vec3, bits: u32) -> Result<Self, MortonError> {
+    pub fn new(min: Vec3, max: Vec3, bits: u32) -> Result<Self, Error> {
         check_bits(bits, BITS3_U64)?;
         for axis in 0..3 {
             check_axis(axis as u8, min[axis], max[axis])?;
@@ -119,7 +119,7 @@ impl Quantizer3 {
 
     /// A quantiser over the bounding box of `points` (NaN components are skipped). Without
     /// any finite point the box is the origin.
-    pub fn from_points(points: &[Vec3], bits: u32) -> Result<Self, MortonError> {
+    pub fn from_points(points: &[Vec3], bits: u32) -> Result<Self, Error> {
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for p in points {
             for axis in 0..3 {
@@ -164,11 +164,11 @@ impl Quantizer3 {
         (self.max - self.min) / (1u64 << self.bits) as f32
     }
 
-    /// The grid cell of `p`; [`MortonError::NanPosition`] (index 0) if a component is NaN.
+    /// The grid cell of `p`; [`Error::NanPosition`] (index 0) if a component is NaN.
     #[inline]
-    pub fn quantize(&self, p: Vec3) -> Result<UVec3, MortonError> {
+    pub fn quantize(&self, p: Vec3) -> Result<UVec3, Error> {
         if p.is_nan() {
-            return Err(MortonError::NanPosition { index: 0 });
+            return Err(Error::NanPosition { index: 0 });
         }
         Ok(self.quantize_unchecked_nan(p))
     }
@@ -189,9 +189,9 @@ impl Quantizer3 {
         self.min + (c.as_vec3() + 0.5) * self.cell_size()
     }
 
-    /// The 32-bit Morton key of `p` (`bits <= 10`, else [`MortonError::BadBits`]).
+    /// The 32-bit Morton key of `p` (`bits <= 10`, else [`Error::BadBits`]).
     #[inline]
-    pub fn morton_u32(&self, p: Vec3) -> Result<u32, MortonError> {
+    pub fn morton_u32(&self, p: Vec3) -> Result<u32, Error> {
         check_bits(self.bits, BITS3_U32)?;
         let c = self.quantize(p)?;
         Ok(crate::encode3_u32(c.x, c.y, c.z))
@@ -199,14 +199,14 @@ impl Quantizer3 {
 
     /// The 64-bit Morton key of `p`.
     #[inline]
-    pub fn morton_u64(&self, p: Vec3) -> Result<u64, MortonError> {
+    pub fn morton_u64(&self, p: Vec3) -> Result<u64, Error> {
         let c = self.quantize(p)?;
         Ok(crate::encode3_u64(c.x, c.y, c.z))
     }
 
     /// Grid cells of many points. On a NaN every cell is still written (NaN components in
     /// cell 0) and the first NaN's index is returned in the error.
-    pub fn quantize_slice(&self, points: &[Vec3], out: &mut [UVec3]) -> Result<(), MortonError> {
+    pub fn quantize_slice(&self, points: &[Vec3], out: &mut [UVec3]) -> Result<(), Error> {
         same_len(points.len(), out.len())?;
         let mut nan = false;
         for (o, &p) in out.iter_mut().zip(points) {
@@ -219,7 +219,7 @@ impl Quantizer3 {
     /// 32-bit Morton keys of many points (`bits <= 10`), on [`Path::best`]. On a NaN every
     /// key is still written (NaN components in cell 0) and the first NaN's index is
     /// returned in the error.
-    pub fn morton_u32_slice(&self, points: &[Vec3], out: &mut [u32]) -> Result<(), MortonError> {
+    pub fn morton_u32_slice(&self, points: &[Vec3], out: &mut [u32]) -> Result<(), Error> {
         self.morton_u32_slice_with(Path::best(), points, out)
     }
 
@@ -229,7 +229,7 @@ impl Quantizer3 {
         path: Path,
         points: &[Vec3],
         out: &mut [u32],
-    ) -> Result<(), MortonError> {
+    ) -> Result<(), Error> {
         check_bits(self.bits, BITS3_U32)?;
         path_available(path)?;
         same_len(points.len(), out.len())?;
@@ -239,7 +239,7 @@ impl Quantizer3 {
 
     /// 64-bit Morton keys of many points, on [`Path::best`]. NaN handling as
     /// [`Self::morton_u32_slice`].
-    pub fn morton_u64_slice(&self, points: &[Vec3], out: &mut [u64]) -> Result<(), MortonError> {
+    pub fn morton_u64_slice(&self, points: &[Vec3], out: &mut [u64]) -> Result<(), Error> {
         self.morton_u64_slice_with(Path::best(), points, out)
     }
 
@@ -249,7 +249,7 @@ impl Quantizer3 {
         path: Path,
         points: &[Vec3],
         out: &mut [u64],
-    ) -> Result<(), MortonError> {
+    ) -> Result<(), Error> {
         path_available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q3_64::run(path, self, points, out);
@@ -257,11 +257,11 @@ impl Quantizer3 {
     }
 }
 
-fn same_len(expected: usize, got: usize) -> Result<(), MortonError> {
+fn same_len(expected: usize, got: usize) -> Result<(), Error> {
     if expected == got {
         Ok(())
     } else {
-        Err(MortonError::LengthMismatch {
+        Err(Error::LengthMismatch {
             what: "out",
             expected,
             got,
@@ -269,21 +269,21 @@ fn same_len(expected: usize, got: usize) -> Result<(), MortonError> {
     }
 }
 
-fn path_available(path: Path) -> Result<(), MortonError> {
+fn path_available(path: Path) -> Result<(), Error> {
     if path.is_available() {
         Ok(())
     } else {
-        Err(MortonError::PathUnavailable { path })
+        Err(Error::PathUnavailable { path })
     }
 }
 
 /// Turns the batch's NaN flag into the error naming the first NaN point.
-fn nan_result<P: NanCheck>(nan: bool, points: &[P]) -> Result<(), MortonError> {
+fn nan_result<P: NanCheck>(nan: bool, points: &[P]) -> Result<(), Error> {
     if !nan {
         return Ok(());
     }
     let index = points.iter().position(|p| p.has_nan()).unwrap_or(0);
-    Err(MortonError::NanPosition { index })
+    Err(Error::NanPosition { index })
 }
 
 trait NanCheck {
@@ -360,7 +360,7 @@ impl Quantizer2 {
     /// A quantiser for the rectangle `[min, max]` with `bits` per axis, `1..=21`: the f32
     /// arithmetic resolves about 2^21 cells, so 2D codes of more bits would only repeat
     /// cells. 32-bit keys take up to [`BITS2_U32`] = 16 bits per axis.
-    pub fn new(min: Vec2, max: Vec2, bits: u32) -> Result<Self, MortonError> {
+    pub fn new(min: Vec2, max: Vec2, bits: u32) -> Result<Self, Error> {
         check_bits(bits, MAX_BITS_F32)?;
         for axis in 0..2 {
             check_axis(axis as u8, min[axis], max[axis])?;
@@ -402,11 +402,11 @@ impl Quantizer2 {
         (self.max - self.min) / (1u64 << self.bits) as f32
     }
 
-    /// The grid cell of `p`; [`MortonError::NanPosition`] if a component is NaN.
+    /// The grid cell of `p`; [`Error::NanPosition`] if a component is NaN.
     #[inline]
-    pub fn quantize(&self, p: Vec2) -> Result<UVec2, MortonError> {
+    pub fn quantize(&self, p: Vec2) -> Result<UVec2, Error> {
         if p.is_nan() {
-            return Err(MortonError::NanPosition { index: 0 });
+            return Err(Error::NanPosition { index: 0 });
         }
         Ok(self.quantize_unchecked_nan(p))
     }
@@ -427,7 +427,7 @@ impl Quantizer2 {
 
     /// The 32-bit Morton key of `p` (`bits <= 16`).
     #[inline]
-    pub fn morton_u32(&self, p: Vec2) -> Result<u32, MortonError> {
+    pub fn morton_u32(&self, p: Vec2) -> Result<u32, Error> {
         check_bits(self.bits, BITS2_U32)?;
         let c = self.quantize(p)?;
         Ok(crate::encode2_u32(c.x, c.y))
@@ -435,13 +435,13 @@ impl Quantizer2 {
 
     /// The 64-bit Morton key of `p`.
     #[inline]
-    pub fn morton_u64(&self, p: Vec2) -> Result<u64, MortonError> {
+    pub fn morton_u64(&self, p: Vec2) -> Result<u64, Error> {
         let c = self.quantize(p)?;
         Ok(crate::encode2_u64(c.x, c.y))
     }
 
     /// Grid cells of many points; NaN handling as [`Quantizer3::quantize_slice`].
-    pub fn quantize_slice(&self, points: &[Vec2], out: &mut [UVec2]) -> Result<(), MortonError> {
+    pub fn quantize_slice(&self, points: &[Vec2], out: &mut [UVec2]) -> Result<(), Error> {
         same_len(points.len(), out.len())?;
         let mut nan = false;
         for (o, &p) in out.iter_mut().zip(points) {
@@ -452,7 +452,7 @@ impl Quantizer2 {
     }
 
     /// 32-bit Morton keys of many points (`bits <= 16`), on [`Path::best`].
-    pub fn morton_u32_slice(&self, points: &[Vec2], out: &mut [u32]) -> Result<(), MortonError> {
+    pub fn morton_u32_slice(&self, points: &[Vec2], out: &mut [u32]) -> Result<(), Error> {
         self.morton_u32_slice_with(Path::best(), points, out)
     }
 
@@ -462,7 +462,7 @@ impl Quantizer2 {
         path: Path,
         points: &[Vec2],
         out: &mut [u32],
-    ) -> Result<(), MortonError> {
+    ) -> Result<(), Error> {
         check_bits(self.bits, BITS2_U32)?;
         path_available(path)?;
         same_len(points.len(), out.len())?;
@@ -471,7 +471,7 @@ impl Quantizer2 {
     }
 
     /// 64-bit Morton keys of many points, on [`Path::best`].
-    pub fn morton_u64_slice(&self, points: &[Vec2], out: &mut [u64]) -> Result<(), MortonError> {
+    pub fn morton_u64_slice(&self, points: &[Vec2], out: &mut [u64]) -> Result<(), Error> {
         self.morton_u64_slice_with(Path::best(), points, out)
     }
 
@@ -481,7 +481,7 @@ impl Quantizer2 {
         path: Path,
         points: &[Vec2],
         out: &mut [u64],
-    ) -> Result<(), MortonError> {
+    ) -> Result<(), Error> {
         path_available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q2_64::run(path, self, points, out);

@@ -23,7 +23,7 @@
 
 use alloc::vec::Vec;
 
-use crate::MortonError;
+use crate::Error;
 
 /// The most keys [`sort_permutation`] takes: indices are u32.
 pub const MAX_SORT_KEYS: usize = u32::MAX as usize;
@@ -119,8 +119,8 @@ impl SortKey for u64 {
 }
 
 /// The permutation that sorts `keys` ascending, stable: `keys[perm[0]] <= keys[perm[1]] <=
-/// ...`, equal keys in input order. [`MortonError::TooManyKeys`] above [`MAX_SORT_KEYS`].
-pub fn sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonError> {
+/// ...`, equal keys in input order. [`Error::TooManyKeys`] above [`MAX_SORT_KEYS`].
+pub fn sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, Error> {
     let mut out = Vec::new();
     sort_permutation_into(keys, &mut out)?;
     Ok(out)
@@ -128,10 +128,7 @@ pub fn sort_permutation<K: SortKey>(keys: &[K]) -> Result<Vec<u32>, MortonError>
 
 /// [`sort_permutation`] into `out` (cleared first), reusing its allocation. For repeated
 /// sorts (every frame) keep a [`Sorter`], which also reuses the scratch buffers.
-pub fn sort_permutation_into<K: SortKey>(
-    keys: &[K],
-    out: &mut Vec<u32>,
-) -> Result<(), MortonError> {
+pub fn sort_permutation_into<K: SortKey>(keys: &[K], out: &mut Vec<u32>) -> Result<(), Error> {
     Sorter::new().sort_permutation_into(keys, out)
 }
 
@@ -176,11 +173,7 @@ impl<K: SortKey> Sorter<K> {
     }
 
     /// [`sort_permutation`] into `out` (cleared first) with this sorter's buffers.
-    pub fn sort_permutation_into(
-        &mut self,
-        keys: &[K],
-        out: &mut Vec<u32>,
-    ) -> Result<(), MortonError> {
+    pub fn sort_permutation_into(&mut self, keys: &[K], out: &mut Vec<u32>) -> Result<(), Error> {
         check_len(keys.len())?;
         out.clear();
         let n = keys.len();
@@ -288,9 +281,9 @@ fn scatter<P: Pair>(src: &[P], dst: &mut [P], d: u32, h: &[u32; 256]) {
     }
 }
 
-pub(crate) fn check_len(len: usize) -> Result<(), MortonError> {
+pub(crate) fn check_len(len: usize) -> Result<(), Error> {
     if len > MAX_SORT_KEYS {
-        Err(MortonError::TooManyKeys {
+        Err(Error::TooManyKeys {
             len,
             max: MAX_SORT_KEYS,
         })

@@ -78,7 +78,7 @@ fn try_encoders_reject_excess_bits() {
     let e = morton::try_encode3_u32(0, 1024, 0).unwrap_err();
     assert_eq!(
         e,
-        morton::MortonError::CoordinateTooLarge {
+        morton::Error::CoordinateTooLarge {
             axis: 1,
             value: 1024,
             max: 1023
@@ -228,7 +228,7 @@ fn batch_rejects_mismatched_lengths() {
     let e = batch::encode3_u32_soa(&xs, &ys, &zs, &mut out).unwrap_err();
     assert_eq!(
         e,
-        morton::MortonError::LengthMismatch {
+        morton::Error::LengthMismatch {
             what: "zs",
             expected: 4,
             got: 3
@@ -253,7 +253,7 @@ fn paths_report_availability() {
             assert_eq!(r, Ok(()));
             assert_eq!(out, [3]);
         } else {
-            assert_eq!(r, Err(morton::MortonError::PathUnavailable { path }));
+            assert_eq!(r, Err(morton::Error::PathUnavailable { path }));
         }
     }
 }

@@ -1,7 +1,7 @@
 //! The parallel functions equal the sequential ones exactly.
 
 use glam::Vec3;
-use morton::{MortonError, Quantizer3, parallel, sort_permutation};
+use morton::{Error, Quantizer3, parallel, sort_permutation};
 
 fn points(n: usize, seed: u64) -> Vec<Vec3> {
     let mut s = seed;
@@ -38,7 +38,7 @@ fn nan_error_names_the_same_point() {
     let (mut a, mut b) = (vec![0u32; pts.len()], vec![0u32; pts.len()]);
     let ea = q.morton_u32_slice(&pts, &mut a).unwrap_err();
     let eb = q.par_morton_u32_slice(&pts, &mut b).unwrap_err();
-    assert_eq!(ea, MortonError::NanPosition { index: 70_000 });
+    assert_eq!(ea, Error::NanPosition { index: 70_000 });
     assert_eq!(ea, eb);
     assert_eq!(a, b);
     let mut short = vec![0u32; 3];

@@ -2,7 +2,7 @@
 //! and an f64 reference for the cell of random points.
 
 use glam::{UVec2, UVec3, Vec2, Vec3};
-use morton::{MortonError, Path, Quantizer2, Quantizer3};
+use morton::{Error, Path, Quantizer2, Quantizer3};
 use proptest::prelude::*;
 
 /// The reference cell in f64: floor((p - min) * 2^bits / (max - min)) clamped, and whether
@@ -112,7 +112,7 @@ fn nan_is_an_error_and_batches_name_the_first() {
     let q = Quantizer3::new(Vec3::ZERO, Vec3::ONE, 10).unwrap();
     assert_eq!(
         q.quantize(Vec3::new(0.5, f32::NAN, 0.5)),
-        Err(MortonError::NanPosition { index: 0 })
+        Err(Error::NanPosition { index: 0 })
     );
     assert_eq!(
         q.quantize_unchecked_nan(Vec3::new(1.0, f32::NAN, 0.5)),
@@ -127,7 +127,7 @@ fn nan_is_an_error_and_batches_name_the_first() {
         let e = q
             .morton_u32_slice_with(path, &points, &mut keys)
             .unwrap_err();
-        assert_eq!(e, MortonError::NanPosition { index: 37 });
+        assert_eq!(e, Error::NanPosition { index: 37 });
         assert_eq!(keys[36], morton::encode3_u32(512, 512, 512));
         assert_eq!(
             keys[37],
@@ -139,13 +139,13 @@ fn nan_is_an_error_and_batches_name_the_first() {
         let e = q
             .morton_u64_slice_with(path, &points, &mut keys)
             .unwrap_err();
-        assert_eq!(e, MortonError::NanPosition { index: 37 });
+        assert_eq!(e, Error::NanPosition { index: 37 });
         assert_eq!(keys[37], morton::encode3_u64(512, 512, 0));
     }
     let mut cells = vec![UVec3::ZERO; 100];
     assert_eq!(
         q.quantize_slice(&points, &mut cells),
-        Err(MortonError::NanPosition { index: 37 })
+        Err(Error::NanPosition { index: 37 })
     );
     assert_eq!(cells[37], UVec3::new(512, 512, 0));
 }
@@ -155,30 +155,30 @@ fn bad_configurations_are_errors() {
     let (lo, hi) = (Vec3::ZERO, Vec3::ONE);
     assert_eq!(
         Quantizer3::new(lo, hi, 0),
-        Err(MortonError::BadBits { bits: 0, max: 21 })
+        Err(Error::BadBits { bits: 0, max: 21 })
     );
     assert_eq!(
         Quantizer3::new(lo, hi, 22),
-        Err(MortonError::BadBits { bits: 22, max: 21 })
+        Err(Error::BadBits { bits: 22, max: 21 })
     );
     assert!(Quantizer3::new(lo, hi, 21).is_ok());
     assert!(matches!(
         Quantizer3::new(hi, lo, 10),
-        Err(MortonError::BadBounds { axis: 0, .. })
+        Err(Error::BadBounds { axis: 0, .. })
     ));
     assert!(matches!(
         Quantizer3::new(Vec3::new(0.0, 0.0, f32::NAN), hi, 10),
-        Err(MortonError::BadBounds { axis: 2, .. })
+        Err(Error::BadBounds { axis: 2, .. })
     ));
     assert!(matches!(
         Quantizer3::new(lo, Vec3::new(1.0, f32::INFINITY, 1.0), 10),
-        Err(MortonError::BadBounds { axis: 1, .. })
+        Err(Error::BadBounds { axis: 1, .. })
     ));
     // 32-bit keys need <= 10 bits per axis.
     let q = Quantizer3::new(lo, hi, 11).unwrap();
     assert_eq!(
         q.morton_u32(Vec3::ZERO),
-        Err(MortonError::BadBits { bits: 11, max: 10 })
+        Err(Error::BadBits { bits: 11, max: 10 })
     );
     let mut out = [0u32; 1];
     assert!(q.morton_u32_slice(&[Vec3::ZERO], &mut out).is_err());
@@ -188,7 +188,7 @@ fn bad_configurations_are_errors() {
     let mut out = [0u32; 2];
     assert_eq!(
         q.morton_u32_slice(&[Vec3::ZERO], &mut out),
-        Err(MortonError::LengthMismatch {
+        Err(Error::LengthMismatch {
             what: "out",
             expected: 1,
             got: 2
@@ -197,7 +197,7 @@ fn bad_configurations_are_errors() {
     let q2 = Quantizer2::new(Vec2::ZERO, Vec2::ONE, 17).unwrap();
     assert_eq!(
         q2.morton_u32(Vec2::ZERO),
-        Err(MortonError::BadBits { bits: 17, max: 16 })
+        Err(Error::BadBits { bits: 17, max: 16 })
     );
     assert!(Quantizer2::new(Vec2::ZERO, Vec2::ONE, 22).is_err());
 }
@@ -237,7 +237,7 @@ fn quantizer2_matches_3d_on_a_plane() {
         let mut k = [0u32; 3];
         assert_eq!(
             q2.morton_u32_slice_with(path, &pts, &mut k),
-            Err(MortonError::NanPosition { index: 1 })
+            Err(Error::NanPosition { index: 1 })
         );
         assert_eq!(k[0], q2.morton_u32(pts[0]).unwrap());
         assert_eq!(k[2], morton::encode2_u32(65535, 0));

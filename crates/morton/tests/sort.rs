@@ -1,6 +1,6 @@
 //! Sorting: the permutation against std's stable sort, stability, skipped digit passes.
 
-use morton::{MortonError, sort_permutation, sort_permutation_into};
+use morton::{Error, sort_permutation, sort_permutation_into};
 use proptest::prelude::*;
 
 fn reference<K: Ord + Copy>(keys: &[K]) -> Vec<u32> {
@@ -29,7 +29,7 @@ fn small_cases() {
 
 #[test]
 fn too_many_keys_is_an_error_value() {
-    let e = MortonError::TooManyKeys {
+    let e = Error::TooManyKeys {
         len: usize::MAX,
         max: morton::MAX_SORT_KEYS,
     };

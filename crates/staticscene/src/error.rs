@@ -150,7 +150,7 @@ pub enum Error {
         what: &'static str,
     },
     /// The wave model refused a run.
-    Wave(wave::WaveError),
+    Wave(wave::Error),
 }
 
 impl fmt::Display for Error {
@@ -200,8 +200,8 @@ impl fmt::Display for Error {
 #[cfg(feature = "std")]
 impl std::error::Error for Error {}
 
-impl From<wave::WaveError> for Error {
-    fn from(e: wave::WaveError) -> Self {
+impl From<wave::Error> for Error {
+    fn from(e: wave::Error) -> Self {
         Error::Wave(e)
     }
 }

@@ -5,7 +5,7 @@
 //! the shared counter and broadcasts the old value, and each lane writes at that base plus
 //! its `MaskBitCnt`. Writes are contiguous and in lane order within the wave.
 
-use crate::{Counter, LaneMask, PerLane, Wave, WaveError, WaveWidth};
+use crate::{Counter, Error, LaneMask, PerLane, Wave, WaveWidth};
 
 /// The slots one wave reserved with one atomic: `count` consecutive slots from `base`,
 /// handed out to the reserving lanes in lane order.
@@ -160,15 +160,15 @@ impl Wave {
     /// (`subgroupAdd`), and each lane's range starts at the old value plus its exclusive
     /// prefix sum (`subgroupExclusiveAdd`). No atomic when no lane is active.
     ///
-    /// Fails with [`WaveError::AppendTooLarge`] (and touches nothing) if the sum does not
+    /// Fails with [`Error::AppendTooLarge`] (and touches nothing) if the sum does not
     /// fit a `u32`.
     pub fn reserve_ranges<C: Counter + ?Sized>(
         &self,
         counter: &C,
         amounts: &PerLane<u32>,
-    ) -> Result<RangeReservation, WaveError> {
+    ) -> Result<RangeReservation, Error> {
         let total: u64 = self.active().iter().map(|l| u64::from(amounts[l])).sum();
-        let total = u32::try_from(total).map_err(|_| WaveError::AppendTooLarge { total })?;
+        let total = u32::try_from(total).map_err(|_| Error::AppendTooLarge { total })?;
         let offsets = self.exclusive_add(amounts);
         let base = if self.is_empty() {
             0
@@ -419,7 +419,7 @@ mod tests {
         let huge = PerLane::splat(WaveWidth::W8, u32::MAX);
         assert_eq!(
             w.reserve_ranges(&c, &huge),
-            Err(WaveError::AppendTooLarge {
+            Err(Error::AppendTooLarge {
                 total: 5 * u64::from(u32::MAX)
             })
         );

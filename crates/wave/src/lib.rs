@@ -78,7 +78,7 @@ use core::fmt;
 /// Everything that can go wrong in this crate; each variant names the limit and the value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[non_exhaustive]
-pub enum WaveError {
+pub enum Error {
     /// A wave width other than 8, 16, 32 or 64 lanes.
     UnsupportedWidth {
         /// The lane count asked for.
@@ -112,26 +112,26 @@ pub enum WaveError {
     },
 }
 
-impl fmt::Display for WaveError {
+impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            WaveError::UnsupportedWidth { lanes } => {
+            Error::UnsupportedWidth { lanes } => {
                 write!(f, "wave width {lanes} unsupported (8, 16, 32 or 64 lanes)")
             }
-            WaveError::MaskOutsideWidth { width, mask } => write!(
+            Error::MaskOutsideWidth { width, mask } => write!(
                 f,
                 "active mask {:#x} has lanes outside the wave's {width}",
                 mask.0
             ),
-            WaveError::LaneCount { width, values } => {
+            Error::LaneCount { width, values } => {
                 write!(f, "{values} per-lane values for a wave of {width}")
             }
-            WaveError::AppendTooLarge { total } => write!(
+            Error::AppendTooLarge { total } => write!(
                 f,
                 "wave append of {total} items exceeds the u32 counter (max {})",
                 u32::MAX
             ),
-            WaveError::CounterOverflow { start, items } => write!(
+            Error::CounterOverflow { start, items } => write!(
                 f,
                 "counter at {start} plus up to {items} items would pass u32::MAX"
             ),
@@ -140,4 +140,4 @@ impl fmt::Display for WaveError {
 }
 
 #[cfg(feature = "std")]
-impl std::error::Error for WaveError {}
+impl std::error::Error for Error {}

@@ -3,7 +3,7 @@
 use core::fmt;
 use core::ops::{BitAnd, BitAndAssign, BitOr, BitOrAssign, BitXor, Not};
 
-use crate::WaveError;
+use crate::Error;
 
 /// The lanes of the widest supported wave (PS4's wavefront).
 pub const WAVE_WIDTH_MAX: u32 = 64;
@@ -30,13 +30,13 @@ impl WaveWidth {
     pub const ALL: [WaveWidth; 4] = [Self::W8, Self::W16, Self::W32, Self::W64];
 
     /// The width for a lane count, if it is one of 8, 16, 32 or 64.
-    pub const fn from_lanes(lanes: u32) -> Result<WaveWidth, WaveError> {
+    pub const fn from_lanes(lanes: u32) -> Result<WaveWidth, Error> {
         match lanes {
             8 => Ok(Self::W8),
             16 => Ok(Self::W16),
             32 => Ok(Self::W32),
             64 => Ok(Self::W64),
-            _ => Err(WaveError::UnsupportedWidth { lanes }),
+            _ => Err(Error::UnsupportedWidth { lanes }),
         }
     }
 
@@ -66,8 +66,8 @@ impl WaveWidth {
 }
 
 impl TryFrom<u32> for WaveWidth {
-    type Error = WaveError;
-    fn try_from(lanes: u32) -> Result<Self, WaveError> {
+    type Error = Error;
+    fn try_from(lanes: u32) -> Result<Self, Error> {
         Self::from_lanes(lanes)
     }
 }
@@ -343,11 +343,11 @@ mod tests {
         }
         assert_eq!(
             WaveWidth::from_lanes(48),
-            Err(WaveError::UnsupportedWidth { lanes: 48 })
+            Err(Error::UnsupportedWidth { lanes: 48 })
         );
         assert_eq!(
             WaveWidth::try_from(128u32).unwrap_err(),
-            WaveError::UnsupportedWidth { lanes: 128 }
+            Error::UnsupportedWidth { lanes: 128 }
         );
     }
 

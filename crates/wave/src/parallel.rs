@@ -10,7 +10,7 @@
 //! The counters are taken by `&mut`: nothing else can touch them during the run, so the
 //! slots they hand out are disjoint, which is what lets the threads write into one output
 //! buffer. A run that could advance a counter past `u32::MAX` (where slots would repeat)
-//! is refused with [`WaveError::CounterOverflow`] before anything is written.
+//! is refused with [`Error::CounterOverflow`] before anything is written.
 //!
 //! [`compact`]: crate::compact
 //! [`compact_per_item`]: crate::compact_per_item
@@ -22,7 +22,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use rayon::prelude::*;
 
 use crate::append::{Sink, chunk_ballot, launched};
-use crate::{BatchCompaction, Compaction, WaveBatch, WaveError, WaveWidth};
+use crate::{BatchCompaction, Compaction, Error, WaveBatch, WaveWidth};
 
 /// An output buffer that threads holding disjoint slots write into.
 struct SharedOut<'a, T> {
@@ -64,10 +64,10 @@ impl<T: Copy> Sink<T> for &SharedOut<'_, T> {
 }
 
 /// Refuses a run in which `counter` could pass `u32::MAX`.
-fn check_room(counter: &mut AtomicU32, items: usize) -> Result<(), WaveError> {
+fn check_room(counter: &mut AtomicU32, items: usize) -> Result<(), Error> {
     let start = *counter.get_mut();
     if u64::from(start) + items as u64 > 1u64 << 32 {
-        return Err(WaveError::CounterOverflow { start, items });
+        return Err(Error::CounterOverflow { start, items });
     }
     Ok(())
 }
@@ -93,7 +93,7 @@ pub fn par_compact<T, F>(
     keep: F,
     counter: &mut AtomicU32,
     out: &mut [T],
-) -> Result<Compaction, WaveError>
+) -> Result<Compaction, Error>
 where
     T: Copy + Send + Sync,
     F: Fn(&T) -> bool + Sync,
@@ -124,7 +124,7 @@ pub fn par_compact_per_item<T, F>(
     keep: F,
     counter: &mut AtomicU32,
     out: &mut [T],
-) -> Result<Compaction, WaveError>
+) -> Result<Compaction, Error>
 where
     T: Copy + Send + Sync,
     F: Fn(&T) -> bool + Sync,
@@ -168,7 +168,7 @@ pub fn par_batch_compact<T, E, V>(
     instances: &mut [T],
     batch_counter: &mut AtomicU32,
     batches: &mut [WaveBatch],
-) -> Result<BatchCompaction, WaveError>
+) -> Result<BatchCompaction, Error>
 where
     T: Copy + Send + Sync,
     E: Fn(&T) -> bool + Sync,

@@ -3,7 +3,7 @@
 
 use core::ops::{Index, IndexMut};
 
-use crate::{LaneMask, WaveError, WaveWidth};
+use crate::{Error, LaneMask, WaveWidth};
 
 /// A per-lane register (a VGPR): one value per lane of a wave of a given width.
 ///
@@ -32,9 +32,9 @@ impl<T: Copy + Default> PerLane<T> {
     }
 
     /// One value per lane; `values.len()` must equal the width.
-    pub fn from_slice(width: WaveWidth, values: &[T]) -> Result<Self, WaveError> {
+    pub fn from_slice(width: WaveWidth, values: &[T]) -> Result<Self, Error> {
         if values.len() != width.len() {
-            return Err(WaveError::LaneCount {
+            return Err(Error::LaneCount {
                 width,
                 values: values.len(),
             });
@@ -113,9 +113,9 @@ impl Wave {
     }
 
     /// A wave with the given active lanes, which must lie within the width.
-    pub const fn with_active(width: WaveWidth, active: LaneMask) -> Result<Wave, WaveError> {
+    pub const fn with_active(width: WaveWidth, active: LaneMask) -> Result<Wave, Error> {
         if !active.is_subset_of(width.full_mask()) {
-            return Err(WaveError::MaskOutsideWidth {
+            return Err(Error::MaskOutsideWidth {
                 width,
                 mask: active,
             });
@@ -125,9 +125,9 @@ impl Wave {
 
     /// A wave whose first `lanes` lanes are active: the last, partial wave of a dispatch
     /// over `n` items has `n % width` of them. `lanes` must not exceed the width.
-    pub const fn with_lane_count(width: WaveWidth, lanes: u32) -> Result<Wave, WaveError> {
+    pub const fn with_lane_count(width: WaveWidth, lanes: u32) -> Result<Wave, Error> {
         if lanes > width.lanes() {
-            return Err(WaveError::LaneCount {
+            return Err(Error::LaneCount {
                 width,
                 values: lanes as usize,
             });

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 use std::sync::atomic::AtomicU32;
 
 use wave::parallel::{par_batch_compact, par_compact, par_compact_per_item};
-use wave::{CountedAtomicU32, WaveBatch, WaveError, WaveWidth, batch_compact, compact};
+use wave::{CountedAtomicU32, Error, WaveBatch, WaveWidth, batch_compact, compact};
 
 /// xorshift: deterministic pseudo-random items without a dependency.
 fn items(n: usize, seed: u64) -> Vec<u64> {
@@ -96,7 +96,7 @@ fn par_compact_drops_what_does_not_fit_and_refuses_a_wrapping_counter() {
     let mut near_end = AtomicU32::new(u32::MAX - 100);
     assert_eq!(
         par_compact(WaveWidth::W32, &all, keep, &mut near_end, &mut small),
-        Err(WaveError::CounterOverflow {
+        Err(Error::CounterOverflow {
             start: u32::MAX - 100,
             items: all.len()
         })
