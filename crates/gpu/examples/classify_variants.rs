@@ -44,14 +44,9 @@ fn main() -> anyhow::Result<()> {
         ..DemoOptions::default()
     });
     let prepared = r.prepare(&scene)?;
-    let (mid, out) = if subgroups {
-        (
-            tiling::wgsl::MID_CLASSIFY_SUBGROUP,
-            tiling::wgsl::CLASSIFY_OUTPUT_SUBGROUP,
-        )
-    } else {
-        (tiling::wgsl::MID_CLASSIFY, tiling::wgsl::CLASSIFY_OUTPUT)
-    };
+    let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
+    let mid = &tiling::wgsl::MID_CLASSIFY.source(features)?;
+    let out = &tiling::wgsl::CLASSIFY_OUTPUT.source(features)?;
     let no_stats = [("atomicAdd(&tiling_wg_stats[field], n);", "")];
     let no_or = [(
         "atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));",

@@ -152,10 +152,14 @@ impl ClassifyPipelines {
         let zero_layout = binding::layout(device, "zero", &[binding::storage(0, c, false)]);
         let zero = module(device, "zero", ZERO_WGSL, &zero_layout).pipeline("zero");
         let phase1_layout = binding::layout(device, "laydown finalize", &entries(&PHASE1));
+        let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
+        let source = |p: &shader::Pass<tiling::TilingParams>, f: &[&str]| {
+            p.source(f).expect("tiling's passes compose (checked by its unit tests)")
+        };
         let laydown_finalize = module(
             device,
             "laydown finalize",
-            tiling::wgsl::LAYDOWN_FINALIZE,
+            &source(&tiling::wgsl::LAYDOWN_FINALIZE, &[]),
             &phase1_layout,
         )
         .pipeline("laydown_finalize");
@@ -163,22 +167,14 @@ impl ClassifyPipelines {
         let mid = module(
             device,
             "mid classify",
-            if subgroups {
-                tiling::wgsl::MID_CLASSIFY_SUBGROUP
-            } else {
-                tiling::wgsl::MID_CLASSIFY
-            },
+            &source(&tiling::wgsl::MID_CLASSIFY, features),
             &phase2_layout,
         );
         let phase3_layout = binding::layout(device, "classify output", &entries(&PHASE3));
         let out = module(
             device,
             "classify output",
-            if subgroups {
-                tiling::wgsl::CLASSIFY_OUTPUT_SUBGROUP
-            } else {
-                tiling::wgsl::CLASSIFY_OUTPUT
-            },
+            &source(&tiling::wgsl::CLASSIFY_OUTPUT, features),
             &phase3_layout,
         );
         Self {

@@ -22,7 +22,7 @@ pub fn laydown(path: PrimitiveIdPath) -> String {
     };
     [
         enable,
-        visbuf::ID_WGSL,
+        visbuf::wgsl::ID.source,
         crate::upload::SCENE_WGSL,
         crate::frame::FRAME_WGSL,
         LAYDOWN,
@@ -51,9 +51,9 @@ pub fn baseline(path: PrimitiveIdPath) -> String {
 pub fn resolve(wave_width: u32) -> String {
     [
         &format!("const RESOLVE_WAVE_WIDTH: u32 = {wave_width}u;\n"),
-        visbuf::ID_WGSL,
-        tiling::wgsl::COMMON_WGSL,
-        visbuf::BARY_WGSL,
+        visbuf::wgsl::ID.source,
+        tiling::wgsl::COMMON.source,
+        visbuf::wgsl::BARY.source,
         deferred::GBUFFER_WGSL,
         crate::upload::SCENE_WGSL,
         crate::frame::FRAME_WGSL,

@@ -119,6 +119,61 @@ pub fn const_f32(module: &naga::Module, name: &str) -> Option<f32> {
     }
 }
 
+/// Checks a crate's naming rule on a validated module: every function starts with
+/// `{prefix}_`, every constant with `{PREFIX}_`, every struct with `{Prefix}` (naga's
+/// predeclared `__*` result types excepted), every module-scope `var<workgroup>` with
+/// `{prefix}_`. Items of the crates in `also` (imported modules) are allowed under their
+/// own prefixes. With `snippet`, the module must also declare no bindings and no entry
+/// points (what a library module shipped for others to import looks like).
+#[track_caller]
+pub fn assert_prefixed(name: &str, module: &naga::Module, prefix: &str, also: &[&str], snippet: bool) {
+    let lower: Vec<String> = core::iter::once(prefix)
+        .chain(also.iter().copied())
+        .map(|p| format!("{p}_"))
+        .collect();
+    let upper: Vec<String> = lower.iter().map(|p| p.to_uppercase()).collect();
+    let camel: Vec<String> = core::iter::once(prefix)
+        .chain(also.iter().copied())
+        .map(|p| {
+            let mut c = p.chars();
+            c.next()
+                .map(|f| f.to_uppercase().chain(c).collect())
+                .unwrap_or_default()
+        })
+        .collect();
+    let ok = |n: &str, ps: &[String]| ps.iter().any(|p| n.starts_with(p.as_str()));
+    for (_, f) in module.functions.iter() {
+        let n = f.name.as_deref().unwrap_or("");
+        assert!(ok(n, &lower), "{name}: function `{n}` is not prefixed `{prefix}_`");
+    }
+    for n in const_names(module) {
+        assert!(ok(&n, &upper), "{name}: constant `{n}` is not prefixed");
+    }
+    for (_, t) in module.types.iter() {
+        if let Some(n) = t.name.as_deref()
+            && matches!(t.inner, naga::TypeInner::Struct { .. })
+            && !n.starts_with("__")
+        {
+            assert!(ok(n, &camel), "{name}: struct `{n}` is not prefixed");
+        }
+    }
+    for (_, g) in module.global_variables.iter() {
+        let n = g.name.as_deref().unwrap_or("");
+        if snippet {
+            assert!(g.binding.is_none(), "{name}: a library module declares binding `{n}`");
+        }
+        if g.space == naga::AddressSpace::WorkGroup {
+            assert!(ok(n, &lower), "{name}: workgroup variable `{n}` is not prefixed");
+        }
+    }
+    if snippet {
+        assert!(
+            module.entry_points.is_empty(),
+            "{name}: a library module declares entry points"
+        );
+    }
+}
+
 /// Names of all module-scope constants, for tests that check every WGSL constant has a
 /// Rust counterpart.
 pub fn const_names(module: &naga::Module) -> Vec<String> {

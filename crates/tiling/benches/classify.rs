@@ -24,23 +24,7 @@ use wave::WaveWidth;
 const W: u32 = 3840;
 const H: u32 = 2160;
 
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-    fn f(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
+use testkit::Rng;
 
 struct Frame {
     plan: Plan,
@@ -88,7 +72,7 @@ fn fill(words: &mut [u32], p: [(f32, f32); 3], word: u32) -> u64 {
 }
 
 fn foliage_frame(layout: VisLayout) -> Frame {
-    let mut rng = Rng(0x5eed);
+    let mut rng = Rng::new(0x5eed);
     // Geometries: grass cards, ferns, bushes.
     let mut geoms = Vec::new();
     let mut indices = Vec::new();
@@ -113,7 +97,7 @@ fn foliage_frame(layout: VisLayout) -> Frame {
         let n = 20 + rng.below(400) as usize;
         positions.push(
             (0..n)
-                .map(|_| [rng.f() * 200.0, 0.0, rng.f() * 200.0])
+                .map(|_| [rng.f32() * 200.0, 0.0, rng.f32() * 200.0])
                 .collect::<Vec<[f32; 3]>>(),
         );
         meta.push((b % 4, rng.below(96), geoms[rng.below(24) as usize]));
@@ -138,7 +122,7 @@ fn foliage_frame(layout: VisLayout) -> Frame {
     .expect("bench plan");
 
     let centers: Vec<(f32, f32)> = (0..batches.len())
-        .map(|_| (rng.f() * W as f32, rng.f() * H as f32))
+        .map(|_| (rng.f32() * W as f32, rng.f32() * H as f32))
         .collect();
     let mut words = vec![VIS_NONE; (W * H) as usize];
     // Plants back to front: clumps of small triangles of one instance.
@@ -151,9 +135,9 @@ fn foliage_frame(layout: VisLayout) -> Frame {
         // Plants of a batch grow in one patch of the screen (a placement cell).
         let (bx, by) = centers[mb.batch as usize];
         let spread = 250.0;
-        let cx = (bx + (rng.f() + rng.f() - 1.0) * spread).rem_euclid(W as f32);
-        let cy = (by + (rng.f() + rng.f() - 1.0) * spread).rem_euclid(H as f32);
-        let size = 12.0 + rng.f() * 70.0;
+        let cx = (bx + (rng.f32() + rng.f32() - 1.0) * spread).rem_euclid(W as f32);
+        let cy = (by + (rng.f32() + rng.f32() - 1.0) * spread).rem_euclid(H as f32);
+        let size = 12.0 + rng.f32() * 70.0;
         let tris = (size * size / 12.0) as u32;
         // Blades of 16 consecutive triangles walking across the clump.
         let start = rng.below(u64::from(mb.primitive_count)) as u32;
@@ -161,13 +145,13 @@ fn foliage_frame(layout: VisLayout) -> Frame {
         for k in 0..tris {
             let prim = (start + k) % mb.primitive_count;
             if k % 16 == 0 {
-                tx = cx + (rng.f() - 0.5) * size;
-                ty = cy + (rng.f() - 0.5) * size;
-                dx = rng.f() - 0.5;
+                tx = cx + (rng.f32() - 0.5) * size;
+                ty = cy + (rng.f32() - 0.5) * size;
+                dx = rng.f32() - 0.5;
                 dy = -1.0;
             } else {
-                tx += dx + (rng.f() - 0.5);
-                ty += dy + (rng.f() - 0.5);
+                tx += dx + (rng.f32() - 0.5);
+                ty += dy + (rng.f32() - 0.5);
             }
             let word = VisId::pack(
                 layout,
@@ -181,19 +165,19 @@ fn foliage_frame(layout: VisLayout) -> Frame {
             )
             .unwrap()
             .0;
-            let r = 1.0 + rng.f() * 3.0;
+            let r = 1.0 + rng.f32() * 3.0;
             let p = [
                 (
-                    tx + (rng.f() - 0.5) * 2.0 * r,
-                    ty + (rng.f() - 0.5) * 2.0 * r,
+                    tx + (rng.f32() - 0.5) * 2.0 * r,
+                    ty + (rng.f32() - 0.5) * 2.0 * r,
                 ),
                 (
-                    tx + (rng.f() - 0.5) * 2.0 * r,
-                    ty + (rng.f() - 0.5) * 2.0 * r,
+                    tx + (rng.f32() - 0.5) * 2.0 * r,
+                    ty + (rng.f32() - 0.5) * 2.0 * r,
                 ),
                 (
-                    tx + (rng.f() - 0.5) * 2.0 * r,
-                    ty + (rng.f() - 0.5) * 2.0 * r,
+                    tx + (rng.f32() - 0.5) * 2.0 * r,
+                    ty + (rng.f32() - 0.5) * 2.0 * r,
                 ),
             ];
             covered += fill(&mut words, p, word);

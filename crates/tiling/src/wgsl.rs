@@ -1,231 +1,333 @@
-//! The GPU twins: complete WGSL compute modules, one per pass, with the buffer layouts of
-//! this crate's Pod structs. The `gpu` crate creates a pipeline per entry point, binds the
-//! buffers below at `@group(0)`, dispatches as listed, and can compare every output with
-//! the CPU twin bit for bit (the pixel commands after [`canonical_sort`](crate::canonical_sort)).
+//! The GPU twins: one WGSL module per pass, described once here ([`LAYDOWN_FINALIZE`],
+//! [`MID_CLASSIFY`], [`CLASSIFY_OUTPUT`], [`VERTEX_WAVES`]: bindings by name and kind,
+//! entry points in order with their workgroup sizes and dispatch geometry over
+//! [`TilingParams`], the buffers zeroed first). The `gpu` crate builds its layouts,
+//! pipelines and dispatches from these descriptions, the device tests run the passes
+//! through them, and a unit test proves each matches its composed module with naga. Every
+//! output can be compared with the CPU twin bit for bit (the pixel commands after
+//! [`canonical_sort`](crate::canonical_sort)).
 //!
-//! Each module is self-contained: `visbuf`'s [`ID_WGSL`](visbuf::ID_WGSL) (every bit
-//! of the vis word is decoded by its functions), a `wave` pass module where the pass
-//! appends (path-neutral `wave_append_begin` / `wave_append_end`: one atomic per subgroup
-//! on the subgroup path, per workgroup on the fallback), then this crate's common part
-//! ([`COMMON_WGSL`]: constants, structs, the single-workgroup scan) and the pass.
-//! The two pixel phases (`count_pixels`, `write_commands`) aggregate through a keyed
-//! workgroup histogram (`keyed.wgsl`): a 16x16 block lies in one tile whose counters are
-//! contiguous, so one LDS atomic per pixel and one global atomic per counter of the block
-//! replace the wave-append loop over keys; tiles with more than 256 counters take that loop
-//! (`wave`'s appends, one atomic per subgroup and key). Both give the same counts and, after
-//! [`canonical_sort`](crate::canonical_sort), the same commands; `tests/device.rs` runs both.
-//! The classification modules come in two builds: the plain name needs no optional
-//! feature (validated with `Caps::CORE`), `_SUBGROUP` needs `wgpu::Features::SUBGROUP`;
-//! [`mid_classify_module`] and [`classify_output_module`] pick one.
+//! The modules ([`MODULES`]) import what they use: `visbuf::id` (every bit of the vis word
+//! is decoded by its functions), `wave::append` where a pass appends (one atomic per
+//! subgroup with the `subgroups` feature, per workgroup without; needs
+//! `wgpu::Features::SUBGROUP` with it), `tiling::common` (constants, structs, the
+//! single-workgroup scan), `tiling::pixel` (bindings 0-3 and the pixel decode) and
+//! `tiling::keyed` (bindings 4-5 and the keyed workgroup histogram). The two pixel phases
+//! (`count_pixels`, `write_commands`) aggregate through that histogram: a 16x16 block lies
+//! in one tile whose counters are contiguous, so one LDS atomic per pixel and one global
+//! atomic per counter of the block replace the wave-append loop over keys; tiles with more
+//! than `TILING_HIST_LIMIT` (an `override`, 256) counters take that loop. Both give the
+//! same counts and, after [`canonical_sort`](crate::canonical_sort), the same commands.
 //!
-//! Units: every length and offset is in elements of the named buffer. "Zero first" means
-//! the buffer must hold zeros when the named entry point starts (a `clear_buffer`, or a
-//! compute clear). Entry points run in the order listed, each a separate dispatch.
+//! Units: every length and offset is in elements of the named buffer; a buffer's `size`
+//! in the descriptions is the bytes of one element (the least a binding may hold). "Zeroed"
+//! buffers must hold zeros when the pass's first entry point starts.
 //!
-//! # [`LAYDOWN_FINALIZE`] (phase 1)
-//!
-//! | binding | buffer | element | access |
-//! | --- | --- | --- | --- |
-//! | 0 | params | [`TilingParams`] | uniform |
-//! | 1 | vis buffer, `width * height` | `u32` | read |
-//! | 2 | validity bitmask, `ceil(width * height / 32)` (any non-empty buffer without [`FLAG_VALIDITY`]) | `u32` | read |
-//! | 3 | MicroBatchInfoTable | [`MicroBatchInfo`] | read |
-//! | 4 | masks, `tiles * P` | `atomic<u32>` | read_write, zero first |
-//!
-//! `laydown_finalize`: workgroup 16x16, dispatch `(ceil(width / 16), ceil(height / 16), 1)`.
-//!
-//! # [`MID_CLASSIFY`] / [`MID_CLASSIFY_SUBGROUP`] (phase 2)
-//!
-//! | binding | buffer | element | access |
-//! | --- | --- | --- | --- |
-//! | 0-3 | as phase 1 | | |
-//! | 4 | masks (phase 1) | `u32` | read |
-//! | 5 | counter offsets, `tiles * P` | `u32` | read_write |
-//! | 6 | counts, one per counter (at most `tiles * P * 32`) | `atomic<u32>` | read_write, zero before `count_pixels` |
-//! | 7 | pixel offsets, one per counter | `u32` | read_write |
-//! | 8 | vertex cull buffer, `ceil(chunk_count / 4)` (four bytes per word) | `atomic<u32>` | read_write, zero before `count_pixels` |
-//! | 9 | index buffer (the table's `first_index` points into it) | `u32` | read |
-//! | 10 | totals | [`Totals`] | read_write |
-//! | 11 | stats | [`PixelStats`] as `array<atomic<u32>, 8>` | read_write, zero before `count_pixels` |
-//!
-//! `counter_offsets_pass`: workgroup 256, dispatch `(1, 1, 1)`; writes binding 5 and
-//! `totals.counter_count`. `count_pixels`: workgroup 16x16, dispatch
-//! `(ceil(width / 16), ceil(height / 16), 1)`; writes 6, 8, 11. `pixel_offsets_pass`:
-//! workgroup 256, dispatch `(1, 1, 1)`; writes 7 and `totals.command_count`.
-//!
-//! # [`CLASSIFY_OUTPUT`] / [`CLASSIFY_OUTPUT_SUBGROUP`] (phase 3)
-//!
-//! | binding | buffer | element | access |
-//! | --- | --- | --- | --- |
-//! | 0-3 | as phase 1 (with the final validity) | | |
-//! | 4 | masks (phase 1) | `u32` | read |
-//! | 5 | counter offsets (phase 2) | `u32` | read |
-//! | 6 | counts (phase 2) | `u32` | read |
-//! | 7 | pixel offsets (phase 2) | `u32` | read |
-//! | 8 | final counts, one per counter | `atomic<u32>` | read_write, zero before `write_commands` |
-//! | 9 | commands, `ceil(command_count / 2)`: command `i` in bits `16 (i % 2)..` of word `i / 2` | `atomic<u32>` | read_write, zero before `write_commands` |
-//! | 10 | wave offsets, one per counter | `u32` | read_write |
-//! | 11 | wave commands (at most `command_count` of them) | [`WaveCommand`] | read_write |
-//! | 12 | pass dispatches, `P` (the indirect buffer of the shading passes) | [`PassDispatch`] | read_write |
-//! | 13 | totals | [`Totals`] | read_write |
-//! | 14 | stats | [`PixelStats`] as `array<atomic<u32>, 8>` | read_write, zero before `write_commands` |
-//!
-//! `write_commands`: workgroup 16x16, dispatch `(ceil(width / 16), ceil(height / 16), 1)`;
-//! writes 8, 9, 14. `wave_offsets_pass`: workgroup 256, dispatch `(1, 1, 1)`; clamps 8 to
-//! the counts, writes 10, 12 and `totals.wave_count`. `write_waves`: workgroup 64,
-//! dispatch `(ceil(tiles * P / 64), 1, 1)`; writes 11.
-//!
-//! # [`VERTEX_WAVES`]
-//!
-//! | binding | buffer | element | access |
-//! | --- | --- | --- | --- |
-//! | 0 | params ([`TilingParams::micro_batch_count`], `chunk_count`, `uber_count`, `pass_count`, `table_len` used) | [`TilingParams`] | uniform |
-//! | 1 | MicroBatchInfoTable | [`MicroBatchInfo`] | read |
-//! | 2 | micro-batch order buffer | `u32` | read |
-//! | 3 | passes | [`PassInfo`] | read |
-//! | 4 | vertex cull buffer (phase 2) | `u32` | read |
-//! | 5 | uber chunks, `ceil(chunk_count / 64)` | [`UberChunk`] | read_write |
-//! | 6 | histogram pyramid ([`pyramid_levels`]: the sum of the level lengths) | `u32` | read_write |
-//! | 7 | deltas, then micro-batch IDs, at least the visible chunks (`chunk_count` is enough) | `atomic<u32>` | read_write, zero before `micro_batch_deltas` |
-//! | 8 | vertex waves per order entry | `u32` | read_write |
-//! | 9 | vertex wave commands, one per visible chunk | [`VertexWaveCommand`] | read_write |
-//! | 10 | vertex dispatches, `P` | [`PassDispatch`] | read_write |
-//! | 11 | visible vertices per pass, `P` | `atomic<u32>` | read_write, zero before `micro_batch_deltas` |
-//! | 12 | totals | [`Totals`] | read_write |
-//!
-//! `uber_chunks`: workgroup 64, dispatch `(ceil(uber_count / 64), 1, 1)`. `build_pyramid`:
-//! workgroup 256, `(1, 1, 1)`; writes `totals.visible_chunks`. `micro_batch_deltas`:
-//! workgroup 64, `(ceil(micro_batch_count / 64), 1, 1)`. `scan_deltas`: workgroup 256,
-//! `(1, 1, 1)`. `write_vertex_commands`: workgroup 64, `(ceil(chunk_count / 64), 1, 1)`
-//! (past 65 535 workgroups: `(65535, y, 1)`; command `gid.y * 64 * 65535 + gid.x`).
-//! `pass_args`: workgroup 64, `(ceil(P / 64), 1, 1)`.
+//! Overrides: `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere) and the timing
+//! experiments of `gpu`'s `classify_variants` (`TILING_OMIT_STATS`,
+//! `TILING_OMIT_CULL_MARKS`, `TILING_OMIT_INDEX_READS`, `TILING_STORE_COMMANDS`; each drops
+//! work and makes the output wrong). Entry points past 65 535 workgroups continue in rows
+//! ([`shader::Dispatch::Items`]).
 //!
 //! [`TilingParams`]: crate::TilingParams
-//! [`TilingParams::micro_batch_count`]: crate::TilingParams::micro_batch_count
-//! [`FLAG_VALIDITY`]: crate::classify::FLAG_VALIDITY
-//! [`MicroBatchInfo`]: crate::MicroBatchInfo
-//! [`PassInfo`]: crate::PassInfo
-//! [`Totals`]: crate::Totals
-//! [`PixelStats`]: crate::PixelStats
-//! [`WaveCommand`]: crate::WaveCommand
-//! [`PassDispatch`]: crate::PassDispatch
-//! [`UberChunk`]: crate::UberChunk
-//! [`VertexWaveCommand`]: crate::VertexWaveCommand
-//! [`pyramid_levels`]: crate::vertex::pyramid_levels
 
-/// This crate's common WGSL (constants, structs, the workgroup scan), without bindings.
-pub const COMMON_WGSL: &str = include_str!("wgsl/common.wgsl");
+use shader::{Binding, Dispatch, Entry, Group, Kind, Module, Pass, Stage};
 
-/// The classification passes' shared bindings 0-3 and pixel decode (needs `visbuf`'s ID
-/// snippet and [`COMMON_WGSL`] in front).
-pub const PIXEL_WGSL: &str = include_str!("wgsl/pixel.wgsl");
+use crate::classify::{PassDispatch, PixelStats, Totals, WaveCommand};
+use crate::plan::{MicroBatchInfo, PassInfo};
+use crate::vertex::{UberChunk, VertexWaveCommand};
+use crate::TilingParams;
 
-const LAYDOWN_SRC: &str = include_str!("wgsl/laydown_finalize.wgsl");
-const MID_SRC: &str = include_str!("wgsl/mid_classify.wgsl");
-const OUTPUT_SRC: &str = include_str!("wgsl/classify_output.wgsl");
-const VERTEX_SRC: &str = include_str!("wgsl/vertex_waves.wgsl");
-const KEYED_SRC: &str = include_str!("wgsl/keyed.wgsl");
+/// `tiling::common`: constants, buffer structs and helpers of every pass (no bindings).
+pub const COMMON: Module = Module::new("tiling::common", include_str!("wgsl/common.wgsl"));
+/// `tiling::pixel`: the classification passes' bindings 0-3 and the pixel decode.
+pub const PIXEL: Module = Module::new("tiling::pixel", include_str!("wgsl/pixel.wgsl"));
+/// `tiling::keyed`: bindings 4-5 of the pixel phases and the keyed workgroup histogram.
+pub const KEYED: Module = Module::new("tiling::keyed", include_str!("wgsl/keyed.wgsl"));
+/// `tiling::laydown_finalize`: phase 1.
+pub const LAYDOWN_FINALIZE_MODULE: Module = Module::new(
+    "tiling::laydown_finalize",
+    include_str!("wgsl/laydown_finalize.wgsl"),
+);
+/// `tiling::mid_classify`: phase 2.
+pub const MID_CLASSIFY_MODULE: Module = Module::new(
+    "tiling::mid_classify",
+    include_str!("wgsl/mid_classify.wgsl"),
+);
+/// `tiling::classify_output`: phase 3.
+pub const CLASSIFY_OUTPUT_MODULE: Module = Module::new(
+    "tiling::classify_output",
+    include_str!("wgsl/classify_output.wgsl"),
+);
+/// `tiling::vertex_waves`: the vertex wave commands.
+pub const VERTEX_WAVES_MODULE: Module =
+    Module::new("tiling::vertex_waves", include_str!("wgsl/vertex_waves.wgsl"));
 
-const fn joined_len(parts: &[&str]) -> usize {
-    let mut n = 0;
-    let mut i = 0;
-    while i < parts.len() {
-        n += parts[i].len() + 1;
-        i += 1;
-    }
-    n
+/// This crate's modules.
+pub const MODULES: &[Module] = &[
+    COMMON,
+    PIXEL,
+    KEYED,
+    LAYDOWN_FINALIZE_MODULE,
+    MID_CLASSIFY_MODULE,
+    CLASSIFY_OUTPUT_MODULE,
+    VERTEX_WAVES_MODULE,
+];
+
+/// Every module list a tiling pass may import from.
+pub const LIBRARY: &[&[Module]] = &[visbuf::wgsl::MODULES, wave::wgsl::MODULES, MODULES];
+
+/// The validity bitmask of [`FLAG_VALIDITY`](crate::classify::FLAG_VALIDITY): bind any
+/// non-empty buffer without the flag.
+const PIXEL_BINDINGS: [Binding; 4] = [
+    Binding::new("params", Kind::uniform(size_of::<TilingParams>())),
+    // width * height vis words, row-major.
+    Binding::new("vis", Kind::read(4)),
+    // Bit i % 32 of word i / 32 for pixel i; read only with FLAG_VALIDITY.
+    Binding::new("valid", Kind::read(4)),
+    Binding::new("table", Kind::read(size_of::<MicroBatchInfo>())),
+];
+
+/// Dispatch over the vis buffer, one invocation per pixel.
+fn pixels(p: &TilingParams) -> [u32; 2] {
+    [p.width, p.height]
 }
 
-const fn join<const N: usize>(parts: &[&str]) -> [u8; N] {
-    let mut out = [0u8; N];
-    let mut k = 0;
-    let mut i = 0;
-    while i < parts.len() {
-        let b = parts[i].as_bytes();
-        let mut j = 0;
-        while j < b.len() {
-            out[k] = b[j];
-            k += 1;
-            j += 1;
-        }
-        out[k] = b'\n';
-        k += 1;
-        i += 1;
-    }
-    out
-}
+/// Phase 1, laydown finalise: per (tile, pass) the batch groups used.
+///
+/// | binding | buffer | element |
+/// | --- | --- | --- |
+/// | `params` | the uniform | [`TilingParams`] |
+/// | `vis` | `width * height` vis words | `u32` |
+/// | `valid` | validity bitmask, `ceil(width * height / 32)` | `u32` |
+/// | `table` | the MicroBatchInfoTable | [`MicroBatchInfo`] |
+/// | `masks` | `tiles * P`, zeroed | `atomic<u32>` |
+pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
+    name: "classify 1: laydown finalize",
+    module: "tiling::laydown_finalize",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "classification",
+        bindings: &[
+            PIXEL_BINDINGS[0],
+            PIXEL_BINDINGS[1],
+            PIXEL_BINDINGS[2],
+            PIXEL_BINDINGS[3],
+            Binding::new("masks", Kind::read_write(4)),
+        ],
+    }],
+    entries: &[Entry {
+        name: "laydown_finalize",
+        stage: Stage::compute(16, 16, 1),
+        dispatch: Dispatch::Grid(pixels),
+    }],
+    zeroed: &["masks"],
+};
 
-/// A `&'static str` made at compile time from string constants (those of other crates
-/// included), each followed by a newline.
-macro_rules! wgsl_module {
-    ($(#[$doc:meta])* $name:ident = [$($part:expr),+ $(,)?]) => {
-        $(#[$doc])*
-        pub const $name: &str = {
-            const PARTS: &[&str] = &[$($part),+];
-            const BYTES: [u8; joined_len(PARTS)] = join(PARTS);
-            match core::str::from_utf8(&BYTES) {
-                Ok(s) => s,
-                Err(_) => panic!("WGSL sources are UTF-8"),
-            }
-        };
-    };
-}
+/// Phase 2, mid classify (`subgroups`: `wave`'s subgroup appends).
+///
+/// | binding | buffer | element |
+/// | --- | --- | --- |
+/// | `params`, `vis`, `valid`, `table` | as phase 1 | |
+/// | `masks` | phase 1's | `u32` |
+/// | `counter_offsets` | `tiles * P`: first counter per (tile, pass) | `u32` |
+/// | `counts` | per counter (at most `tiles * P * 32`), zeroed | `atomic<u32>` |
+/// | `pixel_offsets` | per counter: first pixel command | `u32` |
+/// | `vertex_cull` | `ceil(chunk_count / 4)`, four bytes per word, zeroed | `atomic<u32>` |
+/// | `indices` | the index buffer the table's `first_index` points into | `u32` |
+/// | `totals` | `counter_count`, `command_count` | [`Totals`] |
+/// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
+///
+/// `counter_offsets_pass` (one workgroup) writes `counter_offsets` and
+/// `totals.counter_count`; `count_pixels` (per pixel) `counts`, `vertex_cull`, `stats`;
+/// `pixel_offsets_pass` (one workgroup) `pixel_offsets` and `totals.command_count`.
+pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
+    name: "classify 2: mid classify",
+    module: "tiling::mid_classify",
+    library: LIBRARY,
+    features: &["subgroups"],
+    groups: &[Group {
+        name: "classification",
+        bindings: &[
+            PIXEL_BINDINGS[0],
+            PIXEL_BINDINGS[1],
+            PIXEL_BINDINGS[2],
+            PIXEL_BINDINGS[3],
+            Binding::new("masks", Kind::read(4)),
+            Binding::new("counter_offsets", Kind::read_write(4)),
+            Binding::new("counts", Kind::read_write(4)),
+            Binding::new("pixel_offsets", Kind::read_write(4)),
+            Binding::new("vertex_cull", Kind::read_write(4)),
+            Binding::new("indices", Kind::read(4)),
+            Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+            Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+        ],
+    }],
+    entries: &[
+        Entry {
+            name: "counter_offsets_pass",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: Dispatch::Once,
+        },
+        Entry {
+            name: "count_pixels",
+            stage: Stage::compute(16, 16, 1),
+            dispatch: Dispatch::Grid(pixels),
+        },
+        Entry {
+            name: "pixel_offsets_pass",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: Dispatch::Once,
+        },
+    ],
+    zeroed: &["counts", "vertex_cull", "stats"],
+};
 
-wgsl_module!(
-    /// Phase 1, entry point `laydown_finalize` (core WGSL). See the [module docs](self).
-    LAYDOWN_FINALIZE = [visbuf::ID_WGSL, COMMON_WGSL, PIXEL_WGSL, LAYDOWN_SRC]
-);
+/// Phase 3, classify output (`subgroups`: `wave`'s subgroup appends).
+///
+/// | binding | buffer | element |
+/// | --- | --- | --- |
+/// | `params`, `vis`, `valid`, `table` | as phase 1 | |
+/// | `masks`, `counter_offsets`, `counts`, `pixel_offsets` | phase 2's (read) | `u32` |
+/// | `final_counts` | per counter: commands written, zeroed | `atomic<u32>` |
+/// | `commands` | `ceil(command_count / 2)`, command `i` in bits `16 (i % 2)..` of word `i / 2`, zeroed | `atomic<u32>` |
+/// | `wave_offsets` | per counter: first wave command | `u32` |
+/// | `waves` | wave commands, pass-major | [`WaveCommand`] |
+/// | `passes` | `P`, the shading passes' indirect arguments | [`PassDispatch`] |
+/// | `totals` | `wave_count` | [`Totals`] |
+/// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
+///
+/// `write_commands` (per pixel) writes `final_counts`, `commands`, `stats`;
+/// `wave_offsets_pass` (one workgroup) clamps `final_counts` to the counts and writes
+/// `wave_offsets`, `passes`, `totals.wave_count`; `write_waves` (per (tile, pass)) writes
+/// `waves`.
+pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
+    name: "classify 3: output",
+    module: "tiling::classify_output",
+    library: LIBRARY,
+    features: &["subgroups"],
+    groups: &[Group {
+        name: "classification",
+        bindings: &[
+            PIXEL_BINDINGS[0],
+            PIXEL_BINDINGS[1],
+            PIXEL_BINDINGS[2],
+            PIXEL_BINDINGS[3],
+            Binding::new("masks", Kind::read(4)),
+            Binding::new("counter_offsets", Kind::read_write(4)),
+            Binding::new("counts", Kind::read(4)),
+            Binding::new("pixel_offsets", Kind::read(4)),
+            Binding::new("final_counts", Kind::read_write(4)),
+            Binding::new("commands", Kind::read_write(4)),
+            Binding::new("wave_offsets", Kind::read_write(4)),
+            Binding::new("waves", Kind::read_write(size_of::<WaveCommand>())),
+            Binding::new("passes", Kind::read_write(size_of::<PassDispatch>())),
+            Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+            Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+        ],
+    }],
+    entries: &[
+        Entry {
+            name: "write_commands",
+            stage: Stage::compute(16, 16, 1),
+            dispatch: Dispatch::Grid(pixels),
+        },
+        Entry {
+            name: "wave_offsets_pass",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: Dispatch::Once,
+        },
+        Entry {
+            name: "write_waves",
+            stage: Stage::compute(64, 1, 1),
+            dispatch: Dispatch::Items(|p| p.tiles_x * p.tiles_y * p.pass_count),
+        },
+    ],
+    zeroed: &["final_counts", "commands", "stats"],
+};
 
-wgsl_module!(
-    /// Phase 2, entry points `counter_offsets_pass`, `count_pixels`,
-    /// `pixel_offsets_pass`, with `wave`'s workgroup fallback (core WGSL).
-    MID_CLASSIFY = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, MID_SRC, KEYED_SRC]
-);
+/// The vertex wave commands from the vertex cull buffer.
+///
+/// | binding | buffer | element |
+/// | --- | --- | --- |
+/// | `params` | `micro_batch_count`, `chunk_count`, `uber_count`, `pass_count`, `table_len` used | [`TilingParams`] |
+/// | `table` | the MicroBatchInfoTable | [`MicroBatchInfo`] |
+/// | `order` | the micro-batch order buffer | `u32` |
+/// | `pass_infos` | the passes | [`PassInfo`] |
+/// | `vertex_cull` | phase 2's | `u32` |
+/// | `ubers` | `ceil(chunk_count / 64)` | [`UberChunk`] |
+/// | `pyramid` | the histogram pyramid ([`pyramid_levels`](crate::vertex::pyramid_levels): the sum of the level lengths) | `u32` |
+/// | `deltas` | micro-batch-ID deltas, then the IDs, at least the visible chunks (`chunk_count` is enough), zeroed | `atomic<u32>` |
+/// | `micro_batch_waves` | per order entry: its vertex waves | `u32` |
+/// | `vertex_commands` | one per visible chunk | [`VertexWaveCommand`] |
+/// | `vertex_dispatches` | `P` | [`PassDispatch`] |
+/// | `pass_items` | visible vertices per pass, `P`, zeroed | `atomic<u32>` |
+/// | `totals` | `visible_chunks` | [`Totals`] |
+pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
+    name: "vertex wave commands",
+    module: "tiling::vertex_waves",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "vertex waves",
+        bindings: &[
+            Binding::new("params", Kind::uniform(size_of::<TilingParams>())),
+            Binding::new("table", Kind::read(size_of::<MicroBatchInfo>())),
+            Binding::new("order", Kind::read(4)),
+            Binding::new("pass_infos", Kind::read(size_of::<PassInfo>())),
+            Binding::new("vertex_cull", Kind::read(4)),
+            Binding::new("ubers", Kind::read_write(size_of::<UberChunk>())),
+            Binding::new("pyramid", Kind::read_write(4)),
+            Binding::new("deltas", Kind::read_write(4)),
+            Binding::new("micro_batch_waves", Kind::read_write(4)),
+            Binding::new(
+                "vertex_commands",
+                Kind::read_write(size_of::<VertexWaveCommand>()),
+            ),
+            Binding::new("vertex_dispatches", Kind::read_write(size_of::<PassDispatch>())),
+            Binding::new("pass_items", Kind::read_write(4)),
+            Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+        ],
+    }],
+    entries: &[
+        Entry {
+            name: "uber_chunks",
+            stage: Stage::compute(64, 1, 1),
+            dispatch: Dispatch::Items(|p| p.uber_count),
+        },
+        Entry {
+            name: "build_pyramid",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: Dispatch::Once,
+        },
+        Entry {
+            name: "micro_batch_deltas",
+            stage: Stage::compute(64, 1, 1),
+            dispatch: Dispatch::Items(|p| p.micro_batch_count),
+        },
+        Entry {
+            name: "scan_deltas",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: Dispatch::Once,
+        },
+        Entry {
+            name: "write_vertex_commands",
+            stage: Stage::compute(64, 1, 1),
+            dispatch: Dispatch::Items(|p| p.chunk_count),
+        },
+        Entry {
+            name: "pass_args",
+            stage: Stage::compute(64, 1, 1),
+            dispatch: Dispatch::Items(|p| p.pass_count),
+        },
+    ],
+    zeroed: &["deltas", "pass_items"],
+};
 
-wgsl_module!(
-    /// [`MID_CLASSIFY`] with `wave`'s subgroup path (`wgpu::Features::SUBGROUP`).
-    MID_CLASSIFY_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, MID_SRC, KEYED_SRC]
-);
-
-wgsl_module!(
-    /// Phase 3, entry points `write_commands`, `wave_offsets_pass`, `write_waves`, with
-    /// `wave`'s workgroup fallback (core WGSL).
-    CLASSIFY_OUTPUT = [visbuf::ID_WGSL, wave::PASS_MODULE_FALLBACK, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC, KEYED_SRC]
-);
-
-wgsl_module!(
-    /// [`CLASSIFY_OUTPUT`] with `wave`'s subgroup path (`wgpu::Features::SUBGROUP`).
-    CLASSIFY_OUTPUT_SUBGROUP = [visbuf::ID_WGSL, wave::PASS_MODULE_SUBGROUP, COMMON_WGSL, PIXEL_WGSL, OUTPUT_SRC, KEYED_SRC]
-);
-
-wgsl_module!(
-    /// The vertex wave commands, entry points `uber_chunks`, `build_pyramid`,
-    /// `micro_batch_deltas`, `scan_deltas`, `write_vertex_commands`, `pass_args` (core
-    /// WGSL).
-    VERTEX_WAVES = [COMMON_WGSL, VERTEX_SRC]
-);
-
-/// [`MID_CLASSIFY_SUBGROUP`] on a device with `wgpu::Features::SUBGROUP`, else
-/// [`MID_CLASSIFY`].
-#[must_use]
-pub const fn mid_classify_module(subgroups: bool) -> &'static str {
-    if subgroups {
-        MID_CLASSIFY_SUBGROUP
-    } else {
-        MID_CLASSIFY
-    }
-}
-
-/// [`CLASSIFY_OUTPUT_SUBGROUP`] on a device with `wgpu::Features::SUBGROUP`, else
-/// [`CLASSIFY_OUTPUT`].
-#[must_use]
-pub const fn classify_output_module(subgroups: bool) -> &'static str {
-    if subgroups {
-        CLASSIFY_OUTPUT_SUBGROUP
-    } else {
-        CLASSIFY_OUTPUT
-    }
-}
+/// The three classification phases, in the order a frame runs them.
+pub const CLASSIFICATION: [&Pass<TilingParams>; 3] =
+    [&LAYDOWN_FINALIZE, &MID_CLASSIFY, &CLASSIFY_OUTPUT];
 
 #[cfg(test)]
 mod tests {
@@ -233,9 +335,12 @@ mod tests {
     use crate::classify::*;
     use crate::plan::*;
     use crate::vertex::*;
-    use alloc::string::String;
     use alloc::vec::Vec;
-    use shadercheck::{Caps, assert_valid, const_u32, validate};
+    use shadercheck::{Caps, const_u32, validate};
+
+    fn common() -> naga::Module {
+        shadercheck::assert_composed(LIBRARY, "tiling::common", &[], Caps::CORE)
+    }
 
     /// Every `TILING_` constant of the common part, with its Rust value.
     fn expected_constants() -> Vec<(&'static str, u32)> {
@@ -295,7 +400,7 @@ mod tests {
 
     #[test]
     fn common_constants_match_rust() {
-        let m = assert_valid("tiling COMMON_WGSL", COMMON_WGSL, Caps::CORE);
+        let m = common();
         let expect = expected_constants();
         for (name, value) in &expect {
             assert_eq!(const_u32(&m, name), Some(*value), "WGSL const {name}");
@@ -469,7 +574,7 @@ mod tests {
             core::array::from_fn(|i| i as u32)
         );
 
-        let module = assert_valid("tiling COMMON_WGSL", COMMON_WGSL, Caps::CORE);
+        let module = common();
         for (name, size, fields) in structs() {
             let ty = module
                 .types
@@ -494,96 +599,57 @@ mod tests {
         }
     }
 
-    fn entry_points(m: &naga::Module) -> Vec<String> {
-        m.entry_points.iter().map(|e| e.name.clone()).collect()
+    fn caps(features: &[&str]) -> Caps {
+        if features.contains(&"subgroups") {
+            Caps::SUBGROUP
+        } else {
+            Caps::CORE
+        }
     }
 
     #[test]
-    fn every_module_validates_with_the_narrowest_caps() {
-        let m = assert_valid("LAYDOWN_FINALIZE", LAYDOWN_FINALIZE, Caps::CORE);
-        assert_eq!(entry_points(&m), ["laydown_finalize"]);
-        for (name, src, caps) in [
-            ("MID_CLASSIFY", MID_CLASSIFY, Caps::CORE),
-            (
-                "MID_CLASSIFY_SUBGROUP",
-                MID_CLASSIFY_SUBGROUP,
-                Caps::SUBGROUP,
-            ),
+    fn descriptions_match_their_modules_with_the_narrowest_caps() {
+        for pass in [
+            &LAYDOWN_FINALIZE,
+            &MID_CLASSIFY,
+            &CLASSIFY_OUTPUT,
+            &VERTEX_WAVES,
         ] {
-            let m = assert_valid(name, src, caps);
-            assert_eq!(
-                entry_points(&m),
-                ["counter_offsets_pass", "count_pixels", "pixel_offsets_pass"]
-            );
+            shadercheck::check_pass(pass, caps);
         }
-        for (name, src, caps) in [
-            ("CLASSIFY_OUTPUT", CLASSIFY_OUTPUT, Caps::CORE),
-            (
-                "CLASSIFY_OUTPUT_SUBGROUP",
-                CLASSIFY_OUTPUT_SUBGROUP,
-                Caps::SUBGROUP,
-            ),
-        ] {
-            let m = assert_valid(name, src, caps);
-            assert_eq!(
-                entry_points(&m),
-                ["write_commands", "wave_offsets_pass", "write_waves"]
-            );
+        // The subgroup builds really need the capability; the fallback needs none.
+        for pass in [&MID_CLASSIFY, &CLASSIFY_OUTPUT] {
+            let src = pass.source(&["subgroups"]).unwrap();
+            assert!(validate(&src, Caps::CORE).is_err(), "{}", pass.name);
         }
-        let m = assert_valid("VERTEX_WAVES", VERTEX_WAVES, Caps::CORE);
-        assert_eq!(
-            entry_points(&m),
-            [
-                "uber_chunks",
-                "build_pyramid",
-                "micro_batch_deltas",
-                "scan_deltas",
-                "write_vertex_commands",
-                "pass_args"
-            ]
-        );
-        // The subgroup builds really need the capability.
-        assert!(validate(MID_CLASSIFY_SUBGROUP, Caps::CORE).is_err());
-        assert!(validate(CLASSIFY_OUTPUT_SUBGROUP, Caps::CORE).is_err());
-        assert_eq!(mid_classify_module(true), MID_CLASSIFY_SUBGROUP);
-        assert_eq!(classify_output_module(false), CLASSIFY_OUTPUT);
+        assert_eq!(MAX_DISPATCH_X, shader::MAX_WORKGROUPS_X);
     }
 
     #[test]
     fn modules_decode_ids_through_visbuf_and_name_everything_tiling() {
-        for src in [LAYDOWN_FINALIZE, MID_CLASSIFY, CLASSIFY_OUTPUT] {
-            assert!(src.starts_with(visbuf::ID_WGSL));
-        }
         // No re-derived vis-word layout in this crate's sources: no shift by 16 or 30 of a
         // word, no 0xffff / 0x3fff masks.
-        for src in [
-            COMMON_WGSL,
-            PIXEL_WGSL,
-            LAYDOWN_SRC,
-            MID_SRC,
-            OUTPUT_SRC,
-            VERTEX_SRC,
-        ] {
+        for m in MODULES {
             for pattern in ["0xffffu", "0x3fffu", ">> 16u", ">> 30u"] {
                 assert!(
-                    !src.contains(pattern),
-                    "tiling WGSL re-derives the vis word: `{pattern}`"
+                    !m.source.contains(pattern),
+                    "{}: re-derives the vis word: `{pattern}`",
+                    m.name
                 );
             }
-            // Module-scope names carry the prefix (bindings and entry points excepted).
-            for line in src.lines() {
-                for kw in ["const ", "fn tiling", "struct ", "var<workgroup> "] {
-                    if let Some(rest) = line.strip_prefix(kw) {
-                        assert!(
-                            rest.starts_with("TILING_")
-                                || rest.starts_with("Tiling")
-                                || rest.starts_with("tiling_")
-                                || kw == "fn tiling",
-                            "unprefixed: {line}"
-                        );
-                    }
-                }
-            }
         }
+        for pass in [&LAYDOWN_FINALIZE, &MID_CLASSIFY, &CLASSIFY_OUTPUT] {
+            let m = validate(&pass.source(&[]).unwrap(), Caps::CORE).unwrap();
+            assert!(
+                m.functions
+                    .iter()
+                    .any(|(_, f)| f.name.as_deref() == Some("visbuf_micro_batch")),
+                "{} decodes through visbuf",
+                pass.name
+            );
+            shadercheck::assert_prefixed(pass.name, &m, "tiling", &["visbuf", "wave"], false);
+        }
+        let m = common();
+        shadercheck::assert_prefixed("tiling::common", &m, "tiling", &[], true);
     }
 }

@@ -88,7 +88,7 @@ fn run_case(
     small_limits: bool,
     min_batches: usize,
 ) -> (tiling::PixelStats, u32) {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let layout = layout_of(vrs);
     let mut config = PlanConfig {
         layout,
@@ -196,7 +196,7 @@ fn multi_tile_frames_with_many_passes() {
 fn mid_counts_may_overestimate_and_output_uses_the_final_validity() {
     // Mid classify before the "geometry pass" (all pixels valid), output after it (half of
     // them cleared): counts stay as counted, final counts shrink, nothing is dropped.
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     let scene = random_scene(&mut rng, 12, &PlanConfig::default());
     let (w, h) = (200, 150);
     let words = random_vis(&mut rng, &scene.plan, w, h, VisLayout::Standard, 0);
@@ -228,7 +228,7 @@ fn a_growing_validity_drops_what_has_no_room() {
     // The reverse of the talk's rule (validity only shrinks): pixels that appear after
     // mid classify have no counter room and are dropped and counted, never written past
     // their counter.
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let scene = random_scene(&mut rng, 8, &PlanConfig::default());
     let (w, h) = (130, 140);
     let words = random_vis(&mut rng, &scene.plan, w, h, VisLayout::Standard, 0);
@@ -249,7 +249,7 @@ fn a_growing_validity_drops_what_has_no_room() {
 
 #[test]
 fn mismatched_inputs_are_errors() {
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     let scene = random_scene(&mut rng, 5, &PlanConfig::default());
     let words = random_vis(&mut rng, &scene.plan, 64, 64, VisLayout::Standard, 0);
     let vis = VisBuffer::new(&words, 64, 64, VisLayout::Standard).unwrap();
@@ -305,7 +305,7 @@ fn mismatched_inputs_are_errors() {
 
 #[test]
 fn garbage_words_and_tables_are_counted_never_read_out_of_bounds() {
-    let mut rng = Rng(99);
+    let mut rng = Rng::new(99);
     let scene = random_scene(&mut rng, 6, &PlanConfig::default());
     let (w, h) = (100, 90);
     let words: Vec<u32> = (0..w * h).map(|_| rng.next_u64() as u32).collect();
@@ -346,7 +346,7 @@ fn garbage_words_and_tables_are_counted_never_read_out_of_bounds() {
 
 #[test]
 fn bad_indices_count_run_starts_as_the_naive_reference_does() {
-    let mut rng = Rng(4242);
+    let mut rng = Rng::new(4242);
     let scene = random_scene(&mut rng, 12, &PlanConfig::default());
     let (w, h) = (300, 170);
     // Runs of equal words (random_vis's runs), half of them past a truncated index buffer.

@@ -10,7 +10,7 @@ use visbuf::VisLayout;
 use wave::WaveWidth;
 
 fn check(seed: u64, w: u32, h: u32, layout: VisLayout, masked: bool) {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let config = PlanConfig {
         layout,
         max_batch_groups: 4,

@@ -75,7 +75,7 @@ fn naive_commands(cull: &[u8], plan: &tiling::Plan) -> Vec<(u32, u32)> {
 #[test]
 fn vertex_waves_equal_a_naive_walk_of_the_cull_buffer() {
     for seed in 0..40u64 {
-        let mut rng = Rng(seed);
+        let mut rng = Rng::new(seed);
         let config = PlanConfig {
             max_micro_batch_vertices: 3000,
             ring_bytes: 32 * 2 * 9000,
@@ -148,7 +148,7 @@ fn vertex_waves_equal_a_naive_walk_of_the_cull_buffer() {
 
 #[test]
 fn inconsistent_inputs_are_errors() {
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let scene = random_scene(&mut rng, 10, &PlanConfig::default());
     let plan = &scene.plan;
     let cull = vec![1u8; plan.chunk_count as usize];
@@ -183,7 +183,7 @@ fn inconsistent_inputs_are_errors() {
 
 #[test]
 fn measurements_match_plain_counts() {
-    let mut rng = Rng(21);
+    let mut rng = Rng::new(21);
     let scene = random_scene(&mut rng, 20, &PlanConfig::default());
     let plan = &scene.plan;
     let (w, h) = (257, 190);

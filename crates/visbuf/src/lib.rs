@@ -31,7 +31,7 @@
 //! assert_eq!(word.unpack(VisLayout::Standard, bits), Some(f));
 //!
 //! // The resolve: weights and derivatives of a pixel inside a triangle.
-//! use glam::{Vec2, Vec4};
+//! use visbuf::glam::{Vec2, Vec4};
 //! let clip = [Vec4::new(-1.0, -1.0, 0.0, 1.0), Vec4::new(1.0, -1.0, 0.0, 1.0), Vec4::new(-1.0, 1.0, 0.0, 1.0)];
 //! let b = visbuf::bary::barycentrics(clip, Vec2::new(10.5, 90.5), Vec2::new(100.0, 100.0));
 //! assert!((b.lambda.x + b.lambda.y + b.lambda.z - 1.0).abs() < 1e-6);
@@ -41,8 +41,9 @@
 //!
 //! # WGSL
 //!
-//! Four binding-free snippets, each a string constant: [`ID_WGSL`], [`VERTEX_WGSL`],
-//! [`BARY_WGSL`], [`RAY_WGSL`] (and [`WGSL`], all four concatenated). They hold only
+//! Four binding-free library modules ([`wgsl::ID`], [`wgsl::VERTEX`], [`wgsl::BARY`],
+//! [`wgsl::RAY`]; [`wgsl::MODULES`] lists them), imported by a pass with `#import
+//! visbuf::id` and composed by the `shader` crate. They hold only
 //! `const`s, structs and functions, every name prefixed `visbuf_` / `VISBUF_` / `Visbuf`,
 //! take plain values (u32 words, clip-space `vec4`s, the viewport size) and need no
 //! optional capability (naga validates each with `Caps::CORE`; f16 conversion is written
@@ -50,7 +51,7 @@
 //! Rust constant of the same meaning: unit tests read them back, and check the WGSL struct
 //! layouts against the Rust ones.
 //!
-//! **[`ID_WGSL`]**
+//! **`visbuf::id`** ([`wgsl::ID`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -68,7 +69,7 @@
 //! | `visbuf_split_instance(first, instance, p)` | range start, instance index | `vec2(micro batch, field)` |
 //! | `VisbufIdRange` | - | [`VisbufIdRange`], 16 bytes |
 //!
-//! **[`VERTEX_WGSL`]** (layout table in [`vertex`])
+//! **`visbuf::vertex`** ([`wgsl::VERTEX`], layout table in [`vertex`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -82,7 +83,7 @@
 //! | `visbuf_vertex_slot_bits(v, i)`, `visbuf_slot_half(bits)`, `visbuf_unpack_sqrt_unorm8x2(bits)`, `visbuf_pack_sqrt_unorm8x2(c)` | interpolant slots | slot values |
 //! | `visbuf_encode_vertex(hpos, uv, color, normal, tangent, prev_hpos, extra)` | the vertex pass's outputs | `VisbufVertex`, standard layout |
 //!
-//! **[`BARY_WGSL`]** (conventions in [`bary`]: pixel relative to the viewport's top-left,
+//! **`visbuf::bary`** ([`wgsl::BARY`]; conventions in [`bary`]: pixel relative to the viewport's top-left,
 //! +y down, centres at +0.5)
 //!
 //! | WGSL | takes | gives |
@@ -93,7 +94,7 @@
 //! | `visbuf_mip_level(duv_dx, duv_dy, size, bias)` | UV gradients, texture size | isotropic level, unclamped |
 //! | `visbuf_mip_bias_scale(bias)` | bias | `exp2(bias)`: scale both gradients for `textureSampleGrad` |
 //!
-//! **[`RAY_WGSL`]**
+//! **`visbuf::ray`** ([`wgsl::RAY`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -119,13 +120,16 @@ pub mod id;
 mod math;
 pub mod ray;
 pub mod vertex;
-mod wgsl;
+pub mod wgsl;
 
 pub use encode::{
     MAX_PACKED_VERTICES, MAX_VERTICES_PER_GEOMETRY, PrimitiveIdMesh, encode_provoking,
     encode_provoking_greedy, encode_xor, encode_xor_greedy,
 };
 pub use error::Error;
+/// The glam version this crate's API uses; use `visbuf::glam` to avoid a version mismatch
+/// with a `glam` of your own.
+pub use glam;
 pub use id::{
     MAX_INSTANCES_PER_MICRO_BATCH, MAX_PRIMITIVE_BITS, MAX_PRIMITIVES_PER_GEOMETRY,
     MICRO_BATCH_IDS, MICRO_BATCH_IDS_VRS, PrimitiveBits, ResolvedVisId, ShadingRate,
@@ -135,4 +139,3 @@ pub use id::{
     micro_batch_ids_needed, split_instance,
 };
 pub use vertex::{Slot, Vertex, VertexCore, VisbufVertex, ZFromW};
-pub use wgsl::{BARY_WGSL, ID_WGSL, RAY_WGSL, VERTEX_WGSL, WGSL};

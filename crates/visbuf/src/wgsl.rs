@@ -1,37 +1,41 @@
-//! The WGSL twins. Each module is a binding-free snippet; the constants in it are tied to
-//! the Rust definitions by the unit tests at the bottom of this file.
+//! The WGSL twins: binding-free library modules (functions, structs, constants, every name
+//! prefixed `visbuf_` / `VISBUF_` / `Visbuf`) that passes import with `#import visbuf::id`
+//! and the like (see the `shader` crate); the constants in them are tied to the Rust
+//! definitions by the unit tests at the bottom of this file. None imports another.
 
-/// Vis-buffer ID pack/unpack in WGSL. See the crate docs' WGSL table.
-pub const ID_WGSL: &str = include_str!("wgsl/id.wgsl");
+use shader::Module;
 
-/// The 32-byte transformed vertex in WGSL: decode (and encode, for the vertex-transform
-/// pass). See the crate docs' WGSL table.
-pub const VERTEX_WGSL: &str = include_str!("wgsl/vertex.wgsl");
+/// `visbuf::id`: vis-buffer ID pack/unpack. See the crate docs' WGSL table.
+pub const ID: Module = Module::new("visbuf::id", include_str!("wgsl/id.wgsl"));
 
-/// Barycentrics, their derivatives, attribute interpolation and mip selection in WGSL.
-pub const BARY_WGSL: &str = include_str!("wgsl/bary.wgsl");
+/// `visbuf::vertex`: the 32-byte transformed vertex, decode (and encode, for the
+/// vertex-transform pass). See the crate docs' WGSL table.
+pub const VERTEX: Module = Module::new("visbuf::vertex", include_str!("wgsl/vertex.wgsl"));
 
-/// The watertight ray-triangle fallback and the pixel ray in WGSL.
-pub const RAY_WGSL: &str = include_str!("wgsl/ray.wgsl");
+/// `visbuf::bary`: barycentrics, their derivatives, attribute interpolation and mip
+/// selection.
+pub const BARY: Module = Module::new("visbuf::bary", include_str!("wgsl/bary.wgsl"));
 
-/// Every module above, concatenated (none depends on another).
-pub const WGSL: &str = concat!(
-    include_str!("wgsl/id.wgsl"),
-    include_str!("wgsl/vertex.wgsl"),
-    include_str!("wgsl/bary.wgsl"),
-    include_str!("wgsl/ray.wgsl")
-);
+/// `visbuf::ray`: the watertight ray-triangle fallback and the pixel ray.
+pub const RAY: Module = Module::new("visbuf::ray", include_str!("wgsl/ray.wgsl"));
+
+/// This crate's modules, for `shader::compose`'s library.
+pub const MODULES: &[Module] = &[ID, VERTEX, BARY, RAY];
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::id::*;
     use alloc::vec::Vec;
-    use shadercheck::{Caps, assert_valid, const_u32};
+    use shadercheck::{Caps, const_u32};
+
+    fn assert_valid(_: &str, m: Module, caps: Caps) -> naga::Module {
+        shadercheck::assert_composed(&[MODULES], m.name, &[], caps)
+    }
 
     #[test]
     fn id_wgsl_is_valid_core_wgsl_and_its_constants_match_rust() {
-        let m = assert_valid("visbuf ID_WGSL", ID_WGSL, Caps::CORE);
+        let m = assert_valid("visbuf ID_WGSL", ID, Caps::CORE);
         let expect = [
             ("VISBUF_NONE", VIS_NONE),
             ("VISBUF_MICRO_BATCH_SHIFT", VIS_MICRO_BATCH_SHIFT),
@@ -66,7 +70,7 @@ mod tests {
     #[test]
     fn vertex_wgsl_is_valid_core_wgsl_and_its_constants_match_rust() {
         use crate::vertex::*;
-        let m = assert_valid("visbuf VERTEX_WGSL", VERTEX_WGSL, Caps::CORE);
+        let m = assert_valid("", VERTEX, Caps::CORE);
         assert_eq!(
             shadercheck::const_f32(&m, "VISBUF_UV_SCALE"),
             Some(UV_SCALE)
@@ -74,7 +78,7 @@ mod tests {
         assert_eq!(shadercheck::const_f32(&m, "VISBUF_UV_MAX"), Some(UV_MAX));
         assert_eq!(
             shadercheck::const_f32(&m, "VISBUF_HALF_MAX"),
-            Some(HALF_MAX)
+            Some(half::f16::MAX.to_f32())
         );
         assert_eq!(
             shadercheck::const_f32(&m, "VISBUF_SNORM10_MAX"),
@@ -118,17 +122,9 @@ mod tests {
         }
     }
 
-    /// Every module, with the capability set it is validated under.
-    const MODULES: &[(&str, &str)] = &[
-        ("ID_WGSL", ID_WGSL),
-        ("VERTEX_WGSL", VERTEX_WGSL),
-        ("BARY_WGSL", BARY_WGSL),
-        ("RAY_WGSL", RAY_WGSL),
-    ];
-
     #[test]
     fn bary_wgsl_constants_match_rust() {
-        let m = assert_valid("visbuf BARY_WGSL", BARY_WGSL, Caps::CORE);
+        let m = assert_valid("", BARY, Caps::CORE);
         let f = |n| shadercheck::const_f32(&m, n);
         assert_eq!(
             f("VISBUF_DEGENERATE_EPSILON"),
@@ -143,39 +139,20 @@ mod tests {
     }
 
     #[test]
-    fn modules_are_binding_free_prefixed_and_concatenate() {
-        let mut all = alloc::string::String::new();
-        for (name, src) in MODULES {
-            let m = assert_valid(name, src, Caps::CORE);
-            assert!(
-                m.global_variables.is_empty(),
-                "{name}: has bindings / module-scope vars"
-            );
-            assert!(m.entry_points.is_empty(), "{name}: has entry points");
-            for (_, f) in m.functions.iter() {
-                let n = f.name.as_deref().unwrap_or("");
-                assert!(
-                    n.starts_with("visbuf_"),
-                    "{name}: function `{n}` not prefixed"
-                );
-            }
-            for n in shadercheck::const_names(&m) {
-                assert!(n.starts_with("VISBUF_"), "{name}: const `{n}` not prefixed");
-            }
-            for (_, t) in m.types.iter() {
-                // naga's predeclared result types (`__frexp_result_f32`, ...) are builtins.
-                if let Some(n) = t.name.as_deref()
-                    && matches!(t.inner, naga::TypeInner::Struct { .. })
-                    && !n.starts_with("__")
-                {
-                    assert!(n.starts_with("Visbuf"), "{name}: struct `{n}` not prefixed");
-                }
-            }
-            all.push_str(src);
+    fn modules_are_binding_free_prefixed_and_compose_together() {
+        for m in MODULES {
+            let module = assert_valid(m.name, *m, Caps::CORE);
+            shadercheck::assert_prefixed(m.name, &module, "visbuf", &[], true);
+            assert!(m.imports(&[]).unwrap().is_empty(), "{} imports", m.name);
         }
-        // The gpu crate concatenates them in front of its passes: together they must
-        // still validate (no duplicate names).
-        assert_valid("all visbuf WGSL", &all, Caps::CORE);
-        assert_eq!(all, WGSL);
+        // A pass may import all of them: together they still validate (no name clashes).
+        let all = shader::compose_source(
+            &[MODULES],
+            "all",
+            "#import visbuf::id\n#import visbuf::vertex\n#import visbuf::bary\n#import visbuf::ray\n",
+            &[],
+        )
+        .unwrap();
+        shadercheck::validate(&all, Caps::CORE).unwrap();
     }
 }

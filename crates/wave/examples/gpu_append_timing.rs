@@ -9,7 +9,6 @@
 //! aggregates per-thread atomics is undocumented: measure per-thread vs per-wave vs
 //! per-workgroup"); the `gpu` crate owns the renderer's own passes and their timings.
 
-use wave::{SUBGROUP_MODULE, WORKGROUP_MODULE};
 
 const N: u32 = 1 << 24;
 const REPS: u32 = 30;
@@ -45,7 +44,7 @@ const VARIANTS: &[Variant] = &[
     },
     Variant {
         name: "subgroup_aggregated",
-        module: SUBGROUP_MODULE,
+        module: "#import wave::subgroup",
         workgroup: 64,
         builtins: ", @builtin(subgroup_invocation_id) sg_lane: u32",
         body: "let a = wave_sg_append_begin(keep, sg_lane);
@@ -57,7 +56,7 @@ const VARIANTS: &[Variant] = &[
     },
     Variant {
         name: "workgroup_aggregated_64",
-        module: WORKGROUP_MODULE,
+        module: "#import wave::workgroup",
         workgroup: 64,
         builtins: "",
         body: "let a = wave_wg_append_begin(keep, li);
@@ -69,7 +68,7 @@ const VARIANTS: &[Variant] = &[
     },
     Variant {
         name: "workgroup_aggregated_256",
-        module: WORKGROUP_MODULE,
+        module: "#import wave::workgroup",
         workgroup: 256,
         builtins: "",
         body: "let a = wave_wg_append_begin(keep, li);
@@ -91,7 +90,7 @@ const VARIANTS: &[Variant] = &[
 ];
 
 fn source(v: &Variant, count: bool) -> String {
-    format!(
+    let src = format!(
         "{module}
 const COUNT: bool = {count};
 @group(0) @binding(0) var<storage, read> input: array<u32>;
@@ -109,55 +108,30 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
         wg = v.workgroup,
         builtins = v.builtins,
         body = v.body,
-    )
+    );
+    shader::compose_source(&[wave::wgsl::MODULES], v.name, &src, &[])
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn main() {
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::HighPerformance,
-        force_fallback_adapter: false,
-        compatible_surface: None,
-        apply_limit_buckets: false,
-    }))
-    .expect("an adapter");
-    let wanted = wgpu::Features::SUBGROUP | wgpu::Features::TIMESTAMP_QUERY;
-    let features = adapter.features() & wanted;
+    // The workspace's one headless device (every optional feature the adapter has).
+    let ctx = testkit::device::ctx();
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    let features = device.features();
     assert!(
         features.contains(wgpu::Features::TIMESTAMP_QUERY),
         "timestamps needed"
     );
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: None,
-        required_features: features,
-        required_limits: adapter.limits(),
-        experimental_features: wgpu::ExperimentalFeatures::disabled(),
-        memory_hints: wgpu::MemoryHints::Performance,
-        trace: wgpu::Trace::Off,
-    }))
-    .expect("device");
-    let info = adapter.get_info();
+    let info = &ctx.info;
     println!(
-        "adapter: {} ({:?}, driver {} {}), subgroup sizes {}..{}",
-        info.name,
-        info.backend,
-        info.driver,
-        info.driver_info,
+        "adapter: {}, subgroup sizes {}..{}",
+        ctx.adapter_line(),
         info.subgroup_min_size,
         info.subgroup_max_size
     );
 
     // 16M pseudo-random words; a third pass `x % 3 == 0`.
-    let mut s = 0x2545_f491u32;
-    let input: Vec<u32> = (0..N)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s
-        })
-        .collect();
+    let input = testkit::Rng::new(0x2545_f491).words(N as usize);
     let kept = input.iter().filter(|&&x| x % 3 == 0).count() as u32;
     println!(
         "{N} items, {kept} kept (density {:.4})",
@@ -190,28 +164,7 @@ fn main() {
         mapped_at_creation: false,
     });
     let read = |src: &wgpu::Buffer, size: u64| -> Vec<u8> {
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
-        queue.submit([enc.finish()]);
-        staging
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .expect("poll");
-        let v = staging
-            .slice(..)
-            .get_mapped_range()
-            .expect("mapped")
-            .to_vec();
-        staging.unmap();
-        v
+        testkit::device::read_bytes(src)[..size as usize].to_vec()
     };
     let period = f64::from(queue.get_timestamp_period());
 

@@ -17,7 +17,7 @@
 //! run of one DrawableSetup that crosses a wave boundary becomes one batch per wave.
 //!
 //! The WGSL twin, `wave_wg_batch_begin` / `wave_wg_batch_headers_begin` in
-//! [`WAVE_WORKGROUP_WGSL`](crate::WAVE_WORKGROUP_WGSL), runs workgroup-wide (the workgroup
+//! `wave::workgroup` ([`WORKGROUP`](crate::wgsl::WORKGROUP)), runs workgroup-wide (the workgroup
 //! is the wave); with 8 to 64 invocations it equals [`Wave::batch_output`] lane for lane.
 
 use crate::append::{Sink, write_reserved};

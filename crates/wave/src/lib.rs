@@ -15,12 +15,13 @@
 //! - [`compact`] / [`batch_compact`]: the same over a whole stream of items, and under the
 //!   `parallel` feature `parallel::par_compact` and friends over many threads with a real
 //!   shared `AtomicU32`.
-//! - [`wgsl`]: the WGSL twins, binding-free snippets prefixed `wave_`: the subgroup path
-//!   (`subgroupBallot`, `subgroupExclusiveAdd`, `subgroupBroadcastFirst`), the fallback for
-//!   adapters without subgroups (a workgroup ballot from workgroup-shared atomics, then one
-//!   global atomic per workgroup), and the run-grouped batch output with its per-group
-//!   workgroup-memory accumulation. [`module_for`] picks the path for a device. Validated
-//!   by naga in unit tests; `tests/device.rs` runs them on a device against this model.
+//! - [`wgsl`]: the WGSL twins, binding-free library modules prefixed `wave_`: the subgroup
+//!   path (`subgroupBallot`, `subgroupExclusiveAdd`, `subgroupBroadcastFirst`), the
+//!   fallback for adapters without subgroups (a workgroup ballot from workgroup-shared
+//!   atomics, then one global atomic per workgroup), and the run-grouped batch output with
+//!   its per-group workgroup-memory accumulation. A pass imports `wave::append` and the
+//!   `subgroups` feature picks the path. Validated by naga in unit tests; the workspace's
+//!   device tests run them on a device against this model.
 //!
 //! Features: `std` (default; `std::error::Error`), `parallel` (rayon). Without either the
 //! crate is `no_std` and allocation-free.
@@ -67,11 +68,7 @@ pub use batch::{Batch, BatchCompaction, BatchOutput, WaveBatch, batch_compact};
 pub use counter::{CountedAtomicU32, Counter};
 pub use mask::{LaneMask, Lanes, WAVE_WIDTH_MAX, WaveWidth};
 pub use wave::{PerLane, Wave};
-pub use wgsl::{
-    NO_SLOT, PASS_MODULE_FALLBACK, PASS_MODULE_SUBGROUP, SUBGROUP_MODULE, WAVE_SUBGROUP_WGSL,
-    WAVE_WGSL, WAVE_WORKGROUP_WGSL, WG_BALLOT_WORDS, WG_INVOCATIONS_MAX, WORKGROUP_MODULE,
-    module_for,
-};
+pub use wgsl::{NO_SLOT, WG_BALLOT_WORDS, WG_INVOCATIONS_MAX};
 
 use core::fmt;
 

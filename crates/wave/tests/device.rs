@@ -3,166 +3,29 @@
 //! run-grouped batch output, each called twice per dispatch so the shared scratch is
 //! reused.
 //!
-//! Runs on whatever adapter wgpu finds (lavapipe in CI, the H100 on the device machine).
-//! Without one every test fails with a message saying how to install one (lavapipe:
-//! `apt-get install -y mesa-vulkan-drivers libvulkan1`); a GPU test never passes silently.
+//! Runs on testkit's device (lavapipe in CI, the H200 on the device machine); without an
+//! adapter every test fails, saying how to install one.
 
 use std::collections::BTreeMap;
 
-use wave::{
-    CountedAtomicU32, LaneMask, NO_SLOT, SUBGROUP_MODULE, WORKGROUP_MODULE, Wave, WaveBatch,
-    WaveWidth, module_for,
-};
+use testkit::device::{Resource, ctx, has_subgroups, run_kernel};
+use wave::{CountedAtomicU32, LaneMask, NO_SLOT, Wave, WaveBatch, WaveWidth};
 
-struct Gpu {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-    info: wgpu::AdapterInfo,
+/// Composes `src` (which imports wave's modules) with `features`, runs `main` over
+/// `workgroups` workgroups with `input` at binding 0 and zeroed outputs of the given word
+/// counts at bindings 1.., and returns the outputs.
+fn run(src: &str, features: &[&str], input: &[u32], outputs: &[usize], workgroups: u32) -> Vec<Vec<u32>> {
+    let src = shader::compose_source(&[wave::wgsl::MODULES], "wave test kernel", src, features)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut resources = vec![Resource::Words(input)];
+    resources.extend(outputs.iter().map(|&n| Resource::Zeros(n)));
+    let mut out = run_kernel(&src, "main", &resources, [workgroups, 1, 1]);
+    out.remove(0);
+    out
 }
 
-fn gpu() -> Gpu {
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::HighPerformance,
-        force_fallback_adapter: false,
-        compatible_surface: None,
-        apply_limit_buckets: false,
-    }));
-    let adapter = match adapter {
-        Ok(a) => a,
-        Err(e) => panic!(
-            "no GPU adapter ({e}). Install a Vulkan driver: `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe, software), or on NVIDIA point VK_DRIVER_FILES at the NVIDIA ICD json"
-        ),
-    };
-    let features = adapter.features() & wgpu::Features::SUBGROUP;
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("wave device test"),
-        required_features: features,
-        required_limits: adapter.limits(),
-        experimental_features: wgpu::ExperimentalFeatures::disabled(),
-        memory_hints: wgpu::MemoryHints::Performance,
-        trace: wgpu::Trace::Off,
-    }))
-    .expect("device");
-    let info = adapter.get_info();
-    eprintln!(
-        "adapter: {} ({:?}, driver {}), subgroup sizes {}..{}, SUBGROUP {}",
-        info.name,
-        info.backend,
-        info.driver,
-        info.subgroup_min_size,
-        info.subgroup_max_size,
-        device.features().contains(wgpu::Features::SUBGROUP)
-    );
-    Gpu {
-        device,
-        queue,
-        info,
-    }
-}
-
-impl Gpu {
-    fn has_subgroups(&self) -> bool {
-        self.device.features().contains(wgpu::Features::SUBGROUP)
-    }
-
-    /// Runs `main` over `workgroups` workgroups with `input` at binding 0 and zeroed
-    /// `array<u32>`-sized outputs at bindings 1.., returning the outputs.
-    fn run(&self, src: &str, input: &[u32], outputs: &[usize], workgroups: u32) -> Vec<Vec<u32>> {
-        let d = &self.device;
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("wave kernel"),
-            source: wgpu::ShaderSource::Wgsl(src.into()),
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("wave kernel"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let storage = |bytes: &[u8]| {
-            let buf = d.create_buffer(&wgpu::BufferDescriptor {
-                label: None,
-                size: bytes.len().max(4) as u64,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            self.queue.write_buffer(&buf, 0, bytes);
-            buf
-        };
-        let mut bufs = vec![storage(bytemuck::cast_slice(input))];
-        for &words in outputs {
-            bufs.push(storage(&vec![0u8; words.max(1) * 4]));
-        }
-        let entries: Vec<_> = bufs
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        let mut enc = d.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(workgroups, 1, 1);
-        }
-        let staging: Vec<_> = bufs[1..]
-            .iter()
-            .map(|b| {
-                let s = d.create_buffer(&wgpu::BufferDescriptor {
-                    label: None,
-                    size: b.size(),
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                enc.copy_buffer_to_buffer(b, 0, &s, 0, b.size());
-                s
-            })
-            .collect();
-        self.queue.submit([enc.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            panic!("validation error: {e}");
-        }
-        staging
-            .iter()
-            .map(|s| {
-                s.slice(..)
-                    .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-                d.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
-                let v =
-                    bytemuck::pod_collect_to_vec(&s.slice(..).get_mapped_range().expect("mapped"));
-                s.unmap();
-                v
-            })
-            .collect()
-    }
-}
-
-/// xorshift words.
-fn words(n: usize, seed: u32) -> Vec<u32> {
-    let mut s = seed | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 17;
-            s ^= s << 5;
-            s
-        })
-        .collect()
+fn words(n: usize, seed: u64) -> Vec<u32> {
+    testkit::Rng::new(seed).words(n)
 }
 
 const N: usize = 64 * 37 + 13; // a partial last workgroup
@@ -173,7 +36,7 @@ const ROUNDS: usize = 2;
 /// invocation: slot, wave key (which subgroup or workgroup), lane.
 fn compaction_kernel(module: &str, path: &str, key: &str, lane: &str, builtins: &str) -> String {
     format!(
-        "{module}
+        "#import {module}
 @group(0) @binding(0) var<storage, read> input: array<u32>;
 @group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
 @group(0) @binding(2) var<storage, read_write> items: array<u32>;
@@ -205,11 +68,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(workgroup_id) wi
     )
 }
 
-fn check_compaction(gpu: &Gpu, src: &str, wave_width_of: impl Fn(u32) -> WaveWidth) {
+fn check_compaction(src: &str, wave_width_of: impl Fn(u32) -> WaveWidth) {
     let input = words(N, 12345);
     let groups = N.div_ceil(64) as u32;
-    let out = gpu.run(
+    let out = run(
         src,
+        &[],
         &input,
         &[4 * ROUNDS, ROUNDS * N, 3 * ROUNDS * N],
         groups,
@@ -269,44 +133,41 @@ fn check_compaction(gpu: &Gpu, src: &str, wave_width_of: impl Fn(u32) -> WaveWid
 
 #[test]
 fn subgroup_append_matches_the_cpu_model() {
-    let gpu = gpu();
-    if !gpu.has_subgroups() {
-        eprintln!("adapter has no SUBGROUP; the subgroup path is not run");
+    if !has_subgroups() {
+        eprintln!("{} has no SUBGROUP: the subgroup path is not run", ctx().adapter_line());
         return;
     }
     let src = compaction_kernel(
-        SUBGROUP_MODULE,
+        "wave::subgroup",
         "sg",
         "subgroupBroadcastFirst(gid.x)",
         "sg_lane",
         "@builtin(subgroup_invocation_id) sg_lane: u32, @builtin(subgroup_size) sg_size: u32",
     );
-    let (lo, hi) = (gpu.info.subgroup_min_size, gpu.info.subgroup_max_size);
+    let (lo, hi) = (ctx().info.subgroup_min_size, ctx().info.subgroup_max_size);
     eprintln!("subgroup sizes {lo}..{hi}");
     // Keys are the first invocation of each subgroup; the width is the subgroup size. With
     // varying sizes take the widest, which only loosens the width check.
     let width = WaveWidth::from_lanes(hi.clamp(8, 64)).expect("8, 16, 32 or 64 lanes");
-    check_compaction(&gpu, &src, |_| width);
+    check_compaction(&src, |_| width);
 }
 
 #[test]
 fn workgroup_fallback_append_matches_the_cpu_model() {
-    let gpu = gpu();
     let src = compaction_kernel(
-        WORKGROUP_MODULE,
+        "wave::workgroup",
         "wg",
         "wid.x",
         "li",
         "@builtin(local_invocation_index) li: u32",
     );
-    check_compaction(&gpu, &src, |_| WaveWidth::W64);
+    check_compaction(&src, |_| WaveWidth::W64);
 }
 
 /// One pass source, written against the path-neutral `wave_append_*`, on both paths.
 #[test]
 fn one_pass_source_runs_on_both_paths() {
-    let gpu = gpu();
-    let pass = "
+    let pass = "#import wave::append
 @group(0) @binding(0) var<storage, read> input: array<u32>;
 @group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
 @group(0) @binding(2) var<storage, read_write> items: array<u32>;
@@ -332,19 +193,16 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
         .chunks(64)
         .filter(|c| c.iter().any(|x| x.is_multiple_of(3)))
         .count();
-    for subgroups in [false, true] {
-        if subgroups && !gpu.has_subgroups() {
-            continue;
-        }
-        let src = format!("{}\n{pass}", module_for(subgroups));
-        let out = gpu.run(&src, &input, &[2, N], N.div_ceil(64) as u32);
+    for features in testkit::device::subgroup_variants() {
+        let subgroups = !features.is_empty();
+        let out = run(pass, features, &input, &[2, N], N.div_ceil(64) as u32);
         assert_eq!(out[0][0] as usize, kept.len(), "subgroups {subgroups}");
         let mut got = out[1][..kept.len()].to_vec();
         got.sort_unstable();
         assert_eq!(got, kept, "subgroups {subgroups}");
         let atomics = out[0][1] as usize;
         if subgroups {
-            let widest = gpu.info.subgroup_min_size.max(1) as usize;
+            let widest = ctx().info.subgroup_min_size.max(1) as usize;
             assert!(atomics >= workgroups_with_hits && atomics <= N.div_ceil(widest.min(64)));
         } else {
             assert_eq!(atomics, workgroups_with_hits);
@@ -354,9 +212,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 
 /// Variable amounts (x % 5 items per invocation): ranges disjoint and covering [0, total),
 /// one atomic per wave.
-fn check_ranges(gpu: &Gpu, module: &str, path: &str, lane: &str, builtins: &str) {
+fn check_ranges(module: &str, path: &str, lane: &str, builtins: &str) {
     let src = format!(
-        "{module}
+        "#import {module}
 @group(0) @binding(0) var<storage, read> input: array<u32>;
 @group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
 @group(0) @binding(2) var<storage, read_write> starts: array<u32>;
@@ -374,7 +232,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, {builtins}) {{
 }}"
     );
     let input = words(N, 777);
-    let out = gpu.run(&src, &input, &[2, N], N.div_ceil(64) as u32);
+    let out = run(&src, &[], &input, &[2, N], N.div_ceil(64) as u32);
     let (counters, starts) = (&out[0], &out[1]);
     let total: u32 = input.iter().map(|x| x % 5).sum();
     assert_eq!(counters[0], total);
@@ -402,18 +260,15 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, {builtins}) {{
 
 #[test]
 fn variable_amount_appends_tile_the_output() {
-    let gpu = gpu();
     check_ranges(
-        &gpu,
-        WORKGROUP_MODULE,
+        "wave::workgroup",
         "wg",
         "li",
         "@builtin(local_invocation_index) li: u32",
     );
-    if gpu.has_subgroups() {
+    if has_subgroups() {
         check_ranges(
-            &gpu,
-            SUBGROUP_MODULE,
+            "wave::subgroup",
             "sg",
             "sg_lane",
             "@builtin(subgroup_invocation_id) sg_lane: u32",
@@ -423,7 +278,6 @@ fn variable_amount_appends_tile_the_output() {
 
 #[test]
 fn batch_output_matches_the_cpu_model() {
-    let gpu = gpu();
     // Records: bit 0 group end, bit 1 visible, bits 2.. setup id. Two rounds of items.
     let rand = words(ROUNDS * N, 99);
     let mut setup = 0u32;
@@ -444,7 +298,7 @@ fn batch_output_matches_the_cpu_model() {
         })
         .collect();
     let src = format!(
-        "{WORKGROUP_MODULE}
+        "#import wave::workgroup
 @group(0) @binding(0) var<storage, read> input: array<u32>;
 @group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>>;
 @group(0) @binding(2) var<storage, read_write> instances: array<u32>;
@@ -486,8 +340,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 }}"
     );
     let groups = N.div_ceil(64) as u32;
-    let out = gpu.run(
+    let out = run(
         &src,
+        &[],
         &input,
         &[9, ROUNDS * N, 2 * ROUNDS * N, 2 * ROUNDS * N],
         groups,

@@ -1,16 +1,16 @@
 // tiling: phase 3, classify output (Rust twin: tiling::classify_output). Three entry
-// points, in this order:
-//   write_commands    (ceil(width / 16), ceil(height / 16), 1)  pixel (or quad) commands
-//   wave_offsets_pass (1, 1, 1)          final counts, wave offsets, pass dispatches
-//   write_waves       (ceil(tiles * passes / 64), 1, 1)          wave commands
-// Zero `final_counts`, `commands` and `stats` before write_commands.
-// Needs visbuf's ID_WGSL, a wave pass module (wave::module_for), common.wgsl and
-// pixel.wgsl in front (bindings 0-3).
+// points, in this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
+//   write_commands     pixel (or quad) commands
+//   wave_offsets_pass  final counts, wave offsets, pass dispatches
+//   write_waves        wave commands
+// Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
-// Per (tile, pass): the batch groups used (phase 1).
-@group(0) @binding(4) var<storage, read> masks: array<u32>;
-// Per (tile, pass): first counter (phase 2).
-@group(0) @binding(5) var<storage, read> counter_offsets: array<u32>;
+#import wave::append
+#import tiling::keyed
+
+// Timing experiment only (gpu's `classify_variants`; the commands come out wrong): a plain
+// store instead of the packed `atomicOr`.
+override TILING_STORE_COMMANDS: bool = false;
 // Per counter: room for commands, phase 2's counts.
 @group(0) @binding(6) var<storage, read> counts: array<u32>;
 // Per counter: first command (phase 2).
@@ -30,20 +30,17 @@
 // tiling::PixelStats of write_commands. Zero first.
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
 
-// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
-fn tiling_counter_of(tile: u32, k: u32) -> u32 {
-    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
-    let g = k % TILING_MAX_BATCH_GROUPS;
-    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
-}
-
 // Writes command `cmd` at `slot` of counter `c` (two 16-bit commands per word) when the
 // counter has room for it, and counts it as written or dropped.
 fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
     if (c < arrayLength(&counts) && slot < counts[c]) {
         let at = pixel_offsets[c] + slot;
         if (at / 2u < arrayLength(&commands)) {
-            atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+            if (TILING_STORE_COMMANDS) {
+                atomicStore(&commands[at / 2u], cmd);
+            } else {
+                atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+            }
         }
         tiling_stat(TILING_STAT_COMMANDS, 1u);
     } else {
@@ -227,7 +224,7 @@ fn wave_offsets_pass(@builtin(local_invocation_index) li: u32) {
 
 @compute @workgroup_size(64)
 fn write_waves(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let e = gid.x;
+    let e = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
     if (e >= params.tiles_x * params.tiles_y * params.pass_count || e >= arrayLength(&masks)) {
         return;
     }

@@ -5,12 +5,21 @@
 // atomic per pixel, two or three barriers, and one global atomic per counter present,
 // fewer than the wave append loop's one per subgroup and key and without its three
 // barriers per key. Tiles with more than TILING_HIST_LIMIT counters take the loop.
-// Needs `masks` and `counter_offsets` (bindings 4 and 5 of both phases) in scope.
+// Declares bindings 4 and 5, which mid classify and classify output share.
+
+#import tiling::pixel
+
+// Per (tile, pass): the batch groups used (phase 1's output).
+@group(0) @binding(4) var<storage, read> masks: array<u32>;
+// Per (tile, pass): first counter, the exclusive prefix sum of popcount(masks) (written by
+// mid classify's counter_offsets_pass, read by everything after it).
+@group(0) @binding(5) var<storage, read_write> counter_offsets: array<u32>;
 
 // One histogram slot per invocation of the 16x16 pixel workgroup (each zeroes its own).
 const TILING_HIST_SLOTS: u32 = 256u;
-// Most counters a tile may have for the histogram path (tests lower it to force the loop).
-const TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;
+// Most counters a tile may have for the histogram path; the device tests set it to 0 to
+// run the wave-append loop everywhere.
+override TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;
 var<workgroup> tiling_hist: array<atomic<u32>, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_first: array<u32, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_range: vec2<u32>;
@@ -29,4 +38,11 @@ fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
         }
     }
     return workgroupUniformLoad(&tiling_hist_range);
+}
+
+// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
+fn tiling_counter_of(tile: u32, k: u32) -> u32 {
+    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
+    let g = k % TILING_MAX_BATCH_GROUPS;
+    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
 }

@@ -1,6 +1,7 @@
-// tiling: phase 1, laydown finalise (Rust twin: tiling::laydown_finalize).
-// Bindings 0-3: pixel.wgsl. Dispatch (ceil(width / 16), ceil(height / 16), 1); `masks`
-// zeroed first.
+// tiling: phase 1, laydown finalise (Rust twin: tiling::laydown_finalize). Bindings 0-3
+// are tiling::pixel's; entry point and dispatch: `tiling::LAYDOWN_FINALIZE`.
+
+#import tiling::pixel
 
 // Per (tile, pass), t * P + p: bit g set when batch group g is used. Zero before the pass.
 @group(0) @binding(4) var<storage, read_write> masks: array<atomic<u32>>;

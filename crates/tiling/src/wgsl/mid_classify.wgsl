@@ -1,16 +1,17 @@
 // tiling: phase 2, mid classify (Rust twin: tiling::mid_classify). Three entry points, in
-// this order:
-//   counter_offsets  (1, 1, 1)                            prefix sum of popcount(masks)
-//   count_pixels     (ceil(width / 16), ceil(height / 16), 1)  counts + vertex cull buffer
-//   pixel_offsets    (1, 1, 1)                            prefix sum of the counts
-// Zero `counts`, `vertex_cull` and `stats` before count_pixels.
-// Needs visbuf's ID_WGSL, a wave pass module (wave::module_for), common.wgsl and
-// pixel.wgsl in front (bindings 0-3).
+// this order (dispatches and zeroed buffers: `tiling::MID_CLASSIFY`):
+//   counter_offsets_pass  prefix sum of popcount(masks)
+//   count_pixels          counts + vertex cull buffer
+//   pixel_offsets_pass    prefix sum of the counts
+// Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
-// Per (tile, pass): the batch groups used (phase 1's output).
-@group(0) @binding(4) var<storage, read> masks: array<u32>;
-// Per (tile, pass): first counter, the exclusive prefix sum of popcount(masks).
-@group(0) @binding(5) var<storage, read_write> counter_offsets: array<u32>;
+#import wave::append
+#import tiling::keyed
+
+// Timing experiments only (gpu's `classify_variants`; the output comes out wrong): no
+// vertex-cull atomics, or no index reads at all (no vertex culling).
+override TILING_OMIT_CULL_MARKS: bool = false;
+override TILING_OMIT_INDEX_READS: bool = false;
 // Per counter: commands counted (pixels, or VRS samples). Zero before count_pixels.
 @group(0) @binding(6) var<storage, read_write> counts: array<atomic<u32>>;
 // Per counter: first pixel command, the exclusive prefix sum of the counts.
@@ -92,16 +93,11 @@ fn tiling_mark_triangle(px: TilingPixel) -> bool {
             ok = false;
             continue;
         }
-        atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
+        if (!TILING_OMIT_CULL_MARKS) {
+            atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
+        }
     }
     return ok;
-}
-
-// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
-fn tiling_counter_of(tile: u32, k: u32) -> u32 {
-    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
-    let g = k % TILING_MAX_BATCH_GROUPS;
-    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
 }
 
 var<workgroup> tiling_wg_key: atomic<u32>;
@@ -122,7 +118,7 @@ fn count_pixels(
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
         if (px.kind == TILING_PX_VALID) {
-            if (tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
+            if (!TILING_OMIT_INDEX_READS && tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
                 tiling_stat(TILING_STAT_BAD_INDICES, 1u);
             }
             if (tiling_sample_mask(gid.x, gid.y, word) != 0u) {

@@ -1,6 +1,8 @@
 // tiling: the per-pixel part shared by the three classification passes: their first four
 // bindings and the pixel decode (Rust: tiling::classify, "Which pixels are shaded").
-// Needs visbuf's ID_WGSL and common.wgsl in front.
+
+#import visbuf::id
+#import tiling::common
 
 @group(0) @binding(0) var<uniform> params: TilingParams;
 // width * height vis words, row-major.
@@ -127,6 +129,10 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
 // Per-workgroup stats, flushed with one atomic per field.
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
 
+// Timing experiment only (gpu's `classify_variants`): no stats atomics; the stats come out
+// wrong.
+override TILING_OMIT_STATS: bool = false;
+
 fn tiling_stats_begin(li: u32) {
     if (li < TILING_STAT_COUNT) {
         atomicStore(&tiling_wg_stats[li], 0u);
@@ -135,7 +141,7 @@ fn tiling_stats_begin(li: u32) {
 }
 
 fn tiling_stat(field: u32, n: u32) {
-    if (n != 0u) {
+    if (n != 0u && !TILING_OMIT_STATS) {
         atomicAdd(&tiling_wg_stats[field], n);
     }
 }

@@ -1,13 +1,9 @@
 // tiling: vertex wave commands from the vertex cull buffer (Rust twin:
-// tiling::vertex_wave_commands). Entry points, in this order:
-//   uber_chunks          (ceil(uber_count / 64), 1, 1)
-//   build_pyramid        (1, 1, 1)
-//   micro_batch_deltas   (ceil(micro_batch_count / 64), 1, 1)
-//   scan_deltas          (1, 1, 1)
-//   write_vertex_commands (ceil(chunk_count / 64), 1, 1), or (65535, y, 1) past 65535
-//   pass_args            (ceil(pass_count / 64), 1, 1)
-// Zero `deltas` and `pass_items` before micro_batch_deltas.
-// Needs common.wgsl in front.
+// tiling::vertex_wave_commands). Entry points, in this order (dispatches and zeroed
+// buffers: `tiling::VERTEX_WAVES`): uber_chunks, build_pyramid, micro_batch_deltas,
+// scan_deltas, write_vertex_commands, pass_args.
+
+#import tiling::common
 
 @group(0) @binding(0) var<uniform> params: TilingParams;
 // The MicroBatchInfoTable, indexed by micro-batch ID.
@@ -159,7 +155,7 @@ fn tiling_chunk_count(row: TilingMicroBatchInfo) -> u32 {
 
 @compute @workgroup_size(64)
 fn uber_chunks(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let u = gid.x;
+    let u = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
     if (u >= params.uber_count) {
         return;
     }
@@ -225,7 +221,7 @@ fn build_pyramid(@builtin(local_invocation_index) li: u32) {
 
 @compute @workgroup_size(64)
 fn micro_batch_deltas(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x;
+    let k = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
     if (k >= params.micro_batch_count || k >= arrayLength(&order)) {
         return;
     }
@@ -312,7 +308,7 @@ fn write_vertex_commands(
 
 @compute @workgroup_size(64)
 fn pass_args(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let p = gid.x;
+    let p = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
     if (p >= params.pass_count || p >= arrayLength(&pass_infos) || p >= arrayLength(&vertex_dispatches)) {
         return;
     }

@@ -1,9 +1,9 @@
-// wave: common part (core WGSL, no capability needed). Concatenate in front of
-// `subgroup.wgsl` and/or `workgroup.wgsl`.
+// wave: common part (core WGSL, no capability needed), imported by `wave::subgroup` and
+// `wave::workgroup`.
 //
 // An aggregated append is three steps at the call site, the same for both paths
-// (`li` is @builtin(local_invocation_index); `wave_append_*` are bound to the subgroup or
-// the workgroup path by the module the pass is prepended with, `wave::module_for`):
+// (`li` is @builtin(local_invocation_index); `wave_append_*` are `wave::append`'s, bound
+// to the subgroup or the workgroup path by the `subgroups` feature):
 //
 //   let a = wave_append_begin(keep, li);         // or wave_sg_append_begin / wave_wg_append_begin
 //   var old = 0u;

@@ -1,5 +1,7 @@
 // wave: the subgroup path (needs wgpu `Features::SUBGROUP`; validated with
-// `shadercheck::Caps::SUBGROUP`). Concatenate after `common.wgsl`.
+// `shadercheck::Caps::SUBGROUP`).
+
+#import wave::common
 //
 // Call these from every invocation of the subgroup that is still running (they are
 // subgroup operations): pass the append predicate as an argument instead of branching

@@ -1,6 +1,5 @@
 // wave: the workgroup path, for adapters without `Features::SUBGROUP` (core WGSL,
 // validated with `shadercheck::Caps::CORE`), and the run-grouped batch output.
-// Concatenate after `common.wgsl`.
 //
 // The "wave" here is the whole workgroup: invocation `local_invocation_index` is lane
 // `local_index`, at most WAVE_WG_INVOCATIONS_MAX of them. A workgroup ballot is built
@@ -13,6 +12,8 @@
 // dispatch: the shared scratch is reset as it is consumed. Workgroup memory used:
 // 2 x 32 bytes of ballot, 8 bytes of scalars, and 2 KiB for the batch output (only the
 // variables an entry point reaches count).
+
+#import wave::common
 
 // Largest workgroup the ballot covers (wgpu's default `max_compute_invocations_per_workgroup`).
 // Rust: `wave::WG_INVOCATIONS_MAX`.

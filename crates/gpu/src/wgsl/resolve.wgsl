@@ -1,22 +1,24 @@
 // gpu: the material resolve of one pixel (seed 000's "shade pixels", seed 004's vertex
 // pulling): decode the vis word, pull the triangle's three vertices, transform them,
 // analytic barycentrics and derivatives (visbuf), sample with gradients, fill a
-// DeferredSurface.
-//
-// Needs in scope: visbuf ID + barycentric WGSL, deferred's G-buffer WGSL, SCENE_WGSL,
-// FRAME_WGSL, GEOMETRY_WGSL, PLAN_WGSL, material.wgsl, and the bindings below.
+// DeferredSurface, store it into the G-buffer (group 2).
 
-@group(0) @binding(0) var<uniform> frame: FrameUniforms;
-@group(0) @binding(1) var<storage, read> vertices: array<GpuVertex>;
-@group(0) @binding(2) var<storage, read> instances: array<GpuInstance>;
-@group(0) @binding(3) var<storage, read> materials: array<GpuMaterial>;
-@group(0) @binding(4) var<storage, read> indices: array<u32>;
-@group(0) @binding(5) var<storage, read> meshes: array<GpuMesh>;
-@group(0) @binding(6) var<storage, read> micro_batches: array<GpuMicroBatch>;
-@group(0) @binding(7) var albedo: texture_2d_array<f32>;
-@group(0) @binding(8) var albedo_sampler: sampler;
-@group(0) @binding(9) var vis_texture: texture_2d<u32>;
-// group 1: the G-buffer storage textures (gbuffer_store).
+#import visbuf::id
+#import visbuf::bary
+#import tiling::common
+#import gpu::scene_bindings
+#import gpu::material
+#import gpu::gbuffer_store
+
+// Group 1: what the resolve reads besides the scene.
+@group(1) @binding(0) var<storage, read> indices: array<u32>;
+@group(1) @binding(1) var<storage, read> meshes: array<GpuMesh>;
+@group(1) @binding(2) var<storage, read> micro_batches: array<GpuMicroBatch>;
+@group(1) @binding(3) var vis_texture: texture_2d<u32>;
+
+// Lanes of the wave-command resolve's workgroup: the wave width the commands were built
+// for (8 on lavapipe, 32 on NVIDIA).
+override RESOLVE_WAVE_WIDTH: u32 = 32u;
 
 struct ResolvedPixel {
     surface: DeferredSurface,
@@ -43,9 +45,9 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     let v0 = vertices[mesh.base_vertex + indices[first]];
     let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
     let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
-    let c0 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v0.position), 1.0);
-    let c1 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v1.position), 1.0);
-    let c2 = frame.view_proj * vec4<f32>(gpu_transform_point(inst, v2.position), 1.0);
+    let c0 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v0.position), 1.0);
+    let c1 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v1.position), 1.0);
+    let c2 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v2.position), 1.0);
     let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
     let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
@@ -75,10 +77,11 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
 // lanes per wave command, one `dispatch_workgroups_indirect` per pass with that pass's
 // PassDispatch. Each lane takes one pixel command of its wave: a pixel of the wave's
 // 128x128 tile that shows the wave's (pass, batch group).
-@group(2) @binding(0) var<storage, read> wave_commands: array<TilingWaveCommand>;
-@group(2) @binding(1) var<storage, read> pixel_commands: array<u32>;
-@group(2) @binding(2) var<storage, read> pass_dispatches: array<TilingPassDispatch>;
-@group(2) @binding(3) var<uniform> resolve_pass: vec4<u32>;
+@group(3) @binding(0) var<storage, read> wave_commands: array<TilingWaveCommand>;
+@group(3) @binding(1) var<storage, read> pixel_commands: array<u32>;
+@group(3) @binding(2) var<storage, read> pass_dispatches: array<TilingPassDispatch>;
+// x: the pass this dispatch shades (a uniform at a dynamic offset per pass).
+@group(3) @binding(3) var<uniform> resolve_pass: vec4<u32>;
 
 @compute @workgroup_size(RESOLVE_WAVE_WIDTH)
 fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lane: u32) {

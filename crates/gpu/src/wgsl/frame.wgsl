@@ -1,15 +1,24 @@
 // gpu: per-frame constants and the per-instance record shared by every pass.
-// Rust twins: gpu::frame::FrameUniforms and gpu::frame::GpuInstance (sizes checked by tests).
+// Rust twins: gpu's FrameUniforms, GpuInstance and GpuPointLight (sizes checked by tests).
 //
-// Positions are camera-relative: instance transforms already have the camera position
-// subtracted, and `view_proj` holds only the camera's rotation and projection (reversed Z,
-// infinite far plane). World = camera-relative + camera_position.
+// Positions are relative to two points: instance transforms and point lights are stored
+// relative to the scene origin chosen at prepare (floating origin, so f32 keeps its
+// precision far from the world's zero), and every pass works camera-relative:
+// camera-relative = origin-relative + `origin_offset`. `view_proj` holds only the camera's
+// rotation and projection (reversed Z, infinite far plane).
 
 struct FrameUniforms {
+    // camera-relative position to clip
     view_proj: mat4x4<f32>,
+    // clip to camera-relative position
     inv_view_proj: mat4x4<f32>,
+    // this frame's camera-relative position to last frame's clip (motion vectors); equal to
+    // `view_proj` on a first frame or a still camera
     prev_view_proj: mat4x4<f32>,
+    // camera position (world, metres), w = 1
     camera_position: vec4<f32>,
+    // xyz: scene origin minus camera position (metres); w: unused
+    origin_offset: vec4<f32>,
     // width, height, 1/width, 1/height (pixels)
     viewport: vec4<f32>,
     // xyz: unit direction towards the sun; w: unused
@@ -20,12 +29,13 @@ struct FrameUniforms {
     point_light_count: u32,
     // log2 scale applied to texture gradients in the resolve (mip bias)
     mip_bias: f32,
-    // the depth-equal baseline and the laydown must produce identical depths
+    // frames rendered since the renderer was made
     frame_index: u32,
-    pad0: u32,
+    // seconds, from the frame input
+    time: f32,
 }
 
-// One instance: object-to-camera-relative 3x4 transform (rows), and where it sits in the
+// One instance: object-to-origin-relative 3x4 transform (rows), and where it sits in the
 // vis buffer: its micro batch, instance field, the mesh's primitive bits, its material.
 struct GpuInstance {
     row0: vec4<f32>,
@@ -38,7 +48,7 @@ struct GpuInstance {
 }
 
 struct GpuPointLight {
-    // xyz: camera-relative position; w: radius (metres)
+    // xyz: origin-relative position; w: radius (metres)
     position_radius: vec4<f32>,
     color: vec4<f32>,
 }

@@ -1,10 +1,11 @@
 // gpu: HZD's geometry pass, the method the talk replaces: after the depth prepass (with
 // alpha test), every batch is drawn again with depth test Equal and no alpha test, writing
 // the G-buffer from a fragment shader whose UV gradients come from the hardware's quads.
-//
-// Appended to the laydown module (same bindings, same vertex transform: `@invariant`
-// positions make the depths bit-identical), with material.wgsl and the G-buffer fragment
-// glue in front.
+// The vertex transform is the laydown's (gpu::geometry), so the depths are bit-identical.
+
+#import gpu::geometry
+#import gpu::material
+#import gpu::gbuffer_fragment
 
 struct BaselineOut {
     @invariant @builtin(position) clip: vec4<f32>,

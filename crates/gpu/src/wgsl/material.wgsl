@@ -2,9 +2,9 @@
 // shader, so both paths write the same G-buffer (deferred's DeferredSurface) from the same
 // inputs. The only difference between them is where the UV gradients come from: analytic
 // barycentric derivatives (resolve) or the hardware's 2x2-quad differences (baseline).
-//
-// Needs in scope: deferred's G-buffer WGSL, GpuMaterial, and the bindings `materials`,
-// `albedo`, `albedo_sampler`.
+
+#import deferred::gbuffer
+#import gpu::scene_bindings
 
 fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>) -> DeferredSurface {
     let m = materials[material_index];
@@ -16,7 +16,7 @@ fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_d
     s.roughness = m.roughness;
     s.specular = m.specular;
     s.sun_shadow = 1.0;
-    // A still camera over a static scene: no motion.
+    // Static geometry: the motion of the camera alone is not written yet.
     s.motion = vec2<f32>(0.0);
     return s;
 }

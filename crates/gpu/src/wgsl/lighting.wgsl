@@ -1,16 +1,16 @@
 // gpu: deferred lighting in compute (KZ2's sun + ambient + point lights over the G-buffer),
 // then tone mapping into the sRGB-encoded output image. 8x8 pixels per workgroup.
-//
-// Preceded by: deferred's G-buffer WGSL, frame.wgsl, and the G-buffer load glue
-// (`gbuffer_surface(pixel) -> DeferredSurface` over the textures bound in group 1).
+
+#import gpu::frame
+#import gpu::gbuffer_load
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var depth_texture: texture_depth_2d;
 @group(0) @binding(2) var<storage, read> point_lights: array<GpuPointLight>;
 @group(0) @binding(3) var output: texture_storage_2d<rgba8unorm, write>;
-// G-buffer textures are bound in group 1 by gbuffer_glue.
+// Group 1: the G-buffer (gpu::gbuffer_load).
 
-const PI: f32 = 3.14159265;
+const LIGHTING_PI: f32 = 3.14159265;
 
 // Camera-relative position of a pixel centre at reversed-Z depth `d`.
 fn lighting_position(pixel: vec2<u32>, d: f32) -> vec3<f32> {
@@ -29,7 +29,7 @@ fn lighting_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f
     let a = max(roughness * roughness, 0.02);
     let a2 = a * a;
     let dd = nh * nh * (a2 - 1.0) + 1.0;
-    let ndf = a2 / (PI * dd * dd);
+    let ndf = a2 / (LIGHTING_PI * dd * dd);
     let k = a * 0.5;
     let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
     let f = f0 + (1.0 - f0) * pow(1.0 - max(dot(v, h), 0.0), 5.0);
@@ -63,12 +63,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let n = s.normal;
         let l = frame.sun_direction.xyz;
         let nl = max(dot(n, l), 0.0);
-        let diffuse = s.albedo / PI;
+        let diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
         color += frame.sun_color.rgb * (diffuse * nl * s.sun_shadow + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * s.sun_shadow);
         for (var i = 0u; i < frame.point_light_count; i++) {
             let light = point_lights[i];
-            let to_light = light.position_radius.xyz - p;
+            let to_light = light.position_radius.xyz + frame.origin_offset.xyz - p;
             let dist = length(to_light);
             let radius = light.position_radius.w;
             if dist < radius {

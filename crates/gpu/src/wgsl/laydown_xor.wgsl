@@ -1,3 +1,9 @@
+// gpu: the laydown's fragment stage on HFW's XOR path: the XOR of the triangle's three
+// per-vertex payloads is its primitive ID, whatever the vertex order.
+
+enable wgpu_per_vertex;
+#import gpu::laydown
+
 struct LaydownXorIn {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
@@ -6,12 +12,12 @@ struct LaydownXorIn {
 }
 
 @fragment
-fn fs_xor(in: LaydownXorIn) -> @location(0) u32 {
+fn fs_vis(in: LaydownXorIn) -> @location(0) u32 {
     return vis_word(in.instance, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
 }
 
 @fragment
-fn fs_xor_alpha(in: LaydownXorIn) -> @location(0) u32 {
+fn fs_vis_alpha(in: LaydownXorIn) -> @location(0) u32 {
     alpha_test(in.uv, in.instance);
     return vis_word(in.instance, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
 }
