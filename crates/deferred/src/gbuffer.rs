@@ -1,6 +1,6 @@
 //! The G-buffer: what one sample holds ([`Surface`]), the two layouts ([`GBufferLayout`]),
 //! the texture format of every target ([`TargetFormat`]) and the pack/unpack of each layout
-//! ([`Kz2Texels`], [`OctTexels`]), each the reference for its WGSL twin (`GBUFFER_WGSL`).
+//! ([`Kz2Texels`], [`OctTexels`]), each the reference for its WGSL twin (`deferred::gbuffer`).
 //!
 //! Texels are given as the bytes the texture holds (little-endian channels, R first), so a
 //! readback of a G-buffer target can be cast with `bytemuck` and compared with these.
@@ -49,6 +49,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Vec2, Vec3};
+use half::f16;
 
 use crate::math::{self, round_half_even, saturate};
 use crate::{normal, tables};
@@ -65,8 +66,6 @@ pub const KZ2_MOTION_MAX_PX: f32 = 127.0 * KZ2_MOTION_STEP_PX;
 pub const KZ2_SPEC_POWER_MAX: f32 = 8191.0;
 /// `log2(1 + KZ2_SPEC_POWER_MAX)`: the code is `log2(1 + power) / KZ2_SPEC_LOG_RANGE`.
 pub const KZ2_SPEC_LOG_RANGE: f32 = 13.0;
-/// Largest value an f16 channel holds (motion beyond it is clamped).
-pub const F16_MAX: f32 = 65504.0;
 /// Rec. 709 luminance weights, used for the glow channel.
 pub const LUMINANCE: Vec3 = Vec3::new(0.2126, 0.7152, 0.0722);
 
@@ -378,10 +377,10 @@ pub fn motion_value(code: u8) -> f32 {
     (f32::from(code.max(1)) - 128.0) * KZ2_MOTION_STEP_PX
 }
 
-/// Sanitises HDR lighting: NaN and negatives → 0, `+inf` → [`F16_MAX`].
+/// Sanitises HDR lighting: NaN and negatives → 0, `+inf` → [`f16::MAX`] (65504).
 #[inline]
 fn sanitize_hdr(c: Vec3) -> Vec3 {
-    let f = |x: f32| if x > 0.0 { x.min(F16_MAX) } else { 0.0 };
+    let f = |x: f32| if x > 0.0 { x.min(HALF_MAX) } else { 0.0 };
     Vec3::new(f(c.x), f(c.y), f(c.z))
 }
 
@@ -420,25 +419,30 @@ fn sanitize_unit(n: Vec3) -> Vec3 {
     }
 }
 
-/// f32 → binary16 bits, round to nearest even, NaN → 0, overflow clamped to ±[`F16_MAX`].
+/// [`f16::MAX`] as f32, folded at compile time (`to_f32_const`), for the clamps below.
+const HALF_MAX: f32 = f16::MAX.to_f32_const();
+
+/// f32 → half bits ([`f16::from_f32`]: round to nearest even), saturating: NaN → 0,
+/// overflow clamped to ±[`f16::MAX`].
 #[inline]
-pub fn f16_bits(x: f32) -> u16 {
+pub fn half_bits(x: f32) -> u16 {
     let x = if x.is_nan() {
         0.0
     } else {
-        x.clamp(-F16_MAX, F16_MAX)
+        x.clamp(-HALF_MAX, HALF_MAX)
     };
-    half::f16::from_f32(x).to_bits()
+    f16::from_f32(x).to_bits()
 }
 
-/// binary16 bits → f32; NaN → 0, infinities → ±[`F16_MAX`] (so unpacked values are finite).
+/// Half bits → f32 ([`f16::to_f32`]), finite: NaN → 0, infinities → ±[`f16::MAX`]. WGSL:
+/// `deferred_half_value`.
 #[inline]
-pub fn f16_value(bits: u16) -> f32 {
-    let v = half::f16::from_bits(bits).to_f32();
+pub fn half_value(bits: u16) -> f32 {
+    let v = f16::from_bits(bits).to_f32();
     if v.is_nan() {
         0.0
     } else {
-        v.clamp(-F16_MAX, F16_MAX)
+        v.clamp(-HALF_MAX, HALF_MAX)
     }
 }
 
@@ -550,9 +554,9 @@ impl OctTexels {
             rt0: rt0(s),
             rt1,
             rt2: [
-                f16_bits(s.motion.x),
-                f16_bits(s.motion.y),
-                f16_bits(saturate(s.specular)),
+                half_bits(s.motion.x),
+                half_bits(s.motion.y),
+                half_bits(saturate(s.specular)),
                 0,
             ],
             rt3: [
@@ -577,9 +581,9 @@ impl OctTexels {
             ),
             normal: normal::oct_decode(word),
             roughness: unorm8_value(t.rt1[3]),
-            specular: saturate(f16_value(t.rt2[2])),
+            specular: saturate(half_value(t.rt2[2])),
             sun_shadow: unorm8_value(t.rt3[3]),
-            motion: Vec2::new(f16_value(t.rt2[0]), f16_value(t.rt2[1])),
+            motion: Vec2::new(half_value(t.rt2[0]), half_value(t.rt2[1])),
         }
     }
 }

@@ -48,7 +48,7 @@ mod tests {
             ("DEFERRED_GLOW_SLACK", GLOW_SLACK),
             ("DEFERRED_KZ2_SPEC_POWER_MAX", KZ2_SPEC_POWER_MAX),
             ("DEFERRED_KZ2_SPEC_LOG_RANGE", KZ2_SPEC_LOG_RANGE),
-            ("DEFERRED_F16_MAX", F16_MAX),
+            ("DEFERRED_F16_MAX", half::f16::MAX.to_f32()),
             ("DEFERRED_LUMINANCE_R", LUMINANCE.x),
             ("DEFERRED_LUMINANCE_G", LUMINANCE.y),
             ("DEFERRED_LUMINANCE_B", LUMINANCE.z),

@@ -50,8 +50,6 @@ use half::f16;
 
 use crate::{Error, math};
 
-/// Largest finite half float.
-pub const HALF_MAX: f32 = 65504.0;
 /// UV fixed-point scale: a code is `uv * UV_SCALE` (16 bits over `[0, 8)`, i.e. unorm16 of
 /// `uv / 8`).
 pub const UV_SCALE: f32 = 8192.0;
@@ -214,24 +212,17 @@ fn in_range(field: &'static str, x: f32, min: f32, max: f32) -> Result<f32, Erro
     Ok(x)
 }
 
-/// `x` as half-float bits (round to nearest even); `None` if `x` is not finite or
-/// `abs(x) > 65504`.
-#[must_use]
+/// `x` as an [`f16`] (round to nearest even); `None` if `x` is not finite or
+/// `abs(x) > f16::MAX` (65504).
 #[inline]
-pub fn try_pack_half(x: f32) -> Option<u16> {
-    (x.is_finite() && x.abs() <= HALF_MAX).then(|| f16::from_f32(x).to_bits())
-}
-
-/// Half-float bits to f32 (exact).
-#[must_use]
-#[inline]
-pub fn unpack_half(bits: u16) -> f32 {
-    f16::from_bits(bits).to_f32()
+fn checked_half(x: f32) -> Option<f16> {
+    (x.is_finite() && x.abs() <= f16::MAX.to_f32()).then(|| f16::from_f32(x))
 }
 
 #[inline]
 fn half_field(field: &'static str, x: f32) -> Result<u32, Error> {
-    in_range(field, x, -HALF_MAX, HALF_MAX)?;
+    let max = f16::MAX.to_f32();
+    in_range(field, x, -max, max)?;
     Ok(u32::from(f16::from_f32(x).to_bits()))
 }
 
@@ -240,14 +231,18 @@ fn half_field(field: &'static str, x: f32) -> Result<u32, Error> {
 #[must_use]
 #[inline]
 pub fn try_pack_half2(v: Vec2) -> Option<u32> {
-    Some(u32::from(try_pack_half(v.x)?) | (u32::from(try_pack_half(v.y)?) << 16))
+    let (x, y) = (checked_half(v.x)?, checked_half(v.y)?);
+    Some(u32::from(x.to_bits()) | (u32::from(y.to_bits()) << 16))
 }
 
-/// WGSL `unpack2x16float`.
+/// WGSL `unpack2x16float`: exact ([`f16::to_f32`]).
 #[must_use]
 #[inline]
 pub fn unpack_half2(word: u32) -> Vec2 {
-    Vec2::new(unpack_half(word as u16), unpack_half((word >> 16) as u16))
+    Vec2::new(
+        f16::from_bits(word as u16).to_f32(),
+        f16::from_bits((word >> 16) as u16).to_f32(),
+    )
 }
 
 /// One UV component to its 16-bit code `floor(uv * 8192 + 0.5)`; errors outside
@@ -480,7 +475,11 @@ impl VisbufVertex {
             hpos: Vec3::new(xy.x, xy.y, self.hpos_w),
             normal: unpack_snorm_10_10_10_2(self.normal).truncate(),
             tangent: unpack_snorm_10_10_10_2(self.tangent),
-            prev_hpos: Vec3::new(prev.x, prev.y, unpack_half(self.prev_hpos_w_extra as u16)),
+            prev_hpos: Vec3::new(
+                prev.x,
+                prev.y,
+                f16::from_bits(self.prev_hpos_w_extra as u16).to_f32(),
+            ),
         }
     }
 
@@ -514,7 +513,7 @@ impl VisbufVertex {
     #[must_use]
     #[inline]
     pub fn slot_half(&self, i: usize) -> Option<f32> {
-        self.slot_bits(i).map(unpack_half)
+        self.slot_bits(i).map(|b| f16::from_bits(b).to_f32())
     }
 
     /// Slot `i` read as two square-rooted unorm8 channels.
@@ -568,7 +567,11 @@ mod tests {
     #[test]
     fn half_decode_matches_the_ieee_definition_for_every_code() {
         for (value, bits) in half_values() {
-            assert_eq!(unpack_half(bits) as f64, value, "code {bits:#06x}");
+            // Low half and high half of the word: the same code in either place.
+            let word = u32::from(bits) | (u32::from(bits ^ 0x8000) << 16);
+            let v = unpack_half2(word);
+            assert_eq!(v.x as f64, value, "code {bits:#06x}");
+            assert_eq!(v.y as f64, -value, "code {:#06x}", bits ^ 0x8000);
         }
     }
 
@@ -585,11 +588,16 @@ mod tests {
             let x = ((rng & 0xffff_ffff) as f64 / 4_294_967_296.0 + 1.0) * 2f64.powi(e as i32 - 26);
             let x = if i % 2 == 0 { x } else { -x };
             let x = x as f32;
-            let Some(bits) = try_pack_half(x) else {
-                assert!(x.abs() > HALF_MAX);
+            let Some(word) = try_pack_half2(Vec2::new(x, -x)) else {
+                assert!(x.abs() > 65504.0);
                 continue;
             };
-            let got = unpack_half(bits) as f64;
+            assert_eq!(
+                word >> 16,
+                (word & 0xffff) ^ 0x8000,
+                "x={x}: y = -x in the high half"
+            );
+            let got = unpack_half2(word).x as f64;
             let err = (got - x as f64).abs();
             // Nearest: no representable value is closer.
             let k = table.partition_point(|(v, _)| *v < x as f64);
@@ -603,9 +611,11 @@ mod tests {
             };
             assert!(err <= bound, "x={x} err={err} bound={bound}");
         }
-        assert_eq!(try_pack_half(65504.0), Some(0x7bff));
-        assert_eq!(try_pack_half(65505.0), None);
-        assert_eq!(try_pack_half(f32::NAN), None);
+        assert_eq!(try_pack_half2(Vec2::new(65504.0, -1.0)), Some(0xbc00_7bff));
+        assert_eq!(try_pack_half2(Vec2::new(65505.0, 0.0)), None);
+        assert_eq!(try_pack_half2(Vec2::new(0.0, -65505.0)), None);
+        assert_eq!(try_pack_half2(Vec2::new(f32::NAN, 0.0)), None);
+        assert_eq!(try_pack_half2(Vec2::new(0.0, f32::INFINITY)), None);
     }
 
     /// A line-by-line Rust transliteration of `visbuf_pack_half` / `visbuf_unpack_half` in

@@ -226,7 +226,8 @@ fn check_river(i: usize, river: &River) -> Result<(), Error> {
             && p.depth.is_finite()
             && p.depth >= 0.0
             && p.speed.is_finite()
-            && p.speed.abs() <= 65504.0;
+            // The flow is stored as f16 (`pack2x16float`).
+            && p.speed.abs() <= f16::MAX.to_f32();
         if !ok {
             return Err(bad(
                 "a point has a non-finite or out-of-range position, width, depth or speed",
