@@ -28,7 +28,7 @@
 //!
 //! ```
 //! use deferred::{GBufferLayout, OctTexels, Surface};
-//! use glam::{Vec2, Vec3};
+//! use deferred::glam::{Vec2, Vec3};
 //!
 //! let s = Surface {
 //!     albedo: Vec3::new(0.8, 0.4, 0.1),
@@ -184,7 +184,8 @@ pub use cascades::{
 pub use depth::{DeferredProjection, DepthMode, Linearize, Perspective};
 pub use error::Error;
 pub use gbuffer::{GBufferLayout, Kz2Texels, NormalSpace, OctTexels, Surface, TargetFormat};
-/// The `glam` this crate's API uses (re-exported so callers match its version).
+/// The glam version this crate's API uses; use `deferred::glam` to avoid a version mismatch
+/// with a `glam` of your own.
 pub use glam;
 pub use lights::{
     DeferredLight, DeferredTileDepth, LightClass, LightClassifier, LightPath, ShadowFade,

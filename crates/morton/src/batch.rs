@@ -200,7 +200,7 @@ public!(
     (codes: &[u64], xs: &mut [u32], ys: &mut [u32], zs: &mut [u32]));
 
 public!(
-    /// 2D Morton codes into u32 from `[x, y]` points (cast a `&[glam::UVec2]` with
+    /// 2D Morton codes into u32 from `[x, y]` points (cast a `&[morton::glam::UVec2]` with
     /// `bytemuck::cast_slice`, or use `UVec2::to_array`).
     encode2_u32_aos, encode2_u32_aos_with, enc2_32_aos, (points: &[[u32; 2]], out: &mut [u32]));
 public!(

@@ -8,7 +8,7 @@
 //! # Example
 //!
 //! ```
-//! use glam::Vec3;
+//! use morton::glam::Vec3;
 //! use morton::{Quantizer3, decode3_u32, encode3_u32, sort_permutation};
 //!
 //! assert_eq!(encode3_u32(1, 0, 0), 1); // x is the lowest bit
@@ -108,6 +108,9 @@ pub mod sort;
 mod wgsl;
 
 pub use error::Error;
+/// The glam version this crate's API uses; use `morton::glam` to avoid a version mismatch
+/// with a `glam` of your own.
+pub use glam;
 pub use path::Path;
 pub use quantize::{Quantizer2, Quantizer3};
 pub use sort::{MAX_SORT_KEYS, SortKey, Sorter, sort_permutation, sort_permutation_into};

@@ -9,7 +9,7 @@
 //!   (`dx*dy + dy*dz + dz*dx`, with `d` = extent + 1): smaller boxes cull better.
 //!
 //! ```
-//! use glam::UVec3;
+//! use morton::glam::UVec3;
 //! use morton::locality::{Curve, curve_order3, measure3};
 //!
 //! // Every cell of an 8x8x8 grid: the Hilbert curve steps one cell at a time.

@@ -3,7 +3,7 @@
 //! an error names and the order of equal keys.
 //!
 //! ```
-//! use glam::Vec3;
+//! use morton::glam::Vec3;
 //! use morton::Quantizer3;
 //!
 //! let points: Vec<Vec3> = (0..10_000).map(|i| Vec3::splat(i as f32)).collect();

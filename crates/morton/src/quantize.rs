@@ -26,7 +26,7 @@
 //!   axis must fit the key ([`Error::BadBits`]).
 //!
 //! ```
-//! use glam::{UVec3, Vec3};
+//! use morton::glam::{UVec3, Vec3};
 //! use morton::Quantizer3;
 //!
 //! let q = Quantizer3::new(Vec3::splat(-100.0), Vec3::splat(100.0), 10).unwrap();

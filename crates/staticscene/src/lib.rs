@@ -46,7 +46,7 @@
 //! # Example
 //!
 //! ```
-//! use glam::{DVec3, Mat4, Vec3};
+//! use staticscene::glam::{DVec3, Mat4, Vec3};
 //! use staticscene::*;
 //!
 //! // A resource: a LOD switch between a detailed mesh (0-50 m) and a simple one.
@@ -120,6 +120,9 @@ pub mod view;
 pub mod wgsl;
 
 pub use error::{Error, Field};
+/// The glam version this crate's API uses; use `staticscene::glam` to avoid a version mismatch
+/// with a `glam` of your own.
+pub use glam;
 pub use hiz::{HIZ_DEPTH_EPSILON, HiZ, HiZLevel};
 pub use output::*;
 pub use query::{ClusterJob, ClusterResult, QueryStats, TileBuffers, query_cluster};
