@@ -4,7 +4,7 @@
 //! and lighting passes.
 //!
 //! ```
-//! use glam::{Vec2, Vec3};
+//! use water::glam::{Vec2, Vec3};
 //! use water::world::{Lake, Ocean, River, RiverPoint, WaterWorldBuilder};
 //!
 //! // One query for every kind of water: a lake, a river (slopes and waterfalls allowed)
@@ -57,12 +57,17 @@
 //! | [`tiles`] | 32 x 32 screen-tile classification, the indirect draw, the tessellated grid with 16-bit vertices and degenerate-triangle kills |
 //! | [`parallel`] | rayon versions of the distance transform and the flow bake (feature `parallel`; equal results) |
 //! | [`progress`] | progress reporting and cancellation for the bakers |
+//! | [`axes`] | the conversion between this crate's +Z-up world and the renderer's +Y up |
 //! | [`math`], [`hash`] | the one module for transcendental functions (`libm`), the PCG integer hash |
 //!
 //! # Conventions
 //!
-//! - World space is metres, right-handed, **z up**: horizontal positions are `(x, y)`,
-//!   heights are z. Flow is m/s along +x and +y.
+//! - World space is metres, right-handed, **+Z up**: horizontal positions are `(x, y)`,
+//!   heights are z. Flow is m/s along +x and +y. This differs from the rest of the
+//!   workspace (`gpu`, `deferred`'s cascades and `staticscene`'s demo are +Y up):
+//!   [`axes`] holds the one conversion, `(x, y, z)` here is `(x, z, -y)` there
+//!   ([`axes::y_up_from_z_up`], [`axes::z_up_from_y_up`], [`axes::horizontal_from_y_up`]);
+//!   convert at the boundary, not inside this crate.
 //! - Grids (masks, distance fields, flow fields) are row-major, texel `(i, j)` at index
 //!   `j * width + i`, its centre at `origin + (i + 0.5, j + 0.5) * texel_size` where a grid
 //!   has an origin.
@@ -115,6 +120,7 @@ extern crate std;
 compile_error!("water needs float math: enable the `std` (default) or `libm` feature");
 
 pub mod atlas;
+pub mod axes;
 pub mod decal;
 pub mod edt;
 mod error;
@@ -137,6 +143,9 @@ mod wgsl;
 pub mod world;
 
 pub use error::Error;
+/// The glam version this crate's API uses; use `water::glam` to avoid a version mismatch
+/// with a `glam` of your own.
+pub use glam;
 pub use progress::{Progress, Stage, no_progress};
 pub use wgsl::{
     ATLAS_WGSL, DECAL_WGSL, FLOW_WGSL, FOAM_WGSL, GBUFFER_WGSL, MATERIAL_WGSL, NOISE_WGSL,
