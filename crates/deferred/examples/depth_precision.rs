@@ -2,12 +2,20 @@
 //! points at a range of distances (near plane 0.1 m): the relative error of the
 //! reconstructed view-space position against the f64 point. Figures for BENCHMARKS.md:
 //!
-//! `cargo run --release -p deferred --example depth_precision`
+//! `cargo run --release -p deferred --example depth_precision` (no arguments)
 
+use clap::Parser;
+use deferred::glam::{DVec3, DVec4, Vec2};
 use deferred::{DepthMode, Perspective};
-use glam::{DVec3, DVec4, Vec2};
+
+/// Position-from-depth error with an f32 depth buffer, reversed vs standard Z, as a
+/// markdown table.
+#[derive(Parser)]
+#[command(name = "depth_precision")]
+struct Args {}
 
 fn main() {
+    Args::parse();
     let vp = Vec2::new(1920.0, 1080.0);
     println!("| depth buffer | distance 1 m | 10 m | 100 m | 1000 m | 10000 m |");
     println!("| --- | --- | --- | --- | --- | --- |");

@@ -2,13 +2,15 @@
 //! the fraction of front-facing view-space normals KZ2's encoding flips (negative z).
 //! The figures in BENCHMARKS.md's `deferred` section come from this program:
 //!
-//! `cargo run --release -p deferred --example normal_error [directions]`
+//! `cargo run --release -p deferred --example normal_error -- [DIRECTIONS]` (`--help` for
+//! the limits).
 
+use clap::Parser;
+use deferred::glam::{DVec3, Vec3};
 use deferred::normal::{
     NormalWeighting, kz2_decode_view_normal, kz2_encode_view_normal, negative_z_fraction,
     oct_decode, oct_encode_fast, oct_encode_precise,
 };
-use glam::DVec3;
 
 /// xorshift64*, deterministic.
 struct Rng(u64);
@@ -29,7 +31,7 @@ impl Rng {
 }
 
 /// Angle in degrees between an f64 reference and a decoded f32 direction, in f64.
-fn angle_deg(a: DVec3, b: glam::Vec3) -> f64 {
+fn angle_deg(a: DVec3, b: Vec3) -> f64 {
     let b = b.as_dvec3().normalize();
     // atan2 of |cross| and dot: accurate for tiny angles.
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
@@ -57,11 +59,18 @@ impl Stats {
     }
 }
 
+/// Angular error of every normal encoding over uniformly random directions, and the
+/// fraction of front-facing normals KZ2's view-space encoding flips.
+#[derive(Parser)]
+#[command(name = "normal_error")]
+struct Args {
+    /// Random directions to measure.
+    #[arg(default_value_t = 10_000_000, value_parser = clap::value_parser!(u64).range(1..=10_000_000_000))]
+    directions: u64,
+}
+
 fn main() {
-    let count: u64 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(10_000_000);
+    let count = Args::parse().directions;
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     let (mut fast, mut precise, mut kz2) = (Stats::default(), Stats::default(), Stats::default());
     for _ in 0..count {

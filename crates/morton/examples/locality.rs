@@ -2,21 +2,37 @@
 //! largest step between consecutive points, mean bounds of runs of consecutive points, as
 //! a cluster builder would cut them) and the cost of computing each key.
 //!
-//! Run: `cargo run --release -p morton --example locality [points] [bits] [chunk]`
-//! (defaults 1000000 points on a 2^10 grid per axis, runs of 256).
+//! Run: `cargo run --release -p morton --example locality -- [POINTS] [BITS] [CHUNK]`
+//! (defaults 1000000 points on a 2^10 grid per axis, runs of 256; `--help` for the limits).
 
 use std::time::Instant;
 
-use glam::UVec3;
+use clap::Parser;
+use morton::glam::UVec3;
 use morton::locality::{Curve, curve_order3, measure3};
 
+/// Locality and key cost of the Morton and Hilbert curves over random points.
+#[derive(Parser)]
+#[command(name = "locality")]
+struct Args {
+    /// Random points (about 40 bytes each).
+    #[arg(default_value_t = 1_000_000, value_parser = clap::value_parser!(u32).range(2..=50_000_000))]
+    points: u32,
+    /// Bits per axis of the grid (a 2^BITS grid per axis; a 3D u64 code holds 21).
+    #[arg(default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=21))]
+    bits: u32,
+    /// Points per run when measuring run bounds (a cluster's size).
+    #[arg(default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    chunk: u32,
+}
+
 fn main() {
-    let mut args = std::env::args()
-        .skip(1)
-        .map(|a| a.parse::<usize>().expect("a number"));
-    let n = args.next().unwrap_or(1_000_000);
-    let bits = args.next().unwrap_or(10).clamp(1, 21) as u32;
-    let chunk = args.next().unwrap_or(256);
+    let Args {
+        points,
+        bits,
+        chunk,
+    } = Args::parse();
+    let (n, chunk) = (points as usize, chunk as usize);
     let mut s = 0x853c_49e6_748f_ea9bu64;
     let mut next = || {
         s ^= s << 13;

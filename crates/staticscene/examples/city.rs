@@ -1,12 +1,14 @@
 //! Builds the demo city and prints its tiles, bytes per instance and build time, and
 //! compares the two cluster partitions (Morton buckets vs axis-aligned splits).
 //!
-//! `cargo run -p staticscene --release --example city -- [instances]` (default 1 500 000).
+//! `cargo run -p staticscene --release --example city -- [INSTANCES]` (default 1 500 000;
+//! `--help` for the limits).
 
 use std::time::Instant;
 
-use glam::{DQuat, DVec3, Mat4};
+use clap::Parser;
 use staticscene::demo::{CityConfig, city};
+use staticscene::glam::{DQuat, DVec3, Mat4};
 use staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, Partition, QueryOptions, QueryOutput, QueryParams,
     ResourceLibrary, Scene, TileStreamer, ViewDesc,
@@ -25,13 +27,20 @@ fn street(size: f64, a: f64) -> ViewDesc {
     v
 }
 
+/// Builds the demo city, prints its bytes per instance and build time, and compares the
+/// two cluster partitions.
+#[derive(Parser)]
+#[command(name = "city")]
+struct Args {
+    /// About how many static instances the city has (the lot count is chosen for it; about
+    /// 100 bytes of memory each while building).
+    #[arg(default_value_t = 1_500_000, value_parser = clap::value_parser!(u32).range(1..=20_000_000))]
+    instances: u32,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let target: usize = std::env::args()
-        .nth(1)
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(1_500_000);
-    let cfg = CityConfig::with_instances(target);
+    let args = Args::parse();
+    let cfg = CityConfig::with_instances(args.instances as usize);
     let t = Instant::now();
     let c = city(&cfg);
     println!(

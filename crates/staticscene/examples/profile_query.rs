@@ -1,19 +1,43 @@
 //! Runs the street-view query of the demo city in a loop (for `perf`).
 //!
-//! `cargo run -p staticscene --release --features parallel --example profile_query -- [iterations] [precull 0/1] [par 0/1]`
+//! `cargo run -p staticscene --release --features parallel --example profile_query -- [ITERATIONS] [--precull] [--parallel]`
 
-use glam::{DQuat, DVec3, Mat4};
+use clap::Parser;
 use staticscene::demo::{CityConfig, city};
+use staticscene::glam::{DQuat, DVec3, Mat4};
 use staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, QueryOptions, QueryOutput, QueryParams,
     ResourceLibrary, Scene, TileStreamer, ViewDesc,
 };
 
+/// Runs the street-view query of the 1.5M-instance demo city in a loop and prints the time
+/// per query.
+#[derive(Parser)]
+#[command(name = "profile_query")]
+struct Args {
+    /// Queries to run.
+    #[arg(default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    iterations: u32,
+    /// Pre-cull tiles and clusters on the CPU first.
+    #[arg(long)]
+    precull: bool,
+    /// Run the query on rayon's threads (needs the `parallel` feature).
+    #[arg(long)]
+    parallel: bool,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut args = std::env::args().skip(1);
-    let iters: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(50);
-    let precull = args.next().map(|s| s != "0").unwrap_or(false);
-    let par = args.next().map(|s| s != "0").unwrap_or(false);
+    let args = Args::parse();
+    if args.parallel && !cfg!(feature = "parallel") {
+        use clap::CommandFactory;
+        Args::command()
+            .error(
+                clap::error::ErrorKind::ArgumentConflict,
+                "--parallel needs the example built with `--features parallel`",
+            )
+            .exit();
+    }
+    let (iters, precull, par) = (args.iterations as usize, args.precull, args.parallel);
     let cfg = CityConfig::with_instances(1_500_000);
     let c = city(&cfg);
     let mut streamer =

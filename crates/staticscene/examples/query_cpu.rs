@@ -8,8 +8,11 @@
 
 use std::time::{Duration, Instant};
 
+use clap::Parser;
+
 use staticscene::baseline::{flat_query, flatten_scene};
 use staticscene::demo::{CityConfig, aerial_camera, city, raster_boxes, street_camera};
+use staticscene::glam::IVec3;
 use staticscene::{
     BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
     ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
@@ -28,7 +31,14 @@ fn cpu() -> Duration {
     Duration::from_millis(ticks * 10)
 }
 
+/// CPU time per static-scene query on the 1.5M-instance demo city (Linux: reads
+/// /proc/self/stat), sequential and parallel, pre-cull on and off.
+#[derive(Parser)]
+#[command(name = "query_cpu")]
+struct Args {}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    Args::parse();
     let cfg = CityConfig::with_instances(1_500_000);
     let c = city(&cfg);
     let mut streamer =
@@ -102,7 +112,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
         // The flat baseline, sequential.
-        let flat = flatten_scene(&scene, glam::IVec3::ZERO);
+        let flat = flatten_scene(&scene, IVec3::ZERO);
         let mut fade = vec![0u8; flat.len()];
         let (mut fo, mut fb) = (Vec::new(), Vec::new());
         let (w0, c0) = (Instant::now(), cpu());
@@ -114,7 +124,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &flat,
                 &mut fade,
                 &params,
-                glam::IVec3::ZERO,
+                IVec3::ZERO,
                 Some(&hiz),
                 &mut fo,
                 &mut fb,

@@ -1,10 +1,11 @@
 //! Prints the vertex growth of the four primitive-ID encoders on a regular grid, a UV
 //! sphere, a random triangle soup and the Stanford bunny, as the markdown table in
-//! BENCHMARKS.md: `cargo run -p visbuf --release --example growth`.
+//! BENCHMARKS.md: `cargo run -p visbuf --release --example growth` (no arguments).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
 
+use clap::Parser;
 use common::*;
 use visbuf::{
     PrimitiveIdMesh, encode_provoking, encode_provoking_greedy, encode_xor, encode_xor_greedy,
@@ -12,7 +13,13 @@ use visbuf::{
 
 type Encoder = fn(&[u32], u32) -> Result<PrimitiveIdMesh, visbuf::Error>;
 
+/// Vertex growth of the primitive-ID encoders on test meshes, as a markdown table.
+#[derive(Parser)]
+#[command(name = "growth")]
+struct Args {}
+
 fn main() {
+    Args::parse();
     let (_, bunny_idx) = bunny();
     let meshes: Vec<(&str, Vec<u32>, u32)> = vec![
         {

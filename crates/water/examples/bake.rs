@@ -4,16 +4,17 @@
 //! 64 m sectors); prints the time of each step. Writes nothing.
 //!
 //! `cargo run -p water --release --features parallel --example bake -- 4096`
-//! (add `seq` after the size to run the single-threaded versions).
+//! (add `--sequential` to run the single-threaded versions; `--help` for the limits).
 
 use std::io::Write;
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use glam::{Vec2, Vec3};
+use clap::Parser;
 use water::Progress;
 use water::atlas::{FlowAtlas, FlowAtlasSettings};
 use water::flowbake::{FlowBakeInput, FlowBakeSettings};
+use water::glam::{Vec2, Vec3};
 use water::noise::{Fbm, FbmParams, NoiseTexture};
 use water::world::{River, RiverPoint};
 
@@ -111,10 +112,29 @@ pub fn landscape(size: u32, rivers: &[River]) -> Vec<u8> {
     mask
 }
 
+/// The offline water bake of a synthetic landscape (distance field, flow, flow atlas),
+/// timed step by step. Writes nothing.
+#[derive(Parser)]
+#[command(name = "bake")]
+struct Args {
+    /// Map size in texels per side (2 m texels; about 40 bytes of memory per texel).
+    #[arg(default_value_t = 2048, value_parser = clap::value_parser!(u32).range(64..=8192))]
+    size: u32,
+    /// Run the single-threaded versions (always, without the `parallel` feature).
+    #[arg(long)]
+    sequential: bool,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let size: u32 = args.next().map_or(2048, |a| a.parse().expect("size"));
-    let sequential = args.next().as_deref() == Some("seq") || !cfg!(feature = "parallel");
+    if let Err(e) = run(Args::parse()) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(args: Args) -> Result<(), water::Error> {
+    let size = args.size;
+    let sequential = args.sequential || !cfg!(feature = "parallel");
     let rivers = rivers(size);
     let t = Instant::now();
     let mask = landscape(size, &rivers);
@@ -134,7 +154,7 @@ fn main() {
     };
     #[cfg(not(feature = "parallel"))]
     let sdf = water::edt::signed_edt(&mask, size, size, &mut bar());
-    let sdf = sdf.unwrap();
+    let sdf = sdf?;
     let edt_time = t.elapsed();
 
     let input = FlowBakeInput {
@@ -154,7 +174,7 @@ fn main() {
     };
     #[cfg(not(feature = "parallel"))]
     let field = water::flowbake::bake_flow(&input, &settings, &mut bar());
-    let field = field.unwrap();
+    let field = field?;
     let flow_time = t.elapsed();
 
     let t = Instant::now();
@@ -171,8 +191,7 @@ fn main() {
         &s,
         |c| c.x.abs_diff(centre) <= 8 && c.y.abs_diff(centre) <= 8,
         &mut bar(),
-    )
-    .unwrap();
+    )?;
     let atlas_time = t.elapsed();
     let moving = field.flow().iter().filter(|v| v.length() > 0.0).count();
     eprintln!(
@@ -186,4 +205,5 @@ fn main() {
         atlas.height(),
         atlas.resident_count()
     );
+    Ok(())
 }

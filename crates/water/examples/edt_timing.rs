@@ -2,10 +2,12 @@
 //! minimum and median of several runs (the minimum is robust to other load on the machine).
 //!
 //! `cargo run -p water --release --features parallel --example edt_timing -- 2048 7`
+//! (`--help` for the options and limits).
 
 use std::time::Instant;
 
-use glam::Vec2;
+use clap::{Parser, ValueEnum};
+use water::glam::Vec2;
 use water::noise::{Fbm, FbmParams, NoiseTexture};
 
 fn shore_mask(size: u32) -> Vec<u8> {
@@ -44,18 +46,50 @@ fn time(name: &str, runs: usize, mut f: impl FnMut()) -> f64 {
     t[0]
 }
 
+/// One of the timed implementations.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Only {
+    /// `water::edt::signed_edt`, one thread.
+    Water,
+    /// `water::parallel::signed_edt` (needs the `parallel` feature).
+    Parallel,
+    /// imageproc's squared EDT (unsigned).
+    Imageproc,
+}
+
+/// Times the signed distance transform against imageproc on a shoreline mask.
+#[derive(Parser)]
+#[command(name = "edt_timing")]
+struct Args {
+    /// Mask size in texels per side.
+    #[arg(default_value_t = 2048, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    size: u32,
+    /// Runs of each implementation (the minimum and median are reported).
+    #[arg(default_value_t = 7, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    runs: u32,
+    /// Run only this implementation (for `perf stat`).
+    #[arg(value_enum)]
+    only: Option<Only>,
+}
+
 fn main() {
-    let mut args = std::env::args().skip(1);
-    let n: u32 = args.next().map_or(2048, |a| a.parse().expect("size"));
-    let runs: usize = args.next().map_or(7, |a| a.parse().expect("runs"));
-    // Optional: run only one of "water", "parallel", "imageproc" (for `perf stat`).
-    let only = args.next().unwrap_or_default();
-    let on = |name: &str| only.is_empty() || only == name;
+    let args = Args::parse();
+    if args.only == Some(Only::Parallel) && !cfg!(feature = "parallel") {
+        use clap::CommandFactory;
+        Args::command()
+            .error(
+                clap::error::ErrorKind::InvalidValue,
+                "`parallel` needs the example built with `--features parallel`",
+            )
+            .exit();
+    }
+    let (n, runs, only) = (args.size, args.runs as usize, args.only);
+    let on = |o: Only| only.is_none_or(|x| x == o);
     let mask = shore_mask(n);
     let solid = mask.iter().filter(|&&m| m != 0).count() as f64 / mask.len() as f64;
     println!("{n}x{n} mask, {:.0}% solid", solid * 100.0);
     let mut a = f64::NAN;
-    if on("water") {
+    if on(Only::Water) {
         a = time("water signed_edt (1 thread)", runs, || {
             std::hint::black_box(
                 water::edt::signed_edt(&mask, n, n, &mut water::no_progress).unwrap(),
@@ -63,7 +97,7 @@ fn main() {
         });
     }
     #[cfg(feature = "parallel")]
-    if on("parallel") {
+    if on(Only::Parallel) {
         time(
             &format!(
                 "water parallel::signed_edt ({} threads)",
@@ -79,12 +113,14 @@ fn main() {
     }
     let img = imageproc::image::GrayImage::from_raw(n, n, mask.clone()).unwrap();
     let mut b = f64::NAN;
-    if on("imageproc") {
+    if on(Only::Imageproc) {
         b = time("imageproc squared EDT (unsigned)", runs, || {
             std::hint::black_box(
                 imageproc::distance_transform::euclidean_squared_distance_transform(&img),
             );
         });
     }
-    println!("water / imageproc = {:.2}", a / b);
+    if a.is_finite() && b.is_finite() {
+        println!("water / imageproc = {:.2}", a / b);
+    }
 }

@@ -1,9 +1,30 @@
-//! Bakes random lakes and prints the quadtree's size (a quick check of the bake).
-use glam::Vec2;
+//! Bakes a random lake and prints the quadtree's size (a quick check of the bake).
+//!
+//! `cargo run -p water --release --example world_stats -- 5000` (`--help` for the limits).
+
+use clap::Parser;
+use water::glam::Vec2;
 use water::world::{Lake, WaterWorldBuilder};
 
+/// Bakes one random star-shaped lake and prints the quadtree's size and the bake time.
+#[derive(Parser)]
+#[command(name = "world_stats")]
+struct Args {
+    /// Points of the lake's outline. The random star is jagged at every point, so the
+    /// quadtree grows faster than the point count: 10 000 points bake to 18M words in
+    /// seconds, 20 000 exceed `MAX_WORLD_WORDS`.
+    #[arg(default_value_t = 50, value_parser = clap::value_parser!(u32).range(3..=10_000))]
+    points: u32,
+}
+
 fn main() {
-    let n: usize = std::env::args().nth(1).map_or(50, |a| a.parse().unwrap());
+    if let Err(e) = run(Args::parse().points as usize) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run(n: usize) -> Result<(), water::Error> {
     let mut s = 1u64;
     let mut r = || {
         s ^= s << 13;
@@ -25,7 +46,7 @@ fn main() {
         material: 0,
     });
     let t = std::time::Instant::now();
-    let w = b.build(&mut water::no_progress).unwrap();
+    let w = b.build(&mut water::no_progress)?;
     println!(
         "{n} points: {} nodes, depth {}, {} words, {:?}",
         w.node_count(),
@@ -33,4 +54,5 @@ fn main() {
         w.words().len(),
         t.elapsed()
     );
+    Ok(())
 }
