@@ -58,7 +58,8 @@
 //!
 //! # Driving it from wgpu
 //!
-//! The `gpu` crate does this for its per-frame uploads; any wgpu user can.
+//! Designed for per-frame uploads such as the `gpu` crate's; it is not wired into `gpu`
+//! yet. Any wgpu user can drive it like this:
 //!
 //! 1. Create one `wgpu::Buffer` of [`BlockPool::pool_bytes`] (usages as needed, e.g.
 //!    `COPY_DST | VERTEX | INDEX | UNIFORM | STORAGE | INDIRECT`) and one `BlockPool` in an

@@ -1,7 +1,9 @@
 //! Horizon Zero Dawn's static-scene visibility query (Will Vale, "Decima: Visibility in
-//! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of the GPU
-//! compute pass the `gpu` crate runs: the same packed buffers in, the same batched draw
-//! items out. For 0.5-1.5M static instances: immutable tiles built on the streaming
+//! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of a GPU
+//! compute pass: the same packed buffers in, the same batched draw items out. The records
+//! and per-thread tests have a WGSL twin ([`STATICSCENE_WGSL`]); the query is designed to
+//! feed the `gpu` crate's laydown but is not wired into `gpu` yet (its `prepare` takes
+//! every instance of the scene). For 0.5-1.5M static instances: immutable tiles built on the streaming
 //! thread, clusters pre-culled on the CPU, one compute job per visible cluster, one thread
 //! per 16-byte instance.
 //!

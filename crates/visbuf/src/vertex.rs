@@ -620,7 +620,7 @@ mod tests {
 
     /// A line-by-line Rust transliteration of `visbuf_pack_half` / `visbuf_unpack_half` in
     /// vertex.wgsl, checked against the `half` crate: the WGSL algorithm is right if the
-    /// WGSL text says what this says (the gpu crate runs the text itself on a device).
+    /// WGSL text says what this says (no device test runs the text itself yet).
     fn wgsl_pack_half(x: f32) -> u32 {
         let b = x.to_bits();
         let sign = (b >> 16) & 0x8000;
