@@ -311,6 +311,10 @@ impl ThreadCache {
 
 /// The tests of one thread; `fade` is its fade state (when the view fades).
 #[inline]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one thread of the query pass, its bindings and per-lane state as the shader has them"
+)]
 fn test_instance(
     c: &Consts,
     t: &TileBuffers<'_>,
@@ -484,6 +488,10 @@ impl Default for BatchAcc {
 ///   still advance, so the caller can size the next frame's buffers).
 ///
 /// Fails if the job's range is outside `tile.instances` or `fade` is too short.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one cluster job of the query pass, taking the pass's bindings (params, tile buffers, HiZ, fade states, instance and batch counter + buffer pairs) in the shader's order"
+)]
 pub fn query_cluster<I, C1, C2>(
     params: &QueryParams,
     tile: &TileBuffers<'_>,
@@ -518,6 +526,10 @@ where
     )
 }
 
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: `query_cluster`'s body, the same bindings"
+)]
 pub(crate) fn run_job<I, C1, C2>(
     c: &Consts,
     tile: &TileBuffers<'_>,

@@ -542,6 +542,10 @@ pub(crate) struct JobOut {
 }
 
 /// Runs one job into scratch buffers sized for it (counters from 0).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one job of the query pass into scratch outputs, the pass's bindings"
+)]
 pub(crate) fn run_into<I: OutputInstance>(
     c: &Consts,
     tile: &StaticTile,

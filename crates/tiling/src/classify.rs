@@ -959,6 +959,10 @@ pub(crate) fn triangle_chunks(
 }
 
 /// Phase 2, one tile: counts into `counts_t` (the tile's counters) and marks `cull`.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one workgroup of mid classify, taking the pass's per-tile bindings in the shader's order"
+)]
 pub(crate) fn count_tile(
     f: &Frame<'_>,
     t: usize,
@@ -1153,6 +1157,10 @@ pub(crate) fn check_mid(
 
 /// Phase 3, one tile: writes the tile's commands (`commands_t`, starting at the tile's
 /// first command) and final counts (`finals_t`).
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one workgroup of classify output, taking the pass's per-tile bindings in the shader's order"
+)]
 pub(crate) fn output_tile(
     f: &Frame<'_>,
     t: usize,

@@ -67,6 +67,10 @@ pub(crate) struct TileOut {
 
 /// Scans tile `t`: fills its mask row `masks_t`, marks `cull`, returns its counters'
 /// counts and its commands in final order.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: one tile of the fused classification, taking the passes' per-tile bindings in the shaders' order"
+)]
 pub(crate) fn tile(
     f: &Frame<'_>,
     t: usize,

@@ -23,16 +23,17 @@ fn layout_of(vrs: bool) -> VisLayout {
 
 /// Every valid pixel (by the naive decode) appears in exactly one command of its own
 /// tile, pass and group; no wave mixes tiles, passes or groups.
-fn check_invariants(
-    words: &[u32],
-    valid: Option<&[u32]>,
-    w: u32,
-    h: u32,
-    layout: VisLayout,
-    table: &[tiling::MicroBatchInfo],
-    passes: u32,
-    c: &tiling::Classification,
-) {
+fn check_invariants(input: &NaiveInput<'_>, c: &tiling::Classification) {
+    let NaiveInput {
+        words,
+        valid,
+        w,
+        h,
+        layout,
+        table,
+        passes,
+        ..
+    } = *input;
     let tiles_x = w.div_ceil(128);
     let mut seen = vec![0u8; words.len()];
     for wc in &c.output.waves {
@@ -78,16 +79,31 @@ fn check_invariants(
     }
 }
 
-fn run_case(
+/// One random frame to classify.
+struct Case {
     seed: u64,
     w: u32,
     h: u32,
     vrs: bool,
     with_mask: bool,
     wave: WaveWidth,
+    /// Small plan limits: many passes and batch groups.
     small_limits: bool,
+    /// At least this many batches (30 more at most, at random).
     min_batches: usize,
-) -> (tiling::PixelStats, u32) {
+}
+
+fn run_case(case: &Case) -> (tiling::PixelStats, u32) {
+    let Case {
+        seed,
+        w,
+        h,
+        vrs,
+        with_mask,
+        wave,
+        small_limits,
+        min_batches,
+    } = *case;
     let mut rng = Rng::new(seed);
     let layout = layout_of(vrs);
     let mut config = PlanConfig {
@@ -110,7 +126,7 @@ fn run_case(
     }
     let cfg = ClassifyConfig::for_plan(&scene.plan, wave);
     let got = classify(&vis, &scene.plan.table, &scene.indices, &cfg).unwrap();
-    let want = naive_classify(&NaiveInput {
+    let input = NaiveInput {
         words: &words,
         valid: mask.as_deref(),
         w,
@@ -121,7 +137,8 @@ fn run_case(
         passes: cfg.pass_count,
         wave: wave.lanes(),
         chunk_count: cfg.chunk_count,
-    });
+    };
+    let want = naive_classify(&input);
     assert_eq!(got.masks, want.masks, "laydown finalise masks");
     assert_eq!(got.mid.counter_offsets, want.mid.counter_offsets);
     assert_eq!(got.mid.counts, want.mid.counts);
@@ -142,16 +159,7 @@ fn run_case(
     let phases = tiling::classify_phases(&vis, &scene.plan.table, &scene.indices, &cfg).unwrap();
     assert_eq!(phases, want, "classify_phases");
     assert_eq!(got.output.stats.pixels(), u64::from(w * h));
-    check_invariants(
-        &words,
-        mask.as_deref(),
-        w,
-        h,
-        layout,
-        &scene.plan.table,
-        cfg.pass_count,
-        &got,
-    );
+    check_invariants(&input, &got);
     (got.output.stats, cfg.pass_count)
 }
 
@@ -168,7 +176,16 @@ proptest! {
         wave in 0usize..4,
         small_limits: bool,
     ) {
-        let _ = run_case(seed, w, h, vrs, with_mask, WaveWidth::ALL[wave], small_limits, 1);
+        let _ = run_case(&Case {
+            seed,
+            w,
+            h,
+            vrs,
+            with_mask,
+            wave: WaveWidth::ALL[wave],
+            small_limits,
+            min_batches: 1,
+        });
     }
 }
 
@@ -176,7 +193,16 @@ proptest! {
 fn multi_tile_frames_with_many_passes() {
     for seed in 0..4 {
         let vrs = seed % 2 == 1;
-        let (stats, passes) = run_case(seed, 513, 260, vrs, seed >= 2, WaveWidth::W32, true, 40);
+        let (stats, passes) = run_case(&Case {
+            seed,
+            w: 513,
+            h: 260,
+            vrs,
+            with_mask: seed >= 2,
+            wave: WaveWidth::W32,
+            small_limits: true,
+            min_batches: 40,
+        });
         // The cases exercise what they claim: many passes, every kind of pixel, and VRS
         // samples shared between pixels.
         assert!(passes >= 5, "{passes} passes");

@@ -213,8 +213,7 @@ pub fn encode_provoking<I: Copy + Into<u32>>(
     let triangles = validate(indices, vertex_count)?;
     let mut mesh = identity_mesh(indices, vertex_count);
     let matched = max_matching(&mesh.indices, triangles, vertex_count);
-    for t in 0..triangles as usize {
-        let v = matched[t];
+    for (t, &v) in matched.iter().enumerate() {
         if v == NIL {
             let first = mesh.indices[3 * t];
             mesh.indices[3 * t] = mesh.add_vertex(first, t as u32);

@@ -601,8 +601,8 @@ mod tests {
             let err = (got - x as f64).abs();
             // Nearest: no representable value is closer.
             let k = table.partition_point(|(v, _)| *v < x as f64);
-            for j in k.saturating_sub(1)..(k + 1).min(table.len()) {
-                assert!(err <= (table[j].0 - x as f64).abs(), "x={x} got {got}");
+            for (v, _) in &table[k.saturating_sub(1)..(k + 1).min(table.len())] {
+                assert!(err <= (v - x as f64).abs(), "x={x} got {got}");
             }
             let bound = if (x.abs() as f64) >= 2f64.powi(-14) {
                 (x.abs() as f64) * 2f64.powi(-11)

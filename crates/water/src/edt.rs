@@ -309,8 +309,7 @@ pub(crate) fn row_pass(
             s.f[0] = 0;
             n = 1;
         }
-        for x in a..=b {
-            let gx = g[x];
+        for (x, &gx) in (a..=b).zip(&g[a..=b]) {
             if gx != INF && usize::from(gx) < reach {
                 s.site[n] = x as i32;
                 s.f[n] = i32::from(gx) * i32::from(gx);

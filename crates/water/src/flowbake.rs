@@ -546,10 +546,10 @@ pub(crate) fn smooth_row(
     out: &mut [Vec2],
 ) {
     let (w, h) = (g.w, g.h);
-    for x in 0..w {
+    for (x, o) in out[..w].iter_mut().enumerate() {
         let i = y * w + x;
         if fixed[i] || !reached[i] {
-            out[x] = flow[i];
+            *o = flow[i];
             continue;
         }
         let mut sum = Vec2::ZERO;
@@ -567,7 +567,7 @@ pub(crate) fn smooth_row(
                 }
             }
         }
-        out[x] = g.constrain(i, sum / count);
+        *o = g.constrain(i, sum / count);
     }
 }
 

@@ -157,10 +157,10 @@ fn flow_goes_around_a_rock() {
     // Within 2 m of the rock, flow runs along its outline: perpendicular to the radius.
     let mut worst: f32 = 0.0;
     let mut n = 0;
-    for i in 0..(N * N) as usize {
+    for (i, &m) in mask.iter().enumerate() {
         let p = Vec2::new((i as u32 % N) as f32 + 0.5, (i as u32 / N) as f32 + 0.5);
         let r = (p - rock).length();
-        if mask[i] == 0 && r > 6.0 && r < 7.0 {
+        if m == 0 && r > 6.0 && r < 7.0 {
             let f = ours.flow()[i].normalize_or_zero();
             let radial = (p - rock).normalize();
             worst = worst.max(f.dot(radial).abs());

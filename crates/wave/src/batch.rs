@@ -103,6 +103,10 @@ impl Wave {
     /// assert_eq!(out.batches.count, 4);
     /// assert!(hdr[..4].iter().enumerate().all(|(i, b)| *b == WaveBatch { first_instance: i as u32, instance_count: 1 }));
     /// ```
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "pass-shaped CPU twin: the shader's bindings (instance and batch-header counter + buffer pairs) plus the wave's masks and per-lane closures"
+    )]
     pub fn batch_output<T, C1: Counter + ?Sized, C2: Counter + ?Sized>(
         &self,
         group_end: LaneMask,
@@ -153,6 +157,10 @@ impl Wave {
     /// Writes past the end of either output are dropped and reported in the returned
     /// [`Append`]s, as in [`Wave::aggregated_append`]; a wave with no visible lane does no
     /// atomic at all.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "pass-shaped CPU twin: the shader's bindings (instance and batch-header counter + buffer pairs) plus the wave's masks and per-lane closures"
+    )]
     pub fn batch_output_with<T, B, A, C1, C2>(
         &self,
         group_end: LaneMask,
@@ -184,6 +192,10 @@ impl Wave {
     }
 
     /// [`batch_output_with`](Self::batch_output_with) into any [`Sink`]s.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "pass-shaped CPU twin: the shader's bindings (instance and batch-header counter + buffer pairs) plus the wave's masks and per-lane closures"
+    )]
     pub(crate) fn batch_into<T, B, A, C1, C2>(
         &self,
         group_end: LaneMask,
@@ -300,6 +312,10 @@ impl BatchCompaction {
 ///     WaveBatch { first_instance: 3, instance_count: 2 },
 /// ]);
 /// ```
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: the shader's bindings (instance and batch-header counter + buffer pairs) plus the wave's masks and per-lane closures"
+)]
 pub fn batch_compact<T: Copy, C1: Counter + ?Sized, C2: Counter + ?Sized>(
     width: WaveWidth,
     items: &[T],

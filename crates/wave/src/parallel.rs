@@ -159,6 +159,10 @@ where
 /// [`batch_compact`](crate::batch_compact) on rayon's threads: each wave runs the
 /// run-grouped batch output, appending instances through `instance_counter` and
 /// [`WaveBatch`] headers through `batch_counter`, one aggregated atomic each.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "pass-shaped CPU twin: the shader's bindings (instance and batch-header counter + buffer pairs) plus the wave's masks and per-lane closures"
+)]
 pub fn par_batch_compact<T, E, V>(
     width: WaveWidth,
     items: &[T],
