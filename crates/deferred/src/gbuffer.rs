@@ -422,7 +422,7 @@ fn sanitize_unit(n: Vec3) -> Vec3 {
 /// [`f16::MAX`] as f32, folded at compile time (`to_f32_const`), for the clamps below.
 const HALF_MAX: f32 = f16::MAX.to_f32_const();
 
-/// f32 → half bits ([`f16::from_f32`]: round to nearest even), saturating: NaN → 0,
+/// f32 → half bits (`f16::from_f32`: round to nearest even), saturating: NaN → 0,
 /// overflow clamped to ±[`f16::MAX`].
 #[inline]
 pub fn half_bits(x: f32) -> u16 {
@@ -434,7 +434,7 @@ pub fn half_bits(x: f32) -> u16 {
     f16::from_f32(x).to_bits()
 }
 
-/// Half bits → f32 ([`f16::to_f32`]), finite: NaN → 0, infinities → ±[`f16::MAX`]. WGSL:
+/// Half bits → f32 (`f16::to_f32`), finite: NaN → 0, infinities → ±[`f16::MAX`]. WGSL:
 /// `deferred_half_value`.
 #[inline]
 pub fn half_value(bits: u16) -> f32 {

@@ -235,7 +235,7 @@ pub fn try_pack_half2(v: Vec2) -> Option<u32> {
     Some(u32::from(x.to_bits()) | (u32::from(y.to_bits()) << 16))
 }
 
-/// WGSL `unpack2x16float`: exact ([`f16::to_f32`]).
+/// WGSL `unpack2x16float`: exact (`f16::to_f32`).
 #[must_use]
 #[inline]
 pub fn unpack_half2(word: u32) -> Vec2 {
