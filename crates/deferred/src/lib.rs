@@ -71,7 +71,7 @@
 //! four texels with `textureLoad` and unpacks. The octahedral layout:
 //!
 //! ```wgsl
-//! // prepend deferred::GBUFFER_WGSL
+//! #import deferred::gbuffer
 //! @group(1) @binding(0) var rt0: texture_storage_2d<rgba8unorm, write>;  // RT0: lighting rgb + glow
 //! @group(1) @binding(1) var rt1: texture_storage_2d<rgba8uint, write>;   // RT1: normal code + roughness
 //! @group(1) @binding(2) var rt2: texture_storage_2d<rgba16float, write>; // RT2: motion xy, specular
@@ -96,21 +96,21 @@
 //! `deferred_gbuffer_kz2_pack` wants a *view-space* normal (multiply a world normal by the
 //! view rotation first) and `deferred_gbuffer_kz2_unpack` returns one with `z >= 0`. A
 //! render-pass geometry pass returns the same four values from its fragment shader at
-//! `@location(0..3)`. Position is not stored: reconstruct it from depth with [`DEPTH_WGSL`]
+//! `@location(0..3)`. Position is not stored: reconstruct it from depth with `deferred::depth`
 //! (`deferred_view_position`, or `deferred_position_from_inverse` with the inverse
 //! view-projection for camera-relative world space).
 //!
 //! # WGSL
 //!
-//! Binding-free snippets, each a string constant; [`WGSL`] is all of them concatenated in
-//! dependency order. They hold only `const`s, structs and functions, every name prefixed
+//! Binding-free library modules ([`wgsl::MODULES`]), imported by a pass with `#import
+//! deferred::gbuffer` and the like and composed by the `shader` crate. They hold only `const`s, structs and functions, every name prefixed
 //! `deferred_` / `DEFERRED_` / `Deferred`, and need no optional capability (naga validates
 //! each with `Caps::CORE`). Each `const` equals the Rust constant of the same meaning and
-//! each struct has the Rust struct's layout: unit tests read them back. `tests/gpu.rs`
+//! each struct has the Rust struct's layout: unit tests read them back. `tests/device.rs`
 //! runs them on a device against the Rust functions (lavapipe and an NVIDIA H100 agree:
 //! bit for bit except 3 of 60 000 sRGB codes one off, from the device's `pow`).
 //!
-//! **[`GBUFFER_WGSL`]** (the tables in [`gbuffer`] give every target's format and channels)
+//! **`deferred::gbuffer`** ([`wgsl::GBUFFER`]; the tables in [`gbuffer`] give every target's format and channels)
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -126,7 +126,7 @@
 //! | `deferred_spec_power_from_roughness(r)` / `deferred_roughness_from_spec_power(p)` | | [`gbuffer::spec_power_from_roughness`], [`gbuffer::roughness_from_spec_power`] |
 //! | `deferred_unpack_lighting(rt0)` | RT0 value | HDR lighting ([`gbuffer::reconstruct_hdr`]) |
 //!
-//! **[`DEPTH_WGSL`]** (conventions in [`depth`])
+//! **`deferred::depth`** ([`wgsl::DEPTH`]; conventions in [`depth`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -136,7 +136,7 @@
 //! | `deferred_position_from_inverse(inv, pixel, viewport, depth)` | inverse (view-)projection | view / world position, any projection |
 //! | `deferred_ndc_from_pixel(pixel, inv_viewport)` | pixel position | NDC `xy` |
 //!
-//! **[`LIGHTS_WGSL`]** (needs [`DEPTH_WGSL`] in front; conventions in [`lights`])
+//! **`deferred::lights`** ([`wgsl::LIGHTS`], imports `deferred::depth`; conventions in [`lights`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -148,7 +148,7 @@
 //! | `deferred_depth_bounds_overlap(tile, bounds, reversed)` | tile depth range, [`LightClass::depth_bounds`] | the depth-bounds test per tile ([`lights::depth_bounds_overlap`]) |
 //! | `deferred_tile_is_empty(tile, far_depth)` | tile depth | no geometry in the tile |
 //!
-//! **[`SHADOW_WGSL`]**
+//! **`deferred::shadow`** ([`wgsl::SHADOW`])
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -176,7 +176,7 @@ mod math;
 pub mod msaa;
 pub mod normal;
 mod tables;
-mod wgsl;
+pub mod wgsl;
 
 pub use cascades::{
     Cascade, CascadeCamera, CascadeParams, DeferredCascade, StableCascades, practical_splits,
@@ -191,4 +191,3 @@ pub use lights::{
     DeferredLight, DeferredTileDepth, LightClass, LightClassifier, LightPath, ShadowFade,
     cull_tiles, tile_depth_ranges,
 };
-pub use wgsl::{DEPTH_WGSL, GBUFFER_WGSL, LIGHTS_WGSL, SHADOW_WGSL, WGSL};

@@ -1,38 +1,42 @@
-//! The WGSL twins. Each module is a binding-free snippet; the constants in it are tied to
-//! the Rust definitions by the unit tests at the bottom of this file.
+//! The WGSL twins: binding-free library modules (every name prefixed `deferred_` /
+//! `DEFERRED_` / `Deferred`) that passes import with `#import deferred::gbuffer` and the
+//! like (see the `shader` crate); the constants in them are tied to the Rust definitions by
+//! the unit tests at the bottom of this file.
 
-/// G-buffer pack/unpack of both layouts and the normal codecs. See the crate docs' WGSL
-/// table.
-pub const GBUFFER_WGSL: &str = include_str!("wgsl/gbuffer.wgsl");
+use shader::Module;
 
-/// Position from depth: the fast symmetric-perspective path and the inverse-matrix path.
-pub const DEPTH_WGSL: &str = include_str!("wgsl/depth.wgsl");
+/// `deferred::gbuffer`: G-buffer pack/unpack of both layouts and the normal codecs. See
+/// the crate docs' WGSL table.
+pub const GBUFFER: Module = Module::new("deferred::gbuffer", include_str!("wgsl/gbuffer.wgsl"));
 
-/// Tiled light culling's per-tile test, the light and tile-depth structs, and the
-/// depth-bounds emulation. Needs [`DEPTH_WGSL`] in front of it.
-pub const LIGHTS_WGSL: &str = include_str!("wgsl/lights.wgsl");
+/// `deferred::depth`: position from depth, the fast symmetric-perspective path and the
+/// inverse-matrix path.
+pub const DEPTH: Module = Module::new("deferred::depth", include_str!("wgsl/depth.wgsl"));
 
-/// Stable cascade lookup, the MSAA PCF tap record and the edge tests.
-pub const SHADOW_WGSL: &str = include_str!("wgsl/shadow.wgsl");
+/// `deferred::lights`: tiled light culling's per-tile test, the light and tile-depth
+/// structs, and the depth-bounds emulation (imports `deferred::depth`).
+pub const LIGHTS: Module = Module::new("deferred::lights", include_str!("wgsl/lights.wgsl"));
 
-/// Every module above, concatenated in dependency order.
-pub const WGSL: &str = concat!(
-    include_str!("wgsl/gbuffer.wgsl"),
-    include_str!("wgsl/depth.wgsl"),
-    include_str!("wgsl/lights.wgsl"),
-    include_str!("wgsl/shadow.wgsl")
-);
+/// `deferred::shadow`: stable cascade lookup, the MSAA PCF tap record and the edge tests.
+pub const SHADOW: Module = Module::new("deferred::shadow", include_str!("wgsl/shadow.wgsl"));
+
+/// This crate's modules.
+pub const MODULES: &[Module] = &[GBUFFER, DEPTH, LIGHTS, SHADOW];
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::gbuffer::*;
     use crate::normal::*;
-    use shadercheck::{Caps, assert_valid, const_f32, const_u32};
+    use shadercheck::{Caps, const_f32, const_u32};
+
+    fn assert_valid(_: &str, m: Module, caps: Caps) -> naga::Module {
+        shadercheck::assert_composed(&[MODULES], m.name, &[], caps)
+    }
 
     #[test]
     fn gbuffer_wgsl_constants_match_rust() {
-        let m = assert_valid("deferred GBUFFER_WGSL", GBUFFER_WGSL, Caps::CORE);
+        let m = assert_valid("", GBUFFER, Caps::CORE);
         let u = [
             ("DEFERRED_OCT_BITS", OCT_BITS),
             ("DEFERRED_OCT_AXIS_MASK", OCT_AXIS_MASK),
@@ -86,19 +90,10 @@ mod tests {
         );
     }
 
-    /// Every module, with the capability set it is validated under.
-    const MODULES: &[(&str, &str, &str)] = &[
-        ("GBUFFER_WGSL", "", GBUFFER_WGSL),
-        ("DEPTH_WGSL", "", DEPTH_WGSL),
-        ("LIGHTS_WGSL", DEPTH_WGSL, LIGHTS_WGSL),
-        ("SHADOW_WGSL", "", SHADOW_WGSL),
-    ];
-
     #[test]
     fn lights_and_shadow_wgsl_match_rust() {
         use crate::lights::*;
-        let src = alloc::format!("{DEPTH_WGSL}{LIGHTS_WGSL}");
-        let m = assert_valid("deferred LIGHTS_WGSL", &src, Caps::CORE);
+        let m = assert_valid("", LIGHTS, Caps::CORE);
         for (name, value) in [
             ("DEFERRED_TILE_SIZE", TILE_SIZE),
             ("DEFERRED_MAX_LIGHTS_PER_TILE", MAX_LIGHTS_PER_TILE),
@@ -113,7 +108,7 @@ mod tests {
         let (offsets, size) = struct_layout(&m, "DeferredTileDepth");
         assert_eq!(size as usize, size_of::<DeferredTileDepth>());
         assert_eq!(offsets, [0, 4]);
-        let m = assert_valid("deferred SHADOW_WGSL", SHADOW_WGSL, Caps::CORE);
+        let m = assert_valid("", SHADOW, Caps::CORE);
         let (offsets, size) = struct_layout(&m, "DeferredCascade");
         assert_eq!(size as usize, size_of::<crate::DeferredCascade>());
         assert_eq!(offsets, [0, 64, 68, 72, 76]);
@@ -139,56 +134,26 @@ mod tests {
 
     #[test]
     fn depth_wgsl_struct_matches_rust() {
-        let m = assert_valid("deferred DEPTH_WGSL", DEPTH_WGSL, Caps::CORE);
+        let m = assert_valid("", DEPTH, Caps::CORE);
         let (offsets, size) = struct_layout(&m, "DeferredProjection");
         assert_eq!(size as usize, size_of::<crate::DeferredProjection>());
         assert_eq!(offsets, [0, 8, 12, 16]);
     }
 
     #[test]
-    fn modules_are_binding_free_prefixed_and_concatenate() {
-        let mut all = alloc::string::String::new();
-        for (name, needs, src) in MODULES {
-            // Validate with what it needs in front, then check only its own items.
-            let with = alloc::format!("{needs}{src}");
-            assert_valid(name, &with, Caps::CORE);
-            let m = match naga::front::wgsl::parse_str(src) {
-                Ok(m) => m,
-                // A module that names items of the one it needs parses only with it.
-                Err(_) => naga::front::wgsl::parse_str(&with).unwrap(),
-            };
-            assert!(
-                m.global_variables.is_empty(),
-                "{name}: has bindings / module-scope vars"
-            );
-            assert!(m.entry_points.is_empty(), "{name}: has entry points");
-            for (_, f) in m.functions.iter() {
-                let n = f.name.as_deref().unwrap_or("");
-                assert!(
-                    n.starts_with("deferred_"),
-                    "{name}: function `{n}` not prefixed"
-                );
-            }
-            for n in shadercheck::const_names(&m) {
-                assert!(
-                    n.starts_with("DEFERRED_"),
-                    "{name}: const `{n}` not prefixed"
-                );
-            }
-            for (_, t) in m.types.iter() {
-                if let Some(n) = t.name.as_deref()
-                    && matches!(t.inner, naga::TypeInner::Struct { .. })
-                    && !n.starts_with("__")
-                {
-                    assert!(
-                        n.starts_with("Deferred"),
-                        "{name}: struct `{n}` not prefixed"
-                    );
-                }
-            }
-            all.push_str(src);
+    fn modules_are_binding_free_prefixed_and_compose_together() {
+        for m in MODULES {
+            let module = assert_valid(m.name, *m, Caps::CORE);
+            shadercheck::assert_prefixed(m.name, &module, "deferred", &[], true);
         }
-        assert_valid("all deferred WGSL", &all, Caps::CORE);
-        assert_eq!(all, WGSL);
+        assert_eq!(LIGHTS.imports(&[]).unwrap(), ["deferred::depth"]);
+        let all = shader::compose_source(
+            &[MODULES],
+            "all",
+            "#import deferred::gbuffer\n#import deferred::lights\n#import deferred::shadow\n",
+            &[],
+        )
+        .unwrap();
+        shadercheck::validate(&all, Caps::CORE).unwrap();
     }
 }

@@ -46,6 +46,16 @@ impl PrimitiveIdPath {
         }
     }
 
+    /// The name of the feature [`PrimitiveIdPath::required_features`] holds ("none" for
+    /// the provoking-vertex path).
+    pub fn feature_name(self) -> &'static str {
+        match self {
+            PrimitiveIdPath::Builtin => "PRIMITIVE_INDEX",
+            PrimitiveIdPath::PerVertexXor => "SHADER_PER_VERTEX",
+            PrimitiveIdPath::ProvokingVertex => "none",
+        }
+    }
+
     /// The best path a device with `features` supports.
     pub fn best_for(features: wgpu::Features) -> PrimitiveIdPath {
         Self::ALL
@@ -223,6 +233,21 @@ pub fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> Result<T>) -> Result
         return Err(Error::Validation(e.to_string()));
     }
     out
+}
+
+/// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) from `offset` into a new
+/// vector, after the GPU finished the work submitted so far.
+///
+/// # Errors
+/// Mapping or waiting failed ([`Error::Map`], [`Error::Poll`]).
+pub fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    offset: u64,
+    size: u64,
+) -> Result<Vec<u8>> {
+    crate::resources::readback::read_buffer(device, queue, buffer, offset, size)
 }
 
 /// Blocks until the GPU has finished all submitted work.

@@ -3,8 +3,8 @@
 //! depth-equal pass has. All are computed on the CPU from read-back buffers, so they show
 //! what the GPU wrote.
 
-use crate::classify::GpuClassification;
 use crate::image::{Rgba8Image, heat_color, id_color};
+use crate::stats::GpuClassification;
 
 /// Colour of pixels without vis-buffer geometry (sky) in the views.
 const EMPTY: [u8; 4] = [230, 200, 40, 255];

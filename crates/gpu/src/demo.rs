@@ -7,10 +7,8 @@
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
-use crate::scene::{
-    AlbedoLayer, Batch, Camera, Lighting, Material, MaterialId, Mesh, MeshId, PointLight, Scene,
-    ShaderKind,
-};
+use crate::frame::{Camera, FrameInput, Lighting, PointLight};
+use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
 /// Which demo scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -55,12 +53,193 @@ impl Default for DemoOptions {
     }
 }
 
-/// Builds a demo scene.
-pub fn build(options: &DemoOptions) -> Scene {
+/// Builds a demo scene and the frame it is viewed in (its camera and lights).
+///
+/// `options.density` is taken as given (a negative or non-finite one makes no instances;
+/// a huge one allocates accordingly): check it with [`check_density`] first.
+pub fn build(options: &DemoOptions) -> (Scene, FrameInput) {
+    generate(options, true)
+}
+
+fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
+    let density = if options.density.is_finite() {
+        options.density.max(0.0)
+    } else {
+        0.0
+    };
     match options.scene {
-        DemoScene::Forest => forest(options.seed, options.density.max(0.0)),
-        DemoScene::Grass => grass(options.seed, options.density.max(0.0)),
+        DemoScene::Forest => forest(options.seed, density, paint),
+        DemoScene::Grass => grass(options.seed, density, paint),
     }
+}
+
+/// Why a density does not fit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DensityError {
+    /// Not a finite number > 0.
+    NotPositive {
+        /// The density given.
+        density: f32,
+    },
+    /// The scene would break a limit of the talks' plan (`tiling`'s passes, micro-batch
+    /// IDs); `max` is the largest density that fits (to two decimals).
+    OverLimit {
+        /// The density given.
+        density: f32,
+        /// The limit, as `tiling` names it.
+        limit: String,
+        /// The largest density that fits.
+        max: f32,
+    },
+}
+
+impl std::fmt::Display for DensityError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DensityError::NotPositive { density } => {
+                write!(f, "density {density} is not a finite number above 0")
+            }
+            DensityError::OverLimit {
+                density,
+                limit,
+                max,
+            } => write!(
+                f,
+                "density {density} breaks a limit of the talk's plan ({limit}); at most density {max:.2} fits"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for DensityError {}
+
+/// Vertices one pass may transform times the passes a plan may have: no demo scene of
+/// more instance vertices than this can be planned (the vertex ring, seed 000).
+fn vertex_budget() -> u64 {
+    let c = tiling::PlanConfig::default();
+    c.pass_vertex_budget() * u64::from(c.max_passes)
+}
+
+/// Instance vertices of the demo at `options`, counted without placing any instance.
+fn instance_vertices(options: &DemoOptions) -> u64 {
+    let d = if options.density.is_finite() {
+        options.density.max(0.0)
+    } else {
+        0.0
+    };
+    let (scene, _) = generate(
+        &DemoOptions {
+            density: 0.0,
+            ..*options
+        },
+        false,
+    );
+    let v = |m: usize| scene.meshes[m].positions.len() as u64;
+    let n = |x: f32| count(x, d) as u64;
+    match options.scene {
+        // Terrain, trunks and canopies (one each per tree), ferns, tufts, rocks.
+        DemoScene::Forest => {
+            v(0) + n(260.0) * (v(1) + v(2).max(v(6)))
+                + n(3000.0) * v(3)
+                + n(12_000.0) * v(4)
+                + n(300.0) * v(5)
+        }
+        // Terrain, grass patches (both meshes have the same vertex count), rocks.
+        DemoScene::Grass => {
+            let side = grass_side(d) as u64;
+            v(0) + side * side * v(1).max(v(2)) + n(60.0) * v(3)
+        }
+    }
+}
+
+/// Checks that the demo at `options` can be planned within the talk's limits, without
+/// painting its textures (and, over the vertex budget, without placing its instances).
+///
+/// # Errors
+/// A density that is not finite and above 0, or one over a limit (with the largest that
+/// fits).
+pub fn check_density(options: &DemoOptions) -> Result<(), DensityError> {
+    if !(options.density.is_finite() && options.density > 0.0) {
+        return Err(DensityError::NotPositive {
+            density: options.density,
+        });
+    }
+    match plan_error(options) {
+        None => Ok(()),
+        Some(limit) => Err(DensityError::OverLimit {
+            density: options.density,
+            limit,
+            max: max_density(options.scene, options.seed),
+        }),
+    }
+}
+
+/// The limit the demo at `options` breaks, if any.
+fn plan_error(options: &DemoOptions) -> Option<String> {
+    let vertices = instance_vertices(options);
+    if vertices > vertex_budget() {
+        return Some(format!(
+            "{vertices} instance vertices, over {} passes of {} vertices (half the 24 MiB vertex ring)",
+            tiling::MAX_PASSES,
+            tiling::PlanConfig::default().pass_vertex_budget()
+        ));
+    }
+    let (scene, _) = generate(options, false);
+    let positions: Vec<Vec<[f32; 3]>> = scene
+        .batches
+        .iter()
+        .map(|b| {
+            b.instances
+                .iter()
+                .map(|t| t.translation.to_array())
+                .collect()
+        })
+        .collect();
+    let batches: Vec<tiling::Batch<'_>> = scene
+        .batches
+        .iter()
+        .zip(&positions)
+        .map(|(b, pos)| {
+            let m = &scene.meshes[b.mesh.0];
+            tiling::Batch {
+                shader: scene.materials[b.material.0].shader.id(),
+                batch_data: b.material.0 as u64,
+                geometry: tiling::Geometry {
+                    vertex_count: m.positions.len() as u32,
+                    primitive_count: m.primitive_count() as u32,
+                    first_index: 0,
+                    base_vertex: 0,
+                },
+                instances: pos,
+            }
+        })
+        .collect();
+    tiling::build_plan(&batches, &tiling::PlanConfig::default())
+        .err()
+        .map(|e| e.to_string())
+}
+
+/// The largest density of `scene` (with `seed`) that the talk's plan takes, to two
+/// decimals (a bisection over the same check as [`check_density`]).
+pub fn max_density(scene: DemoScene, seed: u64) -> f32 {
+    let fits = |density: f32| {
+        plan_error(&DemoOptions {
+            scene,
+            seed,
+            density,
+        })
+        .is_none()
+    };
+    let (mut lo, mut hi) = (0.0f32, 1.0f32);
+    while fits(hi) {
+        lo = hi;
+        hi *= 2.0;
+    }
+    while hi - lo > 0.005 {
+        let mid = 0.5 * (lo + hi);
+        if fits(mid) { lo = mid } else { hi = mid }
+    }
+    (lo * 100.0).floor() / 100.0
 }
 
 // ---------------------------------------------------------------------------------------
@@ -583,7 +762,7 @@ fn count(n: f32, density: f32) -> usize {
     (n * density).round().max(0.0) as usize
 }
 
-fn forest(seed: u64, density: f32) -> Scene {
+fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
     let mut rng = Rng(seed);
     let tseed = seed as u32;
     let size = 160.0;
@@ -596,14 +775,19 @@ fn forest(seed: u64, density: f32) -> Scene {
         rock_mesh(tseed ^ 0x55),
         canopy_mesh(&mut rng, 160),
     ];
-    let albedo_layers = vec![
-        ground_layer(),
-        bark_layer(),
-        leaf_layer(),
-        fern_layer(),
-        grass_layer(),
-        rock_layer(),
-    ];
+    // Painting draws no random numbers: skipping it changes nothing else.
+    let albedo_layers = if paint {
+        vec![
+            ground_layer(),
+            bark_layer(),
+            leaf_layer(),
+            fern_layer(),
+            grass_layer(),
+            rock_layer(),
+        ]
+    } else {
+        Vec::new()
+    };
     let materials = vec![
         material("ground", ShaderKind::Opaque, 0, 0.9),
         material("bark", ShaderKind::Opaque, 1, 0.8),
@@ -617,12 +801,10 @@ fn forest(seed: u64, density: f32) -> Scene {
         },
     ];
     // The camera looks along +Z from the south edge; instances fill a wedge in front of it.
-    let camera = Camera {
-        position: Vec3::new(0.0, terrain_height(0.0, -50.0, tseed) + 1.7, -50.0),
-        target: Vec3::new(0.0, terrain_height(0.0, -30.0, tseed) + 1.2, -30.0),
-        fov_y: 60f32.to_radians(),
-        near: 0.1,
-    };
+    let camera = Camera::look_at(
+        Vec3::new(0.0, terrain_height(0.0, -50.0, tseed) + 1.7, -50.0),
+        Vec3::new(0.0, terrain_height(0.0, -30.0, tseed) + 1.2, -30.0),
+    );
     let scatter = |n: usize, scale: (f32, f32), rng: &mut Rng| -> Vec<Affine3A> {
         (0..n)
             .map(|_| {
@@ -689,17 +871,27 @@ fn forest(seed: u64, density: f32) -> Scene {
         ],
         ..Lighting::default()
     };
-    Scene {
-        meshes,
-        materials,
-        albedo_layers,
-        batches,
-        camera,
-        lighting,
-    }
+    (
+        Scene {
+            meshes,
+            materials,
+            albedo_layers,
+            batches,
+        },
+        FrameInput {
+            camera,
+            time: 0.0,
+            lighting,
+        },
+    )
 }
 
-fn grass(seed: u64, density: f32) -> Scene {
+/// Patches along each side of the grass field.
+fn grass_side(density: f32) -> i32 {
+    (44.0 * density.sqrt()).round().max(1.0) as i32
+}
+
+fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
     let mut rng = Rng(seed ^ 0x0067_7261_7373);
     let tseed = seed as u32;
     let size = 120.0;
@@ -710,7 +902,11 @@ fn grass(seed: u64, density: f32) -> Scene {
         blade_patch_mesh(&mut rng, 512, 3, patch * 0.5, 0.8),
         rock_mesh(tseed ^ 0x99),
     ];
-    let albedo_layers = vec![ground_layer(), blade_layer(), rock_layer()];
+    let albedo_layers = if paint {
+        vec![ground_layer(), blade_layer(), rock_layer()]
+    } else {
+        Vec::new()
+    };
     let materials = vec![
         material("ground", ShaderKind::Opaque, 0, 0.9),
         material("tall grass", ShaderKind::AlphaTested, 1, 0.6),
@@ -720,14 +916,12 @@ fn grass(seed: u64, density: f32) -> Scene {
         },
         material("rock", ShaderKind::Opaque, 2, 0.7),
     ];
-    let camera = Camera {
-        position: Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.3, -40.0),
-        target: Vec3::new(0.0, terrain_height(0.0, -25.0, tseed) - 0.6, -25.0),
-        fov_y: 60f32.to_radians(),
-        near: 0.1,
-    };
+    let camera = Camera::look_at(
+        Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.3, -40.0),
+        Vec3::new(0.0, terrain_height(0.0, -25.0, tseed) - 0.6, -25.0),
+    );
     // Patches on a jittered grid over the wedge in front of the camera.
-    let side = (44.0 * density.sqrt()).round().max(1.0) as i32;
+    let side = grass_side(density);
     let (mut tall, mut dry) = (Vec::new(), Vec::new());
     for j in 0..side {
         for i in 0..side {
@@ -772,14 +966,15 @@ fn grass(seed: u64, density: f32) -> Scene {
             instances: rocks,
         },
     ];
-    Scene {
-        meshes,
-        materials,
-        albedo_layers,
-        batches,
-        camera,
-        lighting: Lighting::default(),
-    }
+    (
+        Scene {
+            meshes,
+            materials,
+            albedo_layers,
+            batches,
+        },
+        FrameInput::new(camera),
+    )
 }
 
 fn rng_scale(rng: &mut Rng) -> f32 {
@@ -798,17 +993,48 @@ mod tests {
                 seed: 7,
                 density: 0.2,
             };
-            let a = build(&o);
+            let (a, frame) = build(&o);
             a.validate()
                 .unwrap_or_else(|e| panic!("{}: {e}", scene.name()));
+            frame
+                .validate()
+                .unwrap_or_else(|e| panic!("{}: {e}", scene.name()));
             assert!(a.instance_count() > 10, "{}", scene.name());
-            assert_eq!(a, build(&o), "{} is not deterministic", scene.name());
+            assert_eq!(a, build(&o).0, "{} is not deterministic", scene.name());
+        }
+    }
+
+    #[test]
+    fn densities_are_checked_against_the_plan_limits() {
+        let o = |scene, density| DemoOptions {
+            scene,
+            seed: 1,
+            density,
+        };
+        for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            assert!(matches!(
+                check_density(&o(DemoScene::Grass, bad)),
+                Err(DensityError::NotPositive { .. })
+            ));
+        }
+        assert!(check_density(&o(DemoScene::Grass, 1.0)).is_ok());
+        // An absurd density is refused by the vertex bound alone, without placing its
+        // instances; the largest density that fits is given, and it does fit.
+        match check_density(&o(DemoScene::Grass, 1e6)) {
+            Err(DensityError::OverLimit { max, limit, .. }) => {
+                eprintln!("grass: at most density {max} ({limit})");
+                assert!(limit.contains("passes"), "{limit}");
+                assert!(max > 1.0 && max < 1e3, "{max}");
+                assert!(check_density(&o(DemoScene::Grass, max)).is_ok());
+                assert!(check_density(&o(DemoScene::Grass, max * 1.1)).is_err());
+            }
+            other => panic!("{other:?}"),
         }
     }
 
     #[test]
     fn alpha_tested_layers_have_holes_and_opaque_layers_do_not() {
-        let s = build(&DemoOptions {
+        let (s, _) = build(&DemoOptions {
             scene: DemoScene::Forest,
             seed: 1,
             density: 0.05,

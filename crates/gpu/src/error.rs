@@ -14,6 +14,13 @@ pub enum Error {
     },
     /// The adapter refused the device request.
     RequestDevice(String),
+    /// The device lacks a feature a requested path needs.
+    MissingFeature {
+        /// The wgpu feature.
+        feature: &'static str,
+        /// What needs it.
+        needed_by: &'static str,
+    },
     /// wgpu reported a validation error: a bug in the renderer, or a scene that breaks a
     /// device limit the renderer did not check.
     Validation(String),
@@ -25,8 +32,24 @@ pub enum Error {
     Poll(String),
     /// Reading a buffer back failed.
     Map(String),
-    /// The scene breaks a limit or refers to something that does not exist.
+    /// The scene breaks a limit, refers to something that does not exist, or holds a
+    /// value outside its range.
     Scene(SceneError),
+    /// A frame input holds a value outside its range.
+    Frame(FrameError),
+    /// A slice given to the renderer has the wrong length.
+    Length {
+        /// What was given.
+        what: &'static str,
+        /// Its length.
+        got: usize,
+        /// The length it must have.
+        expected: usize,
+    },
+    /// A shader failed to compose (a bug in the renderer's WGSL modules).
+    Shader(shader::Error),
+    /// A prepared scene was given to a renderer other than the one that prepared it.
+    ForeignScene,
     /// A device limit is too small for the request.
     DeviceLimit {
         /// The wgpu limit's name.
@@ -125,6 +148,42 @@ pub enum SceneError {
     Tiling(String),
     /// A primitive-ID encoder refused a mesh.
     Encoding(String),
+    /// A value outside its allowed range (NaN and infinities included).
+    OutOfRange {
+        /// Which value (`material \`bark\`: roughness`).
+        field: String,
+        /// What it was.
+        value: f32,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+}
+
+/// A frame input that cannot be rendered as given.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum FrameError {
+    /// A value outside its allowed range (NaN and infinities included).
+    OutOfRange {
+        /// Which value (`camera.fov_y`, `lighting.point_lights[3].radius`).
+        field: String,
+        /// What it was.
+        value: f32,
+        /// What is allowed.
+        allowed: &'static str,
+    },
+    /// The camera has no well-defined orientation.
+    CameraBasis {
+        /// What is wrong.
+        detail: &'static str,
+    },
+    /// More point lights than the lighting pass takes.
+    TooManyPointLights {
+        /// How many were given.
+        count: usize,
+        /// [`MAX_POINT_LIGHTS`](crate::MAX_POINT_LIGHTS).
+        limit: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -138,12 +197,27 @@ impl fmt::Display for Error {
                  On NVIDIA, install the driver's Vulkan ICD or set VK_DRIVER_FILES to nvidia_icd.json"
             ),
             Error::RequestDevice(s) => write!(f, "the adapter refused the device request: {s}"),
+            Error::MissingFeature { feature, needed_by } => write!(
+                f,
+                "{needed_by} needs the device feature {feature}, which this device does not have"
+            ),
             Error::Validation(s) => write!(f, "wgpu validation error: {s}"),
             Error::OutOfMemory(s) => write!(f, "the GPU ran out of memory: {s}"),
             Error::DeviceLost(s) => write!(f, "the GPU device was lost: {s}"),
             Error::Poll(s) => write!(f, "waiting for the GPU failed: {s}"),
             Error::Map(s) => write!(f, "reading a GPU buffer back failed: {s}"),
             Error::Scene(e) => write!(f, "scene error: {e}"),
+            Error::Frame(e) => write!(f, "frame input error: {e}"),
+            Error::Length {
+                what,
+                got,
+                expected,
+            } => write!(f, "{what}: {got} given, {expected} expected"),
+            Error::Shader(e) => write!(f, "renderer shader: {e}"),
+            Error::ForeignScene => write!(
+                f,
+                "the scene was prepared by another renderer: prepare it with this one"
+            ),
             Error::DeviceLimit {
                 limit,
                 needed,
@@ -221,12 +295,48 @@ impl fmt::Display for SceneError {
             }
             SceneError::Tiling(s) => write!(f, "micro batches and passes: {s}"),
             SceneError::Encoding(s) => write!(f, "primitive-ID encoding: {s}"),
+            SceneError::OutOfRange {
+                field,
+                value,
+                allowed,
+            } => write!(f, "{field} is {value}, allowed: {allowed}"),
+        }
+    }
+}
+
+impl fmt::Display for FrameError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FrameError::OutOfRange {
+                field,
+                value,
+                allowed,
+            } => write!(f, "{field} is {value}, allowed: {allowed}"),
+            FrameError::CameraBasis { detail } => write!(f, "{detail}"),
+            FrameError::TooManyPointLights { count, limit } => write!(
+                f,
+                "{count} point lights, over the limit of {limit} (the lighting pass loops over \
+                 every light at every pixel)"
+            ),
         }
     }
 }
 
 impl std::error::Error for Error {}
 impl std::error::Error for SceneError {}
+impl std::error::Error for FrameError {}
+
+impl From<FrameError> for Error {
+    fn from(e: FrameError) -> Self {
+        Error::Frame(e)
+    }
+}
+
+impl From<shader::Error> for Error {
+    fn from(e: shader::Error) -> Self {
+        Error::Shader(e)
+    }
+}
 
 impl From<SceneError> for Error {
     fn from(e: SceneError) -> Self {

@@ -1,190 +1,539 @@
-//! Per-frame constants and per-instance records, the Rust twins of `shaders/frame.wgsl`.
+//! What changes from frame to frame: the camera, the time, the sun and the lights
+//! ([`FrameInput`]), checked before a frame renders, and the per-frame constants built from
+//! it.
+//!
+//! Conventions: right-handed world space, +Y up, metres, radians. Cameras look down their
+//! local −Z. Projections use reversed Z (near plane at depth 1, far plane at depth 0,
+//! infinite far plane), so `Depth32Float` keeps its precision far away; depth tests are
+//! `Greater`.
 
-use bytemuck::{Pod, Zeroable};
-use glam::{Affine3A, Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
-use crate::scene::{Camera, Lighting};
+use crate::error::FrameError;
+use crate::resources::rows::{FrameUniforms, GpuPointLight};
+use crate::scene::check_range;
 
-/// WGSL of [`FrameUniforms`], [`GpuInstance`] and [`GpuPointLight`] with transform helpers.
-pub const FRAME_WGSL: &str = include_str!("shaders/frame.wgsl");
+/// The most point lights a frame may carry: the lighting pass loops over every light at
+/// every pixel (tiled culling is later work), so more would stall the GPU for seconds.
+/// KZ2 lit 100+ lights per frame, up to 300 on screen.
+pub const MAX_POINT_LIGHTS: usize = 1024;
 
-/// Per-frame constants (WGSL `FrameUniforms`): 304 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct FrameUniforms {
-    /// Camera-relative world to clip: the camera's rotation and projection only.
-    pub view_proj: [[f32; 4]; 4],
-    /// Inverse of `view_proj`: clip to camera-relative world.
-    pub inv_view_proj: [[f32; 4]; 4],
-    /// Last frame's `view_proj` (motion vectors; equal to `view_proj` for a still camera).
-    pub prev_view_proj: [[f32; 4]; 4],
-    /// Camera position (world, metres), w = 1.
-    pub camera_position: [f32; 4],
-    /// Width, height, 1/width, 1/height in pixels.
-    pub viewport: [f32; 4],
-    /// Unit direction towards the sun (xyz).
-    pub sun_direction: [f32; 4],
-    /// Sun colour (linear RGB).
-    pub sun_color: [f32; 4],
-    /// Ambient colour (linear RGB).
-    pub ambient: [f32; 4],
-    /// Sky colour (linear RGB).
-    pub sky: [f32; 4],
-    /// Number of point lights bound.
-    pub point_light_count: u32,
-    /// log2 scale applied to the resolve's texture gradients (0: none).
-    pub mip_bias: f32,
-    /// Frame counter.
-    pub frame_index: u32,
-    /// Padding.
-    pub pad0: u32,
-}
-const _: () = assert!(size_of::<FrameUniforms>() == 304);
-
-/// One instance (WGSL `GpuInstance`): object-to-camera-relative transform rows and its
-/// place in the vis buffer. 64 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuInstance {
-    /// Row 0 of the 3x4 object-to-camera-relative transform.
-    pub row0: [f32; 4],
-    /// Row 1.
-    pub row1: [f32; 4],
-    /// Row 2.
-    pub row2: [f32; 4],
-    /// The micro-batch ID its vis-buffer words carry.
-    pub micro_batch: u32,
-    /// Its instance field within that micro-batch ID.
-    pub instance_field: u32,
-    /// The mesh's primitive bits (`visbuf::PrimitiveBits`).
-    pub primitive_bits: u32,
-    /// Index into the material table.
-    pub material: u32,
-}
-const _: () = assert!(size_of::<GpuInstance>() == 64);
-
-/// One point light (WGSL `GpuPointLight`). 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuPointLight {
-    /// Camera-relative position (xyz) and radius (w), metres.
-    pub position_radius: [f32; 4],
-    /// Linear RGB intensity.
-    pub color: [f32; 4],
-}
-const _: () = assert!(size_of::<GpuPointLight>() == 32);
-
-/// The 3x4 rows of `transform` moved to camera-relative space.
-pub fn camera_relative_rows(transform: &Affine3A, camera: Vec3) -> [[f32; 4]; 3] {
-    let m = Mat4::from(Affine3A::from_translation(-camera) * *transform);
-    let r = m.transpose();
-    [
-        r.x_axis.to_array(),
-        r.y_axis.to_array(),
-        r.z_axis.to_array(),
-    ]
+/// A perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position (world, metres).
+    pub position: Vec3,
+    /// The point looked at (world, metres); not the eye position.
+    pub target: Vec3,
+    /// The world direction that is up on screen; must not be parallel to the view
+    /// direction (+Y for a level camera; pick another to look straight up or down).
+    pub up: Vec3,
+    /// Vertical field of view in radians, in (0, π).
+    pub fov_y: f32,
+    /// Near plane distance (metres), > 0; the far plane is at infinity (reversed Z).
+    pub near: f32,
 }
 
-/// The camera-relative view-projection: rotation and projection only.
-pub fn camera_relative_view_proj(camera: &Camera, aspect: f32) -> Mat4 {
-    let view = camera.view();
-    let rotation_only = Mat4::from_cols(view.x_axis, view.y_axis, view.z_axis, Vec4::W);
-    camera.projection(aspect) * rotation_only
+impl Camera {
+    /// A camera at `position` looking at `target`, +Y up, 60° vertical field of view, near
+    /// plane at 0.1 m.
+    #[must_use]
+    pub fn look_at(position: Vec3, target: Vec3) -> Self {
+        Self {
+            position,
+            target,
+            up: Vec3::Y,
+            fov_y: 60f32.to_radians(),
+            near: 0.1,
+        }
+    }
+
+    /// World-to-view matrix (right-handed, looking down −Z).
+    #[must_use]
+    pub fn view(&self) -> Mat4 {
+        Mat4::look_at_rh(self.position, self.target, self.up)
+    }
+
+    /// View-to-clip matrix for `aspect` = width / height: reversed Z, infinite far plane.
+    #[must_use]
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        Mat4::perspective_infinite_reverse_rh(self.fov_y, aspect, self.near)
+    }
+
+    /// World-to-clip.
+    #[must_use]
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.projection(aspect) * self.view()
+    }
+
+    /// Camera-relative-position-to-clip: the rotation and projection only, what the shaders
+    /// use (positions are camera-relative on the GPU).
+    #[must_use]
+    pub fn relative_view_projection(&self, aspect: f32) -> Mat4 {
+        let view = self.view();
+        let rotation = Mat4::from_cols(view.x_axis, view.y_axis, view.z_axis, Vec4::W);
+        self.projection(aspect) * rotation
+    }
+
+    /// Checks every field: finite, a positive near plane, a field of view in (0, π), a
+    /// target away from the eye and an up vector not parallel to the view direction.
+    ///
+    /// # Errors
+    /// [`FrameError::OutOfRange`] or [`FrameError::CameraBasis`], naming the field.
+    pub fn validate(&self) -> Result<(), FrameError> {
+        for (field, v) in [
+            ("camera.position", self.position),
+            ("camera.target", self.target),
+            ("camera.up", self.up),
+        ] {
+            for (k, c) in ["x", "y", "z"].into_iter().zip(v.to_array()) {
+                range(|| format!("{field}.{k}"), c, f32::MIN, f32::MAX, "finite")?;
+            }
+        }
+        range(
+            || "camera.fov_y".into(),
+            self.fov_y,
+            f32::MIN_POSITIVE,
+            std::f32::consts::PI * (1.0 - f32::EPSILON),
+            "(0, π) radians",
+        )?;
+        range(
+            || "camera.near".into(),
+            self.near,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            "finite, > 0 metres",
+        )?;
+        let dir = self.target - self.position;
+        if dir.length_squared() < 1e-12 {
+            return Err(FrameError::CameraBasis {
+                detail: "camera.target equals camera.position: there is no view direction",
+            });
+        }
+        if self.up.length_squared() < 1e-12 {
+            return Err(FrameError::CameraBasis {
+                detail: "camera.up is zero",
+            });
+        }
+        // sin of the angle between them under ~0.06° leaves no stable right vector.
+        if dir.normalize().cross(self.up.normalize()).length() < 1e-3 {
+            return Err(FrameError::CameraBasis {
+                detail: "camera.up is parallel to the view direction (looking straight up or \
+                         down along it); choose another up vector",
+            });
+        }
+        Ok(())
+    }
 }
 
-/// Fills the frame constants for `camera` and `lighting` at `width` × `height` pixels.
-pub fn frame_uniforms(
-    camera: &Camera,
-    lighting: &Lighting,
-    width: u32,
-    height: u32,
-    point_lights: u32,
+/// A point light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    /// World position (metres).
+    pub position: Vec3,
+    /// Linear RGB intensity, each channel finite and >= 0 (1 lights a white surface at
+    /// 1 m to 1).
+    pub color: Vec3,
+    /// Distance at which the light fades to zero (metres), finite and > 0.
+    pub radius: f32,
+}
+
+/// Sun, sky and lights.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lighting {
+    /// Direction *towards* the sun (world; normalised by the renderer), finite, non-zero.
+    pub sun_direction: Vec3,
+    /// Sun colour (linear RGB, each channel finite and >= 0).
+    pub sun_color: Vec3,
+    /// Constant ambient term (linear RGB, finite, >= 0).
+    pub ambient: Vec3,
+    /// Sky colour behind everything (linear RGB, finite, >= 0).
+    pub sky: Vec3,
+    /// Point lights, at most [`MAX_POINT_LIGHTS`].
+    pub point_lights: Vec<PointLight>,
+}
+
+impl Default for Lighting {
+    fn default() -> Self {
+        Self {
+            sun_direction: Vec3::new(0.4, 0.8, 0.3).normalize(),
+            sun_color: Vec3::new(2.6, 2.4, 2.1),
+            ambient: Vec3::new(0.18, 0.22, 0.28),
+            sky: Vec3::new(0.45, 0.62, 0.9),
+            point_lights: Vec::new(),
+        }
+    }
+}
+
+impl Lighting {
+    /// Checks every value (see the fields).
+    ///
+    /// # Errors
+    /// [`FrameError::OutOfRange`] naming the field, or [`FrameError::TooManyPointLights`].
+    pub fn validate(&self) -> Result<(), FrameError> {
+        let colour = |field: &str, v: Vec3| -> Result<(), FrameError> {
+            for (k, c) in ["r", "g", "b"].into_iter().zip(v.to_array()) {
+                range(|| format!("{field}.{k}"), c, 0.0, f32::MAX, "finite, >= 0")?;
+            }
+            Ok(())
+        };
+        for (k, c) in ["x", "y", "z"]
+            .into_iter()
+            .zip(self.sun_direction.to_array())
+        {
+            range(
+                || format!("lighting.sun_direction.{k}"),
+                c,
+                f32::MIN,
+                f32::MAX,
+                "finite",
+            )?;
+        }
+        if self.sun_direction.length_squared() < 1e-12 {
+            return Err(FrameError::OutOfRange {
+                field: "lighting.sun_direction".into(),
+                value: 0.0,
+                allowed: "a non-zero direction",
+            });
+        }
+        colour("lighting.sun_color", self.sun_color)?;
+        colour("lighting.ambient", self.ambient)?;
+        colour("lighting.sky", self.sky)?;
+        if self.point_lights.len() > MAX_POINT_LIGHTS {
+            return Err(FrameError::TooManyPointLights {
+                count: self.point_lights.len(),
+                limit: MAX_POINT_LIGHTS,
+            });
+        }
+        for (i, l) in self.point_lights.iter().enumerate() {
+            for (k, c) in ["x", "y", "z"].into_iter().zip(l.position.to_array()) {
+                range(
+                    || format!("lighting.point_lights[{i}].position.{k}"),
+                    c,
+                    f32::MIN,
+                    f32::MAX,
+                    "finite",
+                )?;
+            }
+            colour(&format!("lighting.point_lights[{i}].color"), l.color)?;
+            range(
+                || format!("lighting.point_lights[{i}].radius"),
+                l.radius,
+                f32::MIN_POSITIVE,
+                f32::MAX,
+                "finite, > 0 metres",
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Everything one frame takes: [`Renderer::render`](crate::Renderer::render) checks it,
+/// uploads the frame constants, and the point lights only when they changed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameInput {
+    /// The camera.
+    pub camera: Camera,
+    /// Seconds since the application's start (animation time), finite.
+    pub time: f32,
+    /// Sun, sky and point lights.
+    pub lighting: Lighting,
+}
+
+impl FrameInput {
+    /// A frame at time 0 with `camera` and the default lighting.
+    #[must_use]
+    pub fn new(camera: Camera) -> Self {
+        Self {
+            camera,
+            time: 0.0,
+            lighting: Lighting::default(),
+        }
+    }
+
+    /// Checks the camera, the time and the lighting.
+    ///
+    /// # Errors
+    /// The first [`FrameError`] found, naming the field and its allowed range.
+    pub fn validate(&self) -> Result<(), FrameError> {
+        self.camera.validate()?;
+        range(
+            || "time".into(),
+            self.time,
+            f32::MIN,
+            f32::MAX,
+            "finite seconds",
+        )?;
+        self.lighting.validate()
+    }
+}
+
+fn range(
+    field: impl FnOnce() -> String,
+    value: f32,
+    lo: f32,
+    hi: f32,
+    allowed: &'static str,
+) -> Result<(), FrameError> {
+    check_range(field, value, lo, hi, allowed).map_err(|(field, value, allowed)| {
+        FrameError::OutOfRange {
+            field,
+            value,
+            allowed,
+        }
+    })
+}
+
+/// Where the previous frame's camera was, for `prev_view_proj`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PreviousCamera {
+    /// Its camera-relative view-projection.
+    pub view_proj: Mat4,
+    /// Its position (world).
+    pub position: Vec3,
+}
+
+/// The frame constants of `frame` for a scene prepared around `origin`, at
+/// `width` × `height` pixels. `previous`: the last frame's camera on the same scene (none on
+/// a first frame: no motion).
+pub(crate) fn frame_uniforms(
+    frame: &FrameInput,
+    origin: Vec3,
+    (width, height): (u32, u32),
+    mip_bias: f32,
+    frame_index: u32,
+    previous: Option<PreviousCamera>,
 ) -> FrameUniforms {
     let aspect = width as f32 / height.max(1) as f32;
-    let vp = camera_relative_view_proj(camera, aspect);
+    let camera = &frame.camera;
+    let vp = camera.relative_view_projection(aspect);
+    // Last frame's clip position of a point at camera-relative p: its position relative
+    // to the previous camera is p + (camera - previous camera).
+    let prev = previous.map_or(vp, |p| {
+        p.view_proj * Mat4::from_translation(camera.position - p.position)
+    });
+    let l = &frame.lighting;
     FrameUniforms {
         view_proj: vp.to_cols_array_2d(),
         inv_view_proj: vp.inverse().to_cols_array_2d(),
-        prev_view_proj: vp.to_cols_array_2d(),
+        prev_view_proj: prev.to_cols_array_2d(),
         camera_position: camera.position.extend(1.0).to_array(),
+        origin_offset: (origin - camera.position).extend(0.0).to_array(),
         viewport: [
             width as f32,
             height as f32,
             1.0 / width.max(1) as f32,
             1.0 / height.max(1) as f32,
         ],
-        sun_direction: lighting
-            .sun_direction
-            .normalize_or(Vec3::Y)
-            .extend(0.0)
-            .to_array(),
-        sun_color: lighting.sun_color.extend(0.0).to_array(),
-        ambient: lighting.ambient.extend(0.0).to_array(),
-        sky: lighting.sky.extend(0.0).to_array(),
-        point_light_count: point_lights,
-        mip_bias: 0.0,
-        frame_index: 0,
-        pad0: 0,
+        sun_direction: l.sun_direction.normalize_or(Vec3::Y).extend(0.0).to_array(),
+        sun_color: l.sun_color.extend(0.0).to_array(),
+        ambient: l.ambient.extend(0.0).to_array(),
+        sky: l.sky.extend(0.0).to_array(),
+        point_light_count: l.point_lights.len() as u32,
+        mip_bias,
+        frame_index,
+        time: frame.time,
     }
+}
+
+/// The point lights of `lighting` relative to `origin` (at least one row: a binding must
+/// hold one struct even with no lights; the frame's light count says how many are real).
+pub(crate) fn point_light_rows(lighting: &Lighting, origin: Vec3) -> Vec<GpuPointLight> {
+    let mut rows: Vec<GpuPointLight> = lighting
+        .point_lights
+        .iter()
+        .map(|l| GpuPointLight {
+            position_radius: (l.position - origin).extend(l.radius).to_array(),
+            color: l.color.extend(0.0).to_array(),
+        })
+        .collect();
+    if rows.is_empty() {
+        rows.push(GpuPointLight::default());
+    }
+    rows
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn camera_relative_transform_matches_world_transform() {
-        let t = Affine3A::from_scale_rotation_translation(
-            Vec3::splat(1.5),
-            glam::Quat::from_rotation_y(0.7),
-            Vec3::new(100.0, 2.0, -40.0),
-        );
-        let cam = Vec3::new(98.0, 1.0, -45.0);
-        let rows = camera_relative_rows(&t, cam);
-        let p = Vec3::new(0.3, -0.2, 1.0);
-        let world = t.transform_point3(p);
-        let rel: Vec<f32> = rows
-            .iter()
-            .map(|r| Vec4::from(*r).dot(p.extend(1.0)))
-            .collect();
-        for k in 0..3 {
-            assert!((rel[k] - (world - cam)[k]).abs() < 1e-4);
+    fn camera() -> Camera {
+        Camera {
+            position: Vec3::new(10.0, 2.0, -5.0),
+            target: Vec3::new(12.0, 1.0, 5.0),
+            up: Vec3::Y,
+            fov_y: 1.0,
+            near: 0.1,
         }
     }
 
     #[test]
-    fn camera_relative_projection_matches_the_full_one() {
-        let camera = Camera {
-            position: Vec3::new(10.0, 2.0, -5.0),
-            target: Vec3::new(12.0, 1.0, 5.0),
-            fov_y: 1.0,
-            near: 0.1,
-        };
-        let full = camera.view_projection(16.0 / 9.0);
-        let rel = camera_relative_view_proj(&camera, 16.0 / 9.0);
+    fn relative_projection_matches_the_full_one() {
+        let c = camera();
+        let full = c.view_projection(16.0 / 9.0);
+        let rel = c.relative_view_projection(16.0 / 9.0);
         let p = Vec3::new(13.0, 0.5, 9.0);
         let a = full * p.extend(1.0);
-        let b = rel * (p - camera.position).extend(1.0);
+        let b = rel * (p - c.position).extend(1.0);
         assert!((a / a.w - b / b.w).abs().max_element() < 1e-5, "{a} {b}");
     }
 
     #[test]
-    fn wgsl_structs_match_rust_sizes() {
-        let src = format!(
-            "{}{}",
-            FRAME_WGSL, "@group(0) @binding(0) var<uniform> f: FrameUniforms;"
-        );
-        let m = shadercheck::assert_valid("frame.wgsl", &src, shadercheck::Caps::CORE);
-        let size = |name: &str| {
-            m.types.iter().find_map(|(_, t)| match &t.inner {
-                naga::TypeInner::Struct { span, .. } if t.name.as_deref() == Some(name) => {
-                    Some(*span as usize)
-                }
-                _ => None,
-            })
+    fn previous_view_projection_maps_to_last_frames_clip_space() {
+        let before = camera();
+        let mut now = before;
+        now.position += Vec3::new(0.7, -0.1, 0.4);
+        now.target += Vec3::new(1.0, 0.0, 0.0);
+        let origin = Vec3::new(11.0, 0.0, 0.0);
+        let prev = PreviousCamera {
+            view_proj: before.relative_view_projection(2.0),
+            position: before.position,
         };
-        assert_eq!(size("FrameUniforms"), Some(size_of::<FrameUniforms>()));
-        assert_eq!(size("GpuInstance"), Some(size_of::<GpuInstance>()));
-        assert_eq!(size("GpuPointLight"), Some(size_of::<GpuPointLight>()));
+        let u = frame_uniforms(
+            &FrameInput::new(now),
+            origin,
+            (200, 100),
+            0.0,
+            1,
+            Some(prev),
+        );
+        let p = Vec3::new(14.0, 1.5, 9.0);
+        let expected = before.view_projection(2.0) * p.extend(1.0);
+        let got = Mat4::from_cols_array_2d(&u.prev_view_proj) * (p - now.position).extend(1.0);
+        assert!(
+            (expected / expected.w - got / got.w).abs().max_element() < 1e-5,
+            "{expected} {got}"
+        );
+        // The origin offset turns origin-relative into camera-relative positions.
+        let o = Vec4::from(u.origin_offset).truncate();
+        assert!(((p - origin) + o - (p - now.position)).abs().max_element() < 1e-5);
+        // No previous frame: no motion.
+        let first = frame_uniforms(&FrameInput::new(now), origin, (200, 100), 0.0, 0, None);
+        assert_eq!(first.prev_view_proj, first.view_proj);
+    }
+
+    #[test]
+    fn bad_cameras_are_named() {
+        let field = |c: Camera| match c.validate() {
+            Err(FrameError::OutOfRange { field, .. }) => field,
+            Err(FrameError::CameraBasis { detail }) => detail.into(),
+            other => panic!("{other:?}"),
+        };
+        let c = camera();
+        assert!(c.validate().is_ok());
+        assert_eq!(field(Camera { fov_y: 3.2, ..c }), "camera.fov_y");
+        assert_eq!(
+            field(Camera {
+                fov_y: std::f32::consts::PI,
+                ..c
+            }),
+            "camera.fov_y"
+        );
+        assert_eq!(field(Camera { fov_y: 0.0, ..c }), "camera.fov_y");
+        assert_eq!(field(Camera { near: 0.0, ..c }), "camera.near");
+        assert_eq!(
+            field(Camera {
+                near: f32::NAN,
+                ..c
+            }),
+            "camera.near"
+        );
+        assert_eq!(
+            field(Camera {
+                position: Vec3::new(f32::INFINITY, 0.0, 0.0),
+                ..c
+            }),
+            "camera.position.x"
+        );
+        let straight_up = Camera {
+            target: c.position + Vec3::Y * 5.0,
+            ..c
+        };
+        assert!(field(straight_up).contains("parallel"));
+        // Looking straight down is fine with another up vector.
+        let down = Camera {
+            target: c.position - Vec3::Y,
+            up: Vec3::Z,
+            ..c
+        };
+        assert!(down.validate().is_ok());
+        assert!(
+            field(Camera {
+                target: c.position,
+                ..c
+            })
+            .contains("no view direction")
+        );
+    }
+
+    #[test]
+    fn bad_lighting_is_named() {
+        let light = PointLight {
+            position: Vec3::ZERO,
+            color: Vec3::ONE,
+            radius: 5.0,
+        };
+        let field = |l: Lighting| match l.validate() {
+            Err(FrameError::OutOfRange { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        assert!(Lighting::default().validate().is_ok());
+        assert_eq!(
+            field(Lighting {
+                sun_direction: Vec3::new(f32::NAN, 1.0, 0.0),
+                ..Lighting::default()
+            }),
+            "lighting.sun_direction.x"
+        );
+        assert_eq!(
+            field(Lighting {
+                sun_direction: Vec3::ZERO,
+                ..Lighting::default()
+            }),
+            "lighting.sun_direction"
+        );
+        assert_eq!(
+            field(Lighting {
+                sky: Vec3::new(0.0, -1.0, 0.0),
+                ..Lighting::default()
+            }),
+            "lighting.sky.g"
+        );
+        assert_eq!(
+            field(Lighting {
+                point_lights: vec![
+                    light,
+                    PointLight {
+                        radius: f32::NAN,
+                        ..light
+                    }
+                ],
+                ..Lighting::default()
+            }),
+            "lighting.point_lights[1].radius"
+        );
+        assert_eq!(
+            field(Lighting {
+                point_lights: vec![PointLight {
+                    color: Vec3::new(1.0, 1.0, f32::INFINITY),
+                    ..light
+                }],
+                ..Lighting::default()
+            }),
+            "lighting.point_lights[0].color.b"
+        );
+        assert!(matches!(
+            Lighting {
+                point_lights: vec![light; MAX_POINT_LIGHTS + 1],
+                ..Lighting::default()
+            }
+            .validate(),
+            Err(FrameError::TooManyPointLights { .. })
+        ));
+        let mut f = FrameInput::new(camera());
+        f.time = f32::NAN;
+        assert!(
+            matches!(f.validate(), Err(FrameError::OutOfRange { field, .. }) if field == "time")
+        );
     }
 }

@@ -4,35 +4,92 @@
 //! algorithm comes from the small crates; this crate owns devices, buffers, pipelines and
 //! passes.
 //!
-//! ```no_run
-//! use gpu::{context, demo};
+//! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
+//! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun and point
+//! lights) and uploads only what changed. The renderer runs on your device: ask for
+//! [`Renderer::required_limits`] and any of [`Renderer::optional_features`] when you create
+//! it, or let [`headless`] make one.
 //!
-//! let ctx = context::headless(&context::HeadlessOptions::default())?;
-//! let scene = demo::build(&demo::DemoOptions::default());
-//! println!("{} on {}", scene.instance_count(), ctx.adapter_line());
+//! ```no_run
+//! use gpu::glam::{Affine3A, Vec2, Vec3, Vec4};
+//! use gpu::{
+//!     AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath,
+//!     Renderer, RendererConfig, Scene, ShaderKind,
+//! };
+//!
+//! // A unit quad facing +Z, drawn 100 times in a row, under a 2x2 checker texture.
+//! let quad = Mesh {
+//!     name: "quad".into(),
+//!     positions: vec![Vec3::new(-0.5, -0.5, 0.0), Vec3::new(0.5, -0.5, 0.0),
+//!                     Vec3::new(0.5, 0.5, 0.0), Vec3::new(-0.5, 0.5, 0.0)],
+//!     normals: vec![Vec3::Z; 4],
+//!     uvs: vec![Vec2::new(0.0, 1.0), Vec2::new(1.0, 1.0), Vec2::new(1.0, 0.0), Vec2::ZERO],
+//!     tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+//!     indices: vec![0, 1, 2, 0, 2, 3],
+//! };
+//! let scene = Scene {
+//!     meshes: vec![quad],
+//!     materials: vec![Material {
+//!         name: "checker".into(),
+//!         shader: ShaderKind::Opaque,
+//!         albedo_layer: 0,
+//!         tint: Vec3::ONE,
+//!         alpha_cutoff: 0.5,
+//!         roughness: 0.6,
+//!         specular: 0.5,
+//!     }],
+//!     albedo_layers: vec![AlbedoLayer {
+//!         size: 2,
+//!         texels: vec![[230, 230, 230, 255], [40, 40, 40, 255], [40, 40, 40, 255], [230, 230, 230, 255]],
+//!     }],
+//!     batches: vec![Batch {
+//!         mesh: MeshId(0),
+//!         material: MaterialId(0),
+//!         instances: (0..100)
+//!             .map(|i| Affine3A::from_translation(Vec3::new(i as f32 * 1.2 - 60.0, 0.0, 0.0)))
+//!             .collect(),
+//!     }],
+//! };
+//!
+//! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
+//! let config = RendererConfig { width: 640, height: 360, ..RendererConfig::default() };
+//! let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
+//! let prepared = renderer.prepare(&scene)?;
+//! let frame = FrameInput::new(Camera::look_at(Vec3::new(0.0, 1.0, 8.0), Vec3::ZERO));
+//! renderer.render(&prepared, &frame, RenderPath::Deferred)?;
+//! renderer.read_output()?.write_png(std::path::Path::new("quads.png"))?;
 //! # Ok::<(), gpu::Error>(())
 //! ```
 
-pub mod binding;
-pub mod classify;
-pub mod context;
+mod context;
 pub mod debug;
 pub mod demo;
-pub mod error;
-pub mod frame;
-pub mod gbuffer;
-pub mod geometry;
-pub mod image;
-pub mod kernel;
-pub mod laydown;
-pub mod plan;
-pub mod readback;
-pub mod renderer;
-pub mod report;
-pub mod scene;
-pub mod shaders;
-pub mod targets;
-pub mod timing;
-pub mod upload;
+mod error;
+mod frame;
+mod gbuffer;
+mod image;
+mod passes;
+mod renderer;
+mod resources;
+mod scene;
+mod stats;
+mod timing;
 
-pub use error::{Error, Result, SceneError};
+pub use context::{
+    ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,
+    headless, read_buffer, scoped, wait_idle,
+};
+pub use error::{Error, FrameError, Result, SceneError};
+pub use frame::{Camera, FrameInput, Lighting, MAX_POINT_LIGHTS, PointLight};
+pub use glam;
+pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
+#[doc(hidden)]
+pub use passes::classify::ClassificationVariant;
+pub use renderer::{FrameOutput, RenderPath, Renderer, RendererConfig, WARM_UP};
+pub use resources::{PreparedScene, SceneSummary};
+pub use scene::{
+    AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
+    MeshId, Scene, ShaderKind,
+};
+pub use stats::{ClassificationStats, GpuClassification};
+pub use timing::Timing;

@@ -1,12 +1,11 @@
-//! The scene API: meshes, materials, albedo layers, batches of instances, a camera and
-//! lights.
+//! The scene a renderer prepares once: meshes, materials, albedo layers and batches of
+//! instances. What changes per frame (camera, time, lights) is the
+//! [`FrameInput`](crate::FrameInput).
 //!
-//! Conventions: right-handed world space, +Y up, metres. Cameras look down their local −Z.
-//! Projections use reversed Z (near plane at depth 1, far plane at depth 0, infinite far
-//! plane), so `Depth32Float` keeps its precision far away; depth tests are `Greater`.
-//! Texture coordinates have (0, 0) at the top-left of an albedo layer, v down.
+//! Conventions: right-handed world space, +Y up, metres. Texture coordinates have (0, 0)
+//! at the top-left of an albedo layer, v down.
 
-use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
+use glam::{Affine3A, Vec2, Vec3, Vec4};
 
 use crate::error::SceneError;
 
@@ -150,12 +149,28 @@ pub struct Material {
     pub albedo_layer: u32,
     /// Multiplies the texture's colour (linear RGB).
     pub tint: Vec3,
-    /// Alpha-test cutoff in [0, 1] for [`ShaderKind::AlphaTested`].
+    /// Alpha-test cutoff in [0, 1] for [`ShaderKind::AlphaTested`] (texels whose alpha is
+    /// below it are discarded; ignored by opaque materials, but still checked).
     pub alpha_cutoff: f32,
-    /// Perceptual roughness in [0, 1].
+    /// Perceptual roughness in [0, 1] (GGX alpha = roughness²).
     pub roughness: f32,
     /// Specular intensity in [0, 1].
     pub specular: f32,
+}
+
+/// Checks that `value` lies in `[lo, hi]` (NaN never does).
+pub(crate) fn check_range(
+    field: impl FnOnce() -> String,
+    value: f32,
+    lo: f32,
+    hi: f32,
+    allowed: &'static str,
+) -> Result<(), (String, f32, &'static str)> {
+    if value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err((field(), value, allowed))
+    }
 }
 
 /// One albedo layer: RGBA8, sRGB colour with linear alpha, `size` × `size` texels, row
@@ -180,76 +195,9 @@ pub struct Batch {
     pub instances: Vec<Affine3A>,
 }
 
-/// A perspective camera.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// Eye position (world, metres).
-    pub position: Vec3,
-    /// The point looked at.
-    pub target: Vec3,
-    /// Vertical field of view (radians).
-    pub fov_y: f32,
-    /// Near plane distance (metres); the far plane is at infinity (reversed Z).
-    pub near: f32,
-}
-
-impl Camera {
-    /// World-to-view matrix (right-handed, looking down −Z).
-    pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.position, self.target, Vec3::Y)
-    }
-
-    /// View-to-clip matrix for `aspect` = width / height: reversed Z, infinite far plane.
-    pub fn projection(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_infinite_reverse_rh(self.fov_y, aspect, self.near)
-    }
-
-    /// World-to-clip.
-    pub fn view_projection(&self, aspect: f32) -> Mat4 {
-        self.projection(aspect) * self.view()
-    }
-}
-
-/// A point light.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PointLight {
-    /// World position (metres).
-    pub position: Vec3,
-    /// Linear RGB intensity (arbitrary units; 1 lights a white surface at 1 m to 1).
-    pub color: Vec3,
-    /// Distance at which the light fades to zero (metres).
-    pub radius: f32,
-}
-
-/// Lighting of the scene.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Lighting {
-    /// Unit direction *towards* the sun (world).
-    pub sun_direction: Vec3,
-    /// Sun colour (linear RGB).
-    pub sun_color: Vec3,
-    /// Constant ambient term (linear RGB).
-    pub ambient: Vec3,
-    /// Sky colour behind everything (linear RGB).
-    pub sky: Vec3,
-    /// Point lights.
-    pub point_lights: Vec<PointLight>,
-}
-
-impl Default for Lighting {
-    fn default() -> Self {
-        Self {
-            sun_direction: Vec3::new(0.4, 0.8, 0.3).normalize(),
-            sun_color: Vec3::new(2.6, 2.4, 2.1),
-            ambient: Vec3::new(0.18, 0.22, 0.28),
-            sky: Vec3::new(0.45, 0.62, 0.9),
-            point_lights: Vec::new(),
-        }
-    }
-}
-
-/// Everything the renderer draws.
-#[derive(Clone, Debug, PartialEq)]
+/// Everything the renderer draws. An empty scene (no batches, or batches without
+/// instances) is valid: it renders the sky.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
     /// Geometry.
     pub meshes: Vec<Mesh>,
@@ -259,10 +207,6 @@ pub struct Scene {
     pub albedo_layers: Vec<AlbedoLayer>,
     /// Batches of instances.
     pub batches: Vec<Batch>,
-    /// The camera.
-    pub camera: Camera,
-    /// Sun, ambient and point lights.
-    pub lighting: Lighting,
 }
 
 impl Scene {
@@ -302,15 +246,21 @@ impl Scene {
                     layers: self.albedo_layers.len(),
                 });
             }
-            if !(m.tint.is_finite()
-                && m.alpha_cutoff.is_finite()
-                && m.roughness.is_finite()
-                && m.specular.is_finite())
-            {
-                return Err(SceneError::NonFinite {
-                    what: format!("a constant of material `{}`", m.name),
-                });
-            }
+            let field = |f: &'static str| move || format!("material `{}`: {f}", m.name);
+            let unit = |f: &'static str, v: f32| check_range(field(f), v, 0.0, 1.0, "[0, 1]");
+            let colour =
+                |f: &'static str, v: f32| check_range(field(f), v, 0.0, f32::MAX, "finite, >= 0");
+            unit("alpha_cutoff", m.alpha_cutoff)
+                .and(unit("roughness", m.roughness))
+                .and(unit("specular", m.specular))
+                .and(colour("tint.r", m.tint.x))
+                .and(colour("tint.g", m.tint.y))
+                .and(colour("tint.b", m.tint.z))
+                .map_err(|(field, value, allowed)| SceneError::OutOfRange {
+                    field,
+                    value,
+                    allowed,
+                })?;
         }
         for (b, batch) in self.batches.iter().enumerate() {
             if batch.mesh.0 >= self.meshes.len() {
@@ -332,19 +282,6 @@ impl Scene {
                     what: format!("instance {i} of batch {b}"),
                 });
             }
-        }
-        let c = &self.camera;
-        if !(c.position.is_finite()
-            && c.target.is_finite()
-            && c.fov_y.is_finite()
-            && c.near.is_finite())
-            || c.near <= 0.0
-            || c.fov_y <= 0.0
-            || c.position == c.target
-        {
-            return Err(SceneError::NonFinite {
-                what: "the camera (or a zero near plane, field of view or view direction)".into(),
-            });
         }
         Ok(())
     }

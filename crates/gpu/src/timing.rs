@@ -2,7 +2,7 @@
 //! and end (`TIMESTAMP_QUERY`), and spans with the same label are summed.
 
 use crate::error::Result;
-use crate::readback::read_buffer;
+use crate::resources::readback::read_buffer;
 
 /// Collects begin/end timestamps of passes in one frame.
 pub struct GpuTimer {
@@ -52,11 +52,6 @@ impl GpuTimer {
             capacity,
             period_ns: queue.get_timestamp_period(),
         }
-    }
-
-    /// Whether timestamps are recorded.
-    pub fn enabled(&self) -> bool {
-        self.query_set.is_some()
     }
 
     fn next(&mut self, label: &'static str) -> Option<(&wgpu::QuerySet, u32)> {

@@ -5,27 +5,17 @@
 //!
 //! Golden images live in `tests/golden/`; `GPU_BLESS=1 cargo test -p gpu --test frame`
 //! rewrites them from this machine's device (commit them with the adapter named in the
-//! message).
+//! message). Every test runs on testkit's device (lavapipe in CI).
 
 use std::path::PathBuf;
-use std::sync::OnceLock;
 
-use gpu::context::{self, GpuContext, HeadlessOptions};
 use gpu::demo::{self, DemoOptions, DemoScene};
-use gpu::image::{Rgba8Image, diff_metrics};
-use gpu::renderer::{RenderPath, Renderer, RendererConfig};
-use gpu::scene::Scene;
+use gpu::{FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene, diff_metrics};
+use testkit::device::{GoldenBounds, check_golden, ctx};
 use visbuf::{ShadingRate, VisFields, VisId, VisLayout};
 
-fn ctx() -> &'static GpuContext {
-    static CTX: OnceLock<GpuContext> = OnceLock::new();
-    CTX.get_or_init(|| {
-        context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"))
-    })
-}
-
 /// A lighter demo scene for lavapipe: same generator, fewer instances.
-fn scene(kind: DemoScene) -> Scene {
+fn scene(kind: DemoScene) -> (Scene, FrameInput) {
     demo::build(&DemoOptions {
         scene: kind,
         seed: 7,
@@ -48,27 +38,23 @@ fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
     .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Both append paths where the device has subgroups, the fallback alone otherwise.
 fn subgroup_settings() -> Vec<bool> {
-    if ctx().paths.subgroup_size.is_some() {
-        vec![true, false]
-    } else {
-        eprintln!(
-            "{} has no subgroups: the fallback path only",
-            ctx().adapter_line()
-        );
-        vec![false]
-    }
+    testkit::device::subgroup_variants()
+        .into_iter()
+        .map(|f| !f.is_empty())
+        .collect()
 }
 
 #[test]
 fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
     for kind in DemoScene::ALL {
-        let scene = scene(kind);
+        let (scene, frame) = scene(kind);
         for subgroups in subgroup_settings() {
             // 300x200: partial tiles on the right and bottom edges.
             let mut r = renderer(300, 200, subgroups);
             let prepared = r.prepare(&scene).unwrap();
-            r.render(&prepared, RenderPath::Deferred).unwrap();
+            r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             let gpu = r.read_classification(&prepared).unwrap();
             let (stats, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
             assert_eq!(
@@ -96,47 +82,36 @@ fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
     }
 }
 
-/// xorshift64*.
-struct Rng(u64);
-impl Rng {
-    fn u32(&mut self) -> u32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 32) as u32
-    }
-}
-
 #[test]
 fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
-    let scene = scene(DemoScene::Forest);
+    let (scene, _) = scene(DemoScene::Forest);
     for subgroups in subgroup_settings() {
         let (w, h) = (257, 131);
         let mut r = renderer(w, h, subgroups);
         let prepared = r.prepare(&scene).unwrap();
-        let mbs = &prepared.tiling.micro_batches;
+        let mbs = &prepared.tiling_plan().micro_batches;
         for seed in 1..=3u64 {
-            let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+            let mut rng = testkit::Rng::new(seed);
             // Runs of one valid ID (as triangles make), sky, IDs past the table, primitives
             // past the geometry, and raw garbage.
             let mut words = Vec::with_capacity((w * h) as usize);
             let mut current = visbuf::VIS_NONE;
             for _ in 0..w * h {
-                if rng.u32().is_multiple_of(16) {
-                    current = match rng.u32() % 10 {
+                if rng.next_u32().is_multiple_of(16) {
+                    current = match rng.next_u32() % 10 {
                         0 => visbuf::VIS_NONE,
-                        1 => rng.u32(),
-                        2 => 0xfff0_0000 | (rng.u32() & 0xffff),
+                        1 => rng.next_u32(),
+                        2 => 0xfff0_0000 | (rng.next_u32() & 0xffff),
                         _ => {
-                            let mb = &mbs[(rng.u32() as usize) % mbs.len()];
-                            let i = rng.u32() % mb.instance_count;
+                            let mb = &mbs[(rng.next_u32() as usize) % mbs.len()];
+                            let i = rng.next_u32() % mb.instance_count;
                             let (id, field) = mb.instance_id(i);
-                            let over = rng.u32().is_multiple_of(8);
+                            let over = rng.next_u32().is_multiple_of(8);
                             let primitive = if over {
-                                (mb.primitive_count + rng.u32() % 4)
+                                (mb.primitive_count + rng.next_u32() % 4)
                                     .min((1 << mb.primitive_bits) - 1)
                             } else {
-                                rng.u32() % mb.primitive_count
+                                rng.next_u32() % mb.primitive_count
                             };
                             VisId::pack(
                                 VisLayout::Standard,
@@ -168,12 +143,12 @@ fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
 }
 
 fn render_both(kind: DemoScene, w: u32, h: u32) -> (Rgba8Image, Rgba8Image) {
-    let scene = scene(kind);
+    let (scene, frame) = scene(kind);
     let mut r = renderer(w, h, true);
     let prepared = r.prepare(&scene).unwrap();
-    r.render(&prepared, RenderPath::Deferred).unwrap();
+    r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
     let deferred = r.read_output().unwrap();
-    r.render(&prepared, RenderPath::Baseline).unwrap();
+    r.render(&prepared, &frame, RenderPath::Baseline).unwrap();
     let baseline = r.read_output().unwrap();
     (deferred, baseline)
 }
@@ -218,43 +193,24 @@ fn deferred_texturing_looks_like_the_depth_equal_baseline() {
 /// textures differently; on the H100 (NVIDIA 580.159.04, Vulkan) forest measured mean
 /// 1.456 and p99 53, so other adapters get looser bounds (the strict check on every
 /// device is the deferred-vs-baseline comparison above, on one device).
-fn golden_bounds() -> (f64, u8) {
+fn golden_bounds() -> GoldenBounds {
     if ctx().info.device_type == wgpu::DeviceType::Cpu {
-        (0.5, 16)
+        GoldenBounds { mean: 0.5, p99: 16 }
     } else {
-        (3.0, 96)
+        GoldenBounds { mean: 3.0, p99: 96 }
     }
 }
 
+/// `GPU_BLESS=1 cargo test -p gpu --test frame` rewrites them from this device.
 #[test]
 fn each_scene_matches_its_golden_image() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
-    let bless = std::env::var("GPU_BLESS").as_deref() == Ok("1");
     for kind in DemoScene::ALL {
         let (deferred, _) = render_both(kind, 160, 90);
-        let file = dir.join(format!("{}_160x90.png", kind.name()));
-        if bless {
-            deferred.write_png(&file).unwrap();
-            eprintln!("blessed {} on {}", file.display(), ctx().adapter_line());
-            continue;
-        }
-        let golden = Rgba8Image::read_png(&file).unwrap_or_else(|e| {
-            panic!(
-                "{}: {e}; run with GPU_BLESS=1 to write it from this device",
-                file.display()
-            )
-        });
-        let (max_mean, max_p99) = golden_bounds();
-        let (mean, _) = diff_metrics(&deferred, &golden, 0.5).expect("same size");
-        let (_, p99) = diff_metrics(&deferred, &golden, 0.99).expect("same size");
-        assert!(
-            mean <= max_mean && p99 <= max_p99,
-            "{} vs {} on {}: mean {mean:.3} (max {max_mean}), p99 {p99} (max {max_p99}); \
-             if the change is intended, GPU_BLESS=1 rewrites it",
-            kind.name(),
-            file.display(),
-            ctx().adapter_line()
+        check_golden(
+            &dir.join(format!("{}_160x90.png", kind.name())),
+            &deferred,
+            golden_bounds(),
         );
-        eprintln!("{}: golden mean {mean:.3}, p99 {p99}", kind.name());
     }
 }

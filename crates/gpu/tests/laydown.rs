@@ -1,18 +1,20 @@
 //! The laydown writes the right vis-buffer word in every pixel, on every primitive-ID path
 //! the device has: compared with an independent f64 CPU rasteriser of the same scene.
 
-use glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
-use gpu::context::{self, HeadlessOptions, PrimitiveIdPath};
-use gpu::plan::PlannedMicroBatch;
-use gpu::renderer::{Renderer, RendererConfig};
-use gpu::scene::{Batch, Camera, Lighting, Material, MaterialId, MeshId, Scene, ShaderKind};
+use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
+use gpu::{
+    Batch, Camera, FrameInput, Material, MaterialId, MeshId, PrimitiveIdPath, Renderer,
+    RendererConfig, Scene, ShaderKind,
+};
+use testkit::device::ctx;
+use tiling::MicroBatchInfo;
 use visbuf::{PrimitiveBits, ShadingRate, VisFields, VisId, VisLayout};
 
 const W: u32 = 160;
 const H: u32 = 96;
 
-fn test_scene() -> Scene {
-    let demo = gpu::demo::build(&gpu::demo::DemoOptions {
+fn test_scene() -> (Scene, FrameInput) {
+    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
         density: 0.01,
         ..Default::default()
     });
@@ -47,7 +49,7 @@ fn test_scene() -> Scene {
             ),
         ));
     }
-    Scene {
+    let scene = Scene {
         meshes,
         materials: vec![mat],
         albedo_layers: vec![demo.albedo_layers[0].clone()],
@@ -67,14 +69,13 @@ fn test_scene() -> Scene {
                 instances: rocks,
             },
         ],
-        camera: Camera {
-            position: Vec3::new(0.5, 22.0, -9.0),
-            target: Vec3::new(0.0, 0.0, 0.5),
-            fov_y: 1.0,
-            near: 0.5,
-        },
-        lighting: Lighting::default(),
-    }
+    };
+    let camera = Camera {
+        fov_y: 1.0,
+        near: 0.5,
+        ..Camera::look_at(Vec3::new(0.5, 22.0, -9.0), Vec3::new(0.0, 0.0, 0.5))
+    };
+    (scene, FrameInput::new(camera))
 }
 
 /// What an f64 rasteriser sees at one pixel centre.
@@ -85,9 +86,13 @@ struct Hit {
     margin: f64,
 }
 
-fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64, bool)> {
+fn cpu_raster(
+    scene: &Scene,
+    camera: &Camera,
+    mbs: &[MicroBatchInfo],
+) -> Vec<(Option<Hit>, f64, bool)> {
     let aspect = f64::from(W) / f64::from(H);
-    let vp = scene.camera.view_projection(aspect as f32).as_dmat4();
+    let vp = camera.view_projection(aspect as f32).as_dmat4();
     // Per pixel: best hit, the depth of the runner-up, and whether an edge passes within a
     // hundredth of a pixel of the centre without covering it (ambiguous coverage).
     let mut out: Vec<(Option<Hit>, f64, bool)> =
@@ -199,8 +204,8 @@ fn cpu_raster(scene: &Scene, mbs: &[PlannedMicroBatch]) -> Vec<(Option<Hit>, f64
 
 #[test]
 fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
-    let probe = context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"));
-    let scene = test_scene();
+    let probe = ctx();
+    let (scene, frame) = test_scene();
     let mut tested = 0;
     for path in PrimitiveIdPath::ALL {
         if !probe.device.features().contains(path.required_features()) {
@@ -220,8 +225,8 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
         };
         let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
         let prepared = renderer.prepare(&scene).unwrap();
-        let reference = cpu_raster(&scene, &prepared.plan.micro_batches);
-        let (vis, _depth) = renderer.render_laydown(&prepared).unwrap();
+        let reference = cpu_raster(&scene, &frame.camera, &prepared.tiling_plan().micro_batches);
+        let (vis, _depth) = renderer.render_laydown(&prepared, &frame).unwrap();
         let (mut checked, mut covered) = (0, 0);
         for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
             match hit {

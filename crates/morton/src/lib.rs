@@ -3,7 +3,7 @@
 //! sorts points by key. Horizon Zero Dawn sorts the instances of a static tile by (filter,
 //! LOD range, Morton number) to cut them into spatially coherent clusters; Horizon
 //! Forbidden West sorts batches into passes by a quantised Morton code of their position.
-//! This crate is that key, made fast on the CPU and mirrored on the GPU ([`WGSL`]).
+//! This crate is that key, made fast on the CPU and mirrored on the GPU ([`wgsl::CODES`]).
 //!
 //! # Example
 //!
@@ -63,7 +63,7 @@
 //!   (split on the top varying byte, then cache-sized least-significant-digit passes);
 //!   [`Sorter`] keeps its buffers for sorting every frame; `parallel::par_sort_permutation`
 //!   under the `parallel` feature.
-//! - [`WGSL`]: the GPU twin of the 32-bit codes and the quantiser.
+//! - [`wgsl`]: the GPU twin of the 32-bit codes and the quantiser (`#import morton::codes`).
 //!
 //! # Features
 //!
@@ -105,7 +105,7 @@ pub mod parallel;
 mod path;
 pub mod quantize;
 pub mod sort;
-mod wgsl;
+pub mod wgsl;
 
 pub use error::Error;
 /// The glam version this crate's API uses; use `morton::glam` to avoid a version mismatch
@@ -114,7 +114,6 @@ pub use glam;
 pub use path::Path;
 pub use quantize::{Quantizer2, Quantizer3};
 pub use sort::{MAX_SORT_KEYS, SortKey, Sorter, sort_permutation, sort_permutation_into};
-pub use wgsl::WGSL;
 
 /// Bits per axis of a 2D code in a u32.
 pub const BITS2_U32: u32 = 16;

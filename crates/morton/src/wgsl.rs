@@ -1,4 +1,7 @@
-//! The WGSL twin, [`crate::WGSL`].
+//! The WGSL twin: the library module `morton::codes` ([`CODES`]), imported by a pass
+//! with `#import morton::codes` (see the `shader` crate).
+
+use shader::Module;
 
 /// Morton codes on the GPU: a binding-free WGSL module (functions and constants, prefixed
 /// `morton_` / `MORTON_`) for the 32-bit codes, identical bit for bit to the CPU functions:
@@ -16,6 +19,9 @@
 /// | `MORTON_MASK2_X_U32`, `MORTON_MASK2_Y_U32`, `MORTON_MASK3_{X,Y,Z}_U32` | [`crate::MASK2_X_U32`], ..., [`crate::MASK3_Z_U32`] |
 ///
 /// WGSL has no 64-bit integers in core, so the u64 codes stay on the CPU. Validated by naga
-/// in this crate's tests (core capabilities only); the `gpu` crate runs it on a device
+/// in this crate's tests (core capabilities only); `tests/device.rs` runs it on a device
 /// against the CPU functions.
-pub const WGSL: &str = include_str!("morton.wgsl");
+pub const CODES: Module = Module::new("morton::codes", include_str!("wgsl/codes.wgsl"));
+
+/// This crate's modules.
+pub const MODULES: &[Module] = &[CODES];

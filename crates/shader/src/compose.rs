@@ -194,7 +194,8 @@ fn parse<'s>(name: &str, source: &'s str, features: &[&str]) -> Result<Parsed<'s
         body: Vec::new(),
         reads: Vec::new(),
     };
-    let active = |stack: &[(bool, bool, usize)]| stack.last().is_none_or(|&(a, outer, _)| a && outer);
+    let active =
+        |stack: &[(bool, bool, usize)]| stack.last().is_none_or(|&(a, outer, _)| a && outer);
     for (i, line) in source.lines().enumerate() {
         let t = line.trim();
         let Some(directive) = t.strip_prefix('#') else {
@@ -467,7 +468,10 @@ mod tests {
         );
         assert!(matches!(bad("#if x\n"), Error::Directive { line: 1, .. }));
         assert!(matches!(bad("#else\n"), Error::Directive { line: 1, .. }));
-        assert!(matches!(bad("#define X\n"), Error::Directive { line: 1, .. }));
+        assert!(matches!(
+            bad("#define X\n"),
+            Error::Directive { line: 1, .. }
+        ));
         assert!(matches!(bad("#if X-Y\n#endif\n"), Error::Directive { .. }));
         assert!(matches!(bad("#import\n"), Error::Directive { .. }));
         assert_eq!(

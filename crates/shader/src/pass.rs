@@ -500,7 +500,11 @@ mod tests {
 
     #[test]
     fn workgroups_follow_the_geometry() {
-        let p = P { w: 33, h: 17, n: 100 };
+        let p = P {
+            w: 33,
+            h: 17,
+            n: 100,
+        };
         let e = |n: &str| PASS.entry(n).unwrap();
         assert_eq!(e("grid").workgroups(&p, &[]), Some([3, 3, 1]));
         assert_eq!(e("items").workgroups(&p, &[]), None, "override unset");
@@ -530,7 +534,10 @@ mod tests {
         assert_eq!(d.kind, Kind::texture_2d(Sample::Uint));
         assert!(matches!(
             PASS.binding("nope"),
-            Err(Error::UnknownName { what: "binding", .. })
+            Err(Error::UnknownName {
+                what: "binding",
+                ..
+            })
         ));
         assert!(PASS.entry("nope").is_err());
         assert!(PASS.is_compute());

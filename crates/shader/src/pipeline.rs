@@ -86,9 +86,7 @@ pub fn layout_entries(
                     format: texture_format(format),
                     view_dimension: view_dimension(dim),
                 },
-                Kind::Sampler => {
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)
-                }
+                Kind::Sampler => wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
             },
             count: None,
         })
@@ -183,24 +181,24 @@ impl Layouts {
                 name: (*name).into(),
             });
         }
-        let entries = desc
-            .bindings
-            .iter()
-            .enumerate()
-            .map(|(i, b)| {
-                let (_, r) = resources.iter().find(|(n, _)| *n == b.name).ok_or(
-                    Error::MissingResource {
-                        pass: self.pass,
-                        group: desc.name,
-                        binding: b.name,
-                    },
-                )?;
-                Ok(wgpu::BindGroupEntry {
-                    binding: i as u32,
-                    resource: r.clone(),
+        let entries =
+            desc.bindings
+                .iter()
+                .enumerate()
+                .map(|(i, b)| {
+                    let (_, r) = resources.iter().find(|(n, _)| *n == b.name).ok_or(
+                        Error::MissingResource {
+                            pass: self.pass,
+                            group: desc.name,
+                            binding: b.name,
+                        },
+                    )?;
+                    Ok(wgpu::BindGroupEntry {
+                        binding: i as u32,
+                        resource: r.clone(),
+                    })
                 })
-            })
-            .collect::<Result<Vec<_>, Error>>()?;
+                .collect::<Result<Vec<_>, Error>>()?;
         Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(&format!("{}: {}", self.pass, desc.name)),
             layout,
@@ -307,14 +305,22 @@ impl<P> ComputePass<P> {
 
     /// The workgroup counts of `step` with `params` (`None` for indirect entry points).
     pub fn workgroups(&self, step: &ComputeStep<P>, params: &P) -> Option<[u32; 3]> {
-        let constants: Vec<(&str, f64)> =
-            self.constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let constants: Vec<(&str, f64)> = self
+            .constants
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect();
         step.entry.workgroups(params, &constants)
     }
 
     /// Records every directly dispatched entry point, in order, with `groups[i]` bound as
     /// group `i`. Indirect entry points are the caller's to dispatch.
-    pub fn record(&self, pass: &mut wgpu::ComputePass<'_>, groups: &[&wgpu::BindGroup], params: &P) {
+    pub fn record(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        groups: &[&wgpu::BindGroup],
+        params: &P,
+    ) {
         for (i, g) in groups.iter().enumerate() {
             pass.set_bind_group(i as u32, *g, &[]);
         }

@@ -126,7 +126,13 @@ pub fn const_f32(module: &naga::Module, name: &str) -> Option<f32> {
 /// own prefixes. With `snippet`, the module must also declare no bindings and no entry
 /// points (what a library module shipped for others to import looks like).
 #[track_caller]
-pub fn assert_prefixed(name: &str, module: &naga::Module, prefix: &str, also: &[&str], snippet: bool) {
+pub fn assert_prefixed(
+    name: &str,
+    module: &naga::Module,
+    prefix: &str,
+    also: &[&str],
+    snippet: bool,
+) {
     let lower: Vec<String> = core::iter::once(prefix)
         .chain(also.iter().copied())
         .map(|p| format!("{p}_"))
@@ -144,7 +150,10 @@ pub fn assert_prefixed(name: &str, module: &naga::Module, prefix: &str, also: &[
     let ok = |n: &str, ps: &[String]| ps.iter().any(|p| n.starts_with(p.as_str()));
     for (_, f) in module.functions.iter() {
         let n = f.name.as_deref().unwrap_or("");
-        assert!(ok(n, &lower), "{name}: function `{n}` is not prefixed `{prefix}_`");
+        assert!(
+            ok(n, &lower),
+            "{name}: function `{n}` is not prefixed `{prefix}_`"
+        );
     }
     for n in const_names(module) {
         assert!(ok(&n, &upper), "{name}: constant `{n}` is not prefixed");
@@ -160,10 +169,16 @@ pub fn assert_prefixed(name: &str, module: &naga::Module, prefix: &str, also: &[
     for (_, g) in module.global_variables.iter() {
         let n = g.name.as_deref().unwrap_or("");
         if snippet {
-            assert!(g.binding.is_none(), "{name}: a library module declares binding `{n}`");
+            assert!(
+                g.binding.is_none(),
+                "{name}: a library module declares binding `{n}`"
+            );
         }
         if g.space == naga::AddressSpace::WorkGroup {
-            assert!(ok(n, &lower), "{name}: workgroup variable `{n}` is not prefixed");
+            assert!(
+                ok(n, &lower),
+                "{name}: workgroup variable `{n}` is not prefixed"
+            );
         }
     }
     if snippet {

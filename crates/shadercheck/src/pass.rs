@@ -159,9 +159,7 @@ fn kind_of(m: &Module, layouter: &Layouter, g: &naga::GlobalVariable, want: Kind
                         sample: Sample::Depth,
                         dim,
                     }),
-                    ImageClass::Storage { format, access }
-                        if access == StorageAccess::STORE =>
-                    {
+                    ImageClass::Storage { format, access } if access == StorageAccess::STORE => {
                         Some(Kind::StorageTexture {
                             format: format_of(format)?,
                             dim,
@@ -359,7 +357,11 @@ fn count(@builtin(global_invocation_id) id: vec3<u32>) {
     #[test]
     fn mismatches_are_named() {
         static SIZE: Pass = pass!(GOOD, Size::Fixed(32));
-        assert!(problems(&SIZE)[0].contains("workgroup size"), "{:?}", problems(&SIZE));
+        assert!(
+            problems(&SIZE)[0].contains("workgroup size"),
+            "{:?}",
+            problems(&SIZE)
+        );
         static NAME: &[Binding] = &[
             Binding::new("params", Kind::uniform(8)),
             Binding::new("totals", Kind::read_write(4)),

@@ -4,8 +4,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::OnceLock;
 
-use gpu::context::{self, GpuContext, HeadlessOptions};
-use gpu::image::{Rgba8Image, diff_image, diff_metrics};
+use gpu::{GpuContext, HeadlessOptions, Rgba8Image, diff_image, diff_metrics};
 use shader::pipeline::ComputePass;
 use shader::{Kind, Pass};
 
@@ -15,7 +14,7 @@ use shader::{Kind, Pass};
 pub fn ctx() -> &'static GpuContext {
     static CTX: OnceLock<GpuContext> = OnceLock::new();
     CTX.get_or_init(|| {
-        let c = context::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let c = gpu::headless(&HeadlessOptions::default()).unwrap_or_else(|e| panic!("{e}"));
         eprintln!("test device: {}", c.adapter_line());
         c
     })
@@ -44,8 +43,8 @@ pub fn subgroup_variants() -> Vec<&'static [&'static str]> {
 /// and `what` (a kernel's source, a pass's name).
 fn scoped<T>(what: &str, f: impl FnOnce() -> T) -> T {
     let device = &ctx().device;
-    let out = context::scoped(device, || Ok(f())).unwrap_or_else(|e| panic!("{e}\n--- in ---\n{what}"));
-    context::wait_idle(device).unwrap_or_else(|e| panic!("{e}"));
+    let out = gpu::scoped(device, || Ok(f())).unwrap_or_else(|e| panic!("{e}\n--- in ---\n{what}"));
+    gpu::wait_idle(device).unwrap_or_else(|e| panic!("{e}"));
     out
 }
 
@@ -73,7 +72,7 @@ pub fn read_bytes(b: &wgpu::Buffer) -> Vec<u8> {
 
 fn read(b: &wgpu::Buffer) -> Vec<u8> {
     let c = ctx();
-    gpu::readback::read_buffer(&c.device, &c.queue, b, 0, b.size()).unwrap_or_else(|e| panic!("{e}"))
+    gpu::read_buffer(&c.device, &c.queue, b, 0, b.size()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// What a test puts in one buffer binding of a described pass.
@@ -240,10 +239,9 @@ pub fn run_kernel(
                     buffer(bytemuck::cast_slice(w), 4, wgpu::BufferUsages::STORAGE),
                     true,
                 ),
-                Resource::Zeros(n) => Held::Buffer(
-                    buffer(&[], n as u64 * 4, wgpu::BufferUsages::STORAGE),
-                    true,
-                ),
+                Resource::Zeros(n) => {
+                    Held::Buffer(buffer(&[], n as u64 * 4, wgpu::BufferUsages::STORAGE), true)
+                }
                 Resource::Uniform(bytes) => {
                     Held::Buffer(buffer(bytes, 16, wgpu::BufferUsages::UNIFORM), false)
                 }
@@ -265,8 +263,7 @@ pub fn run_kernel(
                         sample_count: 1,
                         dimension: wgpu::TextureDimension::D2,
                         format,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING
-                            | wgpu::TextureUsages::COPY_DST,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                         view_formats: &[],
                     });
                     let texel = format.block_copy_size(None).unwrap_or(4);
@@ -282,15 +279,15 @@ pub fn run_kernel(
                     );
                     Held::View(t.create_view(&Default::default()))
                 }
-                Resource::LinearSampler => Held::Sampler(d.create_sampler(
-                    &wgpu::SamplerDescriptor {
+                Resource::LinearSampler => {
+                    Held::Sampler(d.create_sampler(&wgpu::SamplerDescriptor {
                         address_mode_u: wgpu::AddressMode::Repeat,
                         address_mode_v: wgpu::AddressMode::Repeat,
                         mag_filter: wgpu::FilterMode::Linear,
                         min_filter: wgpu::FilterMode::Linear,
                         ..Default::default()
-                    },
-                )),
+                    }))
+                }
             })
             .collect();
         let entries: Vec<wgpu::BindGroupEntry<'_>> = held
@@ -361,7 +358,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
     );
     let source = shader::compose_source(library, "test kernel", &source, &[])
         .unwrap_or_else(|e| panic!("{e}"));
-    let mut resources = vec![Resource::Words(input), Resource::Zeros(items as usize * out_stride)];
+    let mut resources = vec![
+        Resource::Words(input),
+        Resource::Zeros(items as usize * out_stride),
+    ];
     resources.extend_from_slice(extra);
     let x = groups.min(shader::MAX_WORKGROUPS_X).max(1);
     run_kernel(&source, "main", &resources, [x, rows, 1]).swap_remove(1)

@@ -33,10 +33,10 @@
 
 use shader::{Binding, Dispatch, Entry, Group, Kind, Module, Pass, Stage};
 
+use crate::TilingParams;
 use crate::classify::{PassDispatch, PixelStats, Totals, WaveCommand};
 use crate::plan::{MicroBatchInfo, PassInfo};
 use crate::vertex::{UberChunk, VertexWaveCommand};
-use crate::TilingParams;
 
 /// `tiling::common`: constants, buffer structs and helpers of every pass (no bindings).
 pub const COMMON: Module = Module::new("tiling::common", include_str!("wgsl/common.wgsl"));
@@ -60,8 +60,10 @@ pub const CLASSIFY_OUTPUT_MODULE: Module = Module::new(
     include_str!("wgsl/classify_output.wgsl"),
 );
 /// `tiling::vertex_waves`: the vertex wave commands.
-pub const VERTEX_WAVES_MODULE: Module =
-    Module::new("tiling::vertex_waves", include_str!("wgsl/vertex_waves.wgsl"));
+pub const VERTEX_WAVES_MODULE: Module = Module::new(
+    "tiling::vertex_waves",
+    include_str!("wgsl/vertex_waves.wgsl"),
+);
 
 /// This crate's modules.
 pub const MODULES: &[Module] = &[
@@ -285,7 +287,10 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
                 "vertex_commands",
                 Kind::read_write(size_of::<VertexWaveCommand>()),
             ),
-            Binding::new("vertex_dispatches", Kind::read_write(size_of::<PassDispatch>())),
+            Binding::new(
+                "vertex_dispatches",
+                Kind::read_write(size_of::<PassDispatch>()),
+            ),
             Binding::new("pass_items", Kind::read_write(4)),
             Binding::new("totals", Kind::read_write(size_of::<Totals>())),
         ],

@@ -23,8 +23,8 @@ use testkit::device::{Data, run_pass, subgroup_variants};
 use tiling::wgsl::{CLASSIFY_OUTPUT, LAYDOWN_FINALIZE, MID_CLASSIFY, VERTEX_WAVES};
 use tiling::{
     ClassifyConfig, PassDispatch, PixelStats, PlanConfig, TilingParams, Totals, UberChunk,
-    VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_phases,
-    vertex_wave_commands,
+    VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_phases, pixel_command,
+    unpack_pixel_command, vertex_wave_commands,
 };
 use visbuf::VisLayout;
 use wave::WaveWidth;
@@ -83,9 +83,12 @@ fn classification_case(
         ("valid", Data::Words(&mask)),
         ("table", Data::rows(&plan.table)),
     ];
-    let with = |rest: &[(&'static str, Data<'_>)]| -> Vec<(&'static str, Data<'_>)> {
-        pixel.iter().chain(rest).copied().collect()
-    };
+    fn joined<'a>(
+        a: &[(&'static str, Data<'a>)],
+        b: &[(&'static str, Data<'a>)],
+    ) -> Vec<(&'static str, Data<'a>)> {
+        a.iter().chain(b).copied().collect()
+    }
 
     // Phase 1.
     let p1 = run_pass(
@@ -93,7 +96,7 @@ fn classification_case(
         &[],
         &[],
         &params,
-        &with(&[("masks", Data::Zeros(tiles * p))]),
+        &joined(&pixel, &[("masks", Data::Zeros(tiles * p))]),
     );
     let masks: Vec<u32> = p1.read("masks", tiles * p);
     assert_eq!(masks, cpu.masks, "masks, {what}");
@@ -105,16 +108,22 @@ fn classification_case(
         features,
         constants,
         &params,
-        &with(&[
-            ("masks", Data::Words(&masks)),
-            ("counter_offsets", Data::Zeros(tiles * p)),
-            ("counts", Data::Zeros(counters)),
-            ("pixel_offsets", Data::Zeros(counters)),
-            ("vertex_cull", Data::Zeros((cfg.chunk_count as usize).div_ceil(4))),
-            ("indices", Data::Words(indices)),
-            ("totals", Data::Zeros(4)),
-            ("stats", Data::Zeros(8)),
-        ]),
+        &joined(
+            &pixel,
+            &[
+                ("masks", Data::Words(&masks)),
+                ("counter_offsets", Data::Zeros(tiles * p)),
+                ("counts", Data::Zeros(counters)),
+                ("pixel_offsets", Data::Zeros(counters)),
+                (
+                    "vertex_cull",
+                    Data::Zeros((cfg.chunk_count as usize).div_ceil(4)),
+                ),
+                ("indices", Data::Words(indices)),
+                ("totals", Data::Zeros(4)),
+                ("stats", Data::Zeros(8)),
+            ],
+        ),
     );
     assert_eq!(
         p2.read::<u32>("counter_offsets", tiles * p),
@@ -162,19 +171,22 @@ fn classification_case(
         features,
         constants,
         &params,
-        &with(&[
-            ("masks", Data::Words(&masks)),
-            ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
-            ("counts", Data::Words(&cpu.mid.counts)),
-            ("pixel_offsets", Data::Words(&cpu.mid.pixel_offsets)),
-            ("final_counts", Data::Zeros(counters)),
-            ("commands", Data::Zeros(commands.div_ceil(2))),
-            ("wave_offsets", Data::Zeros(counters)),
-            ("waves", Data::Zeros(4 * cpu.output.waves.len() + 4)),
-            ("passes", Data::Zeros(6 * p)),
-            ("totals", Data::Zeros(4)),
-            ("stats", Data::Zeros(8)),
-        ]),
+        &joined(
+            &pixel,
+            &[
+                ("masks", Data::Words(&masks)),
+                ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
+                ("counts", Data::Words(&cpu.mid.counts)),
+                ("pixel_offsets", Data::Words(&cpu.mid.pixel_offsets)),
+                ("final_counts", Data::Zeros(counters)),
+                ("commands", Data::Zeros(commands.div_ceil(2))),
+                ("wave_offsets", Data::Zeros(counters)),
+                ("waves", Data::Zeros(4 * cpu.output.waves.len() + 4)),
+                ("passes", Data::Zeros(6 * p)),
+                ("totals", Data::Zeros(4)),
+                ("stats", Data::Zeros(8)),
+            ],
+        ),
     );
     let finals: Vec<u32> = p3.read("final_counts", counters);
     assert_eq!(finals, cpu.output.final_counts, "final counts, {what}");
@@ -257,7 +269,11 @@ fn classification_case(
         "pyramid, {what}"
     );
     let ids: Vec<u32> = v.commands.iter().map(|c| c.micro_batch).collect();
-    assert_eq!(p4.read::<u32>("deltas", ids.len()), ids, "scanned deltas, {what}");
+    assert_eq!(
+        p4.read::<u32>("deltas", ids.len()),
+        ids,
+        "scanned deltas, {what}"
+    );
     assert_eq!(
         p4.read::<u32>("micro_batch_waves", plan.order.len()),
         v.micro_batch_waves,
@@ -299,5 +315,67 @@ fn gpu_passes_equal_the_cpu_twins() {
                 }
             }
         }
+    }
+}
+
+/// `tiling`'s WGSL unpack helpers (what the `gpu` resolve uses to find a wave command's
+/// pixels) against the Rust definitions of the same layouts.
+#[test]
+fn command_and_tile_unpacking_match_the_cpu() {
+    let mut rng = Rng::new(0x7469_6c65);
+    let mut input = Vec::new();
+    for i in 0..20_000u32 {
+        // A packed pair of commands, an index choosing one, and a wave command's tile word.
+        let (a, b) = if i % 3 == 0 {
+            (rng.next_u32() & 0xffff, rng.next_u32() & 0xffff)
+        } else {
+            (
+                u32::from(pixel_command(rng.next_u32() % 128, rng.next_u32() % 128)),
+                u32::from(pixel_command(i % 128, (i / 128) % 128)),
+            )
+        };
+        let tile = (rng.next_u32() % 300)
+            | ((rng.next_u32() % 200) << tiling::classify::WAVE_TILE_Y_SHIFT);
+        input.extend_from_slice(&[a | (b << 16), i, tile]);
+    }
+    let n = (input.len() / 3) as u32;
+    let body = "
+    let word = input[3u * i];
+    let k = input[3u * i + 1u];
+    let cmd = tiling_command_in_word(word, k);
+    let xy = tiling_unpack_pixel_command(cmd);
+    let t = tiling_wave_tile_xy(input[3u * i + 2u]);
+    output[5u * i] = cmd;
+    output[5u * i + 1u] = xy.x;
+    output[5u * i + 2u] = xy.y;
+    output[5u * i + 3u] = t.x;
+    output[5u * i + 4u] = t.y;";
+    let out = testkit::device::run_words(
+        &[tiling::wgsl::MODULES],
+        "#import tiling::common",
+        body,
+        &input,
+        n,
+        5,
+        &[],
+    );
+    for (j, item) in input.chunks_exact(3).enumerate() {
+        let (word, k, tile) = (item[0], item[1], item[2]);
+        let cmd = if k % 2 == 0 {
+            word as u16
+        } else {
+            (word >> 16) as u16
+        };
+        let (x, y) = unpack_pixel_command(cmd);
+        let wave = WaveCommand {
+            tile,
+            ..WaveCommand::default()
+        };
+        let (tx, ty) = wave.tile_xy();
+        assert_eq!(
+            &out[5 * j..5 * j + 5],
+            &[u32::from(cmd), x, y, tx, ty],
+            "word {word:#x} index {k} tile {tile:#x}"
+        );
     }
 }

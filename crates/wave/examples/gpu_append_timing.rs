@@ -9,7 +9,6 @@
 //! aggregates per-thread atomics is undocumented: measure per-thread vs per-wave vs
 //! per-workgroup"); the `gpu` crate owns the renderer's own passes and their timings.
 
-
 const N: u32 = 1 << 24;
 const REPS: u32 = 30;
 

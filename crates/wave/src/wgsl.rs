@@ -53,9 +53,10 @@
 //!     if (slot < arrayLength(&out)) { out[slot] = id.x; }
 //! }";
 //! let sg = shader::compose_source(&[wave::wgsl::MODULES], "pass", pass, &["subgroups"])?;
-//! assert!(sg.contains("subgroupBallot"));
+//! assert!(sg.contains("return wave_sg_append_begin(want, local_index);"));
 //! let wg = shader::compose_source(&[wave::wgsl::MODULES], "pass", pass, &[])?;
-//! assert!(!wg.contains("subgroupBallot"));
+//! assert!(wg.contains("return wave_wg_append_begin(want, local_index);"));
+//! assert!(!wg.contains("fn wave_sg_append_begin"));
 //! # Ok::<(), shader::Error>(())
 //! ```
 
@@ -80,8 +81,7 @@ pub const SUBGROUP: Module = Module::new("wave::subgroup", include_str!("wgsl/su
 
 /// `wave::workgroup`: the fallback for adapters without subgroups, and the run-grouped
 /// batch output (core).
-pub const WORKGROUP: Module =
-    Module::new("wave::workgroup", include_str!("wgsl/workgroup.wgsl"));
+pub const WORKGROUP: Module = Module::new("wave::workgroup", include_str!("wgsl/workgroup.wgsl"));
 
 /// `wave::append`: `wave_append_*` bound to the subgroup path with the `subgroups`
 /// feature, to the workgroup fallback without it.

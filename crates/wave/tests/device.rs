@@ -14,7 +14,13 @@ use wave::{CountedAtomicU32, LaneMask, NO_SLOT, Wave, WaveBatch, WaveWidth};
 /// Composes `src` (which imports wave's modules) with `features`, runs `main` over
 /// `workgroups` workgroups with `input` at binding 0 and zeroed outputs of the given word
 /// counts at bindings 1.., and returns the outputs.
-fn run(src: &str, features: &[&str], input: &[u32], outputs: &[usize], workgroups: u32) -> Vec<Vec<u32>> {
+fn run(
+    src: &str,
+    features: &[&str],
+    input: &[u32],
+    outputs: &[usize],
+    workgroups: u32,
+) -> Vec<Vec<u32>> {
     let src = shader::compose_source(&[wave::wgsl::MODULES], "wave test kernel", src, features)
         .unwrap_or_else(|e| panic!("{e}"));
     let mut resources = vec![Resource::Words(input)];
@@ -134,7 +140,10 @@ fn check_compaction(src: &str, wave_width_of: impl Fn(u32) -> WaveWidth) {
 #[test]
 fn subgroup_append_matches_the_cpu_model() {
     if !has_subgroups() {
-        eprintln!("{} has no SUBGROUP: the subgroup path is not run", ctx().adapter_line());
+        eprintln!(
+            "{} has no SUBGROUP: the subgroup path is not run",
+            ctx().adapter_line()
+        );
         return;
     }
     let src = compaction_kernel(

@@ -1,6 +1,6 @@
 // deferred: tiled light culling (the per-tile test of the culling pass) and KZ2's
 // depth-bounds emulation. Binding-free; the Rust crate `deferred` (lights.rs) is the
-// reference. Needs DEPTH_WGSL (DeferredProjection) in front of it.
+// reference.
 //
 // Lights are in view space (right-handed, camera looking down -z), metres. Tiles are
 // DEFERRED_TILE_SIZE^2 pixels from the top-left. Pass 1 reduces each tile's depth to
@@ -8,6 +8,8 @@
 // like their bits); pass 2 tests every light against the tile's frustum with
 // deferred_light_in_tile and appends the passing indices (up to
 // DEFERRED_MAX_LIGHTS_PER_TILE) in ascending order.
+
+#import deferred::depth
 
 const DEFERRED_TILE_SIZE: u32 = 16u;
 const DEFERRED_MAX_LIGHTS_PER_TILE: u32 = 256u;

@@ -1,21 +1,21 @@
-//! `visbuf`'s WGSL on a device against its CPU functions: vis-ID decode and pack over many
+//! `visbuf`'s WGSL on testkit's device against its CPU functions: vis-ID decode and pack over many
 //! words and every primitive-bit count, barycentrics and derivatives over random triangles.
 
 use glam::{Vec2, Vec4};
 use visbuf::{PrimitiveBits, VisFields, VisId, VisLayout};
 
-use crate::gpu_common::{Rng, run};
+use testkit::Rng;
 
 #[test]
 fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
-    let mut rng = Rng(0x1234_5678);
+    let mut rng = Rng::new(0x1234_5678);
     let mut input = Vec::new();
     for i in 0..20_000u32 {
         let word = match i % 4 {
-            0 => rng.u32(),
+            0 => rng.next_u32(),
             1 => visbuf::VIS_NONE,
             2 => i,
-            _ => rng.u32() | 0xffff_0000,
+            _ => rng.next_u32() | 0xffff_0000,
         };
         input.extend_from_slice(&[word, i % 17]);
     }
@@ -31,7 +31,15 @@ fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
     output[5u * i + 2u] = prim;
     output[5u * i + 3u] = visbuf_pack_id(mb, field, prim, p);
     output[5u * i + 4u] = select(0u, 1u, visbuf_is_none(word));";
-    let out = run(visbuf::ID_WGSL, body, &input, n, 5);
+    let out = testkit::device::run_words(
+        &[visbuf::wgsl::MODULES],
+        "#import visbuf::id",
+        body,
+        &input,
+        n,
+        5,
+        &[],
+    );
     for (k, pair) in input.chunks_exact(2).enumerate() {
         let (word, p) = (VisId(pair[0]), pair[1]);
         let bits = PrimitiveBits::new(p).expect("0..=16");
@@ -56,18 +64,18 @@ fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
 
 #[test]
 fn barycentrics_and_derivatives_match_the_cpu() {
-    let mut rng = Rng(0xbeef);
+    let mut rng = Rng::new(0xbeef);
     let viewport = Vec2::new(1920.0, 1080.0);
     let mut input: Vec<u32> = Vec::new();
     let mut cases = Vec::new();
     for _ in 0..4096 {
         let clip: [Vec4; 3] = std::array::from_fn(|_| {
-            let w = rng.f32(0.2, 60.0);
-            Vec4::new(rng.f32(-1.2, 1.2) * w, rng.f32(-1.2, 1.2) * w, 0.1, w)
+            let w = rng.range(0.2, 60.0);
+            Vec4::new(rng.range(-1.2, 1.2) * w, rng.range(-1.2, 1.2) * w, 0.1, w)
         });
         let pixel = Vec2::new(
-            rng.f32(0.0, 1920.0).floor() + 0.5,
-            rng.f32(0.0, 1080.0).floor() + 0.5,
+            rng.range(0.0, 1920.0).floor() + 0.5,
+            rng.range(0.0, 1080.0).floor() + 0.5,
         );
         for c in clip {
             input.extend(c.to_array().map(f32::to_bits));
@@ -88,7 +96,15 @@ fn barycentrics_and_derivatives_match_the_cpu() {
         output[o + 3u + k] = bitcast<u32>(r.ddx[k]);
         output[o + 6u + k] = bitcast<u32>(r.ddy[k]);
     }";
-    let out = run(visbuf::BARY_WGSL, body, &input, cases.len() as u32, 9);
+    let out = testkit::device::run_words(
+        &[visbuf::wgsl::MODULES],
+        "#import visbuf::bary",
+        body,
+        &input,
+        cases.len() as u32,
+        9,
+        &[],
+    );
     let mut worst = 0.0f32;
     for (k, (clip, pixel)) in cases.iter().enumerate() {
         let cpu = visbuf::bary::barycentrics(*clip, *pixel, viewport);

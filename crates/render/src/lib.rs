@@ -1,18 +1,21 @@
-//! `render`: the README's main command. Renders a procedural demo scene through the full
-//! pipeline (deferred texturing, the depth-equal baseline, or both), writes the image and
-//! its debug views as PNGs, and prints the statistics table.
+//! The `render` binary's arguments and run: every value is checked before anything is
+//! built (an image size within the device's, a frame count of at least one, a density
+//! that is finite, above zero and within the talk's limits), so no input panics.
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
-
-use gpu::context::{self, HeadlessOptions, PrimitiveIdPath};
 use gpu::demo::{self, DemoOptions, DemoScene};
-use gpu::renderer::{RenderPath, Renderer, RendererConfig};
+use gpu::{HeadlessOptions, PrimitiveIdPath, RenderPath, Renderer, RendererConfig};
 
+pub mod report;
+
+use report::Report;
+
+/// `--scene`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
-enum SceneArg {
+pub enum SceneArg {
     /// Alpha-tested foliage cards, grass tufts, trees and rocks over a terrain.
     Forest,
     /// A tall-grass field of very high vertex density.
@@ -21,8 +24,9 @@ enum SceneArg {
     All,
 }
 
+/// `--path`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum PathArg {
+pub enum PathArg {
     /// Visibility buffer, GPU classification, compute material resolve (HFW).
     Deferred,
     /// Depth prepass + depth-equal geometry pass (HZD), the method the talk replaces.
@@ -31,8 +35,9 @@ enum PathArg {
     Both,
 }
 
+/// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum PrimitiveIdArg {
+pub enum PrimitiveIdArg {
     /// The best the adapter supports.
     Auto,
     /// `@builtin(primitive_index)`.
@@ -47,59 +52,99 @@ enum PrimitiveIdArg {
 /// baseline; write PNGs and print statistics.
 #[derive(Debug, Parser)]
 #[command(version, about)]
-struct Args {
+pub struct Args {
     /// Which demo scene.
     #[arg(long, value_enum, default_value = "all")]
-    scene: SceneArg,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 1280)]
-    width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 720)]
-    height: u32,
+    pub scene: SceneArg,
+    /// Image width in pixels (1 to 16384).
+    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub width: u32,
+    /// Image height in pixels (1 to 16384).
+    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    pub height: u32,
     /// Output directory for the PNGs.
     #[arg(long, default_value = "out")]
-    out: PathBuf,
+    pub out: PathBuf,
     /// Which rendering path.
     #[arg(long, value_enum, default_value = "both")]
-    path: PathArg,
-    /// Frames to measure, after 0.5 s of warm-up frames (timings are their mean).
-    #[arg(long, default_value_t = 3)]
-    frames: u32,
+    pub path: PathArg,
+    /// Frames to measure, after 0.5 s of warm-up frames (timings are their mean; 1 to
+    /// 100000).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
     /// Scene seed.
     #[arg(long, default_value_t = 1)]
-    seed: u64,
-    /// Instance density multiplier (1.0 renders in seconds on lavapipe).
-    #[arg(long, default_value_t = 1.0)]
-    density: f32,
+    pub seed: u64,
+    /// Instance density multiplier, above 0 (1.0 renders in seconds on lavapipe; the
+    /// largest that fits the talk's limits is checked before anything is built).
+    #[arg(long, default_value_t = 1.0, value_parser = positive_density, allow_negative_numbers = true)]
+    pub density: f32,
     /// How the laydown gets primitive IDs.
     #[arg(long, value_enum, default_value = "auto")]
-    primitive_id: PrimitiveIdArg,
+    pub primitive_id: PrimitiveIdArg,
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
-    no_subgroups: bool,
+    pub no_subgroups: bool,
     /// Skip writing the debug views.
     #[arg(long)]
-    no_debug_views: bool,
+    pub no_debug_views: bool,
 }
 
-fn main() -> Result<()> {
-    let args = Args::parse();
-    if args.width == 0 || args.height == 0 || args.width > 16384 || args.height > 16384 {
-        anyhow::bail!(
-            "--width and --height must be in 1..=16384 (got {}x{})",
-            args.width,
-            args.height
-        );
+/// A density given on the command line: a finite number above zero.
+fn positive_density(s: &str) -> Result<f32, String> {
+    let d: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if d.is_finite() && d > 0.0 {
+        Ok(d)
+    } else {
+        Err(format!("{s} is not a finite number above 0"))
     }
+}
+
+impl Args {
+    /// The demo scenes to render.
+    pub fn scenes(&self) -> &'static [DemoScene] {
+        match self.scene {
+            SceneArg::Forest => &[DemoScene::Forest],
+            SceneArg::Grass => &[DemoScene::Grass],
+            SceneArg::All => &DemoScene::ALL,
+        }
+    }
+
+    /// Checks what clap cannot alone: every scene's density against the talk's limits
+    /// (the message names the limit and the largest density that fits).
+    ///
+    /// # Errors
+    /// The first scene whose density does not fit.
+    pub fn check(&self) -> Result<()> {
+        for &scene in self.scenes() {
+            demo::check_density(&DemoOptions {
+                scene,
+                seed: self.seed,
+                density: self.density,
+            })
+            .with_context(|| format!("--density for the {} scene", scene.name()))?;
+        }
+        Ok(())
+    }
+}
+
+/// Renders every scene `args` names; writes the images; prints the reports.
+///
+/// # Errors
+/// Arguments that do not fit ([`Args::check`]), no adapter, a device error, an image that
+/// cannot be written, or a GPU classification that differs from its CPU twin.
+pub fn run(args: &Args) -> Result<()> {
+    args.check()?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
-
     let mut disable = wgpu::Features::empty();
     if args.no_subgroups {
         disable |= wgpu::Features::SUBGROUP;
     }
-    let ctx = context::headless(&HeadlessOptions {
+    let ctx = gpu::headless(&HeadlessOptions {
         disable_features: disable,
         ..Default::default()
     })?;
@@ -116,17 +161,12 @@ fn main() -> Result<()> {
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
-    let scenes: &[DemoScene] = match args.scene {
-        SceneArg::Forest => &[DemoScene::Forest],
-        SceneArg::Grass => &[DemoScene::Grass],
-        SceneArg::All => &DemoScene::ALL,
-    };
-    for (k, &scene_kind) in scenes.iter().enumerate() {
+    for (k, &scene_kind) in args.scenes().iter().enumerate() {
         if k > 0 {
             println!();
         }
         println!("== {} ==", scene_kind.name());
-        render_scene(&args, &ctx, &mut renderer, scene_kind)?;
+        render_scene(args, &ctx, &mut renderer, scene_kind)?;
     }
     Ok(())
 }
@@ -134,12 +174,12 @@ fn main() -> Result<()> {
 /// Builds, prepares and renders one demo scene; writes its images; prints its report.
 fn render_scene(
     args: &Args,
-    ctx: &context::GpuContext,
+    ctx: &gpu::GpuContext,
     renderer: &mut Renderer,
     scene_kind: DemoScene,
 ) -> Result<()> {
     let t0 = std::time::Instant::now();
-    let scene = demo::build(&DemoOptions {
+    let (scene, frame) = demo::build(&DemoOptions {
         scene: scene_kind,
         seed: args.seed,
         density: args.density,
@@ -154,7 +194,7 @@ fn render_scene(
         PathArg::Baseline => &[RenderPath::Baseline],
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
     };
-    let mut report = gpu::report::Report::new(ctx, &scene, renderer, &prepared);
+    let mut report = Report::new(ctx, renderer, &prepared);
     report.cpu_ms("scene build (CPU)", build_ms);
     report.cpu_ms(
         "prepare: encode meshes, micro batches, upload (CPU)",
@@ -162,7 +202,7 @@ fn render_scene(
     );
     let mut images = Vec::new();
     for &path in paths {
-        let frames = renderer.render_frames(&prepared, path, args.frames.max(1))?;
+        let frames = renderer.render_frames(&prepared, &frame, path, args.frames)?;
         let image = renderer.read_output()?;
         let file = args
             .out
@@ -210,7 +250,7 @@ fn render_scene(
     if let [deferred, baseline] = images.as_slice() {
         report.compare(deferred, baseline);
         let file = args.out.join(format!("{}_diff.png", scene_kind.name()));
-        gpu::image::diff_image(deferred, baseline).write_png(&file)?;
+        gpu::diff_image(deferred, baseline).write_png(&file)?;
         report.image_named("diff", &file);
     }
     print!("{report}");

@@ -1,30 +1,37 @@
-//! The frame's render targets: depth, the vis buffer, the G-buffer and the output image.
+//! The frame's render targets: depth, the vis buffer (and its word copy), the G-buffer and
+//! the output image, with the views every pass binds.
+
+use crate::gbuffer;
 
 /// Depth format of every pass: reversed Z, cleared to 0, tested with `Greater`.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The vis buffer: one `visbuf` word per pixel, cleared to `visbuf::VIS_NONE`.
-pub const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+pub(crate) const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// The final tone-mapped image: sRGB-encoded values written by the lighting pass (storage
 /// textures cannot be `*Srgb`, so the encode is done in the shader).
-pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub(crate) const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// Size-dependent textures of one renderer.
-pub struct Targets {
+pub(crate) struct Targets {
     /// Width in pixels.
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
     /// Depth.
     pub depth: wgpu::Texture,
+    pub depth_view: wgpu::TextureView,
     /// Vis buffer.
     pub vis: wgpu::Texture,
+    pub vis_view: wgpu::TextureView,
     /// The vis buffer as row-major words (written by the vis-copy pass) for the
     /// classification passes, which read `array<u32>`.
     pub vis_words: wgpu::Buffer,
-    /// G-buffer targets, in `deferred`'s layout order.
-    pub gbuffer: Vec<wgpu::Texture>,
+    /// G-buffer targets RT0..RT3, in `deferred`'s layout order (kept with their views).
+    _gbuffer: Vec<wgpu::Texture>,
+    pub gbuffer_views: Vec<wgpu::TextureView>,
     /// Output image.
     pub output: wgpu::Texture,
+    pub output_view: wgpu::TextureView,
 }
 
 fn texture(
@@ -34,8 +41,8 @@ fn texture(
     height: u32,
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
+) -> (wgpu::Texture, wgpu::TextureView) {
+    let t = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width,
@@ -48,19 +55,16 @@ fn texture(
         format,
         usage,
         view_formats: &[],
-    })
+    });
+    let v = t.create_view(&Default::default());
+    (t, v)
 }
 
 impl Targets {
-    /// Creates the targets for `width` × `height` with G-buffer targets of `gbuffer_formats`.
-    pub fn new(
-        device: &wgpu::Device,
-        width: u32,
-        height: u32,
-        gbuffer_formats: &[wgpu::TextureFormat],
-    ) -> Self {
+    /// The targets for `width` × `height` pixels.
+    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
         use wgpu::TextureUsages as U;
-        let depth = texture(
+        let (depth, depth_view) = texture(
             device,
             "depth",
             width,
@@ -68,7 +72,7 @@ impl Targets {
             DEPTH_FORMAT,
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
-        let vis = texture(
+        let (vis, vis_view) = texture(
             device,
             "vis buffer",
             width,
@@ -84,21 +88,21 @@ impl Targets {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let gbuffer = gbuffer_formats
-            .iter()
+        let (_gbuffer, gbuffer_views) = gbuffer::color_formats()
+            .into_iter()
             .enumerate()
-            .map(|(i, &f)| {
+            .map(|(i, f)| {
                 texture(
                     device,
-                    &format!("gbuffer {i}"),
+                    &format!("gbuffer rt{i}"),
                     width,
                     height,
                     f,
                     U::RENDER_ATTACHMENT | U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
                 )
             })
-            .collect();
-        let output = texture(
+            .unzip();
+        let (output, output_view) = texture(
             device,
             "output",
             width,
@@ -110,10 +114,14 @@ impl Targets {
             width,
             height,
             depth,
+            depth_view,
             vis,
+            vis_view,
             vis_words,
-            gbuffer,
+            _gbuffer,
+            gbuffer_views,
             output,
+            output_view,
         }
     }
 }

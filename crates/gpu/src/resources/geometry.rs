@@ -6,42 +6,16 @@
 //! every vertex a payload so the XOR of a triangle's three is its ID. Indices are 32-bit
 //! because an encoded mesh may grow past 65 536 vertices (the source mesh may not).
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
 
+use super::rows::{GpuMesh, GpuVertex};
 use crate::context::PrimitiveIdPath;
 use crate::error::SceneError;
 use crate::scene::Mesh;
-use crate::upload::GpuVertex;
-
-/// Where one mesh sits in the concatenated buffers (WGSL `GpuMesh`). 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub struct GpuMesh {
-    /// First index in the index array.
-    pub first_index: u32,
-    /// Primitives (index count / 3).
-    pub primitive_count: u32,
-    /// Added to every index (the mesh's first vertex in the vertex array).
-    pub base_vertex: u32,
-    /// Vertices after encoding.
-    pub vertex_count: u32,
-}
-const _: () = assert!(size_of::<GpuMesh>() == 16);
-
-/// WGSL of [`GpuMesh`].
-pub const GEOMETRY_WGSL: &str = r"
-struct GpuMesh {
-    first_index: u32,
-    primitive_count: u32,
-    base_vertex: u32,
-    vertex_count: u32,
-}
-";
 
 /// All meshes of a scene, encoded for one primitive-ID path.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Geometry {
+pub(crate) struct Geometry {
     /// The path the payloads are for.
     pub path: Option<PrimitiveIdPath>,
     /// Vertices of every mesh, mesh after mesh.
@@ -58,7 +32,7 @@ pub struct Geometry {
 
 impl Geometry {
     /// Encodes every mesh of `meshes` for `path`.
-    pub fn build(meshes: &[Mesh], path: PrimitiveIdPath) -> Result<Self, SceneError> {
+    pub(crate) fn build(meshes: &[Mesh], path: PrimitiveIdPath) -> Result<Self, SceneError> {
         let mut g = Geometry {
             path: Some(path),
             ..Geometry::default()
@@ -119,7 +93,8 @@ impl Geometry {
     /// The primitive ID the laydown sees for triangle `t` of mesh `m` on this path,
     /// decoded independently of the encoder (builtin: `t`; provoking: the first corner's
     /// payload; XOR: the XOR of the three payloads).
-    pub fn decoded_primitive(&self, m: usize, t: u32) -> Option<u32> {
+    #[cfg(test)]
+    pub(crate) fn decoded_primitive(&self, m: usize, t: u32) -> Option<u32> {
         let mesh = self.meshes.get(m)?;
         if t >= mesh.primitive_count {
             return None;
@@ -145,7 +120,7 @@ mod tests {
 
     #[test]
     fn every_path_decodes_every_triangle_and_keeps_its_corners() {
-        let scene = demo::build(&demo::DemoOptions {
+        let (scene, _) = demo::build(&demo::DemoOptions {
             density: 0.01,
             ..Default::default()
         });

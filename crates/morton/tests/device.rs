@@ -1,20 +1,24 @@
-//! `morton`'s WGSL on a device against its CPU functions: 2D and 3D 32-bit encode and
+//! `morton`'s WGSL on testkit's device against its CPU functions: 2D and 3D 32-bit encode and
 //! decode over random and edge coordinates, and the quantise-then-encode key.
 
 use glam::Vec3;
 
-use crate::gpu_common::{Rng, run};
+use testkit::Rng;
 
 #[test]
 fn encode_and_decode_match_the_cpu() {
-    let mut rng = Rng(0x6d6f_7274);
+    let mut rng = Rng::new(0x6d6f_7274);
     let mut input = Vec::new();
     for i in 0..20_000u32 {
         let (a, b, c) = match i % 4 {
-            0 => (rng.u32(), rng.u32(), rng.u32()),
+            0 => (rng.next_u32(), rng.next_u32(), rng.next_u32()),
             1 => (u32::MAX, 0, u32::MAX),
             2 => (i, i >> 3, i * 7),
-            _ => (rng.u32() & 0x3ff, rng.u32() & 0xffff, rng.u32() & 0x3ff),
+            _ => (
+                rng.next_u32() & 0x3ff,
+                rng.next_u32() & 0xffff,
+                rng.next_u32() & 0x3ff,
+            ),
         };
         input.extend_from_slice(&[a, b, c]);
     }
@@ -33,7 +37,15 @@ fn encode_and_decode_match_the_cpu() {
     output[8u * i + 5u] = d3.y;
     output[8u * i + 6u] = d3.z;
     output[8u * i + 7u] = 0u;";
-    let out = run(morton::WGSL, body, &input, n, 8);
+    let out = testkit::device::run_words(
+        &[morton::wgsl::MODULES],
+        "#import morton::codes",
+        body,
+        &input,
+        n,
+        8,
+        &[],
+    );
     for (k, t) in input.chunks_exact(3).enumerate() {
         let (a, b, c) = (t[0], t[1], t[2]);
         let got = &out[8 * k..8 * k + 7];
@@ -53,7 +65,7 @@ fn encode_and_decode_match_the_cpu() {
 
 #[test]
 fn quantised_keys_match_the_cpu() {
-    let mut rng = Rng(0x7175_616e);
+    let mut rng = Rng::new(0x7175_616e);
     let q = morton::Quantizer3::new(
         Vec3::new(-100.0, -5.0, 20.0),
         Vec3::new(300.0, 45.0, 80.0),
@@ -66,27 +78,29 @@ fn quantised_keys_match_the_cpu() {
     for _ in 0..20_000 {
         // Inside, on and beyond the box (clamped).
         let p = Vec3::new(
-            rng.f32(-150.0, 350.0),
-            rng.f32(-10.0, 50.0),
-            rng.f32(10.0, 90.0),
+            rng.range(-150.0, 350.0),
+            rng.range(-10.0, 50.0),
+            rng.range(10.0, 90.0),
         );
         points.push(p);
         input.extend_from_slice(&[p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]);
     }
     let prelude = format!(
         "{}\nconst BOX_MIN = vec3<f32>({:?}, {:?}, {:?});\nconst SCALE = vec3<f32>({:?}, {:?}, {:?});",
-        morton::WGSL,
-        min.x,
-        min.y,
-        min.z,
-        scale.x,
-        scale.y,
-        scale.z
+        "#import morton::codes", min.x, min.y, min.z, scale.x, scale.y, scale.z
     );
     let body = "
     let p = vec3<f32>(bitcast<f32>(input[3u * i]), bitcast<f32>(input[3u * i + 1u]), bitcast<f32>(input[3u * i + 2u]));
     output[i] = morton_key3_u32(p, BOX_MIN, SCALE, 10u);";
-    let out = run(&prelude, body, &input, points.len() as u32, 1);
+    let out = testkit::device::run_words(
+        &[morton::wgsl::MODULES],
+        &prelude,
+        body,
+        &input,
+        points.len() as u32,
+        1,
+        &[],
+    );
     for (k, p) in points.iter().enumerate() {
         assert_eq!(out[k], q.morton_u32(*p).unwrap(), "point {p}");
     }

@@ -1,138 +1,39 @@
-//! CPU/GPU agreement: the WGSL twins run on a real adapter (lavapipe in CI, any Vulkan,
-//! Metal or DX12 device otherwise) against the Rust functions they mirror. A machine
-//! without any GPU driver fails here with the adapter error: install Mesa's lavapipe
-//! (`mesa-vulkan-drivers`).
+//! CPU/GPU agreement: the WGSL twins run on testkit's device (lavapipe in CI) against the
+//! Rust functions they mirror. A machine without any GPU driver fails here, saying how to
+//! install one.
 //!
 //! Where the two sides may legitimately round differently (device `pow`/`log2`/division,
 //! the precise normal encoder choosing between two codes at a near-tie) the tests allow
 //! exactly that and count it; everything else must match bit for bit.
 
-use std::sync::OnceLock;
-
 use deferred::lights::{TILE_SIZE, TileFrustum, tile_counts};
 use deferred::normal::oct_decode;
 use deferred::{
-    DEPTH_WGSL, DeferredLight, DeferredTileDepth, DepthMode, GBUFFER_WGSL, Kz2Texels, LIGHTS_WGSL,
-    OctTexels, Perspective, Surface,
+    DeferredLight, DeferredTileDepth, DepthMode, Kz2Texels, OctTexels, Perspective, Surface,
 };
 use glam::{Vec2, Vec3};
 
-struct Gpu {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
-}
-
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            apply_limit_buckets: false,
-        }))
-        .unwrap_or_else(|e| {
-            panic!("no GPU adapter ({e}): install a Vulkan driver such as lavapipe")
-        });
-        let info = adapter.get_info();
-        eprintln!("adapter: {} ({:?})", info.name, info.backend);
-        let (device, queue) =
-            pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default()))
-                .expect("device");
-        Gpu { device, queue }
-    })
-}
-
-/// Runs `body` for `items` invocations with `input: array<u32>` and `output: array<u32>`
-/// bound, after `prelude`; returns `items * out_stride` output words.
+/// Runs `body` for `items` invocations on testkit's device, after `prelude` (whose
+/// `#import` lines name this crate's modules); returns `items * out_stride` output words.
 fn run(prelude: &str, body: &str, input: &[u32], items: u32, out_stride: usize) -> Vec<u32> {
-    use wgpu::util::DeviceExt;
-    let src = format!(
-        "{prelude}
-@group(0) @binding(0) var<storage, read> input: array<u32>;
-@group(0) @binding(1) var<storage, read_write> output: array<u32>;
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
-    let i = gid.x;
-    if i >= {items}u {{ return; }}
-    {body}
-}}"
-    );
-    let g = gpu();
-    let d = &g.device;
-    let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: None,
-        source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
-    });
-    let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: None,
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
-    let input = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: None,
-        contents: bytemuck::cast_slice(if input.is_empty() { &[0u32] } else { input }),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let size = (items as usize * out_stride * 4) as u64;
-    let output = d.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let read = d.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = d.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(items.div_ceil(64), 1, 1);
-    }
-    enc.copy_buffer_to_buffer(&output, 0, &read, 0, size);
-    g.queue.submit([enc.finish()]);
-    let slice = read.slice(..);
-    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-    d.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
-    let words: Vec<u32> = bytemuck::cast_slice(&slice.get_mapped_range().expect("mapped")).to_vec();
-    words
+    testkit::device::run_words(
+        &[deferred::wgsl::MODULES],
+        prelude,
+        body,
+        input,
+        items,
+        out_stride,
+        &[],
+    )
 }
 
-/// xorshift64*.
-struct Rng(u64);
+struct Rng(testkit::Rng);
 impl Rng {
     fn u32(&mut self) -> u32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 32) as u32
+        self.0.next_u32()
     }
     fn f32(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * (self.u32() >> 8) as f32 / (1u32 << 24) as f32
+        self.0.range(lo, hi)
     }
     fn unit(&mut self) -> Vec3 {
         let z = self.f32(-1.0, 1.0);
@@ -200,7 +101,7 @@ fn surface_from(w: &[u32]) -> Surface {
 }
 
 fn surfaces(n: usize) -> Vec<Surface> {
-    let mut rng = Rng(0x5eed_1234_abcd_0001);
+    let mut rng = Rng(testkit::Rng::new(0x5eed_1234_abcd_0001));
     let mut out: Vec<Surface> = (0..n)
         .map(|_| Surface {
             lighting: Vec3::new(rng.f32(0.0, 3.0), rng.f32(0.0, 1.0), rng.f32(0.0, 12.0)),
@@ -238,7 +139,7 @@ fn surfaces(n: usize) -> Vec<Surface> {
 fn gbuffer_pack_matches_the_cpu() {
     let s = surfaces(20_000);
     let input: Vec<u32> = s.iter().flat_map(surface_words).collect();
-    let prelude = format!("{GBUFFER_WGSL}{SURFACE_WGSL_READ}");
+    let prelude = format!("#import deferred::gbuffer\n{SURFACE_WGSL_READ}");
     let body = "
     let s = read_surface(i);
     let k = deferred_gbuffer_kz2_pack(s);
@@ -332,10 +233,10 @@ fn gbuffer_pack_matches_the_cpu() {
 
 #[test]
 fn gbuffer_unpack_matches_the_cpu() {
-    let mut rng = Rng(99);
+    let mut rng = Rng(testkit::Rng::new(99));
     let n = 20_000u32;
     let input: Vec<u32> = (0..n * 5).map(|_| rng.u32()).collect();
-    let prelude = format!("{GBUFFER_WGSL}{SURFACE_WGSL_READ}");
+    let prelude = format!("#import deferred::gbuffer\n{SURFACE_WGSL_READ}");
     // Texture reads: unorm channels as textureLoad returns them, f16 channels as floats.
     let body = "
     let b = i * 5u;
@@ -385,7 +286,7 @@ fn gbuffer_unpack_matches_the_cpu() {
 #[test]
 fn position_from_depth_matches_the_cpu() {
     let vp = Vec2::new(1920.0, 1080.0);
-    let mut rng = Rng(5);
+    let mut rng = Rng(testkit::Rng::new(5));
     for mode in [DepthMode::Reversed, DepthMode::Standard] {
         let p = Perspective::try_new(1.1, vp.x / vp.y, 0.1, Some(500.0), mode).unwrap();
         let proj = p.gpu(vp);
@@ -409,7 +310,7 @@ fn position_from_depth_matches_the_cpu() {
     let b = 8u + i * 3u;
     let v = deferred_view_position(p, vec2<f32>(bitcast<f32>(input[b]), bitcast<f32>(input[b + 1u])), bitcast<f32>(input[b + 2u]));
     output[i * 3u] = bitcast<u32>(v.x); output[i * 3u + 1u] = bitcast<u32>(v.y); output[i * 3u + 2u] = bitcast<u32>(v.z);";
-        let out = run(DEPTH_WGSL, body, &input, n, 3);
+        let out = run("#import deferred::depth", body, &input, n, 3);
         for (i, (px, d)) in items.iter().enumerate() {
             let cpu = proj.view_position(*px, *d);
             let gpu = Vec3::new(
@@ -431,7 +332,7 @@ fn light_tile_test_matches_the_cpu() {
     let p = Perspective::try_new(1.0, vp.x / vp.y, 0.1, None, DepthMode::Reversed).unwrap();
     let proj = p.gpu(vp);
     let (tx, ty) = tile_counts(vp.x as u32, vp.y as u32);
-    let mut rng = Rng(21);
+    let mut rng = Rng(testkit::Rng::new(21));
     let lights: Vec<DeferredLight> = (0..64)
         .map(|i| {
             let d = rng.f32(1.0, 40.0);
@@ -489,7 +390,7 @@ fn light_tile_test_matches_the_cpu() {
     output[i * 2u] = mask.x;
     output[i * 2u + 1u] = mask.y;"
     );
-    let prelude = format!("{DEPTH_WGSL}{LIGHTS_WGSL}");
+    let prelude = "#import deferred::lights".to_string();
     let out = run(&prelude, &body, &input, tiles.len() as u32, 2);
     let (mut differ, mut pairs) = (0, 0);
     for (i, (x, y, d)) in tiles.iter().enumerate() {

@@ -1,120 +1,14 @@
-//! The scene on the GPU: one vertex storage buffer and one 16-bit index buffer for all
-//! meshes, the instance and material tables, and the albedo texture array with its mips.
-//!
-//! Vertex data is pulled from storage buffers in every shader (no vertex buffers): the
-//! laydown, the baseline and the compute resolve read the same [`GpuVertex`] records.
+//! The albedo texture array: every layer of the scene with a full mip chain, filtered so
+//! alpha-tested foliage keeps its coverage with distance.
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
-use wgpu::util::DeviceExt;
 
-use crate::scene::{AlbedoLayer, Scene};
-
-/// One vertex as the shaders pull it (WGSL `GpuVertex`): 48 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuVertex {
-    /// Object-space position (metres).
-    pub position: [f32; 3],
-    /// Texture coordinate u.
-    pub u: f32,
-    /// Object-space unit normal.
-    pub normal: [f32; 3],
-    /// Texture coordinate v.
-    pub v: f32,
-    /// Object-space tangent, handedness in w.
-    pub tangent: [f32; 4],
-}
-const _: () = assert!(size_of::<GpuVertex>() == 48);
-
-/// One material (WGSL `GpuMaterial`): 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuMaterial {
-    /// Linear RGB tint.
-    pub tint: [f32; 3],
-    /// Albedo array layer.
-    pub albedo_layer: u32,
-    /// Alpha-test cutoff (0 for opaque materials: nothing is discarded).
-    pub alpha_cutoff: f32,
-    /// Perceptual roughness.
-    pub roughness: f32,
-    /// Specular intensity.
-    pub specular: f32,
-    /// `ShaderKind::id`.
-    pub shader: u32,
-}
-const _: () = assert!(size_of::<GpuMaterial>() == 32);
-
-/// WGSL declarations of the structs above; kept beside them (a test checks the sizes
-/// naga computes against `size_of`).
-pub const SCENE_WGSL: &str = r"
-struct GpuVertex {
-    position: vec3<f32>,
-    u: f32,
-    normal: vec3<f32>,
-    v: f32,
-    tangent: vec4<f32>,
-}
-
-struct GpuMaterial {
-    tint: vec3<f32>,
-    albedo_layer: u32,
-    alpha_cutoff: f32,
-    roughness: f32,
-    specular: f32,
-    shader: u32,
-}
-";
-
-/// Creates a storage buffer initialised with `data` (at least 4 bytes: wgpu refuses empty
-/// bindings).
-pub fn storage_buffer(
-    device: &wgpu::Device,
-    label: &str,
-    data: &[u8],
-    extra: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    let padded;
-    let contents = if data.len() < 4 {
-        padded = [0u8; 4];
-        &padded[..]
-    } else {
-        data
-    };
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC
-            | extra,
-    })
-}
-
-/// Converts scene materials to their GPU rows.
-pub fn gpu_materials(scene: &Scene) -> Vec<GpuMaterial> {
-    scene
-        .materials
-        .iter()
-        .map(|m| GpuMaterial {
-            tint: m.tint.to_array(),
-            albedo_layer: m.albedo_layer,
-            alpha_cutoff: match m.shader {
-                crate::scene::ShaderKind::AlphaTested => m.alpha_cutoff,
-                crate::scene::ShaderKind::Opaque => 0.0,
-            },
-            roughness: m.roughness,
-            specular: m.specular,
-            shader: m.shader.id(),
-        })
-        .collect()
-}
+use crate::scene::AlbedoLayer;
 
 /// Mip chain of one layer, box-filtered in linear space for colour; alpha is filtered and
 /// then rescaled so the fraction of texels passing the cutoff 0.5 stays that of the top
 /// level (foliage does not thin out with distance).
-pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
+pub(crate) fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
     let to_lin = |c: u8| {
         let s = f32::from(c) / 255.0;
         if s <= 0.040_45 {
@@ -185,7 +79,7 @@ pub fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
 }
 
 /// Uploads the albedo layers as an `Rgba8UnormSrgb` 2D array with a full mip chain.
-pub fn albedo_texture(
+pub(crate) fn albedo_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     layers: &[AlbedoLayer],
@@ -243,37 +137,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn wgsl_structs_match_rust_sizes() {
-        let m = shadercheck::assert_valid("SCENE_WGSL", SCENE_WGSL, shadercheck::Caps::CORE);
-        let mut layouter = naga_layouter_sizes(&m);
-        layouter.sort();
-        assert_eq!(
-            layouter,
-            vec![
-                ("GpuMaterial".to_string(), size_of::<GpuMaterial>() as u32),
-                ("GpuVertex".to_string(), size_of::<GpuVertex>() as u32)
-            ]
-        );
-    }
-
-    fn naga_layouter_sizes(m: &naga::Module) -> Vec<(String, u32)> {
-        m.types
-            .iter()
-            .filter_map(|(_, t)| match &t.inner {
-                naga::TypeInner::Struct { span, .. } => Some((t.name.clone()?, *span)),
-                _ => None,
-            })
-            .collect()
-    }
-
-    #[test]
     fn mips_keep_alpha_coverage() {
-        let layer = crate::demo::build(&crate::demo::DemoOptions {
+        let (scene, _) = crate::demo::build(&crate::demo::DemoOptions {
             density: 0.01,
             ..Default::default()
-        })
-        .albedo_layers[2]
-            .clone();
+        });
+        let layer = scene.albedo_layers[2].clone();
         let chain = mip_chain(&layer);
         assert_eq!(chain.len() as u32, layer.size.ilog2() + 1);
         let cov = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len() as f32;

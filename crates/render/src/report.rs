@@ -4,58 +4,21 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::context::GpuContext;
-use crate::image::{Rgba8Image, diff_metrics};
-use crate::renderer::{FrameTimings, PreparedScene, RenderPath, Renderer};
-use crate::scene::Scene;
-
-/// Counters of one frame's classification, as in seed 000's closing tables.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ClassificationStats {
-    /// Pixels with vis-buffer geometry.
-    pub vis_pixels: u64,
-    /// Passes used.
-    pub passes: u32,
-    /// Batch groups over all passes.
-    pub batch_groups: u32,
-    /// (tile, pass, group) triples with pixels.
-    pub tile_groups: u64,
-    /// Pixel commands written.
-    pub pixel_commands: u64,
-    /// Wave commands written.
-    pub wave_commands: u64,
-    /// The wave width the commands were built for.
-    pub wave_width: u32,
-    /// Lanes of those waves with no pixel (rounding each (tile, pass, group) up to waves).
-    pub unfilled_lanes: u64,
-    /// Pixel-shading waves HZD's depth-equal pass would launch (distinct 2x2 quad ×
-    /// primitive pairs × 4 lanes, rounded up to waves per draw).
-    pub depth_equal_waves: u64,
-    /// Vertices of all instances in the scene.
-    pub scene_vertices: u64,
-    /// Vertices in 64-vertex chunks that a visible primitive uses.
-    pub vertices_after_chunk_culling: u64,
-    /// Bytes of command buffers (pixel + wave commands + dispatch arguments).
-    pub command_bytes: u64,
-    /// Whether the GPU classification matched the CPU twin on this frame.
-    pub gpu_matches_cpu: Option<bool>,
-}
+use gpu::{
+    ClassificationStats, FrameOutput, GpuContext, PreparedScene, RenderPath, Renderer, Rgba8Image,
+    diff_metrics,
+};
 
 /// Everything printed after a run.
 pub struct Report {
     lines: Vec<(String, String)>,
-    timings: Vec<(RenderPath, FrameTimings)>,
+    timings: Vec<(RenderPath, FrameOutput)>,
     images: Vec<(String, PathBuf)>,
 }
 
 impl Report {
     /// Starts a report with the adapter, the active paths and the scene's size.
-    pub fn new(
-        ctx: &GpuContext,
-        scene: &Scene,
-        renderer: &Renderer,
-        prepared: &PreparedScene,
-    ) -> Self {
+    pub fn new(ctx: &GpuContext, renderer: &Renderer, prepared: &PreparedScene) -> Self {
         let mut r = Report {
             lines: Vec::new(),
             timings: Vec::new(),
@@ -82,21 +45,13 @@ impl Report {
         );
         let c = renderer.config();
         r.row("resolution", format!("{} x {}", c.width, c.height));
-        r.row("instances", group_digits(scene.instance_count() as u64));
-        r.row("triangles", group_digits(scene.triangle_count()));
-        r.row(
-            "micro batches",
-            group_digits(prepared.plan.micro_batches.len() as u64),
-        );
-        let added: u64 = prepared
-            .geometry
-            .added_vertices
-            .iter()
-            .map(|&a| u64::from(a))
-            .sum();
+        let s = prepared.summary();
+        r.row("instances", group_digits(s.instances));
+        r.row("triangles", group_digits(s.triangles));
+        r.row("micro batches", group_digits(s.micro_batches as u64));
         r.row(
             "vertices added by the primitive-ID encoding",
-            group_digits(added),
+            group_digits(s.added_vertices),
         );
         r
     }
@@ -170,7 +125,7 @@ impl Report {
     }
 
     /// GPU and wall times of a path.
-    pub fn timings(&mut self, path: RenderPath, t: &FrameTimings) {
+    pub fn timings(&mut self, path: RenderPath, t: &FrameOutput) {
         self.timings.push((path, t.clone()));
     }
 

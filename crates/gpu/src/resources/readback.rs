@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 
 /// Copies `size` bytes of `buffer` from `offset` into a new vector. The buffer needs
 /// `COPY_SRC`. Waits for the GPU.
-pub fn read_buffer(
+pub(crate) fn read_buffer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     buffer: &wgpu::Buffer,
@@ -29,16 +29,6 @@ pub fn read_buffer(
     map_and_copy(device, &staging)
 }
 
-/// Reads a whole buffer as a vector of `T`.
-pub fn read_buffer_as<T: bytemuck::Pod>(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    buffer: &wgpu::Buffer,
-) -> Result<Vec<T>> {
-    let bytes = read_buffer(device, queue, buffer, 0, buffer.size())?;
-    Ok(bytemuck::pod_collect_to_vec(&bytes))
-}
-
 fn map_and_copy(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>> {
     let (tx, rx) = std::sync::mpsc::channel();
     staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
@@ -60,7 +50,7 @@ fn map_and_copy(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>
 
 /// Reads mip 0 / layer 0 of a 2D texture whose texels are `bytes_per_texel` bytes wide,
 /// tightly packed row by row (row padding removed). The texture needs `COPY_SRC`.
-pub fn read_texture(
+pub(crate) fn read_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,

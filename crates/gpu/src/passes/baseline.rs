@@ -1,0 +1,143 @@
+//! HZD's method, the baseline the deferred path replaces: after the depth prepass (with
+//! alpha test, in [`laydown`](super::laydown)), every batch is drawn again with depth test
+//! `Equal` and no alpha test, writing the G-buffer from a fragment shader (`gpu::baseline`).
+
+use shader::pipeline::Layouts;
+use shader::{Dispatch, Entry, Pass, Stage};
+
+use super::laydown::{SCENE_GROUP, depth_write_state, primitive_state, record_draws};
+use super::{FrameContext, LIBRARY};
+use crate::error::Result;
+use crate::gbuffer;
+use crate::timing::GpuTimer;
+
+/// The depth-equal geometry pass.
+pub(crate) const BASELINE: Pass = Pass {
+    name: "baseline depth-equal geometry pass",
+    module: "gpu::baseline",
+    library: LIBRARY,
+    features: &[],
+    groups: &[SCENE_GROUP],
+    entries: &[
+        Entry {
+            name: "vs_baseline",
+            stage: Stage::Vertex,
+            dispatch: Dispatch::Draw,
+        },
+        Entry {
+            name: "fs_baseline",
+            stage: Stage::Fragment,
+            dispatch: Dispatch::Draw,
+        },
+    ],
+    zeroed: &[],
+};
+
+/// The baseline's geometry pipeline.
+pub(crate) struct Baseline {
+    layouts: Layouts,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl Baseline {
+    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+        let layouts = Layouts::new(device, &BASELINE);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(BASELINE.name),
+            source: wgpu::ShaderSource::Wgsl(BASELINE.source(&[])?.into()),
+        });
+        let targets = gbuffer::color_targets();
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(BASELINE.name),
+            layout: Some(layouts.pipeline_layout()),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_baseline"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: primitive_state(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Equal),
+                ..depth_write_state()
+            }),
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_baseline"),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Ok(Self { layouts, pipeline })
+    }
+
+    /// A prepared scene's bind group (its `scene` resources by binding name).
+    pub(crate) fn group(
+        &self,
+        device: &wgpu::Device,
+        scene: &[(&str, wgpu::BindingResource<'_>)],
+    ) -> Result<wgpu::BindGroup> {
+        Ok(self.layouts.bind_group(device, "scene", scene)?)
+    }
+
+    /// Records the depth-equal geometry pass over the prepass's depth.
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = f
+            .targets
+            .gbuffer_views
+            .iter()
+            .map(|v| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view: v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("baseline depth-equal geometry pass"),
+            color_attachments: &colors,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &f.targets.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render("depth-equal geometry pass"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &f.scene.baseline, &[]);
+        // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
+        record_draws(
+            &mut pass,
+            &f.scene.draws,
+            &f.scene.index_buffer,
+            &self.pipeline,
+            &self.pipeline,
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn description_matches_its_module() {
+        shadercheck::check_pass(&super::BASELINE, |_| shadercheck::Caps::CORE);
+    }
+}

@@ -1,0 +1,398 @@
+//! GPU classification of the laid-down vis buffer: `tiling`'s three phases (seed 000:
+//! laydown finalise, mid classify, classify output) run from their descriptions in
+//! `tiling::wgsl`, after a zero fill of the buffers they expect zeroed (`gpu::zero`), over
+//! buffers sized for the worst case of a frame.
+//!
+//! Buffer sizes, per prepared scene, for a `width x height` image, `T` 128x128 tiles, `P`
+//! passes and `G` batch groups over all passes: masks and counter offsets `T * P` words;
+//! counters at most `T * G` (a counter is a (tile, pass, group) triple with pixels);
+//! pixel commands at most `width * height` (two per word); wave commands at most
+//! `counters + width * height / wave width`. Nothing is sized from a CPU classification.
+
+use shader::pipeline::ComputePass;
+use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Stage};
+use tiling::{ClassifyConfig, PassDispatch, PixelStats, TilingParams, Totals, WaveCommand};
+
+use super::{FrameContext, LIBRARY};
+use crate::error::{Error, Result};
+use crate::resources::buffer_init;
+use crate::timing::GpuTimer;
+
+/// Zeroes one buffer, one word per invocation (`gpu::zero`), over its word count.
+pub(crate) const ZERO: Pass<u32> = Pass {
+    name: "classify 0: zero buffers",
+    module: "gpu::zero",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "words",
+        bindings: &[Binding::new("words", Kind::read_write(4))],
+    }],
+    entries: &[Entry {
+        name: "zero",
+        stage: Stage::compute(256, 1, 1),
+        dispatch: Dispatch::Items(|words| *words),
+    }],
+    zeroed: &[],
+};
+
+/// A timing experiment on the classification (`examples/classify_variants.rs`): `tiling`'s
+/// `override`s to set, and entry points not to dispatch. Variants that drop work give wrong
+/// commands; only their times mean anything.
+#[doc(hidden)]
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ClassificationVariant {
+    /// `override` values of the classification modules (`TILING_OMIT_STATS`, ...).
+    pub overrides: Vec<(&'static str, f64)>,
+    /// Entry points recorded not at all (their outputs keep the last frame's values).
+    pub skip: Vec<&'static str>,
+}
+
+/// The classification's pipelines.
+pub(crate) struct Classify {
+    zero: ComputePass<u32>,
+    phases: Vec<ComputePass<TilingParams>>,
+    features: &'static [&'static str],
+    skip: Vec<&'static str>,
+}
+
+impl Classify {
+    /// Creates the pipelines; `subgroups` picks `wave`'s subgroup appends (the device must
+    /// have `Features::SUBGROUP`) over the workgroup fallback.
+    pub(crate) fn new(device: &wgpu::Device, subgroups: bool) -> Result<Self> {
+        let features: &'static [&'static str] = if subgroups { &["subgroups"] } else { &[] };
+        let mut c = Self {
+            zero: ComputePass::new(device, &ZERO, &[], &[])?,
+            phases: Vec::new(),
+            features,
+            skip: Vec::new(),
+        };
+        c.set_variant(device, &ClassificationVariant::default())?;
+        Ok(c)
+    }
+
+    /// Rebuilds the phases with `variant`'s overrides and skipped entry points (the
+    /// layouts, and so every prepared scene's bind groups, stay).
+    pub(crate) fn set_variant(
+        &mut self,
+        device: &wgpu::Device,
+        variant: &ClassificationVariant,
+    ) -> Result<()> {
+        self.phases = tiling::wgsl::CLASSIFICATION
+            .iter()
+            .map(|pass| {
+                // Each phase takes the overrides its module declares.
+                let src = pass.source(&features(pass, self.features))?;
+                let constants: Vec<(&str, f64)> = variant
+                    .overrides
+                    .iter()
+                    .copied()
+                    .filter(|(name, _)| src.contains(&format!("override {name}")))
+                    .collect();
+                ComputePass::new(device, pass, &features(pass, self.features), &constants)
+            })
+            .collect::<Result<_, shader::Error>>()?;
+        self.skip.clone_from(&variant.skip);
+        Ok(())
+    }
+
+    /// The buffers and bind groups of one prepared scene.
+    pub(crate) fn buffers(
+        &self,
+        device: &wgpu::Device,
+        sizes: Sizes,
+        config: ClassifyConfig,
+        table: &[tiling::MicroBatchInfo],
+        micro_batch_count: u32,
+        vis_words: &wgpu::Buffer,
+        indices: &wgpu::Buffer,
+    ) -> Result<Buffers> {
+        Buffers::new(
+            self,
+            device,
+            sizes,
+            config,
+            table,
+            micro_batch_count,
+            vis_words,
+            indices,
+        )
+    }
+
+    /// Records the zero fill and the three phases, each a timed pass.
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let b = &f.scene.classification;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(ZERO.name),
+                timestamp_writes: timer.compute(ZERO.name),
+            });
+            for (group, words) in &b.zero_groups {
+                self.zero.record(&mut pass, &[group], words);
+            }
+        }
+        for (phase, group) in self.phases.iter().zip(&b.groups) {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(phase.pass.name),
+                timestamp_writes: timer.compute(phase.pass.name),
+            });
+            pass.set_bind_group(0, group, &[]);
+            for step in &phase.steps {
+                if self.skip.contains(&step.entry.name) {
+                    continue;
+                }
+                if let Some([x, y, z]) = phase.workgroups(step, &b.params) {
+                    pass.set_pipeline(&step.pipeline);
+                    pass.dispatch_workgroups(x, y, z);
+                }
+            }
+        }
+    }
+}
+
+fn features(pass: &Pass<TilingParams>, wanted: &'static [&'static str]) -> Vec<&'static str> {
+    wanted
+        .iter()
+        .copied()
+        .filter(|f| pass.features.contains(f))
+        .collect()
+}
+
+/// Worst-case sizes of a frame's classification buffers (elements, see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Sizes {
+    pub width: u32,
+    pub height: u32,
+    pub tiles: u32,
+    pub passes: u32,
+    pub max_counters: u32,
+    pub max_commands: u32,
+    pub max_waves: u32,
+    pub chunk_count: u32,
+}
+
+impl Sizes {
+    /// The sizes for a plan whose passes hold `batch_groups` groups in all.
+    pub(crate) fn new(width: u32, height: u32, config: &ClassifyConfig, batch_groups: u32) -> Self {
+        let tiles = width.div_ceil(tiling::TILE_SIZE) * height.div_ceil(tiling::TILE_SIZE);
+        let pixels = width * height;
+        let max_counters = tiles * batch_groups.max(1);
+        Self {
+            width,
+            height,
+            tiles,
+            passes: config.pass_count.max(1),
+            max_counters,
+            max_commands: pixels,
+            max_waves: max_counters + pixels.div_ceil(config.wave_width.lanes()),
+            chunk_count: config.chunk_count,
+        }
+    }
+}
+
+/// Words (`u32`) that `n` elements of `T` take.
+pub(crate) fn words_of<T>(n: u32) -> u32 {
+    const { assert!(size_of::<T>().is_multiple_of(4)) };
+    n * (size_of::<T>() / 4) as u32
+}
+
+/// A frame's classification buffers and bind groups.
+pub(crate) struct Buffers {
+    pub sizes: Sizes,
+    pub config: ClassifyConfig,
+    pub params: TilingParams,
+    pub masks: wgpu::Buffer,
+    pub counter_offsets: wgpu::Buffer,
+    pub counts: wgpu::Buffer,
+    pub pixel_offsets: wgpu::Buffer,
+    pub vertex_cull: wgpu::Buffer,
+    pub totals: wgpu::Buffer,
+    pub stats_mid: wgpu::Buffer,
+    pub final_counts: wgpu::Buffer,
+    pub commands: wgpu::Buffer,
+    pub wave_offsets: wgpu::Buffer,
+    pub waves: wgpu::Buffer,
+    pub pass_dispatch: wgpu::Buffer,
+    pub stats_out: wgpu::Buffer,
+    _kept: [wgpu::Buffer; 3],
+    zero_groups: Vec<(wgpu::BindGroup, u32)>,
+    groups: Vec<wgpu::BindGroup>,
+}
+
+impl Buffers {
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one call site, every argument a distinct input of the classification"
+    )]
+    fn new(
+        c: &Classify,
+        device: &wgpu::Device,
+        sizes: Sizes,
+        config: ClassifyConfig,
+        table: &[tiling::MicroBatchInfo],
+        micro_batch_count: u32,
+        vis_words: &wgpu::Buffer,
+        indices: &wgpu::Buffer,
+    ) -> Result<Self> {
+        let s = sizes;
+        let params = TilingParams {
+            width: s.width,
+            height: s.height,
+            tiles_x: s.width.div_ceil(tiling::TILE_SIZE),
+            tiles_y: s.height.div_ceil(tiling::TILE_SIZE),
+            pass_count: s.passes,
+            wave_width: config.wave_width.lanes(),
+            flags: 0,
+            table_len: table.len() as u32,
+            micro_batch_count,
+            chunk_count: config.chunk_count,
+            uber_count: config.chunk_count.div_ceil(64),
+            pad: 0,
+        };
+        let max = u64::from(device.limits().max_storage_buffer_binding_size);
+        let zeroed = |label: &str, words: u32, extra: wgpu::BufferUsages| -> Result<wgpu::Buffer> {
+            let size = u64::from(words.max(1)) * 4;
+            if size > max {
+                return Err(Error::DeviceLimit {
+                    limit: "max_storage_buffer_binding_size",
+                    needed: size,
+                    available: max,
+                });
+            }
+            Ok(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC
+                    | extra,
+                mapped_at_creation: false,
+            }))
+        };
+        let none = wgpu::BufferUsages::empty();
+        let tp = s.tiles * s.passes;
+        let params_buffer = buffer_init(
+            device,
+            "tiling params",
+            bytemuck::bytes_of(&params),
+            0,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let valid = zeroed("validity (unused: no stencil bit)", 1, none)?;
+        let table_buffer = buffer_init(
+            device,
+            "MicroBatchInfoTable",
+            bytemuck::cast_slice(table),
+            size_of::<tiling::MicroBatchInfo>() as u64,
+            wgpu::BufferUsages::STORAGE,
+        );
+        let b = Buffers {
+            masks: zeroed("batch-group masks", tp, none)?,
+            counter_offsets: zeroed("counter offsets", tp, none)?,
+            counts: zeroed("counts", s.max_counters, none)?,
+            pixel_offsets: zeroed("pixel offsets", s.max_counters, none)?,
+            vertex_cull: zeroed("vertex cull", s.chunk_count.div_ceil(4), none)?,
+            totals: zeroed("totals", words_of::<Totals>(1), none)?,
+            stats_mid: zeroed("mid stats", words_of::<PixelStats>(1), none)?,
+            final_counts: zeroed("final counts", s.max_counters, none)?,
+            commands: zeroed("pixel commands", s.max_commands.div_ceil(2), none)?,
+            wave_offsets: zeroed("wave offsets", s.max_counters, none)?,
+            waves: zeroed("wave commands", words_of::<WaveCommand>(s.max_waves), none)?,
+            pass_dispatch: zeroed(
+                "pass dispatches",
+                words_of::<PassDispatch>(s.passes),
+                wgpu::BufferUsages::INDIRECT,
+            )?,
+            stats_out: zeroed("output stats", words_of::<PixelStats>(1), none)?,
+            sizes,
+            config,
+            params,
+            _kept: [params_buffer, valid, table_buffer],
+            zero_groups: Vec::new(),
+            groups: Vec::new(),
+        };
+        // Every phase's bindings by name: the buffers are shared, `stats` is each pixel
+        // phase's own.
+        let resource = |phase: usize, name: &str| -> Option<&wgpu::Buffer> {
+            Some(match name {
+                "params" => &b._kept[0],
+                "vis" => vis_words,
+                "valid" => &b._kept[1],
+                "table" => &b._kept[2],
+                "masks" => &b.masks,
+                "counter_offsets" => &b.counter_offsets,
+                "counts" => &b.counts,
+                "pixel_offsets" => &b.pixel_offsets,
+                "vertex_cull" => &b.vertex_cull,
+                "indices" => indices,
+                "totals" => &b.totals,
+                "stats" if phase == 1 => &b.stats_mid,
+                "stats" => &b.stats_out,
+                "final_counts" => &b.final_counts,
+                "commands" => &b.commands,
+                "wave_offsets" => &b.wave_offsets,
+                "waves" => &b.waves,
+                "passes" => &b.pass_dispatch,
+                _ => return None,
+            })
+        };
+        let mut groups = Vec::new();
+        let mut zero_groups: Vec<(wgpu::BindGroup, u32)> = Vec::new();
+        let mut zeroed_names: Vec<(usize, &str)> = Vec::new();
+        for (k, (phase, compute)) in tiling::wgsl::CLASSIFICATION
+            .iter()
+            .zip(&c.phases)
+            .enumerate()
+        {
+            let mut resources = Vec::new();
+            for binding in phase.groups[0].bindings {
+                let buffer = resource(k, binding.name).ok_or(Error::Shader(
+                    shader::Error::MissingResource {
+                        pass: phase.name,
+                        group: phase.groups[0].name,
+                        binding: binding.name,
+                    },
+                ))?;
+                resources.push((binding.name, buffer.as_entire_binding()));
+            }
+            groups.push(compute.bind_group(device, phase.groups[0].name, &resources)?);
+            zeroed_names.extend(phase.zeroed.iter().map(|&n| (k, n)));
+        }
+        for (k, name) in zeroed_names {
+            let buffer =
+                resource(k, name).expect("zeroed buffers are bindings (checked by tiling's tests)");
+            let group =
+                c.zero
+                    .bind_group(device, "words", &[("words", buffer.as_entire_binding())])?;
+            zero_groups.push((group, (buffer.size() / 4) as u32));
+        }
+        Ok(Buffers {
+            zero_groups,
+            groups,
+            ..b
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zero_description_matches_its_module() {
+        shadercheck::check_pass(&ZERO, |_| shadercheck::Caps::CORE);
+    }
+
+    #[test]
+    fn pod_rows_in_words() {
+        assert_eq!(words_of::<PassDispatch>(3), 18);
+        assert_eq!(words_of::<WaveCommand>(5), 20);
+        assert_eq!(words_of::<PixelStats>(1), 8);
+        assert_eq!(words_of::<Totals>(1), 4);
+    }
+}

@@ -1,0 +1,347 @@
+//! The depth + visibility laydown (seed 000) and the baseline's depth prepass: one render
+//! pass each, one indexed draw per micro batch, vertices pulled from storage, the primitive
+//! ID from the adapter's best path (`gpu::laydown_builtin`, `_xor`, `_provoking`).
+
+use shader::pipeline::Layouts;
+use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Stage};
+
+use super::{FrameContext, LIBRARY};
+use crate::context::PrimitiveIdPath;
+use crate::error::Result;
+use crate::resources::plan::Draw;
+use crate::resources::rows::{FrameUniforms, GpuInstance, GpuMaterial, GpuVertex};
+use crate::resources::targets::{DEPTH_FORMAT, VIS_FORMAT};
+use crate::timing::GpuTimer;
+
+/// Group 0 of every pass that draws or resolves the scene (`gpu::scene_bindings`).
+pub(crate) const SCENE_GROUP: Group = Group {
+    name: "scene",
+    bindings: &[
+        Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
+        Binding::new("vertices", Kind::read(size_of::<GpuVertex>())),
+        Binding::new("instances", Kind::read(size_of::<GpuInstance>())),
+        Binding::new("materials", Kind::read(size_of::<GpuMaterial>())),
+        Binding::new(
+            "albedo",
+            Kind::Texture {
+                sample: Sample::Float { filterable: true },
+                dim: shader::Dim::D2Array,
+            },
+        ),
+        Binding::new("albedo_sampler", Kind::Sampler),
+    ],
+};
+
+const GROUPS: &[Group] = &[
+    SCENE_GROUP,
+    Group {
+        name: "payloads",
+        bindings: &[Binding::new("payloads", Kind::read(4))],
+    },
+];
+
+const ENTRIES: &[Entry<()>] = &[
+    Entry {
+        name: "vs_main",
+        stage: Stage::Vertex,
+        dispatch: Dispatch::Draw,
+    },
+    Entry {
+        name: "vs_payload",
+        stage: Stage::Vertex,
+        dispatch: Dispatch::Draw,
+    },
+    Entry {
+        name: "fs_depth_alpha",
+        stage: Stage::Fragment,
+        dispatch: Dispatch::Draw,
+    },
+    Entry {
+        name: "fs_vis",
+        stage: Stage::Fragment,
+        dispatch: Dispatch::Draw,
+    },
+    Entry {
+        name: "fs_vis_alpha",
+        stage: Stage::Fragment,
+        dispatch: Dispatch::Draw,
+    },
+];
+
+/// The laydown on the `primitive_index` path (`Features::PRIMITIVE_INDEX`).
+pub(crate) const LAYDOWN_BUILTIN: Pass = Pass {
+    name: "laydown (primitive_index)",
+    module: "gpu::laydown_builtin",
+    library: LIBRARY,
+    features: &[],
+    groups: GROUPS,
+    entries: ENTRIES,
+    zeroed: &[],
+};
+
+/// The laydown on HFW's XOR path (`Features::SHADER_PER_VERTEX`).
+pub(crate) const LAYDOWN_XOR: Pass = Pass {
+    name: "laydown (XOR payloads)",
+    module: "gpu::laydown_xor",
+    ..LAYDOWN_BUILTIN
+};
+
+/// The laydown on the provoking-vertex path (every adapter).
+pub(crate) const LAYDOWN_PROVOKING: Pass = Pass {
+    name: "laydown (provoking vertex)",
+    module: "gpu::laydown_provoking",
+    ..LAYDOWN_BUILTIN
+};
+
+/// The laydown description of `path`.
+pub(crate) fn pass(path: PrimitiveIdPath) -> &'static Pass {
+    match path {
+        PrimitiveIdPath::Builtin => &LAYDOWN_BUILTIN,
+        PrimitiveIdPath::PerVertexXor => &LAYDOWN_XOR,
+        PrimitiveIdPath::ProvokingVertex => &LAYDOWN_PROVOKING,
+    }
+}
+
+/// Primitive state shared by every geometry pipeline: triangle lists, counter-clockwise
+/// front faces, back faces culled (foliage cards carry both faces as geometry).
+pub(crate) fn primitive_state() -> wgpu::PrimitiveState {
+    wgpu::PrimitiveState {
+        topology: wgpu::PrimitiveTopology::TriangleList,
+        strip_index_format: None,
+        front_face: wgpu::FrontFace::Ccw,
+        cull_mode: Some(wgpu::Face::Back),
+        unclipped_depth: false,
+        polygon_mode: wgpu::PolygonMode::Fill,
+        conservative: false,
+    }
+}
+
+/// Reversed-Z depth state: `Greater`, writing.
+pub(crate) fn depth_write_state() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Greater),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState::default(),
+    }
+}
+
+/// The laydown's pipelines for one primitive-ID path, and the depth prepass's.
+pub(crate) struct Laydown {
+    layouts: Layouts,
+    vis_opaque: wgpu::RenderPipeline,
+    vis_alpha: wgpu::RenderPipeline,
+    depth_opaque: wgpu::RenderPipeline,
+    depth_alpha: wgpu::RenderPipeline,
+}
+
+/// A prepared scene's bind groups for the laydown.
+pub(crate) struct Groups {
+    pub scene: wgpu::BindGroup,
+    pub payloads: wgpu::BindGroup,
+}
+
+impl Laydown {
+    pub(crate) fn new(device: &wgpu::Device, path: PrimitiveIdPath) -> Result<Self> {
+        let pass = pass(path);
+        let layouts = Layouts::new(device, pass);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(pass.name),
+            source: wgpu::ShaderSource::Wgsl(pass.source(&[])?.into()),
+        });
+        // The builtin path needs no payload: its vertex stage passes none.
+        let vs = if path == PrimitiveIdPath::Builtin {
+            "vs_main"
+        } else {
+            "vs_payload"
+        };
+        let make = |label: &str, vs: &str, fs: Option<&str>, vis: bool| {
+            let targets = [Some(wgpu::ColorTargetState {
+                format: VIS_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: primitive_state(),
+                depth_stencil: Some(depth_write_state()),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: fs.map(|entry| wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: if vis { &targets } else { &[] },
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Ok(Self {
+            vis_opaque: make("laydown vis opaque", vs, Some("fs_vis"), true),
+            vis_alpha: make("laydown vis alpha", vs, Some("fs_vis_alpha"), true),
+            depth_opaque: make("prepass depth opaque", "vs_main", None, false),
+            depth_alpha: make(
+                "prepass depth alpha",
+                "vs_main",
+                Some("fs_depth_alpha"),
+                false,
+            ),
+            layouts,
+        })
+    }
+
+    /// The bind groups of a prepared scene: `scene` resources by binding name (group 0) and
+    /// the payload buffer.
+    pub(crate) fn groups(
+        &self,
+        device: &wgpu::Device,
+        scene: &[(&str, wgpu::BindingResource<'_>)],
+        payloads: &wgpu::Buffer,
+    ) -> Result<Groups> {
+        Ok(Groups {
+            scene: self.layouts.bind_group(device, "scene", scene)?,
+            payloads: self.layouts.bind_group(
+                device,
+                "payloads",
+                &[("payloads", payloads.as_entire_binding())],
+            )?,
+        })
+    }
+
+    /// Records the depth + visibility laydown.
+    pub(crate) fn record_laydown(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("depth + visibility laydown"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &f.targets.vis_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: f64::from(visbuf::VIS_NONE),
+                        g: 0.0,
+                        b: 0.0,
+                        a: 0.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(clear_depth(&f.targets.depth_view)),
+            timestamp_writes: timer.render("laydown"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.draw(&mut pass, f, &self.vis_opaque, &self.vis_alpha);
+    }
+
+    /// Records the baseline's depth prepass (alpha-tested, no colour).
+    pub(crate) fn record_depth_prepass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("baseline depth prepass"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(clear_depth(&f.targets.depth_view)),
+            timestamp_writes: timer.render("depth prepass"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.draw(&mut pass, f, &self.depth_opaque, &self.depth_alpha);
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        f: &FrameContext<'_>,
+        opaque: &wgpu::RenderPipeline,
+        alpha: &wgpu::RenderPipeline,
+    ) {
+        let groups = &f.scene.laydown;
+        pass.set_bind_group(0, &groups.scene, &[]);
+        pass.set_bind_group(1, &groups.payloads, &[]);
+        record_draws(pass, &f.scene.draws, &f.scene.index_buffer, opaque, alpha);
+    }
+}
+
+fn clear_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(0.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
+/// Records `draws` with the opaque or alpha-tested pipeline as each needs, opaque draws
+/// first (they fill depth that early-Z then uses against the foliage). Bind groups are the
+/// caller's.
+pub(crate) fn record_draws(
+    pass: &mut wgpu::RenderPass<'_>,
+    draws: &[Draw],
+    index_buffer: &wgpu::Buffer,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+) {
+    pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    for alpha_pass in [false, true] {
+        pass.set_pipeline(if alpha_pass { alpha } else { opaque });
+        for d in draws
+            .iter()
+            .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
+        {
+            pass.draw_indexed(
+                d.first_index..d.first_index + d.index_count,
+                d.base_vertex as i32,
+                d.first_instance..d.first_instance + d.instance_count,
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shadercheck::Caps;
+
+    fn caps(path: PrimitiveIdPath) -> Caps {
+        match path {
+            PrimitiveIdPath::Builtin => Caps::PRIMITIVE_INDEX,
+            PrimitiveIdPath::PerVertexXor => Caps::PER_VERTEX,
+            PrimitiveIdPath::ProvokingVertex => Caps::CORE,
+        }
+    }
+
+    #[test]
+    fn descriptions_match_their_modules_with_only_their_path_capability() {
+        for path in PrimitiveIdPath::ALL {
+            let p = pass(path);
+            shadercheck::check_pass(p, |_| caps(path));
+            if path != PrimitiveIdPath::ProvokingVertex {
+                let src = p.source(&[]).unwrap();
+                assert!(
+                    shadercheck::validate(&src, Caps::CORE).is_err(),
+                    "{} must need its feature",
+                    path.name()
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,204 @@
+//! The passes of a frame, one module each, and the order they run in.
+//!
+//! Each module holds its pass's description (`shader::Pass`: bindings by name, entry
+//! points, dispatch geometry) next to its WGSL (`src/wgsl/<name>.wgsl`), builds its
+//! pipelines from it, makes its bind groups by binding name, and records itself inside its
+//! own timing scope. [`Pipelines`] holds one of each; [`record_deferred`] and
+//! [`record_baseline`] are the frame. New passes (HZD's static-scene query, KZ2's shadows
+//! and tiled lights, FC5's water, HFW's vertex ring) go in a module here and a line in
+//! those functions.
+//!
+//! | pass | module | what |
+//! | --- | --- | --- |
+//! | laydown | [`laydown`] | depth + vis buffer (and the baseline's depth prepass) |
+//! | vis copy | [`vis_copy`] | vis texture -> word buffer |
+//! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
+//! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
+//! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | lighting | [`lighting`] | sun, ambient, point lights, tone mapping -> output |
+
+use shader::{Module, StageCounts};
+
+use crate::context::{ActivePaths, PrimitiveIdPath};
+use crate::error::Result;
+use crate::resources::PreparedScene;
+use crate::resources::targets::Targets;
+use crate::timing::GpuTimer;
+
+pub(crate) mod baseline;
+pub(crate) mod classify;
+pub(crate) mod laydown;
+pub(crate) mod lighting;
+pub(crate) mod resolve;
+pub(crate) mod vis_copy;
+
+macro_rules! gpu_modules {
+    ($($name:ident = $file:literal),+ $(,)?) => {
+        $(
+            #[doc = concat!("`gpu::", $file, "`")]
+            pub(crate) const $name: Module =
+                Module::new(concat!("gpu::", $file), include_str!(concat!("../wgsl/", $file, ".wgsl")));
+        )+
+        /// This crate's WGSL modules.
+        pub(crate) const MODULES: &[Module] = &[$($name),+];
+    };
+}
+
+gpu_modules!(
+    FRAME = "frame",
+    SCENE = "scene",
+    SCENE_BINDINGS = "scene_bindings",
+    MATERIAL = "material",
+    GEOMETRY = "geometry",
+    LAYDOWN = "laydown",
+    LAYDOWN_BUILTIN = "laydown_builtin",
+    LAYDOWN_XOR = "laydown_xor",
+    LAYDOWN_PROVOKING = "laydown_provoking",
+    BASELINE = "baseline",
+    GBUFFER_STORE = "gbuffer_store",
+    GBUFFER_LOAD = "gbuffer_load",
+    GBUFFER_FRAGMENT = "gbuffer_fragment",
+    RESOLVE = "resolve",
+    LIGHTING = "lighting",
+    VIS_COPY = "vis_copy",
+    ZERO = "zero",
+);
+
+/// Every module list the renderer's passes import from.
+pub(crate) const LIBRARY: &[&[Module]] = &[
+    visbuf::wgsl::MODULES,
+    wave::wgsl::MODULES,
+    tiling::wgsl::MODULES,
+    deferred::wgsl::MODULES,
+    MODULES,
+];
+
+/// What the most demanding pass binds per stage: the device limits the renderer needs.
+pub(crate) fn stage_counts() -> StageCounts {
+    let mut c = StageCounts::default();
+    for counts in [
+        laydown::pass(PrimitiveIdPath::Builtin).stage_counts(),
+        baseline::BASELINE.stage_counts(),
+        vis_copy::VIS_COPY.stage_counts(),
+        classify::ZERO.stage_counts(),
+        resolve::RESOLVE.stage_counts(),
+        lighting::LIGHTING.stage_counts(),
+    ]
+    .into_iter()
+    .chain(
+        tiling::wgsl::CLASSIFICATION
+            .iter()
+            .map(|p| p.stage_counts()),
+    ) {
+        c = c.max(counts);
+    }
+    c
+}
+
+/// Every pass's pipelines on one device.
+pub(crate) struct Pipelines {
+    pub laydown: laydown::Laydown,
+    pub vis_copy: vis_copy::VisCopy,
+    pub classify: classify::Classify,
+    pub resolve: resolve::Resolve,
+    pub baseline: baseline::Baseline,
+    pub lighting: lighting::Lighting,
+}
+
+impl Pipelines {
+    /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
+    /// width).
+    pub(crate) fn new(device: &wgpu::Device, paths: &ActivePaths, wave_width: u32) -> Result<Self> {
+        Ok(Self {
+            laydown: laydown::Laydown::new(device, paths.primitive_id)?,
+            vis_copy: vis_copy::VisCopy::new(device)?,
+            classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
+            resolve: resolve::Resolve::new(device, wave_width)?,
+            baseline: baseline::Baseline::new(device)?,
+            lighting: lighting::Lighting::new(device)?,
+        })
+    }
+}
+
+/// The renderer's own bind groups (over its targets and frame-level buffers), which every
+/// prepared scene shares.
+pub(crate) struct TargetGroups {
+    /// The vis copy's: vis texture -> vis words.
+    pub vis_copy: wgpu::BindGroup,
+    /// The resolve's group 2: the G-buffer's storage views.
+    pub gbuffer_store: wgpu::BindGroup,
+    /// Lighting's groups.
+    pub lighting: lighting::Groups,
+}
+
+/// What a pass records against: the scene's resources, the targets and the renderer's
+/// groups.
+pub(crate) struct FrameContext<'a> {
+    pub scene: &'a PreparedScene,
+    pub targets: &'a Targets,
+    pub groups: &'a TargetGroups,
+}
+
+/// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting.
+pub(crate) fn record_deferred(
+    encoder: &mut wgpu::CommandEncoder,
+    p: &Pipelines,
+    f: &FrameContext<'_>,
+    timer: &mut GpuTimer,
+) {
+    p.laydown.record_laydown(encoder, f, timer);
+    p.vis_copy.record(encoder, f, timer);
+    p.classify.record(encoder, f, timer);
+    p.resolve.record_waves(encoder, f, timer);
+    p.lighting.record(encoder, f, timer);
+}
+
+/// Diagnostic: laydown, then the resolve of every pixel (no classification), lighting.
+pub(crate) fn record_deferred_full_screen(
+    encoder: &mut wgpu::CommandEncoder,
+    p: &Pipelines,
+    f: &FrameContext<'_>,
+    timer: &mut GpuTimer,
+) {
+    p.laydown.record_laydown(encoder, f, timer);
+    p.resolve.record_full_screen(encoder, f, timer);
+    p.lighting.record(encoder, f, timer);
+}
+
+/// HZD's frame on the same scene: depth prepass with alpha test, depth-equal geometry pass
+/// into the G-buffer, lighting.
+pub(crate) fn record_baseline(
+    encoder: &mut wgpu::CommandEncoder,
+    p: &Pipelines,
+    f: &FrameContext<'_>,
+    timer: &mut GpuTimer,
+) {
+    p.laydown.record_depth_prepass(encoder, f, timer);
+    p.baseline.record(encoder, f, timer);
+    p.lighting.record(encoder, f, timer);
+}
+
+/// The classification alone (over whatever the vis words hold): how tests feed random vis
+/// buffers to it.
+pub(crate) fn record_classification(
+    encoder: &mut wgpu::CommandEncoder,
+    p: &Pipelines,
+    f: &FrameContext<'_>,
+    timer: &mut GpuTimer,
+) {
+    p.classify.record(encoder, f, timer);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_module_composes_and_every_name_is_the_file_name() {
+        for m in MODULES {
+            let file = m.name.strip_prefix("gpu::").unwrap();
+            assert!(!file.is_empty());
+            shader::compose(LIBRARY, m.name, &[]).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+}

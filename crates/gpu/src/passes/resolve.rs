@@ -1,0 +1,267 @@
+//! The material resolve in compute (`gpu::resolve`): per pixel, the vis word decoded, the
+//! triangle's vertices pulled and transformed, analytic barycentrics and derivatives,
+//! textures sampled with gradients, the G-buffer written. By wave commands (one
+//! `dispatch_workgroups_indirect` per pass, one workgroup of wave-width lanes per wave
+//! command), or over every pixel (a diagnostic without classification).
+
+use shader::pipeline::ComputePass;
+use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Size, Stage};
+use tiling::{PassDispatch, WaveCommand};
+
+use super::laydown::SCENE_GROUP;
+use super::{FrameContext, LIBRARY};
+use crate::error::Result;
+use crate::gbuffer::STORE_BINDINGS;
+use crate::resources::rows::{GpuMesh, GpuMicroBatch};
+use crate::timing::GpuTimer;
+
+/// Bytes of the per-pass uniform (the pass index in `x`), bound at a dynamic offset.
+pub(crate) const PASS_UNIFORM_BYTES: u64 = 16;
+
+/// The resolve, over the image (`[width, height]`) or by wave commands.
+pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
+    name: "material resolve",
+    module: "gpu::resolve",
+    library: LIBRARY,
+    features: &[],
+    groups: &[
+        SCENE_GROUP,
+        Group {
+            name: "inputs",
+            bindings: &[
+                Binding::new("indices", Kind::read(4)),
+                Binding::new("meshes", Kind::read(size_of::<GpuMesh>())),
+                Binding::new("micro_batches", Kind::read(size_of::<GpuMicroBatch>())),
+                Binding::new("vis_texture", Kind::texture_2d(Sample::Uint)),
+            ],
+        },
+        Group {
+            name: "gbuffer",
+            bindings: &STORE_BINDINGS,
+        },
+        Group {
+            name: "waves",
+            bindings: &[
+                Binding::new("wave_commands", Kind::read(size_of::<WaveCommand>())),
+                Binding::new("pixel_commands", Kind::read(4)),
+                Binding::new("pass_dispatches", Kind::read(size_of::<PassDispatch>())),
+                Binding::new(
+                    "resolve_pass",
+                    Kind::Uniform {
+                        size: PASS_UNIFORM_BYTES as u32,
+                        dynamic: true,
+                    },
+                ),
+            ],
+        },
+    ],
+    entries: &[
+        Entry {
+            name: "resolve_waves",
+            stage: Stage::Compute([
+                Size::Override("RESOLVE_WAVE_WIDTH"),
+                Size::Fixed(1),
+                Size::Fixed(1),
+            ]),
+            dispatch: Dispatch::Indirect("pass_dispatches"),
+        },
+        Entry {
+            name: "resolve_fullscreen",
+            stage: Stage::compute(8, 8, 1),
+            dispatch: Dispatch::Grid(|size| *size),
+        },
+    ],
+    zeroed: &[],
+};
+
+/// The resolve's pipelines, for one wave width.
+pub(crate) struct Resolve {
+    pass: ComputePass<[u32; 2]>,
+    /// Indices into `pass.steps`.
+    waves: usize,
+    full_screen: usize,
+}
+
+/// A prepared scene's bind groups for the resolve (groups 0, 1 and 3; the G-buffer's group
+/// 2 is the renderer's) and the per-pass uniform's stride.
+pub(crate) struct Groups {
+    pub scene: wgpu::BindGroup,
+    pub inputs: wgpu::BindGroup,
+    pub waves: wgpu::BindGroup,
+    pub pass_stride: u32,
+    _pass_uniforms: wgpu::Buffer,
+}
+
+impl Resolve {
+    /// The pipelines for wave commands of `wave_width` lanes.
+    pub(crate) fn new(device: &wgpu::Device, wave_width: u32) -> Result<Self> {
+        let pass = ComputePass::new(
+            device,
+            &RESOLVE,
+            &[],
+            &[("RESOLVE_WAVE_WIDTH", f64::from(wave_width))],
+        )?;
+        let index = |name: &str| -> Result<usize> {
+            let step = pass.step(name)?;
+            Ok(pass
+                .steps
+                .iter()
+                .position(|s| std::ptr::eq(s, step))
+                .unwrap_or_default())
+        };
+        Ok(Self {
+            waves: index("resolve_waves")?,
+            full_screen: index("resolve_fullscreen")?,
+            pass,
+        })
+    }
+
+    /// The renderer's G-buffer group (storage views of RT0..RT3).
+    pub(crate) fn gbuffer_group(
+        &self,
+        device: &wgpu::Device,
+        views: &[wgpu::TextureView],
+    ) -> Result<wgpu::BindGroup> {
+        Ok(self.pass.bind_group(
+            device,
+            "gbuffer",
+            &crate::gbuffer::resources(&STORE_BINDINGS, views),
+        )?)
+    }
+
+    /// A prepared scene's groups: its `scene` resources, the resolve's inputs, and the
+    /// classification's wave commands for `passes` passes.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "one call site; every buffer a distinct binding of the description"
+    )]
+    pub(crate) fn groups(
+        &self,
+        device: &wgpu::Device,
+        scene: &[(&str, wgpu::BindingResource<'_>)],
+        indices: &wgpu::Buffer,
+        meshes: &wgpu::Buffer,
+        micro_batches: &wgpu::Buffer,
+        vis_view: &wgpu::TextureView,
+        classification: &super::classify::Buffers,
+    ) -> Result<Groups> {
+        let passes = classification.sizes.passes;
+        let stride =
+            u64::from(device.limits().min_uniform_buffer_offset_alignment).max(PASS_UNIFORM_BYTES);
+        let mut words = vec![0u8; (stride * u64::from(passes)) as usize];
+        for p in 0..passes {
+            let at = (stride * u64::from(p)) as usize;
+            words[at..at + 4].copy_from_slice(&p.to_le_bytes());
+        }
+        let pass_uniforms = crate::resources::buffer_init(
+            device,
+            "resolve pass index",
+            &words,
+            0,
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let waves = self.pass.bind_group(
+            device,
+            "waves",
+            &[
+                ("wave_commands", classification.waves.as_entire_binding()),
+                (
+                    "pixel_commands",
+                    classification.commands.as_entire_binding(),
+                ),
+                (
+                    "pass_dispatches",
+                    classification.pass_dispatch.as_entire_binding(),
+                ),
+                (
+                    "resolve_pass",
+                    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &pass_uniforms,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(PASS_UNIFORM_BYTES),
+                    }),
+                ),
+            ],
+        )?;
+        Ok(Groups {
+            scene: self.pass.bind_group(device, "scene", scene)?,
+            inputs: self.pass.bind_group(
+                device,
+                "inputs",
+                &[
+                    ("indices", indices.as_entire_binding()),
+                    ("meshes", meshes.as_entire_binding()),
+                    ("micro_batches", micro_batches.as_entire_binding()),
+                    ("vis_texture", wgpu::BindingResource::TextureView(vis_view)),
+                ],
+            )?,
+            waves,
+            pass_stride: stride as u32,
+            _pass_uniforms: pass_uniforms,
+        })
+    }
+
+    fn bind(&self, pass: &mut wgpu::ComputePass<'_>, f: &FrameContext<'_>) {
+        let g = &f.scene.resolve;
+        pass.set_bind_group(0, &g.scene, &[]);
+        pass.set_bind_group(1, &g.inputs, &[]);
+        pass.set_bind_group(2, &f.groups.gbuffer_store, &[]);
+    }
+
+    /// Records the resolve by wave commands: one indirect dispatch per pass.
+    pub(crate) fn record_waves(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let c = &f.scene.classification;
+        let g = &f.scene.resolve;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("material resolve (wave commands)"),
+            timestamp_writes: timer.compute("resolve (wave commands)"),
+        });
+        self.bind(&mut pass, f);
+        let step = &self.pass.steps[self.waves];
+        pass.set_pipeline(&step.pipeline);
+        for p in 0..c.sizes.passes {
+            pass.set_bind_group(3, &g.waves, &[p * g.pass_stride]);
+            pass.dispatch_workgroups_indirect(
+                &c.pass_dispatch,
+                u64::from(p) * size_of::<PassDispatch>() as u64,
+            );
+        }
+    }
+
+    /// Records the full-screen resolve (every pixel, no classification).
+    pub(crate) fn record_full_screen(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("material resolve (full screen)"),
+            timestamp_writes: timer.compute("resolve"),
+        });
+        self.bind(&mut pass, f);
+        // Group 3 is in the layout; the full-screen entry point reads none of it.
+        pass.set_bind_group(3, &f.scene.resolve.waves, &[0]);
+        let step = &self.pass.steps[self.full_screen];
+        if let Some([x, y, z]) = self
+            .pass
+            .workgroups(step, &[f.targets.width, f.targets.height])
+        {
+            pass.set_pipeline(&step.pipeline);
+            pass.dispatch_workgroups(x, y, z);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn description_matches_its_module() {
+        shadercheck::check_pass(&super::RESOLVE, |_| shadercheck::Caps::CORE);
+    }
+}

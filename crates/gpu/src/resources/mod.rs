@@ -1,0 +1,345 @@
+//! What the passes read and write: the render targets, the records the GPU reads (`rows`),
+//! and a prepared scene's buffers and bind groups ([`PreparedScene`]), made once per scene.
+
+pub(crate) mod albedo;
+pub(crate) mod geometry;
+pub(crate) mod plan;
+pub(crate) mod readback;
+pub(crate) mod rows;
+pub(crate) mod targets;
+
+use glam::Vec3;
+use wgpu::util::DeviceExt as _;
+
+use self::geometry::Geometry;
+use self::plan::{Draw, Plan};
+use self::rows::GpuMaterial;
+use crate::context::PrimitiveIdPath;
+use crate::error::{Error, Result, SceneError};
+use crate::passes::{Pipelines, classify, laydown, resolve};
+use crate::scene::{Scene, ShaderKind};
+
+/// A buffer holding `data`, padded to at least `min_size` bytes (a binding must hold one
+/// element of what the shader reads, even when there are none: an empty scene) and to a
+/// multiple of 4 (wgpu's copy alignment).
+pub(crate) fn buffer_init(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[u8],
+    min_size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let size = (data.len() as u64).max(min_size).max(4).next_multiple_of(4) as usize;
+    let mut contents = data.to_vec();
+    contents.resize(size, 0);
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: &contents,
+        usage: usage | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+    })
+}
+
+/// A storage buffer of `data` after checking the device's binding-size limit.
+fn storage(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[u8],
+    min_size: usize,
+    extra: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer> {
+    let max = device.limits().max_storage_buffer_binding_size;
+    if data.len() as u64 > u64::from(max) {
+        return Err(Error::DeviceLimit {
+            limit: "max_storage_buffer_binding_size",
+            needed: data.len() as u64,
+            available: u64::from(max),
+        });
+    }
+    Ok(buffer_init(
+        device,
+        label,
+        data,
+        min_size as u64,
+        wgpu::BufferUsages::STORAGE | extra,
+    ))
+}
+
+/// Sizes of a prepared scene, for tables.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneSummary {
+    /// Instances over all batches.
+    pub instances: u64,
+    /// Triangles drawn (instances × their mesh's primitives).
+    pub triangles: u64,
+    /// Vertices of all instances (seed 000's "vertices in the scene").
+    pub vertices: u64,
+    /// Micro batches `tiling` made.
+    pub micro_batches: usize,
+    /// Passes (one or more per shader).
+    pub passes: usize,
+    /// Batch groups over all passes.
+    pub batch_groups: usize,
+    /// Vertices the primitive-ID encoding added (zero on the `primitive_index` path).
+    pub added_vertices: u64,
+    /// The floating origin instance transforms and lights are stored relative to (world,
+    /// metres; the instances' bounds centre, snapped to 1 m).
+    pub origin: Vec3,
+}
+
+/// A scene uploaded for one renderer: geometry encoded for its primitive-ID path, `tiling`'s
+/// micro batches and passes, instance and lookup tables, the classification's buffers, and
+/// every pass's bind groups. Made by [`Renderer::prepare`](crate::Renderer::prepare); frames
+/// then only upload their own constants.
+pub struct PreparedScene {
+    pub(crate) id: u64,
+    pub(crate) summary: SceneSummary,
+    pub(crate) geometry: Geometry,
+    pub(crate) tiling: tiling::Plan,
+    pub(crate) draws: Vec<Draw>,
+    pub(crate) index_buffer: wgpu::Buffer,
+    pub(crate) laydown: laydown::Groups,
+    pub(crate) baseline: wgpu::BindGroup,
+    pub(crate) classification: classify::Buffers,
+    pub(crate) resolve: resolve::Groups,
+    _kept: Vec<wgpu::Buffer>,
+    _albedo: wgpu::Texture,
+}
+
+impl PreparedScene {
+    /// Sizes of the scene as prepared.
+    pub fn summary(&self) -> &SceneSummary {
+        &self.summary
+    }
+
+    /// `tiling`'s plan: micro batches, the MicroBatchInfoTable, passes and batch groups.
+    pub fn tiling_plan(&self) -> &tiling::Plan {
+        &self.tiling
+    }
+}
+
+/// The renderer-level resources a scene's bind groups refer to.
+pub(crate) struct PrepareContext<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub pipelines: &'a Pipelines,
+    pub frame: &'a wgpu::Buffer,
+    pub sampler: &'a wgpu::Sampler,
+    pub targets: &'a targets::Targets,
+    pub path: PrimitiveIdPath,
+    pub wave_width: wave::WaveWidth,
+    pub id: u64,
+}
+
+/// The floating origin of `scene`: its instances' bounds centre snapped to 1 m (zero for
+/// an empty scene).
+fn origin(scene: &Scene) -> Vec3 {
+    let mut it = scene
+        .batches
+        .iter()
+        .flat_map(|b| b.instances.iter().map(|t| Vec3::from(t.translation)));
+    let Some(first) = it.next() else {
+        return Vec3::ZERO;
+    };
+    let (lo, hi) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    ((lo + hi) * 0.5).round()
+}
+
+/// Validates `scene`, encodes it, plans it with `tiling`, uploads it and makes every pass's
+/// bind groups.
+pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedScene> {
+    scene.validate()?;
+    let device = c.device;
+    let geometry = Geometry::build(&scene.meshes, c.path)?;
+    let positions: Vec<Vec<[f32; 3]>> = scene
+        .batches
+        .iter()
+        .map(|b| {
+            b.instances
+                .iter()
+                .map(|t| t.translation.to_array())
+                .collect()
+        })
+        .collect();
+    let batches: Vec<tiling::Batch<'_>> = scene
+        .batches
+        .iter()
+        .zip(&positions)
+        .map(|(b, pos)| {
+            let m = geometry.meshes[b.mesh.0];
+            tiling::Batch {
+                shader: scene.materials[b.material.0].shader.id(),
+                batch_data: b.material.0 as u64,
+                geometry: tiling::Geometry {
+                    vertex_count: m.vertex_count,
+                    primitive_count: m.primitive_count,
+                    first_index: m.first_index,
+                    base_vertex: m.base_vertex,
+                },
+                instances: pos,
+            }
+        })
+        .collect();
+    let tiling_plan = tiling::build_plan(&batches, &tiling::PlanConfig::default())
+        .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
+    let origin = origin(scene);
+    let plan = Plan::new(scene, &geometry, &tiling_plan.micro_batches, origin);
+    let materials: Vec<GpuMaterial> = scene
+        .materials
+        .iter()
+        .map(|m| GpuMaterial {
+            tint: m.tint.to_array(),
+            albedo_layer: m.albedo_layer,
+            alpha_cutoff: match m.shader {
+                ShaderKind::AlphaTested => m.alpha_cutoff,
+                ShaderKind::Opaque => 0.0,
+            },
+            roughness: m.roughness,
+            specular: m.specular,
+            shader: m.shader.id(),
+        })
+        .collect();
+    crate::context::scoped(device, || {
+        let none = wgpu::BufferUsages::empty();
+        let vertices = storage(
+            device,
+            "vertices",
+            bytemuck::cast_slice(&geometry.vertices),
+            size_of::<rows::GpuVertex>(),
+            none,
+        )?;
+        let payloads = storage(
+            device,
+            "payloads",
+            bytemuck::cast_slice(&geometry.payloads),
+            4,
+            none,
+        )?;
+        let index_buffer = storage(
+            device,
+            "indices",
+            bytemuck::cast_slice(&geometry.indices),
+            4,
+            wgpu::BufferUsages::INDEX,
+        )?;
+        let instances = storage(
+            device,
+            "instances",
+            bytemuck::cast_slice(&plan.instances),
+            size_of::<rows::GpuInstance>(),
+            none,
+        )?;
+        let materials = storage(
+            device,
+            "materials",
+            bytemuck::cast_slice(&materials),
+            size_of::<GpuMaterial>(),
+            none,
+        )?;
+        let meshes = storage(
+            device,
+            "meshes",
+            bytemuck::cast_slice(&geometry.meshes),
+            size_of::<rows::GpuMesh>(),
+            none,
+        )?;
+        let micro_batches = storage(
+            device,
+            "micro batches",
+            bytemuck::cast_slice(&plan.micro_batch_ids),
+            size_of::<rows::GpuMicroBatch>(),
+            none,
+        )?;
+        let albedo = albedo::albedo_texture(device, c.queue, &scene.albedo_layers);
+        let albedo_view = albedo.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let scene_group = [
+            ("frame", c.frame.as_entire_binding()),
+            ("vertices", vertices.as_entire_binding()),
+            ("instances", instances.as_entire_binding()),
+            ("materials", materials.as_entire_binding()),
+            ("albedo", wgpu::BindingResource::TextureView(&albedo_view)),
+            ("albedo_sampler", wgpu::BindingResource::Sampler(c.sampler)),
+        ];
+        let p = c.pipelines;
+        let config = tiling::ClassifyConfig::for_plan(&tiling_plan, c.wave_width);
+        let batch_groups: usize = tiling_plan.pass_groups.iter().map(Vec::len).sum();
+        let sizes = classify::Sizes::new(
+            c.targets.width,
+            c.targets.height,
+            &config,
+            batch_groups as u32,
+        );
+        let classification = p.classify.buffers(
+            device,
+            sizes,
+            config,
+            &tiling_plan.table,
+            tiling_plan.order.len() as u32,
+            &c.targets.vis_words,
+            &index_buffer,
+        )?;
+        let resolve = p.resolve.groups(
+            device,
+            &scene_group,
+            &index_buffer,
+            &meshes,
+            &micro_batches,
+            &c.targets.vis_view,
+            &classification,
+        )?;
+        let summary = SceneSummary {
+            instances: scene.instance_count() as u64,
+            triangles: scene.triangle_count(),
+            vertices: scene.vertex_count(),
+            micro_batches: tiling_plan.micro_batches.len(),
+            passes: tiling_plan.passes.len(),
+            batch_groups,
+            added_vertices: geometry.added_vertices.iter().map(|&a| u64::from(a)).sum(),
+            origin,
+        };
+        Ok(PreparedScene {
+            id: c.id,
+            summary,
+            laydown: p.laydown.groups(device, &scene_group, &payloads)?,
+            baseline: p.baseline.group(device, &scene_group)?,
+            classification,
+            resolve,
+            draws: plan.draws,
+            index_buffer,
+            geometry,
+            tiling: tiling_plan,
+            _kept: vec![
+                vertices,
+                payloads,
+                instances,
+                materials,
+                meshes,
+                micro_batches,
+            ],
+            _albedo: albedo,
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Affine3A;
+
+    #[test]
+    fn the_origin_is_the_snapped_bounds_centre() {
+        let mut scene = Scene::default();
+        assert_eq!(origin(&scene), Vec3::ZERO);
+        scene.batches.push(crate::scene::Batch {
+            mesh: crate::scene::MeshId(0),
+            material: crate::scene::MaterialId(0),
+            instances: vec![
+                Affine3A::from_translation(Vec3::new(10.2, -3.0, 100.0)),
+                Affine3A::from_translation(Vec3::new(20.9, 5.0, 300.6)),
+            ],
+        });
+        assert_eq!(origin(&scene), Vec3::new(16.0, 1.0, 200.0));
+    }
+}
