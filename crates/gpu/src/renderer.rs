@@ -183,7 +183,7 @@ impl Renderer {
                 available: 0,
             });
         }
-        if !(config.mip_bias.abs() <= 16.0) {
+        if config.mip_bias.is_nan() || config.mip_bias.abs() > 16.0 {
             return Err(Error::Frame(crate::error::FrameError::OutOfRange {
                 field: "RendererConfig::mip_bias".into(),
                 value: config.mip_bias,
@@ -646,8 +646,8 @@ fn check_limits(needed: &wgpu::Limits, available: &wgpu::Limits) -> Result<()> {
         ),
         (
             "max_storage_buffer_binding_size",
-            needed.max_storage_buffer_binding_size.into(),
-            available.max_storage_buffer_binding_size.into(),
+            needed.max_storage_buffer_binding_size,
+            available.max_storage_buffer_binding_size,
         ),
         (
             "max_buffer_size",

@@ -363,7 +363,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
         Resource::Zeros(items as usize * out_stride),
     ];
     resources.extend_from_slice(extra);
-    let x = groups.min(shader::MAX_WORKGROUPS_X).max(1);
+    let x = groups.clamp(1, shader::MAX_WORKGROUPS_X);
     run_kernel(&source, "main", &resources, [x, rows, 1]).swap_remove(1)
 }
 

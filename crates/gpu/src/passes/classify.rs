@@ -96,29 +96,6 @@ impl Classify {
         Ok(())
     }
 
-    /// The buffers and bind groups of one prepared scene.
-    pub(crate) fn buffers(
-        &self,
-        device: &wgpu::Device,
-        sizes: Sizes,
-        config: ClassifyConfig,
-        table: &[tiling::MicroBatchInfo],
-        micro_batch_count: u32,
-        vis_words: &wgpu::Buffer,
-        indices: &wgpu::Buffer,
-    ) -> Result<Buffers> {
-        Buffers::new(
-            self,
-            device,
-            sizes,
-            config,
-            table,
-            micro_batch_count,
-            vis_words,
-            indices,
-        )
-    }
-
     /// Records the zero fill and the three phases, each a timed pass.
     pub(crate) fn record(
         &self,
@@ -225,20 +202,18 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "one call site, every argument a distinct input of the classification"
-    )]
-    fn new(
+    /// The buffers and bind groups of one prepared scene: `plan`'s table and order
+    /// buffer, classified at `sizes` with `config`, reading `vis_words` and `indices`.
+    pub(crate) fn new(
         c: &Classify,
         device: &wgpu::Device,
-        sizes: Sizes,
-        config: ClassifyConfig,
-        table: &[tiling::MicroBatchInfo],
-        micro_batch_count: u32,
+        plan: &tiling::Plan,
+        (sizes, config): (Sizes, ClassifyConfig),
         vis_words: &wgpu::Buffer,
         indices: &wgpu::Buffer,
     ) -> Result<Self> {
+        let table = &plan.table;
+        let micro_batch_count = plan.order.len() as u32;
         let s = sizes;
         let params = TilingParams {
             width: s.width,
@@ -254,7 +229,7 @@ impl Buffers {
             uber_count: config.chunk_count.div_ceil(64),
             pad: 0,
         };
-        let max = u64::from(device.limits().max_storage_buffer_binding_size);
+        let max = device.limits().max_storage_buffer_binding_size;
         let zeroed = |label: &str, words: u32, extra: wgpu::BufferUsages| -> Result<wgpu::Buffer> {
             let size = u64::from(words.max(1)) * 4;
             if size > max {

@@ -48,11 +48,11 @@ fn storage(
     extra: wgpu::BufferUsages,
 ) -> Result<wgpu::Buffer> {
     let max = device.limits().max_storage_buffer_binding_size;
-    if data.len() as u64 > u64::from(max) {
+    if data.len() as u64 > max {
         return Err(Error::DeviceLimit {
             limit: "max_storage_buffer_binding_size",
             needed: data.len() as u64,
-            available: u64::from(max),
+            available: max,
         });
     }
     Ok(buffer_init(
@@ -271,12 +271,11 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &config,
             batch_groups as u32,
         );
-        let classification = p.classify.buffers(
+        let classification = classify::Buffers::new(
+            &p.classify,
             device,
-            sizes,
-            config,
-            &tiling_plan.table,
-            tiling_plan.order.len() as u32,
+            &tiling_plan,
+            (sizes, config),
             &c.targets.vis_words,
             &index_buffer,
         )?;

@@ -113,8 +113,8 @@ mod tests {
         let rows = origin_relative_rows(&t, origin);
         let p = Vec3::new(0.3, -0.2, 1.0);
         let world = t.transform_point3(p);
-        for k in 0..3 {
-            let rel = Vec4::from(rows[k]).dot(p.extend(1.0));
+        for (k, row) in rows.iter().enumerate() {
+            let rel = Vec4::from(*row).dot(p.extend(1.0));
             assert!((rel - (world - origin)[k]).abs() < 1e-4);
         }
     }
