@@ -10,7 +10,7 @@
 //!
 //! [`FlowAtlas`] is that texture: one `R32Uint` image holding a header, the sector table,
 //! the world map and the tile slots. [`FlowAtlas::sample`] (and `water_flow_atlas_sample`
-//! in [`ATLAS_WGSL`](crate::ATLAS_WGSL), the same arithmetic) reads flow at a world
+//! in [`wgsl::ATLAS`](crate::wgsl::ATLAS), the same arithmetic) reads flow at a world
 //! position: the sector's tile if one is resident, else the world map.
 //!
 //! # Layout

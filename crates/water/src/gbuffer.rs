@@ -7,7 +7,7 @@
 //! index" and "the MIP level of the algae and the foam, because ... we don't have access to
 //! DDX, DDY" in the later compute passes (seed 003). This module packs them into one `u32`
 //! (an `R32Uint` texel), the only place that layout is defined; `water_pack_data` /
-//! `water_unpack_data` in [`GBUFFER_WGSL`](crate::GBUFFER_WGSL) are tied to these constants
+//! `water_unpack_data` in [`wgsl::GBUFFER`](crate::wgsl::GBUFFER) are tied to these constants
 //! by unit tests.
 //!
 //! # Bit layout

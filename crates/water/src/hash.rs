@@ -4,7 +4,7 @@
 //! Integer hashes give the same bits on the CPU and on every GPU (WGSL `u32` arithmetic
 //! wraps like Rust's `wrapping_*`), unlike the classic `fract(sin(dot(p, k)) * 43758.5)`,
 //! whose result depends on the GPU's `sin` precision. The WGSL twins are `water_pcg`,
-//! `water_hash2`, `water_hash3` and `water_hash_unit` in [`NOISE_WGSL`](crate::NOISE_WGSL).
+//! `water_hash2`, `water_hash3` and `water_hash_unit` in [`wgsl::NOISE`](crate::wgsl::NOISE).
 
 /// The PCG output permutation of one LCG step: a 32-bit to 32-bit bijection.
 #[inline]

@@ -84,28 +84,28 @@
 //!
 //! # WGSL
 //!
-//! Binding-free snippets, every name prefixed `water_` / `WATER_` / `Water`, validated by
-//! naga with the core capabilities, constants tied to the Rust ones by unit tests, and run
+//! Binding-free library modules ([`wgsl::MODULES`]), imported by a pass with `#import
+//! water::noise` and the like and composed by the `shader` crate. Every name is prefixed
+//! `water_` / `WATER_` / `Water`; naga validates each module (with its imports) with the
+//! core capabilities; constants and GPU structs are tied to the Rust ones by unit tests; run
 //! against the CPU on a device (`tests/device.rs`: bit-exact or within 4e-5 on lavapipe;
 //! each test states its tolerance). Textures are passed as function arguments (`texture_2d`
 //! is a valid parameter type), so a pass binds them however it likes.
 //!
-//! | constant | functions (takes -> gives) |
+//! | module | functions (takes -> gives) |
 //! | --- | --- |
-//! | [`NOISE_WGSL`] | `water_pcg`, `water_hash2/3`, `water_hash_unit`; `water_noise_texel(i, j, size, cells, seed)` (generate the texture); `water_fbm(tex, p, WaterFbmParams) -> f32`, `water_fbm_sample(tex, p, distance, prm) -> WaterFbmSample { height, gradient, dropped_variance, octaves }` (exact, `textureLoad`); `water_fbm_filtered(tex, sampler, p, prm)` (one fetch per octave) |
-//! | [`FLOW_WGSL`] (needs NOISE) | `water_flow_layers(uv, flow, time, noise, WaterFlowParams) -> WaterFlowLayers`, `water_value_noise(p, seed)`, `water_decode_flow_rg` |
-//! | [`FOAM_WGSL`] | `water_foam_amount`, `water_foam(WaterFoamInputs, WaterFoamParams) -> f32` |
-//! | [`DECAL_WGSL`] | `water_decal_fade(local, fade)`, `water_decal_inside`, `water_decal_uv`, `water_decal_resolve`, `WATER_CLEAR_DISPLACEMENT` |
-//! | [`OPTICS_WGSL`] | `water_transmittance(sigma_t, d)`, `water_in_scatter(WaterMedium, light, d)`, `water_light_transport(m, bed, light, d)` |
-//! | [`SPECAA_WGSL`] | `water_variance_from_derivatives`, `water_filtered_alpha(alpha, variance, kappa, max_alpha)`, `water_filtered_roughness` |
-//! | [`NORMALS_WGSL`] | `water_normal_from_depth(depth_tex, pixel, radius, taps, tan_half_fov) -> vec3`, `water_normal_radius`, `water_view_position`, `water_blend_normals` |
-//! | [`GBUFFER_WGSL`] | `water_pack_data(shader, flags, material, foam_mip, algae_mip) -> u32`, `water_unpack_data(w) -> WaterData`, `water_data_is_valid`, `water_mip_level` |
-//! | [`TILES_WGSL`] | `water_grid_vertex(w) -> WaterGridVertex`, `water_grid_position`, `water_grid_corner_pixel`, `water_tile_origin`, `water_tile_of`, `WATER_COLLAPSED_CLIP` |
-//! | [`MATERIAL_WGSL`] | `WaterMaterialGpu`, `water_material_blend(a, b, t)`, `water_blend_weight(d, blend_distance)` |
-//! | [`WORLD_WGSL`] | `water_world_query(world_tex: texture_2d<u32>, p) -> WaterQuery { found, height, body, material, depth, flow }` |
-//! | [`ATLAS_WGSL`] | `water_flow_atlas_sample(atlas_tex: texture_2d<u32>, p) -> vec3` (flow in xy, 1 in z if inside) |
-//!
-//! [`WGSL`] is all of them, concatenated.
+//! | `water::noise` ([`wgsl::NOISE`]) | `water_pcg`, `water_hash2/3`, `water_hash_unit`; `water_noise_texel(i, j, size, cells, seed)` (generate the texture); `water_fbm(tex, p, WaterFbmParams) -> f32`, `water_fbm_sample(tex, p, distance, prm) -> WaterFbmSample { height, gradient, dropped_variance, octaves }` (exact, `textureLoad`); `water_fbm_filtered(tex, sampler, p, prm)` (one fetch per octave) |
+//! | `water::flow` ([`wgsl::FLOW`], imports `water::noise`) | `water_flow_layers(uv, flow, time, noise, WaterFlowParams) -> WaterFlowLayers`, `water_value_noise(p, seed)`, `water_decode_flow_rg` |
+//! | `water::foam` ([`wgsl::FOAM`]) | `water_foam_amount`, `water_foam(WaterFoamInputs, WaterFoamParams) -> f32` |
+//! | `water::decal` ([`wgsl::DECAL`]) | `water_decal_fade(local, fade)`, `water_decal_inside`, `water_decal_uv`, `water_decal_resolve`, `WATER_CLEAR_DISPLACEMENT` |
+//! | `water::optics` ([`wgsl::OPTICS`]) | `water_transmittance(sigma_t, d)`, `water_in_scatter(WaterMedium, light, d)`, `water_light_transport(m, bed, light, d)` |
+//! | `water::specaa` ([`wgsl::SPECAA`]) | `water_variance_from_derivatives`, `water_filtered_alpha(alpha, variance, kappa, max_alpha)`, `water_filtered_roughness` |
+//! | `water::normals` ([`wgsl::NORMALS`]) | `water_normal_from_depth(depth_tex, pixel, radius, taps, tan_half_fov) -> vec3`, `water_normal_radius`, `water_view_position`, `water_blend_normals` |
+//! | `water::gbuffer` ([`wgsl::GBUFFER`]) | `water_pack_data(shader, flags, material, foam_mip, algae_mip) -> u32`, `water_unpack_data(w) -> WaterData`, `water_data_is_valid`, `water_mip_level` |
+//! | `water::tiles` ([`wgsl::TILES`]) | `water_grid_vertex(w) -> WaterGridVertex`, `water_grid_position`, `water_grid_corner_pixel`, `water_tile_origin`, `water_tile_of`, `WATER_COLLAPSED_CLIP` |
+//! | `water::material` ([`wgsl::MATERIAL`]) | `WaterMaterialGpu`, `water_material_blend(a, b, t)`, `water_blend_weight(d, blend_distance)` |
+//! | `water::world` ([`wgsl::WORLD`]) | `water_world_query(world_tex: texture_2d<u32>, p) -> WaterQuery { found, height, body, material, depth, flow }` |
+//! | `water::atlas` ([`wgsl::ATLAS`]) | `water_flow_atlas_sample(atlas_tex: texture_2d<u32>, p) -> vec3` (flow in xy, 1 in z if inside) |
 
 #![no_std]
 // `!(x > 0.0)` is how this crate says "not positive, or NaN": user input can be NaN and
@@ -139,7 +139,7 @@ pub mod parallel;
 pub mod progress;
 pub mod specaa;
 pub mod tiles;
-mod wgsl;
+pub mod wgsl;
 pub mod world;
 
 pub use error::Error;
@@ -147,7 +147,3 @@ pub use error::Error;
 /// with a `glam` of your own.
 pub use glam;
 pub use progress::{Progress, Stage, no_progress};
-pub use wgsl::{
-    ATLAS_WGSL, DECAL_WGSL, FLOW_WGSL, FOAM_WGSL, GBUFFER_WGSL, MATERIAL_WGSL, NOISE_WGSL,
-    NORMALS_WGSL, OPTICS_WGSL, SPECAA_WGSL, TILES_WGSL, WGSL, WORLD_WGSL,
-};

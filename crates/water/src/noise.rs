@@ -13,7 +13,7 @@
 //! holds the noise at `uv = (i, j) / size`, and the lattice repeats every `cells` cells, so
 //! the texture wraps with no seam. Values are scaled by `sqrt(2)` into `[-1, 1]`. The GPU
 //! can upload these texels or generate the same ones itself (`water_noise_texel` in
-//! [`NOISE_WGSL`](crate::NOISE_WGSL), equal within 2e-6).
+//! [`wgsl::NOISE`](crate::wgsl::NOISE), equal within 2e-6).
 //!
 //! # Sampling and precision
 //!

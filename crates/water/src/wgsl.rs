@@ -1,145 +1,182 @@
-//! The WGSL twins. Each module is a binding-free snippet (functions, structs and
-//! constants, every name prefixed `water_` / `WATER_` / `Water`); the constants are tied to
-//! the Rust definitions by the unit tests at the bottom of this file, and naga validates
-//! every module with the core capabilities only.
+//! The WGSL twins: binding-free library modules (functions, structs and constants, every
+//! name prefixed `water_` / `WATER_` / `Water`) that passes import with `#import
+//! water::noise` and the like (see the `shader` crate). The constants and structs are tied
+//! to the Rust definitions by the unit tests at the bottom of this file, and naga
+//! validates every module, composed with its imports, with the core capabilities only.
+//! One module imports another: `water::flow` imports `water::noise` (its hashes).
 
-/// Integer hashing, the noise texture generator, FBM with octave LOD (exact, with
-/// `textureLoad`) and FBM through a sampler.
-pub const NOISE_WGSL: &str = include_str!("wgsl/noise.wgsl");
-/// Two-phase flow-map sampling and the phase noise. Needs [`NOISE_WGSL`] (hashes).
-pub const FLOW_WGSL: &str = include_str!("wgsl/flow.wgsl");
-/// Foam amount and coverage.
-pub const FOAM_WGSL: &str = include_str!("wgsl/foam.wgsl");
-/// Displacement decal fade, UV and resolve.
-pub const DECAL_WGSL: &str = include_str!("wgsl/decal.wgsl");
-/// Light transport.
-pub const OPTICS_WGSL: &str = include_str!("wgsl/optics.wgsl");
-/// Variance-based specular anti-aliasing.
-pub const SPECAA_WGSL: &str = include_str!("wgsl/specaa.wgsl");
-/// Normals from depth.
-pub const NORMALS_WGSL: &str = include_str!("wgsl/normals.wgsl");
-/// The mini G-buffer data word.
-pub const GBUFFER_WGSL: &str = include_str!("wgsl/gbuffer.wgsl");
-/// Screen tiles and the tessellated grid's vertices.
-pub const TILES_WGSL: &str = include_str!("wgsl/tiles.wgsl");
-/// Materials and their blend.
-pub const MATERIAL_WGSL: &str = include_str!("wgsl/material.wgsl");
-/// The water query over a baked world.
-pub const WORLD_WGSL: &str = include_str!("wgsl/world.wgsl");
-/// Flow from the flow atlas.
-pub const ATLAS_WGSL: &str = include_str!("wgsl/atlas.wgsl");
+use shader::Module;
 
-/// Every module above, concatenated (dependencies first).
-pub const WGSL: &str = concat!(
-    include_str!("wgsl/noise.wgsl"),
-    include_str!("wgsl/flow.wgsl"),
-    include_str!("wgsl/foam.wgsl"),
-    include_str!("wgsl/decal.wgsl"),
-    include_str!("wgsl/optics.wgsl"),
-    include_str!("wgsl/specaa.wgsl"),
-    include_str!("wgsl/normals.wgsl"),
-    include_str!("wgsl/gbuffer.wgsl"),
-    include_str!("wgsl/tiles.wgsl"),
-    include_str!("wgsl/material.wgsl"),
-    include_str!("wgsl/world.wgsl"),
-    include_str!("wgsl/atlas.wgsl"),
-);
+/// `water::noise`: integer hashing, the noise texture generator, FBM with octave LOD
+/// (exact, with `textureLoad`) and FBM through a sampler.
+pub const NOISE: Module = Module::new("water::noise", include_str!("wgsl/noise.wgsl"));
+/// `water::flow`: two-phase flow-map sampling and the phase noise (imports
+/// `water::noise` for the hashes).
+pub const FLOW: Module = Module::new("water::flow", include_str!("wgsl/flow.wgsl"));
+/// `water::foam`: foam amount and coverage.
+pub const FOAM: Module = Module::new("water::foam", include_str!("wgsl/foam.wgsl"));
+/// `water::decal`: displacement decal fade, UV and resolve.
+pub const DECAL: Module = Module::new("water::decal", include_str!("wgsl/decal.wgsl"));
+/// `water::optics`: light transport.
+pub const OPTICS: Module = Module::new("water::optics", include_str!("wgsl/optics.wgsl"));
+/// `water::specaa`: variance-based specular anti-aliasing.
+pub const SPECAA: Module = Module::new("water::specaa", include_str!("wgsl/specaa.wgsl"));
+/// `water::normals`: normals from depth.
+pub const NORMALS: Module = Module::new("water::normals", include_str!("wgsl/normals.wgsl"));
+/// `water::gbuffer`: the mini G-buffer data word.
+pub const GBUFFER: Module = Module::new("water::gbuffer", include_str!("wgsl/gbuffer.wgsl"));
+/// `water::tiles`: screen tiles and the tessellated grid's vertices.
+pub const TILES: Module = Module::new("water::tiles", include_str!("wgsl/tiles.wgsl"));
+/// `water::material`: materials and their blend.
+pub const MATERIAL: Module = Module::new("water::material", include_str!("wgsl/material.wgsl"));
+/// `water::world`: the water query over a baked world.
+pub const WORLD: Module = Module::new("water::world", include_str!("wgsl/world.wgsl"));
+/// `water::atlas`: flow from the flow atlas.
+pub const ATLAS: Module = Module::new("water::atlas", include_str!("wgsl/atlas.wgsl"));
+
+/// This crate's modules, for `shader::compose`'s library.
+pub const MODULES: &[Module] = &[
+    NOISE, FLOW, FOAM, DECAL, OPTICS, SPECAA, NORMALS, GBUFFER, TILES, MATERIAL, WORLD, ATLAS,
+];
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use alloc::format;
     use alloc::string::String;
-    use shadercheck::{Caps, assert_valid, const_f32, const_names, const_u32};
+    use alloc::vec::Vec;
+    use shadercheck::{Caps, const_f32, const_names, const_u32};
 
     enum V {
         U(u32),
         F(f32),
     }
 
-    /// Validates `src` (after `deps`) with core capabilities and checks that exactly the
-    /// listed constants are declared, with the Rust values.
-    fn check(name: &str, deps: &str, src: &str, expect: &[(&str, V)]) {
-        let m = assert_valid(name, &format!("{deps}{src}"), Caps::CORE);
+    /// `m` composed with its imports and validated with the core capabilities.
+    fn composed(m: Module) -> naga::Module {
+        shadercheck::assert_composed(&[MODULES], m.name, &[], Caps::CORE)
+    }
+
+    /// Composes and validates `m`, and checks that its own constants (not its imports')
+    /// are exactly the listed ones, with the Rust values.
+    fn check(m: Module, expect: &[(&str, V)]) -> naga::Module {
+        let module = composed(m);
         for (n, v) in expect {
             match v {
-                V::U(u) => assert_eq!(const_u32(&m, n), Some(*u), "{name}: WGSL const {n}"),
-                V::F(f) => assert_eq!(const_f32(&m, n), Some(*f), "{name}: WGSL const {n}"),
+                V::U(u) => assert_eq!(const_u32(&module, n), Some(*u), "{}: {n}", m.name),
+                V::F(f) => assert_eq!(const_f32(&module, n), Some(*f), "{}: {n}", m.name),
             }
         }
-        let dep_names: alloc::vec::Vec<String> = if deps.is_empty() {
-            alloc::vec::Vec::new()
-        } else {
-            const_names(&assert_valid("deps", deps, Caps::CORE))
-        };
-        for n in const_names(&m) {
+        let imported: Vec<String> = m
+            .imports(&[])
+            .unwrap()
+            .into_iter()
+            .flat_map(|i| {
+                const_names(&shadercheck::assert_composed(
+                    &[MODULES],
+                    i,
+                    &[],
+                    Caps::CORE,
+                ))
+            })
+            .collect();
+        for n in const_names(&module) {
             // Non-scalar constants are checked by their tests directly.
-            if dep_names.contains(&n) || n == "WATER_COLLAPSED_CLIP" {
+            if imported.contains(&n) || n == "WATER_COLLAPSED_CLIP" {
                 continue;
             }
             assert!(
                 expect.iter().any(|(e, _)| *e == n),
-                "{name}: unchecked WGSL const {n}"
+                "{}: unchecked WGSL const {n}",
+                m.name
             );
+        }
+        module
+    }
+
+    /// The member names and byte offsets of a WGSL struct, and its size.
+    fn struct_layout(m: &naga::Module, name: &str) -> (Vec<String>, Vec<u32>, u32) {
+        let (_, ty) = m
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name}"));
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => (
+                members.iter().map(|m| m.name.clone().unwrap()).collect(),
+                members.iter().map(|m| m.offset).collect(),
+                *span,
+            ),
+            other => panic!("{name} is {other:?}"),
         }
     }
 
     #[test]
     fn noise() {
         use crate::noise::*;
-        check(
-            "NOISE_WGSL",
-            "",
-            NOISE_WGSL,
+        let m = check(
+            NOISE,
             &[
                 ("WATER_MAX_OCTAVES", V::U(MAX_OCTAVES)),
                 ("WATER_OCTAVE_SEED", V::U(OCTAVE_SEED)),
                 ("WATER_NOISE_SCALE", V::F(NOISE_SCALE)),
             ],
         );
+        let (names, offsets, size) = struct_layout(&m, "WaterFbmParams");
+        assert_eq!(size as usize, size_of::<WaterFbmParams>());
+        assert_eq!(
+            names,
+            [
+                "frequency",
+                "amplitude",
+                "gain",
+                "lod_distance",
+                "octaves_near",
+                "octaves_far",
+                "slope_variance",
+                "_pad"
+            ]
+        );
+        assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
     }
 
     #[test]
     fn flow() {
         use crate::flow::UV_JUMP;
         check(
-            "FLOW_WGSL",
-            NOISE_WGSL,
-            FLOW_WGSL,
+            FLOW,
             &[
                 ("WATER_UV_JUMP_X", V::F(UV_JUMP.x)),
                 ("WATER_UV_JUMP_Y", V::F(UV_JUMP.y)),
             ],
         );
+        assert_eq!(FLOW.imports(&[]).unwrap(), ["water::noise"]);
     }
 
     #[test]
     fn foam_decal_optics_specaa() {
-        check("FOAM_WGSL", "", FOAM_WGSL, &[]);
+        check(FOAM, &[]);
         check(
-            "DECAL_WGSL",
-            "",
-            DECAL_WGSL,
+            DECAL,
             &[(
                 "WATER_CLEAR_DISPLACEMENT",
                 V::F(crate::decal::CLEAR_DISPLACEMENT),
             )],
         );
         use crate::optics::PURE_WATER_ABSORPTION as A;
-        check(
-            "OPTICS_WGSL",
-            "",
-            OPTICS_WGSL,
+        let m = check(
+            OPTICS,
             &[
                 ("WATER_PURE_ABSORPTION_R", V::F(A.x)),
                 ("WATER_PURE_ABSORPTION_G", V::F(A.y)),
                 ("WATER_PURE_ABSORPTION_B", V::F(A.z)),
             ],
         );
+        let (names, offsets, size) = struct_layout(&m, "WaterMedium");
+        assert_eq!(size as usize, size_of::<crate::optics::WaterMedium>());
+        assert_eq!(names, ["absorption", "scattering"]);
+        assert_eq!(offsets, [0, 16]);
         check(
-            "SPECAA_WGSL",
-            "",
-            SPECAA_WGSL,
+            SPECAA,
             &[("WATER_SPECAA_KAPPA", V::F(crate::specaa::DEFAULT_KAPPA))],
         );
     }
@@ -147,9 +184,7 @@ mod tests {
     #[test]
     fn normals() {
         check(
-            "NORMALS_WGSL",
-            "",
-            NORMALS_WGSL,
+            NORMALS,
             &[
                 ("WATER_TAPS_FIVE", V::U(5)),
                 ("WATER_TAPS_NINE", V::U(9)),
@@ -163,9 +198,7 @@ mod tests {
     fn gbuffer() {
         use crate::gbuffer::*;
         check(
-            "GBUFFER_WGSL",
-            "",
-            GBUFFER_WGSL,
+            GBUFFER,
             &[
                 ("WATER_SHADER_ID_MASK", V::U((1 << SHADER_ID_BITS) - 1)),
                 ("WATER_FLAGS_SHIFT", V::U(FLAGS_SHIFT)),
@@ -190,10 +223,8 @@ mod tests {
     #[test]
     fn tiles() {
         use crate::tiles::*;
-        check(
-            "TILES_WGSL",
-            "",
-            TILES_WGSL,
+        let m = check(
+            TILES,
             &[
                 ("WATER_TILE_SIZE", V::U(TILE_SIZE)),
                 ("WATER_COUNT_GROUP_SIZE", V::U(COUNT_GROUP_SIZE)),
@@ -203,33 +234,62 @@ mod tests {
                 ("WATER_GRID_CORNER_SHIFT", V::U(GRID_CORNER_SHIFT)),
             ],
         );
-        // The vec4 constant is not a scalar shadercheck reads; compare its source text.
-        let [x, y, z, w] = COLLAPSED_CLIP;
-        assert!(TILES_WGSL.contains(&format!(
-            "const WATER_COLLAPSED_CLIP: vec4<f32> = vec4<f32>({x:?}, {y:?}, {z:?}, {w:?});"
-        )));
+        // The vec4 constant is not a scalar shadercheck reads: its components from naga.
+        let (_, c) = m
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("WATER_COLLAPSED_CLIP"))
+            .expect("WATER_COLLAPSED_CLIP");
+        let naga::Expression::Compose { components, .. } = &m.global_expressions[c.init] else {
+            panic!("WATER_COLLAPSED_CLIP is {:?}", m.global_expressions[c.init]);
+        };
+        let values: Vec<f32> = components
+            .iter()
+            .map(|&h| match m.global_expressions[h] {
+                naga::Expression::Literal(naga::Literal::F32(v)) => v,
+                ref other => panic!("WATER_COLLAPSED_CLIP component {other:?}"),
+            })
+            .collect();
+        assert_eq!(values, COLLAPSED_CLIP);
     }
 
     #[test]
     fn material() {
-        check(
-            "MATERIAL_WGSL",
-            "",
-            MATERIAL_WGSL,
+        let m = check(
+            MATERIAL,
             &[(
                 "WATER_DEFAULT_BLEND_DISTANCE",
                 V::F(crate::material::DEFAULT_BLEND_DISTANCE),
             )],
         );
+        let (names, offsets, size) = struct_layout(&m, "WaterMaterialGpu");
+        assert_eq!(
+            size as usize,
+            size_of::<crate::material::WaterMaterialGpu>()
+        );
+        assert_eq!(
+            names,
+            [
+                "absorption",
+                "scattering",
+                "displacement_amplitude",
+                "foam_intensity",
+                "shore_width",
+                "detail_weight",
+                "ids",
+                "foam_texture",
+                "algae_texture",
+                "_pad"
+            ]
+        );
+        assert_eq!(offsets, [0, 16, 32, 36, 40, 44, 48, 52, 56, 60]);
     }
 
     #[test]
     fn world() {
         use crate::world::*;
         check(
-            "WORLD_WGSL",
-            "",
-            WORLD_WGSL,
+            WORLD,
             &[
                 ("WATER_WORLD_MAGIC", V::U(WORLD_MAGIC)),
                 ("WATER_WORLD_VERSION", V::U(WORLD_VERSION)),
@@ -269,9 +329,7 @@ mod tests {
     fn atlas() {
         use crate::atlas::*;
         check(
-            "ATLAS_WGSL",
-            "",
-            ATLAS_WGSL,
+            ATLAS,
             &[
                 ("WATER_ATLAS_MAGIC", V::U(ATLAS_MAGIC)),
                 ("WATER_SECTOR_NONE", V::U(SECTOR_NONE)),
@@ -294,23 +352,20 @@ mod tests {
     }
 
     #[test]
-    fn everything_concatenates() {
-        assert_valid("water WGSL", WGSL, Caps::CORE);
-        // Every module-scope name carries the crate prefix.
-        let m = assert_valid("water WGSL", WGSL, Caps::CORE);
-        for (_, f) in m.functions.iter() {
-            let n = f.name.as_deref().unwrap_or("");
-            assert!(n.starts_with("water_"), "function {n}");
+    fn modules_are_binding_free_prefixed_and_compose_together() {
+        for m in MODULES {
+            let module = composed(*m);
+            shadercheck::assert_prefixed(m.name, &module, "water", &[], true);
         }
-        for (_, t) in m.types.iter() {
-            if let Some(n) = t.name.as_deref()
-                && matches!(t.inner, naga::TypeInner::Struct { .. })
-            {
-                assert!(n.starts_with("Water"), "struct {n}");
-            }
+        // A pass may import all of them: together they still validate (no name clashes).
+        let mut all = String::new();
+        for m in MODULES {
+            all.push_str("#import ");
+            all.push_str(m.name);
+            all.push('\n');
         }
-        for n in const_names(&m) {
-            assert!(n.starts_with("WATER_"), "const {n}");
-        }
+        let all = shader::compose_source(&[MODULES], "all", &all, &[]).unwrap();
+        let module = shadercheck::validate(&all, Caps::CORE).unwrap();
+        shadercheck::assert_prefixed("all", &module, "water", &[], true);
     }
 }

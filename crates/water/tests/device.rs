@@ -1,244 +1,66 @@
-//! The WGSL twins run on a real device and compared with the CPU functions they mirror.
-//!
-//! Runs on whatever adapter wgpu finds (lavapipe in CI, the H100 on the device machine).
-//! Without one every test fails with a message saying how to install one (lavapipe:
-//! `apt-get install -y mesa-vulkan-drivers libvulkan1`); a GPU test never passes silently.
-//! Tolerances are stated per test; they cover the
-//! GPU's `exp`/`log2`/`sqrt` and division (a few ulp in WGSL) and fused multiply-adds.
+//! The WGSL twins run on testkit's device (lavapipe in CI, the H100 on the device machine)
+//! and are compared with the CPU functions they mirror. A machine without any GPU driver
+//! fails here, saying how to install one; a GPU test never passes silently. Tolerances
+//! are stated per test; they cover the GPU's `exp`/`log2`/`sqrt` and division (a few ulp
+//! in WGSL) and fused multiply-adds.
 
-use glam::{UVec2, Vec2, Vec3};
+use testkit::device::Resource;
+use water::glam::{UVec2, Vec2, Vec3};
 use water::noise::{Fbm, FbmParams, NoiseTexture};
 
-struct Gpu {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
+/// Bitcasts every binding-0 word reads and binding-1 word writes go through.
+const HELPERS: &str = "
+fn inf(i: u32) -> f32 { return bitcast<f32>(input[i]); }
+fn outf(i: u32, v: f32) { output[i] = bitcast<u32>(v); }
+";
+
+/// Runs `body` for invocations `i < items` on testkit's device, after `#import` lines for
+/// `imports` and `decl` (the texture and sampler bindings, from 2 on, that `extra` fills),
+/// with `input` at binding 0; returns the `items * stride` output words.
+fn run(
+    imports: &[&str],
+    decl: &str,
+    body: &str,
+    input: &[u32],
+    items: usize,
+    stride: usize,
+    extra: &[Resource<'_>],
+) -> Vec<u32> {
+    let mut prelude: String = imports.iter().map(|m| format!("#import {m}\n")).collect();
+    prelude.push_str(decl);
+    prelude.push_str(HELPERS);
+    // The layout comes from the shader: binding 0 must be used even by a kernel that
+    // reads nothing from it.
+    let body = format!("_ = input[0];\n    {body}");
+    testkit::device::run_words(
+        &[water::wgsl::MODULES],
+        &prelude,
+        &body,
+        input,
+        items as u32,
+        stride,
+        extra,
+    )
 }
 
-fn gpu() -> Gpu {
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::HighPerformance,
-        force_fallback_adapter: false,
-        compatible_surface: None,
-        apply_limit_buckets: false,
-    }));
-    let adapter = match adapter {
-        Ok(a) => a,
-        Err(e) => panic!(
-            "no GPU adapter ({e}). Install a Vulkan driver: `apt-get install -y mesa-vulkan-drivers libvulkan1` (lavapipe, software), or on NVIDIA point VK_DRIVER_FILES at the NVIDIA ICD json"
-        ),
-    };
-    let info = adapter.get_info();
-    eprintln!(
-        "adapter: {} ({:?}, driver {})",
-        info.name, info.backend, info.driver
-    );
-    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-        label: Some("water device test"),
-        required_features: wgpu::Features::empty(),
-        required_limits: wgpu::Limits::default(),
-        experimental_features: wgpu::ExperimentalFeatures::disabled(),
-        memory_hints: wgpu::MemoryHints::Performance,
-        trace: wgpu::Trace::Off,
-    }))
-    .expect("device");
-    Gpu { device, queue }
-}
-
-/// A texture bound at binding 2 (and a linear repeat sampler at 3 for `FloatFiltered`).
-enum Tex<'a> {
-    None,
-    /// R32Float, unfilterable.
-    Float(u32, u32, &'a [f32]),
-    /// R16Float with a linear sampler.
-    FloatFiltered(u32, u32, &'a [f32]),
-    /// R32Uint.
-    Uint(u32, u32, &'a [u32]),
-}
-
-impl Gpu {
-    /// Runs `main` (workgroup size 64, one invocation per output record) with `input` at
-    /// binding 0 and `out_words` zeroed words at binding 1, returning binding 1.
-    fn run(
-        &self,
-        src: &str,
-        input: &[u32],
-        out_words: usize,
-        invocations: u32,
-        tex: Tex<'_>,
-    ) -> Vec<u32> {
-        let d = &self.device;
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("water kernel"),
-            source: wgpu::ShaderSource::Wgsl(src.into()),
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("water kernel"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let storage = |bytes: &[u8], size: u64| {
-            let buf = d.create_buffer(&wgpu::BufferDescriptor {
-                label: None,
-                size: size.max(4),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            if !bytes.is_empty() {
-                self.queue.write_buffer(&buf, 0, bytes);
-            }
-            buf
-        };
-        let inb = storage(bytemuck::cast_slice(input), (input.len() * 4) as u64);
-        let outb = storage(&[], (out_words * 4) as u64);
-        let make_tex = |w: u32, h: u32, format: wgpu::TextureFormat, bytes: &[u8], bpp: u32| {
-            let t = d.create_texture(&wgpu::TextureDescriptor {
-                label: None,
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                view_formats: &[],
-            });
-            self.queue.write_texture(
-                t.as_image_copy(),
-                bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(w * bpp),
-                    rows_per_image: Some(h),
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-            t.create_view(&Default::default())
-        };
-        let sampler = d.create_sampler(&wgpu::SamplerDescriptor {
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        let view = match tex {
-            Tex::None => None,
-            Tex::Float(w, h, t) => Some(make_tex(
-                w,
-                h,
-                wgpu::TextureFormat::R32Float,
-                bytemuck::cast_slice(t),
-                4,
-            )),
-            Tex::FloatFiltered(w, h, t) => {
-                let halfs: Vec<u16> = t
-                    .iter()
-                    .map(|&v| half::f16::from_f32(v).to_bits())
-                    .collect();
-                Some(make_tex(
-                    w,
-                    h,
-                    wgpu::TextureFormat::R16Float,
-                    bytemuck::cast_slice(&halfs),
-                    2,
-                ))
-            }
-            Tex::Uint(w, h, t) => Some(make_tex(
-                w,
-                h,
-                wgpu::TextureFormat::R32Uint,
-                bytemuck::cast_slice(t),
-                4,
-            )),
-        };
-        let filtered = matches!(tex, Tex::FloatFiltered(..));
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: inb.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: outb.as_entire_binding(),
-            },
-        ];
-        if let Some(v) = &view {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(v),
-            });
-        }
-        if filtered {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            });
-        }
-        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        });
-        let mut enc = d.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(invocations.div_ceil(64), 1, 1);
-        }
-        let staging = d.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: outb.size(),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        enc.copy_buffer_to_buffer(&outb, 0, &staging, 0, outb.size());
-        self.queue.submit([enc.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            panic!("validation error: {e}");
-        }
-        staging
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-        d.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
-        let v: Vec<u32> =
-            bytemuck::pod_collect_to_vec(&staging.slice(..).get_mapped_range().expect("mapped"));
-        v[..out_words].to_vec()
+/// An `R32Float` texture.
+fn float_texture(width: u32, height: u32, texels: &[f32]) -> Resource<'_> {
+    Resource::Texture {
+        format: wgpu::TextureFormat::R32Float,
+        width,
+        height,
+        texels: bytemuck::cast_slice(texels),
     }
 }
 
-/// A kernel: `module` then bindings then `main` running `body` for invocation `i < n`.
-fn kernel(module: &str, tex_decl: &str, n: usize, body: &str) -> String {
-    format!(
-        "{module}
-@group(0) @binding(0) var<storage, read> input: array<u32>;
-@group(0) @binding(1) var<storage, read_write> out: array<u32>;
-{tex_decl}
-fn inf(i: u32) -> f32 {{ return bitcast<f32>(input[i]); }}
-fn outf(i: u32, v: f32) {{ out[i] = bitcast<u32>(v); }}
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {{
-    let i = gid.x;
-    _ = input[0];
-    if (i >= {n}u) {{ return; }}
-    {body}
-}}"
-    )
+/// An `R32Uint` texture.
+fn uint_texture(width: u32, height: u32, texels: &[u32]) -> Resource<'_> {
+    Resource::Texture {
+        format: wgpu::TextureFormat::R32Uint,
+        width,
+        height,
+        texels: bytemuck::cast_slice(texels),
+    }
 }
 
 fn f(w: u32) -> f32 {
@@ -249,29 +71,28 @@ fn words(v: &[f32]) -> Vec<u32> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
-fn points(n: usize, scale: f32, seed: u32) -> Vec<Vec2> {
-    (0..n as u32)
-        .map(|i| {
-            let h = water::hash::hash3(i, seed, 1);
-            let g = water::hash::hash3(i, seed, 2);
-            (Vec2::new(water::hash::unit(h), water::hash::unit(g)) - 0.3) * scale
-        })
+/// `n` random points in `[-0.3, 0.7) * scale` squared.
+fn points(n: usize, scale: f32, seed: u64) -> Vec<Vec2> {
+    let mut rng = testkit::Rng::new(seed);
+    (0..n)
+        .map(|_| (Vec2::new(rng.f32(), rng.f32()) - 0.3) * scale)
         .collect()
 }
 
 #[test]
 fn noise_texture_and_fbm_match_the_cpu() {
-    let g = gpu();
     let tex = NoiseTexture::generate(64, 8, 5).unwrap();
     // The generator: every texel within 2e-6.
     let n = 64 * 64;
-    let src = kernel(
-        water::NOISE_WGSL,
+    let out = run(
+        &["water::noise"],
         "",
-        n,
         "outf(i, water_noise_texel(i % 64u, i / 64u, 64u, 8u, 5u));",
+        &[0],
+        n,
+        1,
+        &[],
     );
-    let out = g.run(&src, &[0], n, n as u32, Tex::None);
     let worst = out
         .iter()
         .zip(tex.texels())
@@ -307,12 +128,14 @@ fn noise_texture_and_fbm_match_the_cpu() {
         outf(6u * i + 3u, s.gradient.y);
         outf(6u * i + 4u, s.dropped_variance);
         outf(6u * i + 5u, s.octaves);";
-    let out = g.run(
-        &kernel(water::NOISE_WGSL, decl, m, body),
+    let out = run(
+        &["water::noise"],
+        decl,
+        body,
         &input,
-        6 * m,
-        m as u32,
-        Tex::Float(64, 64, tex.texels()),
+        m,
+        6,
+        &[float_texture(64, 64, tex.texels())],
     );
     let (mut eh, mut es, mut eg, mut ev, mut eo) = (0.0f32, 0.0f32, 0.0f32, 0.0f32, 0.0f32);
     for (k, p) in pts.iter().enumerate() {
@@ -340,12 +163,25 @@ fn noise_texture_and_fbm_match_the_cpu() {
         let b = 8u + 3u * i;
         outf(i, water_fbm_filtered(noise, samp, vec2<f32>(inf(b), inf(b + 1u)), prm));";
     let decl = "@group(0) @binding(2) var noise: texture_2d<f32>;\n@group(0) @binding(3) var samp: sampler;";
-    let out = g.run(
-        &kernel(water::NOISE_WGSL, decl, m, body),
+    let halves: Vec<u16> = tex
+        .texels()
+        .iter()
+        .map(|&v| half::f16::from_f32(v).to_bits())
+        .collect();
+    let filtered = Resource::Texture {
+        format: wgpu::TextureFormat::R16Float,
+        width: 64,
+        height: 64,
+        texels: bytemuck::cast_slice(&halves),
+    };
+    let out = run(
+        &["water::noise"],
+        decl,
+        body,
         &input,
         m,
-        m as u32,
-        Tex::FloatFiltered(64, 64, tex.texels()),
+        1,
+        &[filtered, Resource::LinearSampler],
     );
     let worst = pts
         .iter()
@@ -362,7 +198,6 @@ fn flow_foam_optics_specaa_material_and_data_word_match_the_cpu() {
     use water::foam::{FoamInputs, FoamParams, foam};
     use water::material::{WaterMaterial, blend_weight};
     use water::optics::{Medium, WaterType};
-    let g = gpu();
     let n = 256usize;
     let pts = points(n, 40.0, 3);
     let mut input = Vec::new();
@@ -386,29 +221,22 @@ fn flow_foam_optics_specaa_material_and_data_word_match_the_cpu() {
         outf(o + 7u, lt.x); outf(o + 8u, lt.y); outf(o + 9u, lt.z);
         outf(o + 10u, water_filtered_alpha(0.1 + 0.001 * f32(i), s * s * 0.05, WATER_SPECAA_KAPPA, 0.6));
         outf(o + 11u, water_blend_weight(p.x * 0.1, 6.0));
-        out[o + 12u] = water_pack_data(i & 255u, i & 7u, i * 7u, t * 0.1, s + 1.0);
+        output[o + 12u] = water_pack_data(i & 255u, i & 7u, i * 7u, t * 0.1, s + 1.0);
         let dw = water_unpack_data(i * 2654435761u);
-        out[o + 13u] = dw.material;
+        output[o + 13u] = dw.material;
         outf(o + 14u, dw.foam_mip + 100.0 * dw.algae_mip);
         outf(o + 15u, water_decal_fade(vec3<f32>(p.x, p.y, s) * 0.03, 0.25));";
-    let module = [
-        water::NOISE_WGSL,
-        water::FLOW_WGSL,
-        water::FOAM_WGSL,
-        water::OPTICS_WGSL,
-        water::SPECAA_WGSL,
-        water::MATERIAL_WGSL,
-        water::GBUFFER_WGSL,
-        water::DECAL_WGSL,
-    ]
-    .concat();
-    let out = g.run(
-        &kernel(&module, "", n, body),
-        &input,
-        16 * n,
-        n as u32,
-        Tex::None,
-    );
+    // `water::flow` brings `water::noise` with it.
+    let imports = [
+        "water::flow",
+        "water::foam",
+        "water::optics",
+        "water::specaa",
+        "water::material",
+        "water::gbuffer",
+        "water::decal",
+    ];
+    let out = run(&imports, "", body, &input, n, 16, &[]);
     let fp = FlowParams {
         interval: 1.3,
         distance: 0.25,
@@ -495,14 +323,8 @@ fn flow_foam_optics_specaa_material_and_data_word_match_the_cpu() {
         outf(o, m.absorption.x); outf(o + 1u, m.absorption.y); outf(o + 2u, m.absorption.z); outf(o + 3u, m.absorption.w);
         outf(o + 4u, m.scattering.x); outf(o + 5u, m.scattering.y); outf(o + 6u, m.scattering.z); outf(o + 7u, m.scattering.w);
         outf(o + 8u, m.displacement_amplitude); outf(o + 9u, m.foam_intensity); outf(o + 10u, m.shore_width); outf(o + 11u, m.detail_weight);
-        out[o + 12u] = m.ids; out[o + 13u] = m.foam_texture; out[o + 14u] = m.algae_texture;";
-    let out = g.run(
-        &kernel(water::MATERIAL_WGSL, "", 4, body),
-        &input,
-        64,
-        4,
-        Tex::None,
-    );
+        output[o + 12u] = m.ids; output[o + 13u] = m.foam_texture; output[o + 14u] = m.algae_texture;";
+    let out = run(&["water::material"], "", body, &input, 4, 16, &[]);
     for (k, t) in [0.0f32, 0.3, 0.5, 0.9].into_iter().enumerate() {
         let cpu = WaterMaterial::from_gpu(&a)
             .blend(&WaterMaterial::from_gpu(&b), t)
@@ -528,22 +350,15 @@ fn flow_foam_optics_specaa_material_and_data_word_match_the_cpu() {
 fn grid_vertices_and_normals_from_depth_match_the_cpu() {
     use water::normals::{DepthCamera, DepthView, Taps};
     use water::tiles::{GridMesh, GridVertex};
-    let g = gpu();
     let mesh = GridMesh::new(16).unwrap();
     let n = mesh.vertices().len();
     let input: Vec<u32> = mesh.vertices().iter().map(|&v| u32::from(v)).collect();
     let body = "let v = water_grid_vertex(input[i]);
         let p = water_grid_position(v);
-        out[2u * i] = p.x | (p.y << 16u);
+        output[2u * i] = p.x | (p.y << 16u);
         let c = water_grid_corner_pixel(v, 2u, vec2<u32>(64u, 32u), 32u, 16u, vec2<u32>(96u, 64u));
-        out[2u * i + 1u] = c.x | (c.y << 16u);";
-    let out = g.run(
-        &kernel(water::TILES_WGSL, "", n, body),
-        &input,
-        2 * n,
-        n as u32,
-        Tex::None,
-    );
+        output[2u * i + 1u] = c.x | (c.y << 16u);";
+    let out = run(&["water::tiles"], "", body, &input, n, 2, &[]);
     for (k, &w) in mesh.vertices().iter().enumerate() {
         let v = GridVertex::unpack(w);
         let p = v.position();
@@ -579,12 +394,14 @@ fn grid_vertices_and_normals_from_depth_match_the_cpu() {
         outf(6u * i, a.x); outf(6u * i + 1u, a.y); outf(6u * i + 2u, a.z);
         outf(6u * i + 3u, b.x); outf(6u * i + 4u, b.y); outf(6u * i + 5u, b.z);";
     let decl = "@group(0) @binding(2) var depth: texture_2d<f32>;";
-    let out = g.run(
-        &kernel(water::NORMALS_WGSL, decl, count, body),
+    let out = run(
+        &["water::normals"],
+        decl,
+        body,
         &[0],
-        6 * count,
-        count as u32,
-        Tex::Float(size.x, size.y, &depth),
+        count,
+        6,
+        &[float_texture(size.x, size.y, &depth)],
     );
     let mut worst: f32 = 0.0;
     for k in 0..count {
@@ -608,7 +425,6 @@ fn world_query_and_flow_atlas_match_the_cpu() {
     use water::atlas::{FlowAtlas, FlowAtlasSettings};
     use water::flowbake::FlowField;
     use water::world::{Lake, Ocean, River, RiverPoint, WaterWorldBuilder};
-    let g = gpu();
     let mut b = WaterWorldBuilder::new();
     b.ocean = Some(Ocean {
         level: -1.0,
@@ -652,15 +468,17 @@ fn world_query_and_flow_atlas_match_the_cpu() {
         .collect();
     let body = "let q = water_world_query(world, vec2<f32>(inf(2u * i), inf(2u * i + 1u)));
         let o = 7u * i;
-        out[o] = q.found; outf(o + 1u, q.height); out[o + 2u] = q.body; out[o + 3u] = q.material;
+        output[o] = q.found; outf(o + 1u, q.height); output[o + 2u] = q.body; output[o + 3u] = q.material;
         outf(o + 4u, q.depth); outf(o + 5u, q.flow.x); outf(o + 6u, q.flow.y);";
     let decl = "@group(0) @binding(2) var world: texture_2d<u32>;";
-    let out = g.run(
-        &kernel(water::WORLD_WGSL, decl, n, body),
+    let out = run(
+        &["water::world"],
+        decl,
+        body,
         &input,
-        7 * n,
-        n as u32,
-        Tex::Uint(tw, th, &tex),
+        n,
+        7,
+        &[uint_texture(tw, th, &tex)],
     );
     let (mut bodies, mut eh, mut ef) = (0, 0.0f32, 0.0f32);
     for (k, p) in pts.iter().enumerate() {
@@ -712,12 +530,14 @@ fn world_query_and_flow_atlas_match_the_cpu() {
     let body = "let r = water_flow_atlas_sample(atlas, vec2<f32>(inf(2u * i), inf(2u * i + 1u)));
         outf(3u * i, r.x); outf(3u * i + 1u, r.y); outf(3u * i + 2u, r.z);";
     let decl = "@group(0) @binding(2) var atlas: texture_2d<u32>;";
-    let out = g.run(
-        &kernel(water::ATLAS_WGSL, decl, n, body),
+    let out = run(
+        &["water::atlas"],
+        decl,
+        body,
         &input,
-        3 * n,
-        n as u32,
-        Tex::Uint(atlas.width(), atlas.height(), atlas.texels()),
+        n,
+        3,
+        &[uint_texture(atlas.width(), atlas.height(), atlas.texels())],
     );
     let mut worst: f32 = 0.0;
     for (k, p) in pts.iter().enumerate() {

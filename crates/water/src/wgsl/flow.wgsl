@@ -1,5 +1,7 @@
 // water: two-phase flow-map sampling (Vlachos 2010) and the per-pixel phase noise.
-// Twin of `water::flow`. Needs `water_hash3` and `water_hash_unit` (NOISE_WGSL).
+// Twin of `water::flow`. Uses `water_hash3` and `water_hash_unit` from `water::noise`.
+
+#import water::noise
 
 const WATER_UV_JUMP_X: f32 = 0.311;
 const WATER_UV_JUMP_Y: f32 = 0.243;

@@ -12,7 +12,7 @@
 //! a quadtree over lakes and tiles, all into one array of `u32` words
 //! ([`WaterWorld::words`]): that array *is* the GPU data (upload it as an `R32Uint`
 //! texture with [`WaterWorld::to_texture`]), and [`WaterWorld::query`] reads the same words
-//! with the same algorithm as `water_world_query` in [`WORLD_WGSL`](crate::WORLD_WGSL).
+//! with the same algorithm as `water_world_query` in [`wgsl::WORLD`](crate::wgsl::WORLD).
 //!
 //! # Conventions
 //!
