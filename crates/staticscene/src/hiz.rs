@@ -269,16 +269,9 @@ mod tests {
     use super::*;
     use alloc::vec;
 
-    fn lcg(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*seed >> 40) as f32) / (1u64 << 24) as f32
-    }
-
     #[test]
     fn every_level_bounds_the_depth_it_covers() {
-        let mut seed = 7;
+        let mut rng = testkit::Rng::new(7);
         for (w, h) in [
             (1, 1),
             (2, 1),
@@ -289,7 +282,7 @@ mod tests {
             (100, 1),
         ] {
             for reversed in [false, true] {
-                let depth: Vec<f32> = (0..w * h).map(|_| lcg(&mut seed)).collect();
+                let depth: Vec<f32> = (0..w * h).map(|_| rng.f32()).collect();
                 let z = HiZ::build(&depth, w, h, reversed).unwrap();
                 assert_eq!(z.levels().last().map(|l| (l.width, l.height)), Some((1, 1)));
                 for (li, l) in z.levels().iter().enumerate() {

@@ -1,7 +1,7 @@
 //! Horizon Zero Dawn's static-scene visibility query (Will Vale, "Decima: Visibility in
 //! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of a GPU
 //! compute pass: the same packed buffers in, the same batched draw items out. The records
-//! and per-thread tests have a WGSL twin ([`STATICSCENE_WGSL`]); the query is designed to
+//! and per-thread tests have a WGSL twin ([`wgsl::QUERY`]); the query is designed to
 //! feed the `gpu` crate's laydown but is not wired into `gpu` yet (its `prepare` takes
 //! every instance of the scene). For 0.5-1.5M static instances: immutable tiles built on the streaming
 //! thread, clusters pre-culled on the CPU, one compute job per visible cluster, one thread
@@ -31,8 +31,9 @@
 //!   depth) and the box test against it.
 //! - [`output`]: the batched output, [`DrawableSetupInstance`] (64 B, or 112 B with the
 //!   previous transform) and [`DrawableSetupBatch`] (48 B).
-//! - [`wgsl`]: [`STATICSCENE_WGSL`], the WGSL twin of the records and the per-thread
-//!   tests, validated by naga, its constants and struct layouts tied to the Rust ones.
+//! - [`wgsl`]: `staticscene::query` ([`wgsl::QUERY`]), the WGSL twin of the records and
+//!   the per-thread tests, validated by naga (no pass runs it on a device yet), its
+//!   constants and struct layouts tied to the Rust ones.
 //! - [`baseline`]: the benches' flat loop (no tiles, clusters or packing).
 //! - [`demo`]: a procedural city (1.5M instances for the benches) and a box rasteriser
 //!   for depth buffers.
@@ -144,7 +145,6 @@ pub use view::{
     QUERY_FLAG_SIZE, QueryParams, ViewDesc, ViewKind, box_outside_frustum, snap_origin,
 };
 pub use wave::WaveWidth;
-pub use wgsl::STATICSCENE_WGSL;
 
 /// The largest viewport side the query accepts, pixels.
 pub const MAX_VIEWPORT: u32 = 16384;

@@ -1,9 +1,12 @@
-//! The WGSL twin of the records and the per-thread tests: [`STATICSCENE_WGSL`], a
-//! binding-free snippet (structs, `const`s, functions, every name prefixed `staticscene_`
-//! / `STATICSCENE_` / `Staticscene`) that the `gpu` crate puts in front of its query pass.
-//! It needs no optional capability (naga validates it with `Caps::CORE`). Each `const`
-//! equals the Rust constant of the same meaning and each struct has the Rust struct's
-//! size and member offsets (unit tests read them back).
+//! The WGSL twin of the records and the per-thread tests: `staticscene::query`
+//! ([`QUERY`], `src/wgsl/query.wgsl`), a binding-free library module (structs, `const`s,
+//! functions, every name prefixed `staticscene_` / `STATICSCENE_` / `Staticscene`) that a
+//! query pass would import with `#import staticscene::query` (see the `shader` crate). No
+//! pass imports it yet: the `gpu` crate has no query pass, and nothing runs this WGSL on a
+//! device; naga validates it in the unit tests below, with `Caps::CORE` (it needs no
+//! optional capability). Each `const` equals the Rust constant of the same meaning and
+//! each struct has the Rust struct's size and member offsets (the unit tests read them
+//! back).
 //!
 //! | WGSL | takes | gives |
 //! | --- | --- | --- |
@@ -24,8 +27,14 @@
 //! | `staticscene_fade_step(prev, n, lod, in_frustum)` | fade state | next fade state |
 //! | `staticscene_sort_key(setup, depth)` | handle words, nearest depth | key words (low, high) |
 
-/// The WGSL snippet (see the [module docs](self)).
-pub const STATICSCENE_WGSL: &str = include_str!("wgsl/staticscene.wgsl");
+use shader::Module;
+
+/// `staticscene::query`: the records, the output and the per-thread tests (see the
+/// [module docs](self)).
+pub const QUERY: Module = Module::new("staticscene::query", include_str!("wgsl/query.wgsl"));
+
+/// This crate's modules, for `shader::compose`'s library.
+pub const MODULES: &[Module] = &[QUERY];
 
 #[cfg(test)]
 mod tests {
@@ -37,7 +46,7 @@ mod tests {
     use std::vec::Vec;
 
     fn module() -> naga::Module {
-        shadercheck::assert_valid("staticscene", STATICSCENE_WGSL, Caps::CORE)
+        shadercheck::assert_composed(&[MODULES], QUERY.name, &[], Caps::CORE)
     }
 
     #[test]
@@ -221,7 +230,8 @@ mod tests {
     }
 
     /// `staticscene_f16`'s arithmetic, transcribed, against `half` for every finite
-    /// pattern (the WGSL itself runs on devices in the gpu crate).
+    /// pattern. This checks the formula only: the WGSL itself is validated by naga but
+    /// runs on no device yet (there is no query pass).
     #[test]
     fn wgsl_f16_formula_is_exact() {
         for h in 0..=u16::MAX {
@@ -241,12 +251,12 @@ mod tests {
     }
 
     #[test]
-    fn every_function_is_prefixed() {
-        let m = module();
-        assert!(m.functions.iter().count() >= 20);
-        for (_, f) in m.functions.iter() {
-            assert!(f.name.as_deref().unwrap_or("").starts_with("staticscene_"));
+    fn modules_are_binding_free_and_prefixed() {
+        for m in MODULES {
+            let module = shadercheck::assert_composed(&[MODULES], m.name, &[], Caps::CORE);
+            shadercheck::assert_prefixed(m.name, &module, "staticscene", &[], true);
+            assert!(m.imports(&[]).unwrap().is_empty(), "{} imports", m.name);
         }
-        assert!(m.entry_points.is_empty());
+        assert!(module().functions.iter().count() >= 20);
     }
 }

@@ -8,11 +8,12 @@ use std::collections::HashSet;
 
 use common::*;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
-use staticscene::demo::{Rng, raster_boxes};
+use staticscene::demo::raster_boxes;
 use staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, HiZ, PlacedObject, QueryOptions, QueryOutput,
     QueryParams, ViewDesc, WaveWidth, snap_origin,
 };
+use testkit::Rng;
 
 struct Obj {
     position: DVec3,

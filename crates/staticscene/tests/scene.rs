@@ -7,12 +7,13 @@ use std::collections::HashMap;
 
 use common::*;
 use glam::{Affine3A, DQuat, DVec3, Mat3, Mat4, Vec3};
-use staticscene::demo::{Rng, city};
+use staticscene::demo::city;
 use staticscene::{
     BuildConfig, BuiltTile, Camera, DrawableSetupInstance, DynamicReason, MIN_CLUSTER_INSTANCES,
     MeshNode, MeshPart, PlacedObject, QueryOptions, QueryOutput, QueryParams, ResourceLibrary,
     Scene, StaticTile, StreamingGroup, TILE_SPLIT_INSTANCES, TileStreamer, TileUpdate, ViewDesc,
 };
+use testkit::Rng;
 
 fn assert_send<T: Send>() {}
 

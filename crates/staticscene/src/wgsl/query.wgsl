@@ -1,4 +1,5 @@
-// staticscene: the query pass's records and per-thread tests (twin of src/query.rs).
+// staticscene::query: the query's records and per-thread tests (twin of src/query.rs;
+// no GPU pass imports it yet).
 // Binding-free: structs, constants and functions, all prefixed staticscene_ / Staticscene.
 // Constants equal the Rust constants of the same meaning (read back in unit tests).
 
