@@ -25,13 +25,8 @@ fn main() {
 }
 
 fn run(n: usize) -> Result<(), water::Error> {
-    let mut s = 1u64;
-    let mut r = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = testkit::Rng::new(1);
+    let mut r = || f64::from(rng.f32());
     let mut b = WaterWorldBuilder::new();
     let polygon = (0..n)
         .map(|i| {
