@@ -1,6 +1,6 @@
 //! Timing experiment: the classification phases with parts of their work switched off, on
-//! one demo scene, to see where the time goes. Each variant sets `tiling`'s timing
-//! `override`s or leaves entry points out; variants that drop work give wrong commands,
+//! one demo scene, to see where the time goes. Each variant composes `tiling`'s passes
+//! with timing features, sets an `override` or leaves entry points out; variants that drop work give wrong commands,
 //! only their timings mean anything. Run on a GPU with timestamps:
 //!
 //! ```sh
@@ -56,46 +56,48 @@ fn main() -> anyhow::Result<()> {
         ..DemoOptions::default()
     });
     let prepared = r.prepare(&scene)?;
-    let variant =
-        |overrides: &[(&'static str, f64)], skip: &[&'static str]| ClassificationVariant {
-            overrides: overrides.to_vec(),
-            skip: skip.to_vec(),
-        };
+    let variant = |features: &[&'static str],
+                   overrides: &[(&'static str, f64)],
+                   skip: &[&'static str]| ClassificationVariant {
+        features: features.to_vec(),
+        overrides: overrides.to_vec(),
+        skip: skip.to_vec(),
+    };
     // Scans switched off keep the previous frame's (identical) values in the buffers they
     // write, so the other entry points still see valid offsets.
     let variants = [
-        ("as shipped (keyed histogram)", variant(&[], &[])),
+        ("as shipped (keyed histogram)", variant(&[], &[], &[])),
         (
             "wave-append key loop instead (the >256-counter path)",
-            variant(&[("TILING_HIST_LIMIT", 0.0)], &[]),
+            variant(&[], &[("TILING_HIST_LIMIT", 0.0)], &[]),
         ),
         (
             "no workgroup stats atomics",
-            variant(&[("TILING_OMIT_STATS", 1.0)], &[]),
+            variant(&["timing_omit_stats"], &[], &[]),
         ),
         (
             "no command atomicOr (plain store)",
-            variant(&[("TILING_STORE_COMMANDS", 1.0)], &[]),
+            variant(&["timing_store_commands"], &[], &[]),
         ),
         (
             "no vertex-cull atomics",
-            variant(&[("TILING_OMIT_CULL_MARKS", 1.0)], &[]),
+            variant(&["timing_omit_cull_marks"], &[], &[]),
         ),
         (
             "no index reads in mid (no vertex culling)",
-            variant(&[("TILING_OMIT_INDEX_READS", 1.0)], &[]),
+            variant(&["timing_omit_index_reads"], &[], &[]),
         ),
         (
             "mid: count_pixels only",
-            variant(&[], &["counter_offsets_pass", "pixel_offsets_pass"]),
+            variant(&[], &[], &["counter_offsets_pass", "pixel_offsets_pass"]),
         ),
         (
             "output: write_commands only",
-            variant(&[], &["wave_offsets_pass", "write_waves"]),
+            variant(&[], &[], &["wave_offsets_pass", "write_waves"]),
         ),
         (
             "output: write_commands + write_waves",
-            variant(&[], &["wave_offsets_pass"]),
+            variant(&[], &[], &["wave_offsets_pass"]),
         ),
     ];
     for (name, v) in &variants {

@@ -2,6 +2,7 @@
 //! paths those features select.
 
 use crate::error::{Error, Result};
+pub use crate::resources::readback::read_buffer;
 
 /// Optional features the renderer uses when the adapter has them. None is required: each
 /// missing one selects a fallback path (see [`ActivePaths`]).
@@ -233,21 +234,6 @@ pub fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> Result<T>) -> Result
         return Err(Error::Validation(e.to_string()));
     }
     out
-}
-
-/// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) from `offset` into a new
-/// vector, after the GPU finished the work submitted so far.
-///
-/// # Errors
-/// Mapping or waiting failed ([`Error::Map`], [`Error::Poll`]).
-pub fn read_buffer(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    buffer: &wgpu::Buffer,
-    offset: u64,
-    size: u64,
-) -> Result<Vec<u8>> {
-    crate::resources::readback::read_buffer(device, queue, buffer, offset, size)
 }
 
 /// Blocks until the GPU has finished all submitted work.

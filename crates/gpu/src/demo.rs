@@ -587,15 +587,7 @@ fn rock_mesh(seed: u32) -> Mesh {
 const LAYER_SIZE: u32 = 256;
 
 fn srgb(c: Vec3) -> [u8; 3] {
-    let e = |x: f32| {
-        let x = x.clamp(0.0, 1.0);
-        let s = if x <= 0.003_130_8 {
-            x * 12.92
-        } else {
-            1.055 * x.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0 + 0.5) as u8
-    };
+    let e = crate::resources::albedo::srgb_u8;
     [e(c.x), e(c.y), e(c.z)]
 }
 

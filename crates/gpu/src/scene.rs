@@ -293,29 +293,52 @@ impl Scene {
 
     /// Total triangles drawn (instances × their mesh's primitives).
     pub fn triangle_count(&self) -> u64 {
-        self.batches
-            .iter()
-            .map(|b| {
-                b.instances.len() as u64
-                    * self
-                        .meshes
-                        .get(b.mesh.0)
-                        .map_or(0, |m| m.primitive_count() as u64)
-            })
-            .sum()
+        self.per_instance(|m| m.primitive_count() as u64)
     }
 
     /// Total vertices of all instances (the "vertices in the scene" of seed 000's table).
     pub fn vertex_count(&self) -> u64 {
+        self.per_instance(|m| m.positions.len() as u64)
+    }
+
+    /// The sum over instances of `f` of their mesh (0 for an unknown mesh).
+    fn per_instance(&self, f: impl Fn(&Mesh) -> u64) -> u64 {
+        self.batches
+            .iter()
+            .map(|b| b.instances.len() as u64 * self.meshes.get(b.mesh.0).map_or(0, &f))
+            .sum()
+    }
+
+    /// Every batch's instance positions (world, metres): what `tiling` sorts batches by.
+    pub(crate) fn instance_positions(&self) -> Vec<Vec<[f32; 3]>> {
         self.batches
             .iter()
             .map(|b| {
-                b.instances.len() as u64
-                    * self
-                        .meshes
-                        .get(b.mesh.0)
-                        .map_or(0, |m| m.positions.len() as u64)
+                b.instances
+                    .iter()
+                    .map(|t| t.translation.to_array())
+                    .collect()
             })
-            .sum()
+            .collect()
+    }
+
+    /// The batches as `tiling` plans them: shader and material as the sort keys, the
+    /// geometry of mesh `m` from `geometry(m)`, `positions` from
+    /// [`Scene::instance_positions`].
+    pub(crate) fn tiling_batches<'a>(
+        &self,
+        positions: &'a [Vec<[f32; 3]>],
+        geometry: impl Fn(usize) -> tiling::Geometry,
+    ) -> Vec<tiling::Batch<'a>> {
+        self.batches
+            .iter()
+            .zip(positions)
+            .map(|(b, pos)| tiling::Batch {
+                shader: self.materials[b.material.0].shader.id(),
+                batch_data: b.material.0 as u64,
+                geometry: geometry(b.mesh.0),
+                instances: pos,
+            })
+            .collect()
     }
 }

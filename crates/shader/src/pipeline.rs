@@ -136,20 +136,24 @@ impl Layouts {
         &self.pipeline
     }
 
-    /// The layout of the group named `group`.
-    ///
-    /// # Errors
-    /// [`Error::UnknownName`].
-    pub fn group(&self, group: &str) -> Result<&wgpu::BindGroupLayout, Error> {
+    /// The description and layout of the group named `group`.
+    fn find(&self, group: &str) -> Result<&(&'static Group, wgpu::BindGroupLayout), Error> {
         self.groups
             .iter()
             .find(|(g, _)| g.name == group)
-            .map(|(_, l)| l)
             .ok_or_else(|| Error::UnknownName {
                 pass: self.pass,
                 what: "group",
                 name: group.into(),
             })
+    }
+
+    /// The layout of the group named `group`.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`].
+    pub fn group(&self, group: &str) -> Result<&wgpu::BindGroupLayout, Error> {
+        Ok(&self.find(group)?.1)
     }
 
     /// A bind group of the group named `group`, each binding given by its WGSL name.
@@ -162,15 +166,7 @@ impl Layouts {
         group: &str,
         resources: &[(&str, wgpu::BindingResource<'_>)],
     ) -> Result<wgpu::BindGroup, Error> {
-        let (desc, layout) = self
-            .groups
-            .iter()
-            .find(|(g, _)| g.name == group)
-            .ok_or_else(|| Error::UnknownName {
-                pass: self.pass,
-                what: "group",
-                name: group.into(),
-            })?;
+        let (desc, layout) = self.find(group)?;
         if let Some((name, _)) = resources
             .iter()
             .find(|(n, _)| !desc.bindings.iter().any(|b| b.name == *n))

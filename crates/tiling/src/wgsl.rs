@@ -23,10 +23,11 @@
 //! in the descriptions is the bytes of one element (the least a binding may hold). "Zeroed"
 //! buffers must hold zeros when the pass's first entry point starts.
 //!
-//! Overrides: `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere) and the timing
-//! experiments of `gpu`'s `classify_variants` (`TILING_OMIT_STATS`,
-//! `TILING_OMIT_CULL_MARKS`, `TILING_OMIT_INDEX_READS`, `TILING_STORE_COMMANDS`; each drops
-//! work and makes the output wrong). Entry points past 65 535 workgroups continue in rows
+//! The `override` `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere). Features
+//! besides `subgroups`: the timing experiments of `gpu`'s `classify_variants`
+//! (`timing_omit_stats`, `timing_omit_cull_marks`, `timing_omit_index_reads`,
+//! `timing_store_commands`; each drops work and makes the output wrong, and the shipped
+//! build has none of their code). Entry points past 65 535 workgroups continue in rows
 //! ([`shader::Dispatch::Items`]).
 //!
 //! [`TilingParams`]: crate::TilingParams
@@ -108,7 +109,7 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
     name: "classify 1: laydown finalize",
     module: "tiling::laydown_finalize",
     library: LIBRARY,
-    features: &[],
+    features: &["timing_omit_stats"],
     groups: &[Group {
         name: "classification",
         bindings: &[
@@ -148,7 +149,12 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     name: "classify 2: mid classify",
     module: "tiling::mid_classify",
     library: LIBRARY,
-    features: &["subgroups"],
+    features: &[
+        "subgroups",
+        "timing_omit_stats",
+        "timing_omit_cull_marks",
+        "timing_omit_index_reads",
+    ],
     groups: &[Group {
         name: "classification",
         bindings: &[
@@ -208,7 +214,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
     library: LIBRARY,
-    features: &["subgroups"],
+    features: &["subgroups", "timing_omit_stats", "timing_store_commands"],
     groups: &[Group {
         name: "classification",
         bindings: &[
@@ -605,6 +611,7 @@ mod tests {
     }
 
     fn caps(features: &[&str]) -> Caps {
+        // The timing experiments need nothing more.
         if features.contains(&"subgroups") {
             Caps::SUBGROUP
         } else {

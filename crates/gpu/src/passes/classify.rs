@@ -37,12 +37,15 @@ pub(crate) const ZERO: Pass<u32> = Pass {
 };
 
 /// A timing experiment on the classification (`examples/classify_variants.rs`): `tiling`'s
-/// `override`s to set, and entry points not to dispatch. Variants that drop work give wrong
-/// commands; only their times mean anything.
+/// timing features to compose with (`timing_omit_stats`, ...; each phase takes those it
+/// declares), `override`s to set (`TILING_HIST_LIMIT`), and entry points not to dispatch.
+/// Variants that drop work give wrong commands; only their times mean anything.
 #[doc(hidden)]
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ClassificationVariant {
-    /// `override` values of the classification modules (`TILING_OMIT_STATS`, ...).
+    /// Features of the classification modules besides `subgroups`.
+    pub features: Vec<&'static str>,
+    /// `override` values of the classification modules.
     pub overrides: Vec<(&'static str, f64)>,
     /// Entry points recorded not at all (their outputs keep the last frame's values).
     pub skip: Vec<&'static str>,
@@ -81,15 +84,25 @@ impl Classify {
         self.phases = tiling::wgsl::CLASSIFICATION
             .iter()
             .map(|pass| {
-                // Each phase takes the overrides its module declares.
-                let src = pass.source(&features(pass, self.features))?;
+                // Each phase takes the features and overrides its module declares.
+                let wanted: Vec<&str> = self
+                    .features
+                    .iter()
+                    .chain(&variant.features)
+                    .copied()
+                    .collect();
+                let features: Vec<&str> = wanted
+                    .into_iter()
+                    .filter(|f| pass.features.contains(f))
+                    .collect();
+                let src = pass.source(&features)?;
                 let constants: Vec<(&str, f64)> = variant
                     .overrides
                     .iter()
                     .copied()
                     .filter(|(name, _)| src.contains(&format!("override {name}")))
                     .collect();
-                ComputePass::new(device, pass, &features(pass, self.features), &constants)
+                ComputePass::new(device, pass, &features, &constants)
             })
             .collect::<Result<_, shader::Error>>()?;
         self.skip.clone_from(&variant.skip);
@@ -130,14 +143,6 @@ impl Classify {
             }
         }
     }
-}
-
-fn features(pass: &Pass<TilingParams>, wanted: &'static [&'static str]) -> Vec<&'static str> {
-    wanted
-        .iter()
-        .copied()
-        .filter(|f| pass.features.contains(f))
-        .collect()
 }
 
 /// Worst-case sizes of a frame's classification buffers (elements, see the module docs).

@@ -5,6 +5,12 @@ use glam::Vec3;
 
 use crate::scene::AlbedoLayer;
 
+/// The sRGB 8-bit code of a linear value in [0, 1] (`deferred`'s transfer, rounded half
+/// up).
+pub(crate) fn srgb_u8(x: f32) -> u8 {
+    (deferred::gbuffer::srgb_encode(x) * 255.0 + 0.5) as u8
+}
+
 /// Mip chain of one layer, box-filtered in linear space for colour; alpha is filtered and
 /// then rescaled so the fraction of texels passing the cutoff 0.5 stays that of the top
 /// level (foliage does not thin out with distance).
@@ -16,15 +22,6 @@ pub(crate) fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
         } else {
             ((s + 0.055) / 1.055).powf(2.4)
         }
-    };
-    let to_srgb = |x: f32| {
-        let x = x.clamp(0.0, 1.0);
-        let s = if x <= 0.003_130_8 {
-            x * 12.92
-        } else {
-            1.055 * x.powf(1.0 / 2.4) - 0.055
-        };
-        (s * 255.0 + 0.5) as u8
     };
     let coverage =
         |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len().max(1) as f32;
@@ -49,9 +46,9 @@ pub(crate) fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
                 }
                 let c = c / wsum;
                 next.push([
-                    to_srgb(c.x),
-                    to_srgb(c.y),
-                    to_srgb(c.z),
+                    srgb_u8(c.x),
+                    srgb_u8(c.y),
+                    srgb_u8(c.z),
                     (a / 4.0 * 255.0 + 0.5) as u8,
                 ]);
             }

@@ -150,35 +150,16 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
     scene.validate()?;
     let device = c.device;
     let geometry = Geometry::build(&scene.meshes, c.path)?;
-    let positions: Vec<Vec<[f32; 3]>> = scene
-        .batches
-        .iter()
-        .map(|b| {
-            b.instances
-                .iter()
-                .map(|t| t.translation.to_array())
-                .collect()
-        })
-        .collect();
-    let batches: Vec<tiling::Batch<'_>> = scene
-        .batches
-        .iter()
-        .zip(&positions)
-        .map(|(b, pos)| {
-            let m = geometry.meshes[b.mesh.0];
-            tiling::Batch {
-                shader: scene.materials[b.material.0].shader.id(),
-                batch_data: b.material.0 as u64,
-                geometry: tiling::Geometry {
-                    vertex_count: m.vertex_count,
-                    primitive_count: m.primitive_count,
-                    first_index: m.first_index,
-                    base_vertex: m.base_vertex,
-                },
-                instances: pos,
-            }
-        })
-        .collect();
+    let positions = scene.instance_positions();
+    let batches = scene.tiling_batches(&positions, |m| {
+        let m = geometry.meshes[m];
+        tiling::Geometry {
+            vertex_count: m.vertex_count,
+            primitive_count: m.primitive_count,
+            first_index: m.first_index,
+            base_vertex: m.base_vertex,
+        }
+    });
     let tiling_plan = tiling::build_plan(&batches, &tiling::PlanConfig::default())
         .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
     let origin = origin(scene);

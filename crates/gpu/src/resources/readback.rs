@@ -3,9 +3,12 @@
 use crate::context::wait_idle;
 use crate::error::{Error, Result};
 
-/// Copies `size` bytes of `buffer` from `offset` into a new vector. The buffer needs
-/// `COPY_SRC`. Waits for the GPU.
-pub(crate) fn read_buffer(
+/// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) from `offset` into a new
+/// vector, after the GPU finished the work submitted so far.
+///
+/// # Errors
+/// Mapping or waiting failed ([`Error::Map`], [`Error::Poll`]).
+pub fn read_buffer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     buffer: &wgpu::Buffer,

@@ -8,9 +8,8 @@
 #import wave::append
 #import tiling::keyed
 
-// Timing experiment only (gpu's `classify_variants`; the commands come out wrong): a plain
-// store instead of the packed `atomicOr`.
-override TILING_STORE_COMMANDS: bool = false;
+// The `timing_*` features are timing experiments only (gpu's `classify_variants`; the
+// output comes out wrong): a plain store instead of the packed `atomicOr`.
 // Per counter: room for commands, phase 2's counts.
 @group(0) @binding(6) var<storage, read> counts: array<u32>;
 // Per counter: first command (phase 2).
@@ -36,20 +35,17 @@ fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
     if (c < arrayLength(&counts) && slot < counts[c]) {
         let at = pixel_offsets[c] + slot;
         if (at / 2u < arrayLength(&commands)) {
-            if (TILING_STORE_COMMANDS) {
-                atomicStore(&commands[at / 2u], cmd);
-            } else {
-                atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
-            }
+#if timing_store_commands
+            atomicStore(&commands[at / 2u], cmd);
+#else
+            atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+#endif
         }
         tiling_stat(TILING_STAT_COMMANDS, 1u);
     } else {
         tiling_stat(TILING_STAT_DROPPED, 1u);
     }
 }
-
-var<workgroup> tiling_wg_key: atomic<u32>;
-var<workgroup> tiling_wg_key_plain: u32;
 
 @compute @workgroup_size(16, 16)
 fn write_commands(

@@ -20,6 +20,9 @@ const TILING_HIST_SLOTS: u32 = 256u;
 // Most counters a tile may have for the histogram path; the device tests set it to 0 to
 // run the wave-append loop everywhere.
 override TILING_HIST_LIMIT: u32 = TILING_HIST_SLOTS;
+// The wave-append loop's current key (the smallest pending in the workgroup).
+var<workgroup> tiling_wg_key: atomic<u32>;
+var<workgroup> tiling_wg_key_plain: u32;
 var<workgroup> tiling_hist: array<atomic<u32>, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_first: array<u32, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_range: vec2<u32>;

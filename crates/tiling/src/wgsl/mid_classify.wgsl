@@ -7,11 +7,8 @@
 
 #import wave::append
 #import tiling::keyed
-
-// Timing experiments only (gpu's `classify_variants`; the output comes out wrong): no
-// vertex-cull atomics, or no index reads at all (no vertex culling).
-override TILING_OMIT_CULL_MARKS: bool = false;
-override TILING_OMIT_INDEX_READS: bool = false;
+// The `timing_*` features are timing experiments only (gpu's `classify_variants`; the
+// output comes out wrong): no vertex-cull atomics, or no index reads at all.
 // Per counter: commands counted (pixels, or VRS samples). Zero before count_pixels.
 @group(0) @binding(6) var<storage, read_write> counts: array<atomic<u32>>;
 // Per counter: first pixel command, the exclusive prefix sum of the counts.
@@ -93,15 +90,12 @@ fn tiling_mark_triangle(px: TilingPixel) -> bool {
             ok = false;
             continue;
         }
-        if (!TILING_OMIT_CULL_MARKS) {
-            atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
-        }
+#if !timing_omit_cull_marks
+        atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
+#endif
     }
     return ok;
 }
-
-var<workgroup> tiling_wg_key: atomic<u32>;
-var<workgroup> tiling_wg_key_plain: u32;
 
 @compute @workgroup_size(16, 16)
 fn count_pixels(
@@ -118,9 +112,11 @@ fn count_pixels(
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
         if (px.kind == TILING_PX_VALID) {
-            if (!TILING_OMIT_INDEX_READS && tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
+#if !timing_omit_index_reads
+            if (tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
                 tiling_stat(TILING_STAT_BAD_INDICES, 1u);
             }
+#endif
             if (tiling_sample_mask(gid.x, gid.y, word) != 0u) {
                 let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
                 if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {

@@ -129,10 +129,6 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
 // Per-workgroup stats, flushed with one atomic per field.
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
 
-// Timing experiment only (gpu's `classify_variants`): no stats atomics; the stats come out
-// wrong.
-override TILING_OMIT_STATS: bool = false;
-
 fn tiling_stats_begin(li: u32) {
     if (li < TILING_STAT_COUNT) {
         atomicStore(&tiling_wg_stats[li], 0u);
@@ -141,9 +137,12 @@ fn tiling_stats_begin(li: u32) {
 }
 
 fn tiling_stat(field: u32, n: u32) {
-    if (n != 0u && !TILING_OMIT_STATS) {
+// Timing experiment only (gpu's `classify_variants`): no stats atomics, wrong stats.
+#if !timing_omit_stats
+    if (n != 0u) {
         atomicAdd(&tiling_wg_stats[field], n);
     }
+#endif
 }
 
 // Counts the pixel's kind.
