@@ -24,34 +24,23 @@ use deferred::{
     DeferredLight, DeferredTileDepth, DepthMode, Kz2Texels, OctTexels, Perspective, Surface,
 };
 use glam::{DVec3, Vec2, Vec3};
+use testkit::Rng;
 
-/// xorshift64*, deterministic.
-struct Rng(u64);
-impl Rng {
-    fn f32(&mut self) -> f32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-    fn unit(&mut self) -> Vec3 {
-        let z = self.range(-1.0, 1.0);
-        let phi = self.range(0.0, std::f32::consts::TAU);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+/// A uniformly distributed unit vector.
+fn unit(rng: &mut Rng) -> Vec3 {
+    let z = rng.range(-1.0, 1.0);
+    let phi = rng.range(0.0, std::f32::consts::TAU);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 const N: usize = 4096;
 
 fn surfaces() -> Vec<Surface> {
-    let mut rng = Rng(0x1234_5678_9abc_def1);
+    let mut rng = Rng::new(0x1234_5678_9abc_def1);
     (0..N)
         .map(|_| {
-            let mut n = rng.unit();
+            let mut n = unit(&mut rng);
             n.z = n.z.abs();
             Surface {
                 lighting: Vec3::new(rng.f32(), rng.f32(), rng.f32()) * 1.5,
@@ -183,7 +172,7 @@ fn scene(p: &Perspective) -> Vec<f32> {
 }
 
 fn lights(n: usize) -> Vec<DeferredLight> {
-    let mut rng = Rng(77);
+    let mut rng = Rng::new(77);
     (0..n)
         .map(|i| {
             let d = rng.range(2.0, 60.0);
@@ -268,7 +257,7 @@ fn msaa(c: &mut Criterion) {
     // 1080p, 4x, the octahedral layout's 5 words per sample; 3% of pixels are edges.
     let pixels = (W * H) as usize;
     let wps = 5;
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let mut words = vec![0u32; pixels * 4 * wps];
     let mut depth = vec![0.5f32; pixels * 4];
     for p in 0..pixels {

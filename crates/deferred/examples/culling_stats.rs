@@ -13,22 +13,10 @@ use deferred::lights::{
 use deferred::{
     DeferredLight, DeferredTileDepth, DepthMode, LightClassifier, LightPath, Perspective,
 };
+use testkit::Rng;
 
 const W: u32 = 1920;
 const H: u32 = 1080;
-
-struct Rng(u64);
-impl Rng {
-    fn f32(&mut self) -> f32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-}
 
 /// How tight the tiled light lists are on the bench's 1080p scene, and how KZ2's classifier
 /// splits the lights.
@@ -63,7 +51,7 @@ fn main() {
     );
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for count in [64usize, 256, 1024] {
-        let mut rng = Rng(77);
+        let mut rng = Rng::new(77);
         let lights: Vec<DeferredLight> = (0..count)
             .map(|i| {
                 let d = rng.range(2.0, 60.0);

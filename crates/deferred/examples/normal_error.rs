@@ -11,23 +11,19 @@ use deferred::normal::{
     NormalWeighting, kz2_decode_view_normal, kz2_encode_view_normal, negative_z_fraction,
     oct_decode, oct_encode_fast, oct_encode_precise,
 };
+use testkit::Rng;
 
-/// xorshift64*, deterministic.
-struct Rng(u64);
-impl Rng {
-    fn f64(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform on the unit sphere (f64).
-    fn direction(&mut self) -> DVec3 {
-        let z = 2.0 * self.f64() - 1.0;
-        let phi = std::f64::consts::TAU * self.f64();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        DVec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+/// Uniform in `[0, 1)` with 53 bits (f64) from the test generator.
+fn unit_f64(rng: &mut Rng) -> f64 {
+    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Uniform on the unit sphere (f64).
+fn direction(rng: &mut Rng) -> DVec3 {
+    let z = 2.0 * unit_f64(rng) - 1.0;
+    let phi = std::f64::consts::TAU * unit_f64(rng);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// Angle in degrees between an f64 reference and a decoded f32 direction, in f64.
@@ -71,10 +67,10 @@ struct Args {
 
 fn main() {
     let count = Args::parse().directions;
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(1);
     let (mut fast, mut precise, mut kz2) = (Stats::default(), Stats::default(), Stats::default());
     for _ in 0..count {
-        let d = rng.direction();
+        let d = direction(&mut rng);
         let n = d.as_vec3();
         fast.add(angle_deg(d, oct_decode(oct_encode_fast(n))));
         precise.add(angle_deg(d, oct_decode(oct_encode_precise(n))));

@@ -12,6 +12,7 @@ use deferred::{
     DeferredLight, DeferredTileDepth, DepthMode, Kz2Texels, OctTexels, Perspective, Surface,
 };
 use glam::{Vec2, Vec3};
+use testkit::Rng;
 
 /// Runs `body` for `items` invocations on testkit's device, after `prelude` (whose
 /// `#import` lines name this crate's modules); returns `items * out_stride` output words.
@@ -27,20 +28,12 @@ fn run(prelude: &str, body: &str, input: &[u32], items: u32, out_stride: usize) 
     )
 }
 
-struct Rng(testkit::Rng);
-impl Rng {
-    fn u32(&mut self) -> u32 {
-        self.0.next_u32()
-    }
-    fn f32(&mut self, lo: f32, hi: f32) -> f32 {
-        self.0.range(lo, hi)
-    }
-    fn unit(&mut self) -> Vec3 {
-        let z = self.f32(-1.0, 1.0);
-        let phi = self.f32(0.0, std::f32::consts::TAU);
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
+/// A uniformly distributed unit vector.
+fn unit(rng: &mut Rng) -> Vec3 {
+    let z = rng.range(-1.0, 1.0);
+    let phi = rng.range(0.0, std::f32::consts::TAU);
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 const SURFACE_WGSL_READ: &str = "
@@ -101,16 +94,24 @@ fn surface_from(w: &[u32]) -> Surface {
 }
 
 fn surfaces(n: usize) -> Vec<Surface> {
-    let mut rng = Rng(testkit::Rng::new(0x5eed_1234_abcd_0001));
+    let mut rng = Rng::new(0x5eed_1234_abcd_0001);
     let mut out: Vec<Surface> = (0..n)
         .map(|_| Surface {
-            lighting: Vec3::new(rng.f32(0.0, 3.0), rng.f32(0.0, 1.0), rng.f32(0.0, 12.0)),
-            albedo: Vec3::new(rng.f32(0.0, 1.0), rng.f32(0.0, 1.0), rng.f32(0.0, 1.0)),
-            normal: rng.unit(),
-            roughness: rng.f32(0.0, 1.0),
-            specular: rng.f32(0.0, 1.0),
-            sun_shadow: rng.f32(0.0, 1.0),
-            motion: Vec2::new(rng.f32(-40.0, 40.0), rng.f32(-3000.0, 3000.0)),
+            lighting: Vec3::new(
+                rng.range(0.0, 3.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 12.0),
+            ),
+            albedo: Vec3::new(
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+                rng.range(0.0, 1.0),
+            ),
+            normal: unit(&mut rng),
+            roughness: rng.range(0.0, 1.0),
+            specular: rng.range(0.0, 1.0),
+            sun_shadow: rng.range(0.0, 1.0),
+            motion: Vec2::new(rng.range(-40.0, 40.0), rng.range(-3000.0, 3000.0)),
         })
         .collect();
     // Edge cases: bad values are sanitised the same way on both sides.
@@ -209,14 +210,9 @@ fn gbuffer_pack_matches_the_cpu() {
         );
         let g3 = gb(g[8]);
         assert_eq!(g3[3], o.rt3[3]);
-        for c in 0..3 {
-            if g3[c] != o.rt3[c] {
-                assert!(
-                    g3[c].abs_diff(o.rt3[c]) == 1,
-                    "{i} sRGB {} vs {}",
-                    g3[c],
-                    o.rt3[c]
-                );
+        for (&gpu, &cpu) in g3[..3].iter().zip(&o.rt3[..3]) {
+            if gpu != cpu {
+                assert!(gpu.abs_diff(cpu) == 1, "{i} sRGB {gpu} vs {cpu}");
                 srgb_off += 1;
             }
         }
@@ -233,9 +229,9 @@ fn gbuffer_pack_matches_the_cpu() {
 
 #[test]
 fn gbuffer_unpack_matches_the_cpu() {
-    let mut rng = Rng(testkit::Rng::new(99));
+    let mut rng = Rng::new(99);
     let n = 20_000u32;
-    let input: Vec<u32> = (0..n * 5).map(|_| rng.u32()).collect();
+    let input: Vec<u32> = (0..n * 5).map(|_| rng.next_u32()).collect();
     let prelude = format!("#import deferred::gbuffer\n{SURFACE_WGSL_READ}");
     // Texture reads: unorm channels as textureLoad returns them, f16 channels as floats.
     let body = "
@@ -286,7 +282,7 @@ fn gbuffer_unpack_matches_the_cpu() {
 #[test]
 fn position_from_depth_matches_the_cpu() {
     let vp = Vec2::new(1920.0, 1080.0);
-    let mut rng = Rng(testkit::Rng::new(5));
+    let mut rng = Rng::new(5);
     for mode in [DepthMode::Reversed, DepthMode::Standard] {
         let p = Perspective::try_new(1.1, vp.x / vp.y, 0.1, Some(500.0), mode).unwrap();
         let proj = p.gpu(vp);
@@ -295,8 +291,8 @@ fn position_from_depth_matches_the_cpu() {
         let items: Vec<(Vec2, f32)> = (0..n)
             .map(|_| {
                 (
-                    Vec2::new(rng.f32(0.0, vp.x), rng.f32(0.0, vp.y)),
-                    p.linearize().depth(rng.f32(0.2, 400.0)),
+                    Vec2::new(rng.range(0.0, vp.x), rng.range(0.0, vp.y)),
+                    p.linearize().depth(rng.range(0.2, 400.0)),
                 )
             })
             .collect();
@@ -332,14 +328,14 @@ fn light_tile_test_matches_the_cpu() {
     let p = Perspective::try_new(1.0, vp.x / vp.y, 0.1, None, DepthMode::Reversed).unwrap();
     let proj = p.gpu(vp);
     let (tx, ty) = tile_counts(vp.x as u32, vp.y as u32);
-    let mut rng = Rng(testkit::Rng::new(21));
+    let mut rng = Rng::new(21);
     let lights: Vec<DeferredLight> = (0..64)
         .map(|i| {
-            let d = rng.f32(1.0, 40.0);
-            let pos = Vec3::new(rng.f32(-1.0, 1.0) * d, rng.f32(-0.6, 0.6) * d, -d);
-            let range = rng.f32(0.3, 6.0);
+            let d = rng.range(1.0, 40.0);
+            let pos = Vec3::new(rng.range(-1.0, 1.0) * d, rng.range(-0.6, 0.6) * d, -d);
+            let range = rng.range(0.3, 6.0);
             if i % 2 == 0 {
-                DeferredLight::spot(pos, rng.unit(), range, rng.f32(0.1, 1.4), Vec3::ONE)
+                DeferredLight::spot(pos, unit(&mut rng), range, rng.range(0.1, 1.4), Vec3::ONE)
             } else {
                 DeferredLight::point(pos, range, Vec3::ONE)
             }
@@ -348,8 +344,8 @@ fn light_tile_test_matches_the_cpu() {
     let l = p.linearize();
     let tiles: Vec<(u32, u32, DeferredTileDepth)> = (0..tx * ty)
         .map(|t| {
-            let a = rng.f32(0.5, 40.0);
-            let b = a + rng.f32(0.0, 20.0);
+            let a = rng.range(0.5, 40.0);
+            let b = a + rng.range(0.0, 20.0);
             (
                 t % tx,
                 t / tx,

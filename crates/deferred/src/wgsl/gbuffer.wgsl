@@ -139,7 +139,7 @@ fn deferred_pack_half(x: f32) -> u32 {
     return sign | ((r - 0x38000000u) >> 13u);
 }
 
-// binary16 bits -> finite f32 (NaN -> 0, infinities -> +-65504), as the Rust f16_value.
+// binary16 bits -> finite f32 (NaN -> 0, infinities -> +-65504), as the Rust `half_value` (deferred::gbuffer).
 fn deferred_half_value(bits: u32) -> f32 {
     let v = deferred_unpack_half(bits & 0xffffu);
     if deferred_is_nan(v) {
