@@ -90,13 +90,6 @@ impl FrameBarrier {
     }
 }
 
-fn xorshift(state: &mut u64) -> u64 {
-    *state ^= *state << 13;
-    *state ^= *state >> 7;
-    *state ^= *state << 17;
-    *state
-}
-
 fn worker(
     w: u32,
     s: &Shared,
@@ -105,11 +98,11 @@ fn worker(
     collect: &[Mutex<Vec<Item>>; 2],
     to_gpu: &mpsc::Sender<(Vec<Item>, AllocId)>,
 ) {
-    let mut rng = 0x9e37_79b9_7f4a_7c15 ^ (w as u64 + 1);
+    let mut rng = testkit::Rng::new(u64::from(w) + 1);
     let mut frame = plan.frame(AllocId(FIRST_ID));
     for f in 0..FRAMES {
         let mut ids = frame.pass(w).unwrap().cursor();
-        let count = 1 + xorshift(&mut rng) % 3;
+        let count = 1 + rng.below(3);
         for _ in 0..count {
             let id = ids.next().unwrap();
             // Wait for the consumer when the pool is exhausted, counting the stalls.
