@@ -7,17 +7,10 @@ use std::sync::atomic::AtomicU32;
 use wave::parallel::{par_batch_compact, par_compact, par_compact_per_item};
 use wave::{CountedAtomicU32, Error, WaveBatch, WaveWidth, batch_compact, compact};
 
-/// xorshift: deterministic pseudo-random items without a dependency.
+/// `n` random items (testkit's generator, deterministic).
 fn items(n: usize, seed: u64) -> Vec<u64> {
-    let mut s = seed | 1;
-    (0..n)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            s
-        })
-        .collect()
+    let mut rng = testkit::Rng::new(seed);
+    (0..n).map(|_| rng.next_u64()).collect()
 }
 
 /// Item `i` carries its index in the low 32 bits so its wave and lane can be recovered.
