@@ -1,16 +1,8 @@
 //! Replays every committed fuzz crash input (`fuzz/regressions/<target>/*`) and a few
-//! thousand deterministic pseudo-random inputs through each fuzz target's body, so the
-//! fuzz targets' checks run on stable Rust in every CI run.
+//! thousand deterministic pseudo-random inputs (`testkit::Rng`) through each fuzz target's
+//! body, so the fuzz targets' checks run on stable Rust in every CI run.
 
 use std::path::Path;
-
-/// xorshift64*: deterministic inputs without a dependency.
-fn next(state: &mut u64) -> u64 {
-    *state ^= *state >> 12;
-    *state ^= *state << 25;
-    *state ^= *state >> 27;
-    state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-}
 
 #[test]
 fn every_target_has_a_fuzz_binary() {
@@ -46,12 +38,12 @@ fn committed_crash_inputs_replay_cleanly() {
 #[test]
 fn random_inputs_never_panic() {
     for (name, body) in fuzzing::TARGETS {
-        let mut state = 0x9e37_79b9_7f4a_7c15 ^ name.len() as u64;
+        let mut rng = testkit::Rng::new(name.len() as u64);
         for len in [
             0usize, 1, 2, 3, 4, 7, 8, 12, 16, 31, 32, 33, 64, 100, 256, 1000,
         ] {
             for _ in 0..128 {
-                let data: Vec<u8> = (0..len).map(|_| next(&mut state) as u8).collect();
+                let data: Vec<u8> = (0..len).map(|_| rng.next_u64() as u8).collect();
                 body(&data);
             }
         }
