@@ -101,8 +101,8 @@
 //! | `visbuf_intersect_watertight(origin, dir, v0, v1, v2)` | ray, camera-relative positions | `VisbufRayHit { hit, t, barycentrics }` |
 //! | `visbuf_pixel_ray_direction(inv_view_proj, eye, pixel, viewport)` | inverse view-projection | ray direction (zero if none) |
 //!
-//! The CPU side is the reference. The workspace's integration tests
-//! (`tests/gpu_visbuf.rs`) run the ID and barycentric functions on a device against the CPU
+//! The CPU side is the reference. This crate's device tests (`crates/visbuf/tests/device.rs`,
+//! on testkit's device) run the ID and barycentric functions on a device against the CPU
 //! functions of the same name; the vertex and ray modules are so far only validated by
 //! naga (and the half conversions by a Rust transliteration), not run on a device.
 

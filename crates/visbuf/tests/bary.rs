@@ -6,6 +6,7 @@ mod common;
 
 use glam::{DMat4, DVec2, DVec3, DVec4, Mat4, Vec2, Vec3, Vec4};
 use proptest::prelude::*;
+use testkit::Rng;
 use visbuf::bary::{Barycentrics, barycentrics, barycentrics_quad, bias_gradients, mip_level};
 
 const VIEWPORT: DVec2 = DVec2::new(1920.0, 1080.0);
@@ -51,8 +52,8 @@ fn f32s(c: [DVec4; 3]) -> [Vec4; 3] {
 }
 
 /// A random visible triangle of about `px` pixels and a framebuffer point inside it.
-fn random_triangle(state: &mut u64, px: f64) -> ([DVec4; 3], DVec2) {
-    let mut r = || (common::rng(state) >> 11) as f64 / (1u64 << 53) as f64;
+fn random_triangle(rng: &mut Rng, px: f64) -> ([DVec4; 3], DVec2) {
+    let mut r = || f64::from(rng.f32());
     let proj = DMat4::perspective_rh(1.0, VIEWPORT.x / VIEWPORT.y, 0.1, 1000.0);
     let depth = 2.0 + 60.0 * r();
     let half_h = depth * (0.5f64).tan();
@@ -96,12 +97,12 @@ fn random_triangle(state: &mut u64, px: f64) -> ([DVec4; 3], DVec2) {
 
 #[test]
 fn weights_and_derivatives_match_f64_references_on_1_to_100_px_triangles() {
-    let mut s = 0x5eed_u64;
+    let mut rng = Rng::new(0x5eed);
     let (mut sum, mut max, mut n) = (0.0f64, 0.0f64, 0);
     let mut worst_rel_d = 0.0f64;
     for i in 0..20_000 {
         let px = 1.0 + 99.0 * (i % 100) as f64 / 99.0;
-        let (clip, p) = random_triangle(&mut s, px);
+        let (clip, p) = random_triangle(&mut rng, px);
         // Reference weights at the f32-rounded inputs the code sees.
         let clip = clip.map(|c| c.as_vec4().as_dvec4());
         let p = p.as_vec2().as_dvec2();
@@ -136,9 +137,9 @@ fn weights_and_derivatives_match_f64_references_on_1_to_100_px_triangles() {
 
 #[test]
 fn derivatives_match_finite_differences_of_the_rasteriser() {
-    let mut s = 77u64;
+    let mut rng = Rng::new(77);
     for _ in 0..2000 {
-        let (clip, p) = random_triangle(&mut s, 30.0);
+        let (clip, p) = random_triangle(&mut rng, 30.0);
         let clip = clip.map(|c| c.as_vec4().as_dvec4());
         let p = p.as_vec2().as_dvec2();
         let got = barycentrics(f32s(clip), p.as_vec2(), VIEWPORT.as_vec2());
@@ -181,9 +182,9 @@ fn derivatives_match_finite_differences_of_the_rasteriser() {
 
 #[test]
 fn interpolated_attributes_and_their_derivatives_follow_the_rasteriser() {
-    let mut s = 99u64;
+    let mut rng = Rng::new(99);
     for _ in 0..500 {
-        let (clip, p) = random_triangle(&mut s, 50.0);
+        let (clip, p) = random_triangle(&mut rng, 50.0);
         let clip = clip.map(|c| c.as_vec4().as_dvec4());
         let p = p.as_vec2().as_dvec2();
         let uv = [
@@ -251,9 +252,9 @@ fn screen_aligned_quad_has_unit_texel_footprint_and_bias_moves_the_level() {
 
 #[test]
 fn mip_level_matches_a_finite_difference_footprint() {
-    let mut s = 4242u64;
+    let mut rng = Rng::new(4242);
     for _ in 0..300 {
-        let (clip, p) = random_triangle(&mut s, 40.0);
+        let (clip, p) = random_triangle(&mut rng, 40.0);
         let clip = clip.map(|c| c.as_vec4().as_dvec4());
         let uv = [
             DVec2::new(0.1, 0.2),

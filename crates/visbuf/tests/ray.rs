@@ -4,6 +4,7 @@
 mod common;
 
 use glam::{DVec3, Mat4, Vec2, Vec3};
+use testkit::Rng;
 use visbuf::bary::barycentrics;
 use visbuf::ray::{intersect_moller_trumbore, intersect_watertight, pixel_ray_direction};
 
@@ -19,8 +20,8 @@ fn reference(o: DVec3, d: DVec3, v: [DVec3; 3]) -> (f64, DVec3) {
 
 #[test]
 fn hits_agree_with_f64() {
-    let mut s = 11u64;
-    let mut r = move || (common::rng(&mut s) >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+    let mut rng = Rng::new(11);
+    let mut r = move || f64::from(rng.f32()) * 2.0 - 1.0;
     let mut worst = 0.0f64;
     for _ in 0..20_000 {
         let v = [0, 1, 2].map(|_| DVec3::new(r() * 3.0, r() * 3.0, -5.0 + r()));
@@ -52,8 +53,8 @@ fn hits_agree_with_f64() {
 /// hits at least one every time, Möller–Trumbore misses both on some.
 #[test]
 fn shared_edges_never_crack() {
-    let mut s = 5u64;
-    let mut r = move || (common::rng(&mut s) >> 11) as f32 / (1u64 << 53) as f32;
+    let mut rng = Rng::new(5);
+    let mut r = move || rng.f32();
     let (mut mt_cracks, mut rays) = (0, 0);
     for _ in 0..2000 {
         let a = Vec3::new(r() * 4.0 - 2.0, r() * 4.0 - 2.0, -3.0 - r() * 5.0);

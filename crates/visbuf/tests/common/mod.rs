@@ -52,7 +52,8 @@ pub fn uv_sphere(stacks: u32, slices: u32) -> (Vec<u32>, u32) {
     (idx, south + 1)
 }
 
-/// xorshift64*.
+/// xorshift64*. Only `benches/visbuf.rs` still draws from this; tests use
+/// `testkit::Rng`.
 pub fn rng(state: &mut u64) -> u64 {
     *state ^= *state >> 12;
     *state ^= *state << 25;
@@ -61,19 +62,20 @@ pub fn rng(state: &mut u64) -> u64 {
 }
 
 /// A random triangle soup: `triangles` triangles of three distinct vertices drawn uniformly
-/// from `vertices`.
+/// from `vertices` (`testkit::Rng` seeded with `seed`).
 pub fn soup(triangles: u32, vertices: u32, seed: u64) -> (Vec<u32>, u32) {
-    let mut s = seed | 1;
+    let mut rng = testkit::Rng::new(seed);
+    let mut pick = || rng.below(u64::from(vertices)) as u32;
     let mut idx = Vec::with_capacity(3 * triangles as usize);
     for _ in 0..triangles {
-        let a = (rng(&mut s) % vertices as u64) as u32;
+        let a = pick();
         let mut b = a;
         while b == a {
-            b = (rng(&mut s) % vertices as u64) as u32;
+            b = pick();
         }
         let mut c = a;
         while c == a || c == b {
-            c = (rng(&mut s) % vertices as u64) as u32;
+            c = pick();
         }
         idx.extend_from_slice(&[a, b, c]);
     }
