@@ -2,8 +2,6 @@
 //! rasteriser (screen-space edge functions, then perspective correction), the DAIS
 //! formulas in f64, finite differences of the rasteriser, and edge cases.
 
-mod common;
-
 use glam::{DMat4, DVec2, DVec3, DVec4, Mat4, Vec2, Vec3, Vec4};
 use proptest::prelude::*;
 use testkit::Rng;

@@ -1,8 +1,6 @@
 //! The watertight ray-triangle fallback: no cracks on shared edges, barycentrics against
 //! f64 and against the analytic clip-space method.
 
-mod common;
-
 use glam::{DVec3, Mat4, Vec2, Vec3};
 use testkit::Rng;
 use visbuf::bary::barycentrics;
