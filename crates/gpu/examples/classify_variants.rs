@@ -19,7 +19,7 @@ enum SceneArg {
 
 /// Time the classification's phases with parts of their WGSL switched off.
 #[derive(Debug, Parser)]
-#[command(about)]
+#[command()]
 struct Args {
     /// Image width in pixels.
     #[arg(long, default_value_t = 3840, value_parser = clap::value_parser!(u32).range(1..=16384))]

@@ -9,8 +9,19 @@
 //! aggregates per-thread atomics is undocumented: measure per-thread vs per-wave vs
 //! per-workgroup"); the `gpu` crate owns the renderer's own passes and their timings.
 
-const N: u32 = 1 << 24;
-const REPS: u32 = 30;
+use clap::Parser;
+
+/// Times stream compaction through wave's WGSL on the workspace's headless device.
+#[derive(Debug, Parser)]
+#[command()]
+struct Args {
+    /// log2 of the items compacted (20 to 26: 1M to 64M words).
+    #[arg(long, default_value_t = 24, value_parser = clap::value_parser!(u32).range(20..=26))]
+    log2_items: u32,
+    /// Timed dispatches per variant (the median is reported).
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    reps: u32,
+}
 
 struct Variant {
     name: &'static str,
@@ -113,6 +124,9 @@ fn main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
 }
 
 fn main() {
+    let args = Args::parse();
+    let n: u32 = 1 << args.log2_items;
+    let reps = args.reps;
     // The workspace's one headless device (every optional feature the adapter has).
     let ctx = testkit::device::ctx();
     let (device, queue) = (&ctx.device, &ctx.queue);
@@ -130,11 +144,11 @@ fn main() {
     );
 
     // 16M pseudo-random words; a third pass `x % 3 == 0`.
-    let input = testkit::Rng::new(0x2545_f491).words(N as usize);
+    let input = testkit::Rng::new(0x2545_f491).words(n as usize);
     let kept = input.iter().filter(|&&x| x % 3 == 0).count() as u32;
     println!(
-        "{N} items, {kept} kept (density {:.4})",
-        f64::from(kept) / f64::from(N)
+        "{n} items, {kept} kept (density {:.4})",
+        f64::from(kept) / f64::from(n)
     );
 
     let usage =
@@ -147,18 +161,18 @@ fn main() {
             mapped_at_creation: false,
         })
     };
-    let input_buf = buf(u64::from(N) * 4);
+    let input_buf = buf(u64::from(n) * 4);
     queue.write_buffer(&input_buf, 0, bytemuck::cast_slice(&input));
     let counters = buf(16);
-    let items = buf(u64::from(N) * 4);
+    let items = buf(u64::from(n) * 4);
     let queries = device.create_query_set(&wgpu::QuerySetDescriptor {
         label: None,
         ty: wgpu::QueryType::Timestamp,
-        count: 2 * REPS,
+        count: 2 * reps,
     });
     let resolve = device.create_buffer(&wgpu::BufferDescriptor {
         label: None,
-        size: u64::from(2 * REPS) * 8,
+        size: u64::from(2 * reps) * 8,
         usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
@@ -174,7 +188,7 @@ fn main() {
             println!("| {} | - | no SUBGROUP on this adapter | | |", v.name);
             continue;
         }
-        let groups = N / v.workgroup;
+        let groups = n / v.workgroup;
         let (gx, gy) = (4096, groups / 4096);
         let pipeline = |count: bool| {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -244,14 +258,14 @@ fn main() {
         };
         let timed = pipeline(false);
         run(&timed, 2, false); // warm-up
-        run(&timed, REPS, true);
+        run(&timed, reps, true);
         let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counters, 16));
         if v.name.starts_with("floor") {
             assert_eq!(c[0], 0);
         } else {
             assert_eq!(c[0], kept, "{}: every kept item appended", v.name);
         }
-        let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&read(&resolve, u64::from(2 * REPS) * 8));
+        let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&read(&resolve, u64::from(2 * reps) * 8));
         let mut ms: Vec<f64> = ts
             .chunks(2)
             .map(|p| (p[1].wrapping_sub(p[0])) as f64 * period / 1e6)
@@ -265,8 +279,8 @@ fn main() {
             median,
             ms[0],
             ms[ms.len() - 1],
-            median * 1e6 / f64::from(N),
-            f64::from(atomics) / f64::from(N)
+            median * 1e6 / f64::from(n),
+            f64::from(atomics) / f64::from(n)
         );
     }
 }
