@@ -29,23 +29,17 @@ struct Data {
 }
 
 fn data(bits: u32) -> Data {
-    let mut s = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
+    let mut rng = testkit::Rng::new(0x2545_f491_4f6c_dd1d);
     let m = if bits >= 32 {
         u32::MAX
     } else {
         (1 << bits) - 1
     };
-    let xs = (0..N).map(|_| next() as u32 & m).collect();
-    let ys = (0..N).map(|_| next() as u32 & m).collect();
-    let zs = (0..N).map(|_| next() as u32 & m).collect();
-    let k32 = (0..N).map(|_| next() as u32).collect();
-    let k64 = (0..N).map(|_| next()).collect();
+    let xs = (0..N).map(|_| rng.next_u32() & m).collect();
+    let ys = (0..N).map(|_| rng.next_u32() & m).collect();
+    let zs = (0..N).map(|_| rng.next_u32() & m).collect();
+    let k32 = rng.words(N);
+    let k64 = (0..N).map(|_| rng.next_u64()).collect();
     Data {
         xs,
         ys,

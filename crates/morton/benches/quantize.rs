@@ -15,13 +15,8 @@ use rayon::prelude::*;
 const N: usize = 8 * 1024 * 1024;
 
 fn points() -> Vec<Vec3> {
-    let mut s = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 40) as f32 / (1u64 << 24) as f32 * 2000.0 - 1000.0
-    };
+    let mut rng = testkit::Rng::new(0x9e37_79b9_7f4a_7c15);
+    let mut next = || rng.range(-1000.0, 1000.0);
     (0..N).map(|_| Vec3::new(next(), next(), next())).collect()
 }
 

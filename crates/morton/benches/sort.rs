@@ -11,15 +11,9 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use rayon::prelude::*;
 
 fn keys(n: usize) -> (Vec<u32>, Vec<u64>) {
-    let mut s = 0x243f_6a88_85a3_08d3u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
-    let k64: Vec<u64> = (0..n).map(|_| next() >> 1).collect();
-    let k32: Vec<u32> = (0..n).map(|_| next() as u32 >> 2).collect();
+    let mut rng = testkit::Rng::new(0x243f_6a88_85a3_08d3);
+    let k64: Vec<u64> = (0..n).map(|_| rng.next_u64() >> 1).collect();
+    let k32: Vec<u32> = (0..n).map(|_| rng.next_u32() >> 2).collect();
     (k32, k64)
 }
 

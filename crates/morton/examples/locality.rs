@@ -33,13 +33,8 @@ fn main() {
         chunk,
     } = Args::parse();
     let (n, chunk) = (points as usize, chunk as usize);
-    let mut s = 0x853c_49e6_748f_ea9bu64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 40) as u32 & ((1 << bits) - 1)
-    };
+    let mut rng = testkit::Rng::new(0x853c_49e6_748f_ea9b);
+    let mut next = || rng.below(1 << bits) as u32;
     let cells: Vec<UVec3> = (0..n).map(|_| UVec3::new(next(), next(), next())).collect();
     let (xs, ys, zs): (Vec<u32>, Vec<u32>, Vec<u32>) = (
         cells.iter().map(|c| c.x).collect(),

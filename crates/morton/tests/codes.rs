@@ -262,16 +262,10 @@ fn paths_report_availability() {
 #[test]
 fn long_batches_equal_scalar() {
     let n = 10_007;
-    let mut s = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
-    let xs: Vec<u32> = (0..n).map(|_| next() as u32).collect();
-    let ys: Vec<u32> = (0..n).map(|_| next() as u32).collect();
-    let zs: Vec<u32> = (0..n).map(|_| next() as u32).collect();
+    let mut rng = testkit::Rng::new(0x9e37_79b9_7f4a_7c15);
+    let xs: Vec<u32> = rng.words(n);
+    let ys: Vec<u32> = rng.words(n);
+    let zs: Vec<u32> = rng.words(n);
     for path in Path::available() {
         let mut o = vec![0u64; n];
         batch::encode3_u64_soa_with(path, &xs, &ys, &zs, &mut o).unwrap();

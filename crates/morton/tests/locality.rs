@@ -50,13 +50,8 @@ fn full_grid_hilbert_steps_one_cell() {
 
 #[test]
 fn random_points_hilbert_is_more_local() {
-    let mut s = 0x1234_5678_9abc_def0u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 40) as u32 & 1023
-    };
+    let mut rng = testkit::Rng::new(0x1234_5678_9abc_def0);
+    let mut next = || rng.below(1024) as u32;
     let cells: Vec<UVec3> = (0..20_000)
         .map(|_| UVec3::new(next(), next(), next()))
         .collect();

@@ -4,13 +4,8 @@ use glam::Vec3;
 use morton::{Error, Quantizer3, parallel, sort_permutation};
 
 fn points(n: usize, seed: u64) -> Vec<Vec3> {
-    let mut s = seed;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 40) as f32 / (1u64 << 24) as f32 * 200.0 - 100.0
-    };
+    let mut rng = testkit::Rng::new(seed);
+    let mut next = || rng.range(-100.0, 100.0);
     (0..n).map(|_| Vec3::new(next(), next(), next())).collect()
 }
 

@@ -91,41 +91,35 @@ proptest! {
 /// Inputs above `LSD_MAX` take the split-then-sort path, and skewed ones split twice.
 #[test]
 fn large_inputs_match_std() {
-    let mut s = 0x0123_4567_89ab_cdefu64;
-    let mut next = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
+    let mut rng = testkit::Rng::new(0x0123_4567_89ab_cdef);
     let n = 150_000;
-    let uniform: Vec<u32> = (0..n).map(|_| next() as u32).collect();
-    let morton30: Vec<u32> = (0..n).map(|_| next() as u32 >> 2).collect();
+    let uniform: Vec<u32> = rng.words(n);
+    let morton30: Vec<u32> = (0..n).map(|_| rng.next_u32() >> 2).collect();
     // Most keys share the top two bytes: one bucket far above LSD_MAX, split again.
     let skewed: Vec<u32> = (0..n)
         .map(|i| {
             if i % 10 == 0 {
-                next() as u32
+                rng.next_u32()
             } else {
-                0x1234_0000 | (next() as u32 & 0xffff)
+                0x1234_0000 | (rng.next_u32() & 0xffff)
             }
         })
         .collect();
-    let few: Vec<u32> = (0..n).map(|_| (next() % 5) as u32 * 0x0101_0101).collect();
+    let few: Vec<u32> = (0..n).map(|_| rng.below(5) as u32 * 0x0101_0101).collect();
     for keys in [&uniform, &morton30, &skewed, &few] {
         assert_eq!(sort_permutation(keys).unwrap(), reference(keys));
     }
-    let u64s: Vec<u64> = (0..n).map(|_| next() >> 1).collect();
+    let u64s: Vec<u64> = (0..n).map(|_| rng.next_u64() >> 1).collect();
     let skewed64: Vec<u64> = (0..n)
         .map(|i| {
             if i % 7 == 0 {
-                next()
+                rng.next_u64()
             } else {
-                0xabcd_ef00_0000_0000 | (next() & 0xff_ffff)
+                0xabcd_ef00_0000_0000 | (rng.next_u64() & 0xff_ffff)
             }
         })
         .collect();
-    let low_only: Vec<u64> = (0..n).map(|_| next() & 0xff).collect();
+    let low_only: Vec<u64> = (0..n).map(|_| rng.next_u64() & 0xff).collect();
     for keys in [&u64s, &skewed64, &low_only] {
         assert_eq!(sort_permutation(keys).unwrap(), reference(keys));
     }
@@ -136,23 +130,14 @@ fn large_inputs_match_std() {
 fn sorter_reuses_buffers_across_sizes() {
     let mut sorter = morton::Sorter::<u32>::new();
     let mut perm = Vec::new();
-    let mut s = 99u64;
+    let mut rng = testkit::Rng::new(99);
     for n in [50_000usize, 10, 0, 40_000, 1] {
-        let keys: Vec<u32> = (0..n)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                (s >> 35) as u32
-            })
-            .collect();
+        let keys: Vec<u32> = (0..n).map(|_| rng.next_u32() >> 3).collect();
         sorter.sort_permutation_into(&keys, &mut perm).unwrap();
         assert_eq!(perm, reference(&keys), "n = {n}");
     }
     let mut sorter64 = morton::Sorter::<u64>::default();
-    let keys: Vec<u64> = (0..1000u64)
-        .map(|i| i.wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 3)
-        .collect();
+    let keys: Vec<u64> = (0..1000).map(|_| rng.next_u64() >> 3).collect();
     sorter64.sort_permutation_into(&keys, &mut perm).unwrap();
     assert_eq!(perm, reference(&keys));
 }
