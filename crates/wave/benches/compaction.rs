@@ -17,15 +17,7 @@ const N: usize = 1 << 24;
 
 /// 16M pseudo-random words; `keep` selects about a third of them at random positions.
 fn items() -> Vec<u32> {
-    let mut s = 0x9e37_79b9_7f4a_7c15u64;
-    (0..N)
-        .map(|_| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 16) as u32
-        })
-        .collect()
+    testkit::Rng::new(0x9e37_79b9_7f4a_7c15).words(N)
 }
 
 fn keep(x: &u32) -> bool {
