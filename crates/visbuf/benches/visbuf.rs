@@ -25,10 +25,10 @@ use visbuf::{
 const N: usize = 65536;
 
 fn fields(seed: u64) -> Vec<(u32, VisFields)> {
-    let mut s = seed;
+    let mut rng = testkit::Rng::new(seed);
     (0..N)
         .map(|_| {
-            let r = common::rng(&mut s);
+            let r = rng.next_u64();
             let pc = (r % 65536) as u32 + 1;
             let p = PrimitiveBits::for_count(pc).unwrap();
             let f = VisFields {
@@ -142,8 +142,8 @@ fn bench_id(c: &mut Criterion) {
 }
 
 fn vertices() -> Vec<Vertex> {
-    let mut s = 3u64;
-    let mut r = move || (common::rng(&mut s) >> 40) as f32 / (1u64 << 24) as f32;
+    let mut rng = testkit::Rng::new(3);
+    let mut r = move || rng.f32();
     (0..N)
         .map(|_| Vertex {
             core: VertexCore {

@@ -578,14 +578,11 @@ mod tests {
     #[test]
     fn half_encode_is_nearest_and_within_the_documented_bound() {
         let table = half_values();
-        let mut rng = 0x1234_5678_9abc_def0u64;
+        let mut rng = testkit::Rng::new(0x1234_5678_9abc_def0);
         for i in 0..200_000 {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
             // Spread over magnitudes 2^-26 .. 2^16 and both signs.
-            let e = (rng >> 40) % 42;
-            let x = ((rng & 0xffff_ffff) as f64 / 4_294_967_296.0 + 1.0) * 2f64.powi(e as i32 - 26);
+            let e = rng.below(42);
+            let x = (f64::from(rng.next_u32()) / 4_294_967_296.0 + 1.0) * 2f64.powi(e as i32 - 26);
             let x = if i % 2 == 0 { x } else { -x };
             let x = x as f32;
             let Some(word) = try_pack_half2(Vec2::new(x, -x)) else {

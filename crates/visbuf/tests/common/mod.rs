@@ -52,15 +52,6 @@ pub fn uv_sphere(stacks: u32, slices: u32) -> (Vec<u32>, u32) {
     (idx, south + 1)
 }
 
-/// xorshift64*. Only `benches/visbuf.rs` still draws from this; tests use
-/// `testkit::Rng`.
-pub fn rng(state: &mut u64) -> u64 {
-    *state ^= *state >> 12;
-    *state ^= *state << 25;
-    *state ^= *state >> 27;
-    state.wrapping_mul(0x2545_f491_4f6c_dd1d)
-}
-
 /// A random triangle soup: `triangles` triangles of three distinct vertices drawn uniformly
 /// from `vertices` (`testkit::Rng` seeded with `seed`).
 pub fn soup(triangles: u32, vertices: u32, seed: u64) -> (Vec<u32>, u32) {
