@@ -228,13 +228,8 @@ mod tests {
     /// of the right side remains.
     #[test]
     fn never_overlaps_against_a_byte_map() {
-        let mut state = 0x1234_5678_9abc_def0u64;
-        let mut rnd = |m: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % m
-        };
+        let mut rng = testkit::Rng::new(0x1234_5678_9abc_def0);
+        let mut rnd = |m: u64| rng.below(m);
         for _ in 0..200 {
             let cap = 64 << rnd(4);
             let mut b = BlockBump::new(cap as u32);
