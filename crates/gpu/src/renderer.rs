@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, point_light_rows};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
-use crate::passes::{self, FrameContext, Pipelines, TargetGroups};
+use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
 use crate::resources::readback::read_texture;
 use crate::resources::rows::{FrameUniforms, GpuPointLight};
 use crate::resources::targets::Targets;
@@ -356,13 +356,13 @@ impl Renderer {
         Ok(())
     }
 
-    /// Records `record` after uploading `frame`, submits, waits, and reads the timings.
+    /// Records `what` after uploading `frame`, submits, waits, and reads the timings.
     fn run(
         &mut self,
         scene: &PreparedScene,
         frame: &FrameInput,
         label: &str,
-        record: fn(&mut wgpu::CommandEncoder, &Pipelines, &FrameContext<'_>, &mut GpuTimer),
+        what: Recording,
     ) -> Result<FrameOutput> {
         let device = self.device.clone();
         let t0 = Instant::now();
@@ -375,7 +375,8 @@ impl Renderer {
                 targets: &self.targets,
                 groups: &self.groups,
             };
-            record(&mut encoder, &self.pipelines, &f, &mut self.timer);
+            self.pipelines
+                .record(what, &mut encoder, &f, &mut self.timer);
             self.timer.resolve(&mut encoder);
             self.queue.submit([encoder.finish()]);
             wait_idle(&device)
@@ -399,12 +400,12 @@ impl Renderer {
         frame: &FrameInput,
         path: RenderPath,
     ) -> Result<FrameOutput> {
-        let record = match path {
-            RenderPath::Deferred => passes::record_deferred,
-            RenderPath::Baseline => passes::record_baseline,
-            RenderPath::DeferredFullScreen => passes::record_deferred_full_screen,
+        let what = match path {
+            RenderPath::Deferred => Recording::Deferred,
+            RenderPath::Baseline => Recording::Baseline,
+            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
         };
-        self.run(scene, frame, path.name(), record)
+        self.run(scene, frame, path.name(), what)
     }
 
     /// Renders `path` for at least [`WARM_UP`] of wall time (at least one frame) to bring the
@@ -487,9 +488,7 @@ impl Renderer {
         scene: &PreparedScene,
         frame: &FrameInput,
     ) -> Result<(Vec<u32>, Vec<f32>)> {
-        self.run(scene, frame, "laydown", |e, p, f, t| {
-            p.laydown.record_laydown(e, f, t)
-        })?;
+        self.run(scene, frame, "laydown", Recording::Laydown)?;
         let read =
             |t: &wgpu::Texture, aspect| read_texture(&self.device, &self.queue, t, aspect, 4);
         let vis = read(&self.targets.vis, wgpu::TextureAspect::All)?;
@@ -544,7 +543,8 @@ impl Renderer {
                 targets: &self.targets,
                 groups: &self.groups,
             };
-            passes::record_classification(&mut encoder, &self.pipelines, &f, &mut self.timer);
+            self.pipelines
+                .record(Recording::Classification, &mut encoder, &f, &mut self.timer);
             self.timer.resolve(&mut encoder);
             self.queue.submit([encoder.finish()]);
             wait_idle(&device)

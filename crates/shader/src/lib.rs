@@ -88,5 +88,5 @@ pub mod pipeline;
 pub use compose::{Error, Module, compose, compose_source};
 pub use pass::{
     Binding, Dim, Dispatch, Entry, Format, Group, Kind, MAX_WORKGROUPS_X, Pass, Sample, Size,
-    Stage, StageCounts,
+    Stage, StageCounts, join,
 };

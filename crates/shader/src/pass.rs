@@ -252,6 +252,48 @@ pub struct Entry<P: 'static> {
 }
 
 impl<P> Entry<P> {
+    /// A compute entry point of `x` × `y` invocations per workgroup, one invocation per
+    /// cell of the grid `grid(params)` returns.
+    #[must_use]
+    pub const fn grid(name: &'static str, x: u32, y: u32, grid: fn(&P) -> [u32; 2]) -> Self {
+        Self {
+            name,
+            stage: Stage::compute(x, y, 1),
+            dispatch: Dispatch::Grid(grid),
+        }
+    }
+
+    /// A compute entry point of `x` invocations per workgroup, one workgroup.
+    #[must_use]
+    pub const fn once(name: &'static str, x: u32) -> Self {
+        Self {
+            name,
+            stage: Stage::compute(x, 1, 1),
+            dispatch: Dispatch::Once,
+        }
+    }
+
+    /// A compute entry point of `x` invocations per workgroup, one invocation per item of
+    /// `items(params)`.
+    #[must_use]
+    pub const fn items(name: &'static str, x: u32, items: fn(&P) -> u32) -> Self {
+        Self {
+            name,
+            stage: Stage::compute(x, 1, 1),
+            dispatch: Dispatch::Items(items),
+        }
+    }
+
+    /// A render entry point of `stage`.
+    #[must_use]
+    pub const fn draw(name: &'static str, stage: Stage) -> Self {
+        Self {
+            name,
+            stage,
+            dispatch: Dispatch::Draw,
+        }
+    }
+
     /// The workgroup counts of a direct dispatch with `params`, reading override-sized
     /// dimensions from `constants` (their values at pipeline creation); `None` for
     /// [`Dispatch::Draw`], [`Dispatch::Indirect`] and a render stage, or an override
@@ -287,6 +329,27 @@ impl<P> Entry<P> {
             }
         }
     }
+}
+
+/// `a` followed by `b` (`C` must be `A + B`): how passes that share bindings list them
+/// once.
+#[must_use]
+pub const fn join<const A: usize, const B: usize, const C: usize>(
+    a: [Binding; A],
+    b: [Binding; B],
+) -> [Binding; C] {
+    assert!(A + B == C, "join: C must be A + B");
+    let mut out = [Binding::new("", Kind::Sampler); C];
+    let mut i = 0;
+    while i < A {
+        out[i] = a[i];
+        i += 1;
+    }
+    while i < C {
+        out[i] = b[i - A];
+        i += 1;
+    }
+    out
 }
 
 /// Bindings one stage of a pass uses, by kind: what wgpu's per-stage limits count.

@@ -32,7 +32,7 @@
 //!
 //! [`TilingParams`]: crate::TilingParams
 
-use shader::{Binding, Dispatch, Entry, Group, Kind, Module, Pass, Stage};
+use shader::{Binding, Entry, Group, Kind, Module, Pass, join};
 
 use crate::TilingParams;
 use crate::classify::{PassDispatch, PixelStats, Totals, WaveCommand};
@@ -91,9 +91,23 @@ const PIXEL_BINDINGS: [Binding; 4] = [
     Binding::new("table", Kind::read(size_of::<MicroBatchInfo>())),
 ];
 
+/// Bindings 0-5 of both pixel phases: `tiling::pixel`'s and `tiling::keyed`'s.
+const KEYED_BINDINGS: [Binding; 6] = join(
+    PIXEL_BINDINGS,
+    [
+        Binding::new("masks", Kind::read(4)),
+        Binding::new("counter_offsets", Kind::read_write(4)),
+    ],
+);
+
 /// Dispatch over the vis buffer, one invocation per pixel.
 fn pixels(p: &TilingParams) -> [u32; 2] {
     [p.width, p.height]
+}
+
+/// A 16x16 workgroup per 16x16 block of the vis buffer.
+const fn per_pixel(name: &'static str) -> Entry<TilingParams> {
+    Entry::grid(name, 16, 16, pixels)
 }
 
 /// Phase 1, laydown finalise: per (tile, pass) the batch groups used.
@@ -112,19 +126,9 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
     features: &["timing_omit_stats"],
     groups: &[Group {
         name: "classification",
-        bindings: &[
-            PIXEL_BINDINGS[0],
-            PIXEL_BINDINGS[1],
-            PIXEL_BINDINGS[2],
-            PIXEL_BINDINGS[3],
-            Binding::new("masks", Kind::read_write(4)),
-        ],
+        bindings: &join::<4, 1, 5>(PIXEL_BINDINGS, [Binding::new("masks", Kind::read_write(4))]),
     }],
-    entries: &[Entry {
-        name: "laydown_finalize",
-        stage: Stage::compute(16, 16, 1),
-        dispatch: Dispatch::Grid(pixels),
-    }],
+    entries: &[per_pixel("laydown_finalize")],
     zeroed: &["masks"],
 };
 
@@ -157,37 +161,22 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     ],
     groups: &[Group {
         name: "classification",
-        bindings: &[
-            PIXEL_BINDINGS[0],
-            PIXEL_BINDINGS[1],
-            PIXEL_BINDINGS[2],
-            PIXEL_BINDINGS[3],
-            Binding::new("masks", Kind::read(4)),
-            Binding::new("counter_offsets", Kind::read_write(4)),
-            Binding::new("counts", Kind::read_write(4)),
-            Binding::new("pixel_offsets", Kind::read_write(4)),
-            Binding::new("vertex_cull", Kind::read_write(4)),
-            Binding::new("indices", Kind::read(4)),
-            Binding::new("totals", Kind::read_write(size_of::<Totals>())),
-            Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
-        ],
+        bindings: &join::<6, 6, 12>(
+            KEYED_BINDINGS,
+            [
+                Binding::new("counts", Kind::read_write(4)),
+                Binding::new("pixel_offsets", Kind::read_write(4)),
+                Binding::new("vertex_cull", Kind::read_write(4)),
+                Binding::new("indices", Kind::read(4)),
+                Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+                Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+            ],
+        ),
     }],
     entries: &[
-        Entry {
-            name: "counter_offsets_pass",
-            stage: Stage::compute(256, 1, 1),
-            dispatch: Dispatch::Once,
-        },
-        Entry {
-            name: "count_pixels",
-            stage: Stage::compute(16, 16, 1),
-            dispatch: Dispatch::Grid(pixels),
-        },
-        Entry {
-            name: "pixel_offsets_pass",
-            stage: Stage::compute(256, 1, 1),
-            dispatch: Dispatch::Once,
-        },
+        Entry::once("counter_offsets_pass", 256),
+        per_pixel("count_pixels"),
+        Entry::once("pixel_offsets_pass", 256),
     ],
     zeroed: &["counts", "vertex_cull", "stats"],
 };
@@ -217,40 +206,25 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     features: &["subgroups", "timing_omit_stats", "timing_store_commands"],
     groups: &[Group {
         name: "classification",
-        bindings: &[
-            PIXEL_BINDINGS[0],
-            PIXEL_BINDINGS[1],
-            PIXEL_BINDINGS[2],
-            PIXEL_BINDINGS[3],
-            Binding::new("masks", Kind::read(4)),
-            Binding::new("counter_offsets", Kind::read_write(4)),
-            Binding::new("counts", Kind::read(4)),
-            Binding::new("pixel_offsets", Kind::read(4)),
-            Binding::new("final_counts", Kind::read_write(4)),
-            Binding::new("commands", Kind::read_write(4)),
-            Binding::new("wave_offsets", Kind::read_write(4)),
-            Binding::new("waves", Kind::read_write(size_of::<WaveCommand>())),
-            Binding::new("passes", Kind::read_write(size_of::<PassDispatch>())),
-            Binding::new("totals", Kind::read_write(size_of::<Totals>())),
-            Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
-        ],
+        bindings: &join::<6, 9, 15>(
+            KEYED_BINDINGS,
+            [
+                Binding::new("counts", Kind::read(4)),
+                Binding::new("pixel_offsets", Kind::read(4)),
+                Binding::new("final_counts", Kind::read_write(4)),
+                Binding::new("commands", Kind::read_write(4)),
+                Binding::new("wave_offsets", Kind::read_write(4)),
+                Binding::new("waves", Kind::read_write(size_of::<WaveCommand>())),
+                Binding::new("passes", Kind::read_write(size_of::<PassDispatch>())),
+                Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+                Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+            ],
+        ),
     }],
     entries: &[
-        Entry {
-            name: "write_commands",
-            stage: Stage::compute(16, 16, 1),
-            dispatch: Dispatch::Grid(pixels),
-        },
-        Entry {
-            name: "wave_offsets_pass",
-            stage: Stage::compute(256, 1, 1),
-            dispatch: Dispatch::Once,
-        },
-        Entry {
-            name: "write_waves",
-            stage: Stage::compute(64, 1, 1),
-            dispatch: Dispatch::Items(|p| p.tiles_x * p.tiles_y * p.pass_count),
-        },
+        per_pixel("write_commands"),
+        Entry::once("wave_offsets_pass", 256),
+        Entry::items("write_waves", 64, |p| p.tiles_x * p.tiles_y * p.pass_count),
     ],
     zeroed: &["final_counts", "commands", "stats"],
 };
@@ -302,36 +276,12 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
         ],
     }],
     entries: &[
-        Entry {
-            name: "uber_chunks",
-            stage: Stage::compute(64, 1, 1),
-            dispatch: Dispatch::Items(|p| p.uber_count),
-        },
-        Entry {
-            name: "build_pyramid",
-            stage: Stage::compute(256, 1, 1),
-            dispatch: Dispatch::Once,
-        },
-        Entry {
-            name: "micro_batch_deltas",
-            stage: Stage::compute(64, 1, 1),
-            dispatch: Dispatch::Items(|p| p.micro_batch_count),
-        },
-        Entry {
-            name: "scan_deltas",
-            stage: Stage::compute(256, 1, 1),
-            dispatch: Dispatch::Once,
-        },
-        Entry {
-            name: "write_vertex_commands",
-            stage: Stage::compute(64, 1, 1),
-            dispatch: Dispatch::Items(|p| p.chunk_count),
-        },
-        Entry {
-            name: "pass_args",
-            stage: Stage::compute(64, 1, 1),
-            dispatch: Dispatch::Items(|p| p.pass_count),
-        },
+        Entry::items("uber_chunks", 64, |p| p.uber_count),
+        Entry::once("build_pyramid", 256),
+        Entry::items("micro_batch_deltas", 64, |p| p.micro_batch_count),
+        Entry::once("scan_deltas", 256),
+        Entry::items("write_vertex_commands", 64, |p| p.chunk_count),
+        Entry::items("pass_args", 64, |p| p.pass_count),
     ],
     zeroed: &["deltas", "pass_items"],
 };

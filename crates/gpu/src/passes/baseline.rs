@@ -3,7 +3,7 @@
 //! `Equal` and no alpha test, writing the G-buffer from a fragment shader (`gpu::baseline`).
 
 use shader::pipeline::Layouts;
-use shader::{Dispatch, Entry, Pass, Stage};
+use shader::{Entry, Pass, Stage};
 
 use super::laydown::{SCENE_GROUP, depth_write_state, primitive_state, record_draws};
 use super::{FrameContext, LIBRARY};
@@ -19,16 +19,8 @@ pub(crate) const BASELINE: Pass = Pass {
     features: &[],
     groups: &[SCENE_GROUP],
     entries: &[
-        Entry {
-            name: "vs_baseline",
-            stage: Stage::Vertex,
-            dispatch: Dispatch::Draw,
-        },
-        Entry {
-            name: "fs_baseline",
-            stage: Stage::Fragment,
-            dispatch: Dispatch::Draw,
-        },
+        Entry::draw("vs_baseline", Stage::Vertex),
+        Entry::draw("fs_baseline", Stage::Fragment),
     ],
     zeroed: &[],
 };

@@ -10,7 +10,7 @@
 //! `counters + width * height / wave width`. Nothing is sized from a CPU classification.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Stage};
+use shader::{Binding, Entry, Group, Kind, Pass};
 use tiling::{ClassifyConfig, PassDispatch, PixelStats, TilingParams, Totals, WaveCommand};
 
 use super::{FrameContext, LIBRARY};
@@ -28,11 +28,7 @@ pub(crate) const ZERO: Pass<u32> = Pass {
         name: "words",
         bindings: &[Binding::new("words", Kind::read_write(4))],
     }],
-    entries: &[Entry {
-        name: "zero",
-        stage: Stage::compute(256, 1, 1),
-        dispatch: Dispatch::Items(|words| *words),
-    }],
+    entries: &[Entry::items("zero", 256, |words| *words)],
     zeroed: &[],
 };
 

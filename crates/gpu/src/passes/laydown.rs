@@ -3,7 +3,7 @@
 //! ID from the adapter's best path (`gpu::laydown_builtin`, `_xor`, `_provoking`).
 
 use shader::pipeline::Layouts;
-use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
 
 use super::{FrameContext, LIBRARY};
 use crate::context::PrimitiveIdPath;
@@ -41,31 +41,11 @@ const GROUPS: &[Group] = &[
 ];
 
 const ENTRIES: &[Entry<()>] = &[
-    Entry {
-        name: "vs_main",
-        stage: Stage::Vertex,
-        dispatch: Dispatch::Draw,
-    },
-    Entry {
-        name: "vs_payload",
-        stage: Stage::Vertex,
-        dispatch: Dispatch::Draw,
-    },
-    Entry {
-        name: "fs_depth_alpha",
-        stage: Stage::Fragment,
-        dispatch: Dispatch::Draw,
-    },
-    Entry {
-        name: "fs_vis",
-        stage: Stage::Fragment,
-        dispatch: Dispatch::Draw,
-    },
-    Entry {
-        name: "fs_vis_alpha",
-        stage: Stage::Fragment,
-        dispatch: Dispatch::Draw,
-    },
+    Entry::draw("vs_main", Stage::Vertex),
+    Entry::draw("vs_payload", Stage::Vertex),
+    Entry::draw("fs_depth_alpha", Stage::Fragment),
+    Entry::draw("fs_vis", Stage::Fragment),
+    Entry::draw("fs_vis_alpha", Stage::Fragment),
 ];
 
 /// The laydown on the `primitive_index` path (`Features::PRIMITIVE_INDEX`).

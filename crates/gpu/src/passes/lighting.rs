@@ -3,7 +3,7 @@
 //! the deferred and the baseline frames.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Dim, Dispatch, Entry, Format, Group, Kind, Pass, Sample, Stage};
+use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
 
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
@@ -39,11 +39,7 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
             bindings: &LOAD_BINDINGS,
         },
     ],
-    entries: &[Entry {
-        name: "main",
-        stage: Stage::compute(8, 8, 1),
-        dispatch: Dispatch::Grid(|size| *size),
-    }],
+    entries: &[Entry::grid("main", 8, 8, |size| *size)],
     zeroed: &[],
 };
 

@@ -3,10 +3,9 @@
 //! Each module holds its pass's description (`shader::Pass`: bindings by name, entry
 //! points, dispatch geometry) next to its WGSL (`src/wgsl/<name>.wgsl`), builds its
 //! pipelines from it, makes its bind groups by binding name, and records itself inside its
-//! own timing scope. [`Pipelines`] holds one of each; [`record_deferred`] and
-//! [`record_baseline`] are the frame. New passes (HZD's static-scene query, KZ2's shadows
-//! and tiled lights, FC5's water, HFW's vertex ring) go in a module here and a line in
-//! those functions.
+//! own timing scope. [`Pipelines`] holds one of each; [`Pipelines::record`] is the frame.
+//! New passes (HZD's static-scene query, KZ2's shadows and tiled lights, FC5's water, HFW's
+//! vertex ring) go in a module here and a line there.
 //!
 //! | pass | module | what |
 //! | --- | --- | --- |
@@ -139,54 +138,53 @@ pub(crate) struct FrameContext<'a> {
     pub groups: &'a TargetGroups,
 }
 
-/// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting.
-pub(crate) fn record_deferred(
-    encoder: &mut wgpu::CommandEncoder,
-    p: &Pipelines,
-    f: &FrameContext<'_>,
-    timer: &mut GpuTimer,
-) {
-    p.laydown.record_laydown(encoder, f, timer);
-    p.vis_copy.record(encoder, f, timer);
-    p.classify.record(encoder, f, timer);
-    p.resolve.record_waves(encoder, f, timer);
-    p.lighting.record(encoder, f, timer);
+/// What a command buffer records.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Recording {
+    /// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting.
+    Deferred,
+    /// Diagnostic: laydown, the resolve of every pixel (no classification), lighting.
+    DeferredFullScreen,
+    /// HZD's frame on the same scene: depth prepass with alpha test, depth-equal
+    /// geometry pass into the G-buffer, lighting.
+    Baseline,
+    /// The laydown alone (tests read the vis and depth buffers after it).
+    Laydown,
+    /// The classification alone, over whatever the vis words hold (how tests feed random
+    /// vis buffers to it).
+    Classification,
 }
 
-/// Diagnostic: laydown, then the resolve of every pixel (no classification), lighting.
-pub(crate) fn record_deferred_full_screen(
-    encoder: &mut wgpu::CommandEncoder,
-    p: &Pipelines,
-    f: &FrameContext<'_>,
-    timer: &mut GpuTimer,
-) {
-    p.laydown.record_laydown(encoder, f, timer);
-    p.resolve.record_full_screen(encoder, f, timer);
-    p.lighting.record(encoder, f, timer);
-}
-
-/// HZD's frame on the same scene: depth prepass with alpha test, depth-equal geometry pass
-/// into the G-buffer, lighting.
-pub(crate) fn record_baseline(
-    encoder: &mut wgpu::CommandEncoder,
-    p: &Pipelines,
-    f: &FrameContext<'_>,
-    timer: &mut GpuTimer,
-) {
-    p.laydown.record_depth_prepass(encoder, f, timer);
-    p.baseline.record(encoder, f, timer);
-    p.lighting.record(encoder, f, timer);
-}
-
-/// The classification alone (over whatever the vis words hold): how tests feed random vis
-/// buffers to it.
-pub(crate) fn record_classification(
-    encoder: &mut wgpu::CommandEncoder,
-    p: &Pipelines,
-    f: &FrameContext<'_>,
-    timer: &mut GpuTimer,
-) {
-    p.classify.record(encoder, f, timer);
+impl Pipelines {
+    /// Records `what` into `encoder`, each pass in its own timing scope: the frame's order.
+    pub(crate) fn record(
+        &self,
+        what: Recording,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let e = encoder;
+        match what {
+            Recording::Deferred => {
+                self.laydown.record_laydown(e, f, timer);
+                self.vis_copy.record(e, f, timer);
+                self.classify.record(e, f, timer);
+                self.resolve.record_waves(e, f, timer);
+            }
+            Recording::DeferredFullScreen => {
+                self.laydown.record_laydown(e, f, timer);
+                self.resolve.record_full_screen(e, f, timer);
+            }
+            Recording::Baseline => {
+                self.laydown.record_depth_prepass(e, f, timer);
+                self.baseline.record(e, f, timer);
+            }
+            Recording::Laydown => return self.laydown.record_laydown(e, f, timer),
+            Recording::Classification => return self.classify.record(e, f, timer),
+        }
+        self.lighting.record(e, f, timer);
+    }
 }
 
 #[cfg(test)]

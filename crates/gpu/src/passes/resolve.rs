@@ -65,11 +65,7 @@ pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
             ]),
             dispatch: Dispatch::Indirect("pass_dispatches"),
         },
-        Entry {
-            name: "resolve_fullscreen",
-            stage: Stage::compute(8, 8, 1),
-            dispatch: Dispatch::Grid(|size| *size),
-        },
+        Entry::grid("resolve_fullscreen", 8, 8, |size| *size),
     ],
     zeroed: &[],
 };

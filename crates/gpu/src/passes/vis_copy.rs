@@ -2,7 +2,7 @@
 //! (`gpu::vis_copy`; wgpu cannot view a texture as a buffer).
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::{Binding, Entry, Group, Kind, Pass, Sample};
 
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
@@ -22,11 +22,7 @@ pub(crate) const VIS_COPY: Pass<[u32; 2]> = Pass {
             Binding::new("vis_words", Kind::read_write(4)),
         ],
     }],
-    entries: &[Entry {
-        name: "copy_vis",
-        stage: Stage::compute(16, 16, 1),
-        dispatch: Dispatch::Grid(|size| *size),
-    }],
+    entries: &[Entry::grid("copy_vis", 16, 16, |size| *size)],
     zeroed: &[],
 };
 

@@ -103,18 +103,7 @@ fn write_commands(
         // Aggregated appends, one (pass, group) of the workgroup at a time.
         var pending = key != TILING_NONE;
         loop {
-            if (li == 0u) {
-                atomicStore(&tiling_wg_key, TILING_NONE);
-            }
-            workgroupBarrier();
-            if (pending) {
-                atomicMin(&tiling_wg_key, key);
-            }
-            workgroupBarrier();
-            if (li == 0u) {
-                tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
-            }
-            let k = workgroupUniformLoad(&tiling_wg_key_plain);
+            let k = tiling_smallest_pending_key(pending, key, li);
             if (k == TILING_NONE) {
                 break;
             }

@@ -49,3 +49,21 @@ fn tiling_counter_of(tile: u32, k: u32) -> u32 {
     let g = k % TILING_MAX_BATCH_GROUPS;
     return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
 }
+
+// The smallest key still pending in the workgroup (TILING_NONE when none is), the same in
+// every invocation: the wave-append loop takes one (pass, group) at a time, smallest first.
+// Contains barriers: call from uniform control flow, from every invocation.
+fn tiling_smallest_pending_key(pending: bool, key: u32, li: u32) -> u32 {
+    if (li == 0u) {
+        atomicStore(&tiling_wg_key, TILING_NONE);
+    }
+    workgroupBarrier();
+    if (pending) {
+        atomicMin(&tiling_wg_key, key);
+    }
+    workgroupBarrier();
+    if (li == 0u) {
+        tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
+    }
+    return workgroupUniformLoad(&tiling_wg_key_plain);
+}

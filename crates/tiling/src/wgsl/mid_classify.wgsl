@@ -149,18 +149,7 @@ fn count_pixels(
         // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
         var pending = key != TILING_NONE;
         loop {
-            if (li == 0u) {
-                atomicStore(&tiling_wg_key, TILING_NONE);
-            }
-            workgroupBarrier();
-            if (pending) {
-                atomicMin(&tiling_wg_key, key);
-            }
-            workgroupBarrier();
-            if (li == 0u) {
-                tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
-            }
-            let k = workgroupUniformLoad(&tiling_wg_key_plain);
+            let k = tiling_smallest_pending_key(pending, key, li);
             if (k == TILING_NONE) {
                 break;
             }
