@@ -1,0 +1,9 @@
+//! The example refuses bad arguments with a usage error, never a panic.
+
+#[test]
+fn classify_variants_refuses_bad_arguments() {
+    testkit::check_example_cli(
+        "classify_variants",
+        &[&["--width", "0"], &["--frames", "0"], &["--scene", "city"]],
+    );
+}
