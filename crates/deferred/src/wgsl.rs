@@ -67,15 +67,10 @@ mod tests {
             );
         }
         // The WGSL surface struct has the Rust struct's fields, in order.
-        let (_, ty) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("DeferredSurface"))
-            .expect("struct DeferredSurface");
-        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
-            panic!("DeferredSurface is not a struct");
-        };
-        let names: alloc::vec::Vec<_> = members.iter().map(|m| m.name.clone().unwrap()).collect();
+        // (A value in registers, never a buffer: its WGSL offsets are not the Rust ones.)
+        let (_, members) =
+            shadercheck::struct_layout(&m, "DeferredSurface").expect("DeferredSurface");
+        let names: alloc::vec::Vec<_> = members.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(
             names,
             [
@@ -102,42 +97,60 @@ mod tests {
         ] {
             assert_eq!(const_u32(&m, name), Some(value), "WGSL const {name}");
         }
-        let (offsets, size) = struct_layout(&m, "DeferredLight");
-        assert_eq!(size as usize, size_of::<DeferredLight>());
-        assert_eq!(offsets, [0, 12, 16, 28, 32, 44]);
-        let (offsets, size) = struct_layout(&m, "DeferredTileDepth");
-        assert_eq!(size as usize, size_of::<DeferredTileDepth>());
-        assert_eq!(offsets, [0, 4]);
+        shadercheck::assert_struct_layout(
+            &m,
+            "DeferredLight",
+            size_of::<DeferredLight>(),
+            &[
+                ("position", 0),
+                ("range", 12),
+                ("direction", 16),
+                ("cos_outer", 28),
+                ("color", 32),
+                ("flags", 44),
+            ],
+        );
+        shadercheck::assert_struct_layout(
+            &m,
+            "DeferredTileDepth",
+            size_of::<DeferredTileDepth>(),
+            &[("nearest", 0), ("farthest", 4)],
+        );
         let m = assert_valid("", SHADOW, Caps::CORE);
-        let (offsets, size) = struct_layout(&m, "DeferredCascade");
-        assert_eq!(size as usize, size_of::<crate::DeferredCascade>());
-        assert_eq!(offsets, [0, 64, 68, 72, 76]);
-        let (offsets, size) = struct_layout(&m, "DeferredPcfTap");
-        assert_eq!(size as usize, size_of::<crate::msaa::DeferredPcfTap>());
-        assert_eq!(offsets, [0, 8, 12]);
-    }
-
-    /// The byte offsets of a WGSL struct's members, and its size.
-    fn struct_layout(m: &naga::Module, name: &str) -> (alloc::vec::Vec<u32>, u32) {
-        let (_, ty) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("struct {name}"));
-        match &ty.inner {
-            naga::TypeInner::Struct { members, span } => {
-                (members.iter().map(|m| m.offset).collect(), *span)
-            }
-            other => panic!("{name} is {other:?}"),
-        }
+        shadercheck::assert_struct_layout(
+            &m,
+            "DeferredCascade",
+            size_of::<crate::DeferredCascade>(),
+            &[
+                ("relative_to_clip", 0),
+                ("split_far", 64),
+                ("texel_size", 68),
+                ("radius", 72),
+                ("pad", 76),
+            ],
+        );
+        shadercheck::assert_struct_layout(
+            &m,
+            "DeferredPcfTap",
+            size_of::<crate::msaa::DeferredPcfTap>(),
+            &[("offset", 0), ("weight", 8), ("sample", 12)],
+        );
     }
 
     #[test]
     fn depth_wgsl_struct_matches_rust() {
         let m = assert_valid("", DEPTH, Caps::CORE);
-        let (offsets, size) = struct_layout(&m, "DeferredProjection");
-        assert_eq!(size as usize, size_of::<crate::DeferredProjection>());
-        assert_eq!(offsets, [0, 8, 12, 16]);
+        shadercheck::assert_struct_layout(
+            &m,
+            "DeferredProjection",
+            size_of::<crate::DeferredProjection>(),
+            &[
+                ("tan_half", 0),
+                ("alpha", 8),
+                ("beta", 12),
+                ("viewport", 16),
+            ],
+        );
     }
 
     #[test]

@@ -119,6 +119,41 @@ pub fn const_f32(module: &naga::Module, name: &str) -> Option<f32> {
     }
 }
 
+/// The layout naga gives a WGSL struct: its size and its members' names and offsets, in
+/// bytes, in declaration order. `None` when the module declares no struct `name`.
+pub fn struct_layout(module: &naga::Module, name: &str) -> Option<(u32, Vec<(String, u32)>)> {
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))?;
+    match &ty.inner {
+        naga::TypeInner::Struct { members, span } => Some((
+            *span,
+            members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect(),
+        )),
+        _ => None,
+    }
+}
+
+/// Checks that WGSL struct `name` is `size` bytes with exactly `members` (name, byte
+/// offset), in order: how a crate proves its `#[repr(C)]` twin and its WGSL agree.
+#[track_caller]
+pub fn assert_struct_layout(
+    module: &naga::Module,
+    name: &str,
+    size: usize,
+    members: &[(&str, u32)],
+) {
+    let (span, found) =
+        struct_layout(module, name).unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    let found: Vec<(&str, u32)> = found.iter().map(|(n, o)| (n.as_str(), *o)).collect();
+    assert_eq!(found, members, "WGSL struct {name}: (member, offset)");
+    assert_eq!(span as usize, size, "WGSL struct {name}: size in bytes");
+}
+
 /// Checks a crate's naming rule on a validated module: every function starts with
 /// `{prefix}_`, every constant with `{PREFIX}_`, every struct with `{Prefix}` (naga's
 /// predeclared `__*` result types excepted), every module-scope `var<workgroup>` with
@@ -229,5 +264,37 @@ mod tests {
         assert_eq!(const_u32(&m, "C"), Some(3));
         assert_eq!(const_u32(&m, "D"), None);
         assert_eq!(const_u32(&m, "E"), None, "negative values are not u32");
+    }
+
+    const STRUCT: &str = "struct S { a: vec3<f32>, b: u32, c: vec2<f32> }\n\
+                          @group(0) @binding(0) var<storage> s: array<S>;";
+
+    #[test]
+    fn reads_struct_layouts_by_wgsl_rules() {
+        let m = assert_valid("t", STRUCT, Caps::CORE);
+        // vec3 is 12 bytes aligned to 16, so b packs after it; vec2 aligns to 8;
+        // the struct rounds up to its 16-byte alignment.
+        let (size, members) = struct_layout(&m, "S").unwrap();
+        assert_eq!(size, 32);
+        assert_eq!(
+            members,
+            [("a".into(), 0), ("b".into(), 12), ("c".into(), 16)]
+        );
+        assert!(struct_layout(&m, "T").is_none());
+        assert_struct_layout(&m, "S", 32, &[("a", 0), ("b", 12), ("c", 16)]);
+    }
+
+    #[test]
+    #[should_panic(expected = "(member, offset)")]
+    fn a_wrong_offset_fails() {
+        let m = assert_valid("t", STRUCT, Caps::CORE);
+        assert_struct_layout(&m, "S", 32, &[("a", 0), ("b", 16), ("c", 16)]);
+    }
+
+    #[test]
+    #[should_panic(expected = "size in bytes")]
+    fn a_wrong_size_fails() {
+        let m = assert_valid("t", STRUCT, Caps::CORE);
+        assert_struct_layout(&m, "S", 24, &[("a", 0), ("b", 12), ("c", 16)]);
     }
 }

@@ -42,7 +42,6 @@ mod tests {
     use crate::*;
     use core::mem::offset_of;
     use shadercheck::{Caps, const_f32, const_u32};
-    use std::string::String;
     use std::vec::Vec;
 
     fn module() -> naga::Module {
@@ -107,34 +106,12 @@ mod tests {
         assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
     }
 
-    fn layout(m: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
-        let (_, ty) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("struct {name}"));
-        match &ty.inner {
-            naga::TypeInner::Struct { members, span } => (
-                *span,
-                members
-                    .iter()
-                    .map(|m| (m.name.clone().unwrap(), m.offset))
-                    .collect(),
-            ),
-            _ => panic!("{name} is not a struct"),
-        }
-    }
-
     #[test]
     fn structs_match_rust_layouts() {
         let m = module();
         let check = |name: &str, size: usize, offsets: &[(&str, usize)]| {
-            let (span, members) = layout(&m, name);
-            assert_eq!(span as usize, size, "{name} size");
-            assert_eq!(members.len(), offsets.len(), "{name} members");
-            for ((n, o), (wn, wo)) in members.iter().zip(offsets) {
-                assert_eq!((n.as_str(), *o as usize), (*wn, *wo), "{name}");
-            }
+            let members: Vec<(&str, u32)> = offsets.iter().map(|&(n, o)| (n, o as u32)).collect();
+            shadercheck::assert_struct_layout(&m, name, size, &members);
         };
         check(
             "StaticsceneQueryInstance",

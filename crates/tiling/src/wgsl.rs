@@ -537,26 +537,10 @@ mod tests {
 
         let module = common();
         for (name, size, fields) in structs() {
-            let ty = module
-                .types
-                .iter()
-                .find(|(_, t)| t.name.as_deref() == Some(name))
-                .unwrap_or_else(|| panic!("struct {name}"))
-                .1;
-            match &ty.inner {
-                naga::TypeInner::Struct { members, span } => {
-                    assert_eq!(*span as usize, size, "{name} size");
-                    let names: Vec<&str> = members
-                        .iter()
-                        .map(|m| m.name.as_deref().unwrap_or(""))
-                        .collect();
-                    assert_eq!(names, fields, "{name} fields");
-                    for (k, m) in members.iter().enumerate() {
-                        assert_eq!(m.offset as usize, 4 * k, "{name}.{} offset", names[k]);
-                    }
-                }
-                other => panic!("{name} is not a struct: {other:?}"),
-            }
+            // Every member is one 4-byte word, in order.
+            let members: Vec<(&str, u32)> =
+                fields.iter().zip(0..).map(|(&f, k)| (f, 4 * k)).collect();
+            shadercheck::assert_struct_layout(&module, name, size, &members);
         }
     }
 

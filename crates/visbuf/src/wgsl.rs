@@ -26,7 +26,6 @@ pub const MODULES: &[Module] = &[ID, VERTEX, BARY, RAY];
 mod tests {
     use super::*;
     use crate::id::*;
-    use alloc::vec::Vec;
     use shadercheck::{Caps, const_u32};
 
     fn assert_valid(_: &str, m: Module, caps: Caps) -> naga::Module {
@@ -93,33 +92,21 @@ mod tests {
             Some((size_of::<VisbufVertex>() / 4) as u32)
         );
         // The WGSL struct has the Rust struct's size (8 x 4 bytes, no padding).
-        let (_, ty) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("VisbufVertex"))
-            .expect("struct VisbufVertex");
-        match &ty.inner {
-            naga::TypeInner::Struct { members, span } => {
-                assert_eq!(*span as usize, size_of::<VisbufVertex>());
-                let names: Vec<_> = members.iter().map(|m| m.name.clone().unwrap()).collect();
-                assert_eq!(
-                    names,
-                    [
-                        "hpos_xy",
-                        "hpos_w",
-                        "uv",
-                        "color",
-                        "normal",
-                        "tangent",
-                        "prev_hpos_xy",
-                        "prev_hpos_w_extra"
-                    ]
-                );
-                let offsets: Vec<_> = members.iter().map(|m| m.offset).collect();
-                assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
-            }
-            other => panic!("VisbufVertex is {other:?}"),
-        }
+        shadercheck::assert_struct_layout(
+            &m,
+            "VisbufVertex",
+            size_of::<VisbufVertex>(),
+            &[
+                ("hpos_xy", 0),
+                ("hpos_w", 4),
+                ("uv", 8),
+                ("color", 12),
+                ("normal", 16),
+                ("tangent", 20),
+                ("prev_hpos_xy", 24),
+                ("prev_hpos_w_extra", 28),
+            ],
+        );
     }
 
     #[test]

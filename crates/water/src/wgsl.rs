@@ -93,23 +93,6 @@ mod tests {
         module
     }
 
-    /// The member names and byte offsets of a WGSL struct, and its size.
-    fn struct_layout(m: &naga::Module, name: &str) -> (Vec<String>, Vec<u32>, u32) {
-        let (_, ty) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("struct {name}"));
-        match &ty.inner {
-            naga::TypeInner::Struct { members, span } => (
-                members.iter().map(|m| m.name.clone().unwrap()).collect(),
-                members.iter().map(|m| m.offset).collect(),
-                *span,
-            ),
-            other => panic!("{name} is {other:?}"),
-        }
-    }
-
     #[test]
     fn noise() {
         use crate::noise::*;
@@ -121,22 +104,21 @@ mod tests {
                 ("WATER_NOISE_SCALE", V::F(NOISE_SCALE)),
             ],
         );
-        let (names, offsets, size) = struct_layout(&m, "WaterFbmParams");
-        assert_eq!(size as usize, size_of::<WaterFbmParams>());
-        assert_eq!(
-            names,
-            [
-                "frequency",
-                "amplitude",
-                "gain",
-                "lod_distance",
-                "octaves_near",
-                "octaves_far",
-                "slope_variance",
-                "_pad"
-            ]
+        shadercheck::assert_struct_layout(
+            &m,
+            "WaterFbmParams",
+            size_of::<WaterFbmParams>(),
+            &[
+                ("frequency", 0),
+                ("amplitude", 4),
+                ("gain", 8),
+                ("lod_distance", 12),
+                ("octaves_near", 16),
+                ("octaves_far", 20),
+                ("slope_variance", 24),
+                ("_pad", 28),
+            ],
         );
-        assert_eq!(offsets, [0, 4, 8, 12, 16, 20, 24, 28]);
     }
 
     #[test]
@@ -171,10 +153,12 @@ mod tests {
                 ("WATER_PURE_ABSORPTION_B", V::F(A.z)),
             ],
         );
-        let (names, offsets, size) = struct_layout(&m, "WaterMedium");
-        assert_eq!(size as usize, size_of::<crate::optics::WaterMedium>());
-        assert_eq!(names, ["absorption", "scattering"]);
-        assert_eq!(offsets, [0, 16]);
+        shadercheck::assert_struct_layout(
+            &m,
+            "WaterMedium",
+            size_of::<crate::optics::WaterMedium>(),
+            &[("absorption", 0), ("scattering", 16)],
+        );
         check(
             SPECAA,
             &[("WATER_SPECAA_KAPPA", V::F(crate::specaa::DEFAULT_KAPPA))],
@@ -262,27 +246,23 @@ mod tests {
                 V::F(crate::material::DEFAULT_BLEND_DISTANCE),
             )],
         );
-        let (names, offsets, size) = struct_layout(&m, "WaterMaterialGpu");
-        assert_eq!(
-            size as usize,
-            size_of::<crate::material::WaterMaterialGpu>()
+        shadercheck::assert_struct_layout(
+            &m,
+            "WaterMaterialGpu",
+            size_of::<crate::material::WaterMaterialGpu>(),
+            &[
+                ("absorption", 0),
+                ("scattering", 16),
+                ("displacement_amplitude", 32),
+                ("foam_intensity", 36),
+                ("shore_width", 40),
+                ("detail_weight", 44),
+                ("ids", 48),
+                ("foam_texture", 52),
+                ("algae_texture", 56),
+                ("_pad", 60),
+            ],
         );
-        assert_eq!(
-            names,
-            [
-                "absorption",
-                "scattering",
-                "displacement_amplitude",
-                "foam_intensity",
-                "shore_width",
-                "detail_weight",
-                "ids",
-                "foam_texture",
-                "algae_texture",
-                "_pad"
-            ]
-        );
-        assert_eq!(offsets, [0, 16, 32, 36, 40, 44, 48, 52, 56, 60]);
     }
 
     #[test]

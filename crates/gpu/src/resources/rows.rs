@@ -143,80 +143,64 @@ mod tests {
     use super::*;
     use crate::passes::LIBRARY;
 
-    /// (size, member offsets) of every struct of `module`, by name.
-    fn layouts(module: &str) -> Vec<(String, u32, Vec<u32>)> {
+    fn check(module: &str, name: &str, size: usize, members: &[(&str, usize)]) {
         let m = shadercheck::assert_composed(LIBRARY, module, &[], shadercheck::Caps::CORE);
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(m.to_ctx()).unwrap();
-        m.types
-            .iter()
-            .filter_map(|(h, t)| match &t.inner {
-                naga::TypeInner::Struct { members, .. } => Some((
-                    t.name.clone()?,
-                    layouter[h].size,
-                    members.iter().map(|m| m.offset).collect(),
-                )),
-                _ => None,
-            })
-            .collect()
+        let members: Vec<(&str, u32)> = members.iter().map(|&(n, o)| (n, o as u32)).collect();
+        shadercheck::assert_struct_layout(&m, name, size, &members);
     }
 
-    fn check(module: &str, name: &str, size: usize, offsets: &[usize]) {
-        let all = layouts(module);
-        let (_, s, o) = all
-            .iter()
-            .find(|(n, _, _)| n == name)
-            .unwrap_or_else(|| panic!("{module} has no struct {name}"));
-        assert_eq!(*s as usize, size, "{name} size");
-        let o: Vec<usize> = o.iter().map(|&x| x as usize).collect();
-        assert_eq!(o, offsets, "{name} member offsets");
+    /// A member whose WGSL name is its Rust field's name, at the Rust offset.
+    macro_rules! field {
+        ($t:ty, $f:ident) => {
+            (stringify!($f), core::mem::offset_of!($t, $f))
+        };
     }
 
     #[test]
     fn wgsl_structs_have_the_rust_layouts() {
-        use core::mem::offset_of as at;
         type F = FrameUniforms;
         check(
             "gpu::frame",
             "FrameUniforms",
             size_of::<F>(),
             &[
-                at!(F, view_proj),
-                at!(F, inv_view_proj),
-                at!(F, prev_view_proj),
-                at!(F, camera_position),
-                at!(F, origin_offset),
-                at!(F, viewport),
-                at!(F, sun_direction),
-                at!(F, sun_color),
-                at!(F, ambient),
-                at!(F, sky),
-                at!(F, point_light_count),
-                at!(F, mip_bias),
-                at!(F, frame_index),
-                at!(F, time),
+                field!(F, view_proj),
+                field!(F, inv_view_proj),
+                field!(F, prev_view_proj),
+                field!(F, camera_position),
+                field!(F, origin_offset),
+                field!(F, viewport),
+                field!(F, sun_direction),
+                field!(F, sun_color),
+                field!(F, ambient),
+                field!(F, sky),
+                field!(F, point_light_count),
+                field!(F, mip_bias),
+                field!(F, frame_index),
+                field!(F, time),
             ],
         );
         type I = GpuInstance;
+        let rows = core::mem::offset_of!(I, rows);
         check(
             "gpu::frame",
             "GpuInstance",
             size_of::<I>(),
             &[
-                at!(I, rows),
-                at!(I, rows) + 16,
-                at!(I, rows) + 32,
-                at!(I, micro_batch),
-                at!(I, instance_field),
-                at!(I, primitive_bits),
-                at!(I, material),
+                ("row0", rows),
+                ("row1", rows + 16),
+                ("row2", rows + 32),
+                field!(I, micro_batch),
+                field!(I, instance_field),
+                field!(I, primitive_bits),
+                field!(I, material),
             ],
         );
         check(
             "gpu::frame",
             "GpuPointLight",
             size_of::<GpuPointLight>(),
-            &[0, 16],
+            &[("position_radius", 0), ("color", 16)],
         );
         type V = GpuVertex;
         check(
@@ -224,11 +208,11 @@ mod tests {
             "GpuVertex",
             size_of::<V>(),
             &[
-                at!(V, position),
-                at!(V, u),
-                at!(V, normal),
-                at!(V, v),
-                at!(V, tangent),
+                field!(V, position),
+                field!(V, u),
+                field!(V, normal),
+                field!(V, v),
+                field!(V, tangent),
             ],
         );
         type M = GpuMaterial;
@@ -237,25 +221,35 @@ mod tests {
             "GpuMaterial",
             size_of::<M>(),
             &[
-                at!(M, tint),
-                at!(M, albedo_layer),
-                at!(M, alpha_cutoff),
-                at!(M, roughness),
-                at!(M, specular),
-                at!(M, shader),
+                field!(M, tint),
+                field!(M, albedo_layer),
+                field!(M, alpha_cutoff),
+                field!(M, roughness),
+                field!(M, specular),
+                field!(M, shader),
             ],
         );
         check(
             "gpu::scene",
             "GpuMesh",
             size_of::<GpuMesh>(),
-            &[0, 4, 8, 12],
+            &[
+                ("first_index", 0),
+                ("primitive_count", 4),
+                ("base_vertex", 8),
+                ("vertex_count", 12),
+            ],
         );
         check(
             "gpu::scene",
             "GpuMicroBatch",
             size_of::<GpuMicroBatch>(),
-            &[0, 4, 8, 12],
+            &[
+                ("first_instance", 0),
+                ("first_id", 4),
+                ("mesh", 8),
+                ("primitive_bits", 12),
+            ],
         );
     }
 }
