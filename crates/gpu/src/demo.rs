@@ -61,12 +61,17 @@ pub fn build(options: &DemoOptions) -> (Scene, FrameInput) {
     generate(options, true)
 }
 
-fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
-    let density = if options.density.is_finite() {
+/// The density the generators use: a non-finite or negative one makes no instances.
+fn usable_density(options: &DemoOptions) -> f32 {
+    if options.density.is_finite() {
         options.density.max(0.0)
     } else {
         0.0
-    };
+    }
+}
+
+fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
+    let density = usable_density(options);
     match options.scene {
         DemoScene::Forest => forest(options.seed, density, paint),
         DemoScene::Grass => grass(options.seed, density, paint),
@@ -122,11 +127,7 @@ fn vertex_budget() -> u64 {
 
 /// Instance vertices of the demo at `options`, counted without placing any instance.
 fn instance_vertices(options: &DemoOptions) -> u64 {
-    let d = if options.density.is_finite() {
-        options.density.max(0.0)
-    } else {
-        0.0
-    };
+    let d = usable_density(options);
     let (scene, _) = generate(
         &DemoOptions {
             density: 0.0,
@@ -185,35 +186,16 @@ fn plan_error(options: &DemoOptions) -> Option<String> {
         ));
     }
     let (scene, _) = generate(options, false);
-    let positions: Vec<Vec<[f32; 3]>> = scene
-        .batches
-        .iter()
-        .map(|b| {
-            b.instances
-                .iter()
-                .map(|t| t.translation.to_array())
-                .collect()
-        })
-        .collect();
-    let batches: Vec<tiling::Batch<'_>> = scene
-        .batches
-        .iter()
-        .zip(&positions)
-        .map(|(b, pos)| {
-            let m = &scene.meshes[b.mesh.0];
-            tiling::Batch {
-                shader: scene.materials[b.material.0].shader.id(),
-                batch_data: b.material.0 as u64,
-                geometry: tiling::Geometry {
-                    vertex_count: m.positions.len() as u32,
-                    primitive_count: m.primitive_count() as u32,
-                    first_index: 0,
-                    base_vertex: 0,
-                },
-                instances: pos,
-            }
-        })
-        .collect();
+    let positions = scene.instance_positions();
+    let batches = scene.tiling_batches(&positions, |m| {
+        let m = &scene.meshes[m];
+        tiling::Geometry {
+            vertex_count: m.positions.len() as u32,
+            primitive_count: m.primitive_count() as u32,
+            first_index: 0,
+            base_vertex: 0,
+        }
+    });
     tiling::build_plan(&batches, &tiling::PlanConfig::default())
         .err()
         .map(|e| e.to_string())
@@ -587,7 +569,7 @@ fn rock_mesh(seed: u32) -> Mesh {
 const LAYER_SIZE: u32 = 256;
 
 fn srgb(c: Vec3) -> [u8; 3] {
-    let e = crate::resources::albedo::srgb_u8;
+    let e = deferred::gbuffer::srgb8;
     [e(c.x), e(c.y), e(c.z)]
 }
 

@@ -61,6 +61,15 @@ pub enum Error {
     },
     /// Writing an image failed.
     Image(String),
+    /// A [`RendererConfig`](crate::RendererConfig) value outside its range.
+    Config {
+        /// Which value (`RendererConfig::width`).
+        field: &'static str,
+        /// What it was.
+        value: f64,
+        /// What is allowed.
+        allowed: &'static str,
+    },
 }
 
 /// A scene that cannot be rendered as given.
@@ -227,6 +236,11 @@ impl fmt::Display for Error {
                 "the device limit `{limit}` is {available}, but the request needs {needed}"
             ),
             Error::Image(s) => write!(f, "writing an image failed: {s}"),
+            Error::Config {
+                field,
+                value,
+                allowed,
+            } => write!(f, "{field} is {value}, allowed: {allowed}"),
         }
     }
 }

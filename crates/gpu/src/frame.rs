@@ -81,15 +81,9 @@ impl Camera {
     /// # Errors
     /// [`FrameError::OutOfRange`] or [`FrameError::CameraBasis`], naming the field.
     pub fn validate(&self) -> Result<(), FrameError> {
-        for (field, v) in [
-            ("camera.position", self.position),
-            ("camera.target", self.target),
-            ("camera.up", self.up),
-        ] {
-            for (k, c) in ["x", "y", "z"].into_iter().zip(v.to_array()) {
-                range(|| format!("{field}.{k}"), c, f32::MIN, f32::MAX, "finite")?;
-            }
-        }
+        finite3("camera.position", self.position)?;
+        finite3("camera.target", self.target)?;
+        finite3("camera.up", self.up)?;
         range(
             || "camera.fov_y".into(),
             self.fov_y,
@@ -177,18 +171,7 @@ impl Lighting {
             }
             Ok(())
         };
-        for (k, c) in ["x", "y", "z"]
-            .into_iter()
-            .zip(self.sun_direction.to_array())
-        {
-            range(
-                || format!("lighting.sun_direction.{k}"),
-                c,
-                f32::MIN,
-                f32::MAX,
-                "finite",
-            )?;
-        }
+        finite3("lighting.sun_direction", self.sun_direction)?;
         if self.sun_direction.length_squared() < 1e-12 {
             return Err(FrameError::OutOfRange {
                 field: "lighting.sun_direction".into(),
@@ -206,15 +189,7 @@ impl Lighting {
             });
         }
         for (i, l) in self.point_lights.iter().enumerate() {
-            for (k, c) in ["x", "y", "z"].into_iter().zip(l.position.to_array()) {
-                range(
-                    || format!("lighting.point_lights[{i}].position.{k}"),
-                    c,
-                    f32::MIN,
-                    f32::MAX,
-                    "finite",
-                )?;
-            }
+            finite3(&format!("lighting.point_lights[{i}].position"), l.position)?;
             colour(&format!("lighting.point_lights[{i}].color"), l.color)?;
             range(
                 || format!("lighting.point_lights[{i}].radius"),
@@ -266,6 +241,14 @@ impl FrameInput {
         )?;
         self.lighting.validate()
     }
+}
+
+/// Checks that every component of `v` is finite (`{field}.x`, `.y`, `.z` in the error).
+fn finite3(field: &str, v: Vec3) -> Result<(), FrameError> {
+    for (k, c) in ["x", "y", "z"].into_iter().zip(v.to_array()) {
+        range(|| format!("{field}.{k}"), c, f32::MIN, f32::MAX, "finite")?;
+    }
+    Ok(())
 }
 
 fn range(

@@ -85,7 +85,7 @@ pub(crate) fn color_targets() -> Vec<Option<wgpu::ColorTargetState>> {
         .collect()
 }
 
-/// The G-buffer's texture views as bind-group resources, named `{prefix}0..3`.
+/// The G-buffer's texture views RT0..RT3 as bind-group resources of `bindings`, by name.
 pub(crate) fn resources<'a>(
     bindings: &'a [Binding; 4],
     views: &'a [wgpu::TextureView],

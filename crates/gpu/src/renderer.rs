@@ -61,6 +61,37 @@ pub struct RendererConfig {
     pub mip_bias: f32,
 }
 
+impl RendererConfig {
+    /// Checks the image size and the mip bias (the device's limits are checked by
+    /// [`Renderer::new`]).
+    ///
+    /// # Errors
+    /// [`Error::Config`] naming the field and its allowed range.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, value: f64, allowed: &'static str| {
+            Err(Error::Config {
+                field,
+                value,
+                allowed,
+            })
+        };
+        if self.width == 0 {
+            return bad("RendererConfig::width", 0.0, "at least 1 pixel");
+        }
+        if self.height == 0 {
+            return bad("RendererConfig::height", 0.0, "at least 1 pixel");
+        }
+        if self.mip_bias.is_nan() || self.mip_bias.abs() > 16.0 {
+            return bad(
+                "RendererConfig::mip_bias",
+                f64::from(self.mip_bias),
+                "[-16, 16] (log2 units)",
+            );
+        }
+        Ok(())
+    }
+}
+
 impl Default for RendererConfig {
     fn default() -> Self {
         Self {
@@ -172,24 +203,11 @@ impl Renderer {
     /// paths.
     ///
     /// # Errors
-    /// A zero or over-limit image size, a mip bias outside [-16, 16] or not finite, a limit
-    /// of [`Renderer::required_limits`] the device lacks ([`Error::DeviceLimit`] names it),
-    /// or a forced primitive-ID path whose feature the device lacks.
+    /// A zero image size or a mip bias outside [-16, 16] ([`Error::Config`]), a limit of
+    /// [`Renderer::required_limits`] the device lacks ([`Error::DeviceLimit`] names it), or
+    /// a forced primitive-ID path whose feature the device lacks.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, config: RendererConfig) -> Result<Self> {
-        if config.width == 0 || config.height == 0 {
-            return Err(Error::DeviceLimit {
-                limit: "image size (width and height must be at least 1)",
-                needed: 1,
-                available: 0,
-            });
-        }
-        if config.mip_bias.is_nan() || config.mip_bias.abs() > 16.0 {
-            return Err(Error::Frame(crate::error::FrameError::OutOfRange {
-                field: "RendererConfig::mip_bias".into(),
-                value: config.mip_bias,
-                allowed: "[-16, 16]",
-            }));
-        }
+        config.validate()?;
         check_limits(&Self::required_limits(&config), &device.limits())?;
         let mut paths = ActivePaths::for_device(device.features(), &device.adapter_info());
         if let Some(p) = config.primitive_id {
@@ -327,7 +345,11 @@ impl Renderer {
             previous,
         );
         let rows = point_light_rows(&frame.lighting, origin);
-        if self.uploaded_lights.as_ref() != Some(&(scene.id, rows.clone())) {
+        let unchanged = self
+            .uploaded_lights
+            .as_ref()
+            .is_some_and(|(id, uploaded)| *id == scene.id && *uploaded == rows);
+        if !unchanged {
             let capacity = (self.point_lights.size() / size_of::<GpuPointLight>() as u64) as usize;
             if rows.len() > capacity {
                 self.point_lights = light_buffer(&self.device, rows.len().next_power_of_two());
@@ -587,82 +609,18 @@ fn light_buffer(device: &wgpu::Device, rows: usize) -> wgpu::Buffer {
     })
 }
 
-/// Every limit of `needed` that `available` falls short of, as an error naming the first.
+/// The first limit of `needed` that `available` falls short of (wgpu's own comparison of
+/// every limit), as an error naming it.
 fn check_limits(needed: &wgpu::Limits, available: &wgpu::Limits) -> Result<()> {
-    let checks: [(&'static str, u64, u64); 12] = [
-        (
-            "max_storage_buffers_per_shader_stage",
-            needed.max_storage_buffers_per_shader_stage.into(),
-            available.max_storage_buffers_per_shader_stage.into(),
-        ),
-        (
-            "max_storage_textures_per_shader_stage",
-            needed.max_storage_textures_per_shader_stage.into(),
-            available.max_storage_textures_per_shader_stage.into(),
-        ),
-        (
-            "max_sampled_textures_per_shader_stage",
-            needed.max_sampled_textures_per_shader_stage.into(),
-            available.max_sampled_textures_per_shader_stage.into(),
-        ),
-        (
-            "max_samplers_per_shader_stage",
-            needed.max_samplers_per_shader_stage.into(),
-            available.max_samplers_per_shader_stage.into(),
-        ),
-        (
-            "max_uniform_buffers_per_shader_stage",
-            needed.max_uniform_buffers_per_shader_stage.into(),
-            available.max_uniform_buffers_per_shader_stage.into(),
-        ),
-        (
-            "max_dynamic_uniform_buffers_per_pipeline_layout",
-            needed
-                .max_dynamic_uniform_buffers_per_pipeline_layout
-                .into(),
-            available
-                .max_dynamic_uniform_buffers_per_pipeline_layout
-                .into(),
-        ),
-        (
-            "max_bind_groups",
-            needed.max_bind_groups.into(),
-            available.max_bind_groups.into(),
-        ),
-        (
-            "max_bindings_per_bind_group",
-            needed.max_bindings_per_bind_group.into(),
-            available.max_bindings_per_bind_group.into(),
-        ),
-        (
-            "max_compute_invocations_per_workgroup",
-            needed.max_compute_invocations_per_workgroup.into(),
-            available.max_compute_invocations_per_workgroup.into(),
-        ),
-        (
-            "max_texture_dimension_2d",
-            needed.max_texture_dimension_2d.into(),
-            available.max_texture_dimension_2d.into(),
-        ),
-        (
-            "max_storage_buffer_binding_size",
-            needed.max_storage_buffer_binding_size,
-            available.max_storage_buffer_binding_size,
-        ),
-        (
-            "max_buffer_size",
-            needed.max_buffer_size,
-            available.max_buffer_size,
-        ),
-    ];
-    match checks.into_iter().find(|&(_, n, a)| a < n) {
-        Some((limit, needed, available)) => Err(Error::DeviceLimit {
+    let mut first = None;
+    needed.check_limits_with_fail_fn(available, true, |limit, needed, available| {
+        first = Some(Error::DeviceLimit {
             limit,
             needed,
             available,
-        }),
-        None => Ok(()),
-    }
+        });
+    });
+    first.map_or(Ok(()), Err)
 }
 
 #[cfg(test)]

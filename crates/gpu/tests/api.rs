@@ -263,16 +263,40 @@ fn renderer_misuse_is_an_error() {
         Err(Error::Length { .. })
     ));
     let c = ctx();
-    for bad in [
-        RendererConfig {
-            width: 0,
-            ..RendererConfig::default()
-        },
-        RendererConfig {
-            mip_bias: f32::NAN,
-            ..RendererConfig::default()
-        },
+    for (bad, name) in [
+        (
+            RendererConfig {
+                width: 0,
+                ..RendererConfig::default()
+            },
+            "RendererConfig::width",
+        ),
+        (
+            RendererConfig {
+                height: 0,
+                ..RendererConfig::default()
+            },
+            "RendererConfig::height",
+        ),
+        (
+            RendererConfig {
+                mip_bias: f32::NAN,
+                ..RendererConfig::default()
+            },
+            "RendererConfig::mip_bias",
+        ),
+        (
+            RendererConfig {
+                mip_bias: -17.0,
+                ..RendererConfig::default()
+            },
+            "RendererConfig::mip_bias",
+        ),
     ] {
-        assert!(Renderer::new(&c.device, &c.queue, bad).is_err());
+        match Renderer::new(&c.device, &c.queue, bad) {
+            Err(Error::Config { field, .. }) => assert_eq!(field, name),
+            Err(e) => panic!("{name}: {e}"),
+            Ok(_) => panic!("{name}: accepted"),
+        }
     }
 }

@@ -3,11 +3,10 @@
 //! the device tests both go through here, so a pass is bound and run one way.
 
 use std::format;
-use std::string::String;
 use std::vec::Vec;
 
 use crate::compose::Error;
-use crate::pass::{Dim, Entry, Format, Group, Kind, Pass, Sample, Stage};
+use crate::pass::{Dim, Entry, Format, Group, Kind, Pass, Sample, Size, Stage};
 
 /// wgpu's texture format for a storage texel format.
 #[must_use]
@@ -222,7 +221,8 @@ pub struct ComputePass<P: 'static> {
     pub layouts: Layouts,
     /// One pipeline per entry point, in the description's order.
     pub steps: Vec<ComputeStep<P>>,
-    constants: Vec<(String, f64)>,
+    /// The values of the `override`s that size workgroups (by the description's names).
+    size_overrides: Vec<(&'static str, f64)>,
 }
 
 impl<P> ComputePass<P> {
@@ -263,11 +263,27 @@ impl<P> ComputePass<P> {
                 }),
             })
             .collect();
+        let size_overrides = pass
+            .entries
+            .iter()
+            .filter_map(|e| match e.stage {
+                Stage::Compute(size) => Some(size),
+                _ => None,
+            })
+            .flatten()
+            .filter_map(|s| match s {
+                Size::Override(name) => constants
+                    .iter()
+                    .find(|(k, _)| *k == name)
+                    .map(|&(_, v)| (name, v)),
+                Size::Fixed(_) => None,
+            })
+            .collect();
         Ok(Self {
             pass,
             layouts,
             steps,
-            constants: constants.iter().map(|&(k, v)| (k.into(), v)).collect(),
+            size_overrides,
         })
     }
 
@@ -289,24 +305,27 @@ impl<P> ComputePass<P> {
     /// # Errors
     /// [`Error::UnknownName`].
     pub fn step(&self, name: &str) -> Result<&ComputeStep<P>, Error> {
+        Ok(&self.steps[self.step_index(name)?])
+    }
+
+    /// The workgroup counts of `step` with `params` (`None` for indirect entry points).
+    pub fn workgroups(&self, step: &ComputeStep<P>, params: &P) -> Option<[u32; 3]> {
+        step.entry.workgroups(params, &self.size_overrides)
+    }
+
+    /// The index in [`ComputePass::steps`] of the entry point named `name`.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`].
+    pub fn step_index(&self, name: &str) -> Result<usize, Error> {
         self.steps
             .iter()
-            .find(|s| s.entry.name == name)
+            .position(|s| s.entry.name == name)
             .ok_or_else(|| Error::UnknownName {
                 pass: self.pass.name,
                 what: "entry point",
                 name: name.into(),
             })
-    }
-
-    /// The workgroup counts of `step` with `params` (`None` for indirect entry points).
-    pub fn workgroups(&self, step: &ComputeStep<P>, params: &P) -> Option<[u32; 3]> {
-        let constants: Vec<(&str, f64)> = self
-            .constants
-            .iter()
-            .map(|(k, v)| (k.as_str(), *v))
-            .collect();
-        step.entry.workgroups(params, &constants)
     }
 
     /// Records every directly dispatched entry point, in order, with `groups[i]` bound as

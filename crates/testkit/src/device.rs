@@ -67,10 +67,6 @@ fn buffer(bytes: &[u8], min: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
 
 /// The whole of `b` (which needs `COPY_SRC`), after the GPU finished its work.
 pub fn read_bytes(b: &wgpu::Buffer) -> Vec<u8> {
-    read(b)
-}
-
-fn read(b: &wgpu::Buffer) -> Vec<u8> {
     let c = ctx();
     gpu::read_buffer(&c.device, &c.queue, b, 0, b.size()).unwrap_or_else(|e| panic!("{e}"))
 }
@@ -106,7 +102,7 @@ impl PassBuffers {
             .buffers
             .get(name)
             .unwrap_or_else(|| panic!("pass `{}` has no buffer `{name}`", self.pass));
-        let bytes = read(b);
+        let bytes = read_bytes(b);
         let n = len * size_of::<T>();
         assert!(
             n <= bytes.len(),
@@ -324,7 +320,7 @@ pub fn run_kernel(
     });
     buffers
         .iter()
-        .map(|b| bytemuck::pod_collect_to_vec(&read(b)))
+        .map(|b| bytemuck::pod_collect_to_vec(&read_bytes(b)))
         .collect()
 }
 

@@ -192,10 +192,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_module_composes_and_every_name_is_the_file_name() {
+    fn every_module_composes_with_its_imports() {
         for m in MODULES {
-            let file = m.name.strip_prefix("gpu::").unwrap();
-            assert!(!file.is_empty());
             shader::compose(LIBRARY, m.name, &[]).unwrap_or_else(|e| panic!("{e}"));
         }
     }

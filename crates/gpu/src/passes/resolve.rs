@@ -97,17 +97,9 @@ impl Resolve {
             &[],
             &[("RESOLVE_WAVE_WIDTH", f64::from(wave_width))],
         )?;
-        let index = |name: &str| -> Result<usize> {
-            let step = pass.step(name)?;
-            Ok(pass
-                .steps
-                .iter()
-                .position(|s| std::ptr::eq(s, step))
-                .unwrap_or_default())
-        };
         Ok(Self {
-            waves: index("resolve_waves")?,
-            full_screen: index("resolve_fullscreen")?,
+            waves: pass.step_index("resolve_waves")?,
+            full_screen: pass.step_index("resolve_fullscreen")?,
             pass,
         })
     }

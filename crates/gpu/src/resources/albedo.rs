@@ -5,24 +5,11 @@ use glam::Vec3;
 
 use crate::scene::AlbedoLayer;
 
-/// The sRGB 8-bit code of a linear value in [0, 1] (`deferred`'s transfer, rounded half
-/// up).
-pub(crate) fn srgb_u8(x: f32) -> u8 {
-    (deferred::gbuffer::srgb_encode(x) * 255.0 + 0.5) as u8
-}
-
 /// Mip chain of one layer, box-filtered in linear space for colour; alpha is filtered and
 /// then rescaled so the fraction of texels passing the cutoff 0.5 stays that of the top
 /// level (foliage does not thin out with distance).
 pub(crate) fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
-    let to_lin = |c: u8| {
-        let s = f32::from(c) / 255.0;
-        if s <= 0.040_45 {
-            s / 12.92
-        } else {
-            ((s + 0.055) / 1.055).powf(2.4)
-        }
-    };
+    use deferred::gbuffer::{srgb8, srgb8_value};
     let coverage =
         |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len().max(1) as f32;
     let top_cov = coverage(&layer.texels);
@@ -40,15 +27,15 @@ pub(crate) fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
                 for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                     let p = prev[(2 * y + dy) * size + 2 * x + dx];
                     let w = f32::from(p[3]) / 255.0 + 1e-3;
-                    c += Vec3::new(to_lin(p[0]), to_lin(p[1]), to_lin(p[2])) * w;
+                    c += Vec3::new(srgb8_value(p[0]), srgb8_value(p[1]), srgb8_value(p[2])) * w;
                     wsum += w;
                     a += f32::from(p[3]) / 255.0;
                 }
                 let c = c / wsum;
                 next.push([
-                    srgb_u8(c.x),
-                    srgb_u8(c.y),
-                    srgb_u8(c.z),
+                    srgb8(c.x),
+                    srgb8(c.y),
+                    srgb8(c.z),
                     (a / 4.0 * 255.0 + 0.5) as u8,
                 ]);
             }

@@ -6,8 +6,6 @@
 //! every vertex a payload so the XOR of a triangle's three is its ID. Indices are 32-bit
 //! because an encoded mesh may grow past 65 536 vertices (the source mesh may not).
 
-use glam::Vec2;
-
 use super::rows::{GpuMesh, GpuVertex};
 use crate::context::PrimitiveIdPath;
 use crate::error::SceneError;
@@ -31,14 +29,14 @@ pub(crate) struct Geometry {
 }
 
 impl Geometry {
-    /// Encodes every mesh of `meshes` for `path`.
+    /// Encodes every mesh of `meshes` (validated already: [`Scene::validate`](crate::Scene::validate))
+    /// for `path`.
     pub(crate) fn build(meshes: &[Mesh], path: PrimitiveIdPath) -> Result<Self, SceneError> {
         let mut g = Geometry {
             path: Some(path),
             ..Geometry::default()
         };
         for mesh in meshes {
-            mesh.validate()?;
             let vertex_count = mesh.positions.len() as u32;
             let encoded = match path {
                 PrimitiveIdPath::Builtin => None,
@@ -57,7 +55,7 @@ impl Geometry {
                     position: mesh.positions[i].to_array(),
                     u: mesh.uvs[i].x,
                     normal: mesh.normals[i].to_array(),
-                    v: mesh.uvs.get(i).map_or(Vec2::ZERO, |uv| *uv).y,
+                    v: mesh.uvs[i].y,
                     tangent: mesh.tangents[i].to_array(),
                 })
                 .collect();

@@ -30,8 +30,14 @@ pub(crate) fn buffer_init(
     usage: wgpu::BufferUsages,
 ) -> wgpu::Buffer {
     let size = (data.len() as u64).max(min_size).max(4).next_multiple_of(4) as usize;
-    let mut contents = data.to_vec();
-    contents.resize(size, 0);
+    // Copied only when it needs padding (a scene's vertex and instance tables do not).
+    let contents: std::borrow::Cow<'_, [u8]> = if data.len() == size {
+        data.into()
+    } else {
+        let mut padded = data.to_vec();
+        padded.resize(size, 0);
+        padded.into()
+    };
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
         contents: &contents,
