@@ -4,8 +4,7 @@
 //! The tables themselves are in `tables/generated.rs`, written by their generator
 //! `crates/deferred/tests/tables.rs` (`DEFERRED_REGENERATE=1 cargo test -p deferred --test
 //! tables`), which also fails when the committed file differs from what it generates.
-//! Every entry is the f64 formula rounded to f32; `tests::tables_match_their_formulas`
-//! below checks the compiled values against the formulas once more.
+//! Every entry is the f64 formula rounded to f32; the formulas live in the generator only.
 
 mod generated;
 
@@ -30,32 +29,10 @@ pub(crate) fn count_at_or_below(table: &[f32; 255], x: f32) -> u8 {
 mod tests {
     use super::*;
 
-    fn srgb_decode(v: f64) -> f64 {
-        if v <= 0.04045 {
-            v / 12.92
-        } else {
-            ((v + 0.055) / 1.055).powf(2.4)
-        }
-    }
-
     #[test]
-    fn tables_match_their_formulas() {
-        for k in 0..256 {
-            let kf = k as f64;
-            if k < 255 {
-                assert_eq!(
-                    SRGB_ENCODE_THRESHOLDS[k],
-                    srgb_decode((kf + 0.5) / 255.0) as f32
-                );
-                assert_eq!(
-                    SPEC_POWER_THRESHOLDS[k],
-                    (2f64.powf((kf + 0.5) / 255.0 * 13.0) - 1.0) as f32
-                );
-            }
-            assert_eq!(SRGB_DECODE[k], srgb_decode(kf / 255.0) as f32);
-            let p = 2f64.powf(kf / 255.0 * 13.0) - 1.0;
-            assert_eq!(KZ2_ROUGHNESS[k], (2.0 / (p + 2.0)).powf(0.25) as f32, "{k}");
-        }
+    fn encode_thresholds_ascend() {
+        // `count_at_or_below` needs strictly ascending tables; the values themselves are
+        // pinned by the generator's test (`tests/tables.rs`).
         assert!(SRGB_ENCODE_THRESHOLDS.windows(2).all(|w| w[0] < w[1]));
         assert!(SPEC_POWER_THRESHOLDS.windows(2).all(|w| w[0] < w[1]));
     }

@@ -30,13 +30,14 @@ mod tests {
     use crate::normal::*;
     use shadercheck::{Caps, const_f32, const_u32};
 
-    fn assert_valid(_: &str, m: Module, caps: Caps) -> naga::Module {
-        shadercheck::assert_composed(&[MODULES], m.name, &[], caps)
+    /// `m` composed with its imports and validated with `Caps::CORE`.
+    fn composed(m: Module) -> naga::Module {
+        shadercheck::assert_composed(&[MODULES], m.name, &[], Caps::CORE)
     }
 
     #[test]
     fn gbuffer_wgsl_constants_match_rust() {
-        let m = assert_valid("", GBUFFER, Caps::CORE);
+        let m = composed(GBUFFER);
         let u = [
             ("DEFERRED_OCT_BITS", OCT_BITS),
             ("DEFERRED_OCT_AXIS_MASK", OCT_AXIS_MASK),
@@ -88,7 +89,7 @@ mod tests {
     #[test]
     fn lights_and_shadow_wgsl_match_rust() {
         use crate::lights::*;
-        let m = assert_valid("", LIGHTS, Caps::CORE);
+        let m = composed(LIGHTS);
         for (name, value) in [
             ("DEFERRED_TILE_SIZE", TILE_SIZE),
             ("DEFERRED_MAX_LIGHTS_PER_TILE", MAX_LIGHTS_PER_TILE),
@@ -116,7 +117,7 @@ mod tests {
             size_of::<DeferredTileDepth>(),
             &[("nearest", 0), ("farthest", 4)],
         );
-        let m = assert_valid("", SHADOW, Caps::CORE);
+        let m = composed(SHADOW);
         shadercheck::assert_struct_layout(
             &m,
             "DeferredCascade",
@@ -139,7 +140,7 @@ mod tests {
 
     #[test]
     fn depth_wgsl_struct_matches_rust() {
-        let m = assert_valid("", DEPTH, Caps::CORE);
+        let m = composed(DEPTH);
         shadercheck::assert_struct_layout(
             &m,
             "DeferredProjection",
@@ -156,7 +157,7 @@ mod tests {
     #[test]
     fn modules_are_binding_free_prefixed_and_compose_together() {
         for m in MODULES {
-            let module = assert_valid(m.name, *m, Caps::CORE);
+            let module = composed(*m);
             shadercheck::assert_prefixed(m.name, &module, "deferred", &[], true);
         }
         assert_eq!(LIGHTS.imports(&[]).unwrap(), ["deferred::depth"]);

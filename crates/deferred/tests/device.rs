@@ -6,7 +6,7 @@
 //! the precise normal encoder choosing between two codes at a near-tie) the tests allow
 //! exactly that and count it; everything else must match bit for bit.
 
-use deferred::lights::{TILE_SIZE, TileFrustum, tile_counts};
+use deferred::lights::{TileFrustum, tile_counts};
 use deferred::normal::oct_decode;
 use deferred::{
     DeferredLight, DeferredTileDepth, DepthMode, Kz2Texels, OctTexels, Perspective, Surface,
@@ -386,8 +386,13 @@ fn light_tile_test_matches_the_cpu() {
     output[i * 2u] = mask.x;
     output[i * 2u + 1u] = mask.y;"
     );
-    let prelude = "#import deferred::lights".to_string();
-    let out = run(&prelude, &body, &input, tiles.len() as u32, 2);
+    let out = run(
+        "#import deferred::lights",
+        &body,
+        &input,
+        tiles.len() as u32,
+        2,
+    );
     let (mut differ, mut pairs) = (0, 0);
     for (i, (x, y, d)) in tiles.iter().enumerate() {
         let f = TileFrustum::new(&proj, *x, *y, *d);
@@ -406,5 +411,4 @@ fn light_tile_test_matches_the_cpu() {
     assert!(pairs > 100);
     // Only tangent cases may flip with the device's rounding.
     assert!(differ * 10_000 <= tiles.len() * lights.len(), "{differ}");
-    let _ = TILE_SIZE;
 }

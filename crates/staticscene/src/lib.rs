@@ -1,11 +1,11 @@
 //! Horizon Zero Dawn's static-scene visibility query (Will Vale, "Decima: Visibility in
-//! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of a GPU
-//! compute pass: the same packed buffers in, the same batched draw items out. The records
-//! and per-thread tests have a WGSL twin ([`wgsl::QUERY`]); the query is designed to
-//! feed the `gpu` crate's laydown but is not wired into `gpu` yet (its `prepare` takes
-//! every instance of the scene). For 0.5-1.5M static instances: immutable tiles built on the streaming
-//! thread, clusters pre-culled on the CPU, one compute job per visible cluster, one thread
-//! per 16-byte instance.
+//! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of a planned
+//! GPU compute pass: the same packed buffers in, the same batched draw items out. The
+//! records and per-thread tests have a WGSL twin ([`wgsl::QUERY`]); the query is designed
+//! to feed the `gpu` crate's laydown but is not wired into `gpu` yet (its `prepare` takes
+//! every instance of the scene). For 0.5-1.5M static instances: immutable tiles built on
+//! the streaming thread, clusters pre-culled on the CPU, one compute job per visible
+//! cluster, one thread per 16-byte instance.
 //!
 //! - [`records`]: the tile's GPU records with their bit tables: [`QueryInstance`] (16 B:
 //!   filter, flags, setup/object/bounds/matrix indices, parent and child 12-bit LOD

@@ -714,7 +714,7 @@ impl HalfAabb {
         for i in 0..3 {
             let (lo, hi) = (min[i], max[i]);
             for v in [lo, hi] {
-                if !v.is_finite() || v.abs() > f16::MAX.to_f32() {
+                if !v.is_finite() || v.abs() > f16::MAX.to_f32_const() {
                     return Err(Error::FloatOutOfRange {
                         field: Field::HalfBounds,
                         value: f64::from(v),

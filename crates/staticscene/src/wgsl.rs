@@ -206,27 +206,6 @@ mod tests {
         );
     }
 
-    /// `staticscene_f16`'s arithmetic, transcribed, against `half` for every finite
-    /// pattern. This checks the formula only: the WGSL itself is validated by naga but
-    /// runs on no device yet (there is no query pass).
-    #[test]
-    fn wgsl_f16_formula_is_exact() {
-        for h in 0..=u16::MAX {
-            let want = half::f16::from_bits(h);
-            if !want.is_finite() {
-                continue;
-            }
-            let h = u32::from(h);
-            let sign = (h & 0x8000) << 16;
-            let e = (h >> 10) & 0x1f;
-            let m = h & 0x3ff;
-            let normal = f32::from_bits(sign | (((h & 0x7fff) + 0x1c000) << 13));
-            let sub = if sign != 0 { -1.0 } else { 1.0 } * m as f32 * 5.960_464_5e-8;
-            let got = if e == 0 { sub } else { normal };
-            assert_eq!(got, want.to_f32(), "{h:#x}");
-        }
-    }
-
     #[test]
     fn modules_are_binding_free_and_prefixed() {
         for m in MODULES {

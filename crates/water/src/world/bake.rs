@@ -227,7 +227,7 @@ fn check_river(i: usize, river: &River) -> Result<(), Error> {
             && p.depth >= 0.0
             && p.speed.is_finite()
             // The flow is stored as f16 (`pack2x16float`).
-            && p.speed.abs() <= f16::MAX.to_f32();
+            && p.speed.abs() <= f16::MAX.to_f32_const();
         if !ok {
             return Err(bad(
                 "a point has a non-finite or out-of-range position, width, depth or speed",
