@@ -1,6 +1,17 @@
 //! The `render` binary's arguments and run: every value is checked before anything is
 //! built (an image size within the device's, a frame count of at least one, a density
 //! that is finite, above zero and within the talk's limits), so no input panics.
+//!
+//! ```no_run
+//! use clap::Parser as _;
+//!
+//! // What `scripts/demo --scene forest --width 320 --height 180 --frames 1` runs.
+//! let args = render::Args::parse_from([
+//!     "render", "--scene", "forest", "--width", "320", "--height", "180", "--frames", "1",
+//! ]);
+//! render::run(&args)?; // writes out/forest_*.png and prints the statistics
+//! # Ok::<(), anyhow::Error>(())
+//! ```
 
 use std::path::PathBuf;
 

@@ -32,8 +32,8 @@
 //! - [`output`]: the batched output, [`DrawableSetupInstance`] (64 B, or 112 B with the
 //!   previous transform) and [`DrawableSetupBatch`] (48 B).
 //! - [`wgsl`]: `staticscene::query` ([`wgsl::QUERY`]), the WGSL twin of the records and
-//!   the per-thread tests, validated by naga (no pass runs it on a device yet), its
-//!   constants and struct layouts tied to the Rust ones.
+//!   the per-thread tests, validated by naga, its constants and struct layouts tied to
+//!   the Rust ones; no pass dispatches it yet (`tests/device.rs` runs its f16 decode).
 //! - [`baseline`]: the benches' flat loop (no tiles, clusters or packing).
 //! - [`demo`]: a procedural city (1.5M instances for the benches) and a box rasteriser
 //!   for depth buffers.
