@@ -19,8 +19,9 @@ use shader::Module;
 /// | `MORTON_MASK2_X_U32`, `MORTON_MASK2_Y_U32`, `MORTON_MASK3_{X,Y,Z}_U32` | [`crate::MASK2_X_U32`], ..., [`crate::MASK3_Z_U32`] |
 ///
 /// WGSL has no 64-bit integers in core, so the u64 codes stay on the CPU. Validated by naga
-/// in this crate's unit tests (core capabilities only); `crates/morton/tests/device.rs`
-/// runs it on testkit's device against the CPU functions.
+/// (core capabilities only) with its constants and names checked in
+/// `crates/morton/tests/wgsl.rs`; `crates/morton/tests/device.rs` runs it on testkit's
+/// device against the CPU functions.
 pub const CODES: Module = Module::new("morton::codes", include_str!("wgsl/codes.wgsl"));
 
 /// This crate's modules.

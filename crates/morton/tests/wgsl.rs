@@ -20,14 +20,15 @@ fn wgsl_is_valid_and_constants_match() {
 }
 
 #[test]
-fn every_function_is_prefixed() {
+fn every_item_is_prefixed_and_the_twins_exist() {
     let module = module();
-    let mut names = Vec::new();
-    for (_, f) in module.functions.iter() {
-        let name = f.name.clone().unwrap_or_default();
-        assert!(name.starts_with("morton_"), "{name}");
-        names.push(name);
-    }
+    // Functions `morton_`, constants `MORTON_`, no bindings, no entry points.
+    shadercheck::assert_prefixed("morton::codes", &module, "morton", &[], true);
+    // No module-scope variables of any kind (functions and constants only).
+    assert!(
+        module.global_variables.is_empty(),
+        "no module-scope variables"
+    );
     for want in [
         "morton_encode2_u32",
         "morton_decode2_u32",
@@ -36,11 +37,12 @@ fn every_function_is_prefixed() {
         "morton_quantize3",
         "morton_key3_u32",
     ] {
-        assert!(names.iter().any(|n| n == want), "{want} missing");
+        assert!(
+            module
+                .functions
+                .iter()
+                .any(|(_, f)| f.name.as_deref() == Some(want)),
+            "{want} missing"
+        );
     }
-    for name in shadercheck::const_names(&module) {
-        assert!(name.starts_with("MORTON_"), "{name}");
-    }
-    assert!(module.entry_points.is_empty());
-    assert!(module.global_variables.is_empty(), "no bindings");
 }

@@ -91,8 +91,9 @@ pub const QUAD_INDEX_MASK: u32 = 0xfff;
 /// Bit position of the 4-bit pixel mask in a quad command.
 pub const QUAD_PIXELS_SHIFT: u32 = 12;
 /// Most workgroups in one dimension of a dispatch (WebGPU's default
-/// `max_compute_workgroups_per_dimension`): larger wave counts spill into `y`.
-pub const MAX_DISPATCH_X: u32 = 65_535;
+/// `max_compute_workgroups_per_dimension`, [`shader::MAX_WORKGROUPS_X`]): larger wave
+/// counts spill into `y`.
+pub const MAX_DISPATCH_X: u32 = shader::MAX_WORKGROUPS_X;
 /// Largest vis-buffer width or height.
 pub const MAX_DIMENSION: u32 = 32_768;
 

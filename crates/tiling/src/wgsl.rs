@@ -80,13 +80,13 @@ pub const MODULES: &[Module] = &[
 /// Every module list a tiling pass may import from.
 pub const LIBRARY: &[&[Module]] = &[visbuf::wgsl::MODULES, wave::wgsl::MODULES, MODULES];
 
-/// The validity bitmask of [`FLAG_VALIDITY`](crate::classify::FLAG_VALIDITY): bind any
-/// non-empty buffer without the flag.
+/// Bindings 0-3 of every classification phase: `tiling::pixel`'s.
 const PIXEL_BINDINGS: [Binding; 4] = [
     Binding::new("params", Kind::uniform(size_of::<TilingParams>())),
     // width * height vis words, row-major.
     Binding::new("vis", Kind::read(4)),
-    // Bit i % 32 of word i / 32 for pixel i; read only with FLAG_VALIDITY.
+    // The validity bitmask of FLAG_VALIDITY: bit i % 32 of word i / 32 for pixel i, read
+    // only with the flag (bind any non-empty buffer without it).
     Binding::new("valid", Kind::read(4)),
     Binding::new("table", Kind::read(size_of::<MicroBatchInfo>())),
 ];
@@ -99,6 +99,11 @@ const KEYED_BINDINGS: [Binding; 6] = join(
         Binding::new("counter_offsets", Kind::read_write(4)),
     ],
 );
+
+/// Invocations per workgroup of every [`Entry::items`] entry point (WGSL
+/// `TILING_ITEMS_WORKGROUP_SIZE`, which those entry points' `@workgroup_size` and item
+/// index `tiling_item_index` use).
+const ITEMS_WORKGROUP_SIZE: u32 = 64;
 
 /// Dispatch over the vis buffer, one invocation per pixel.
 fn pixels(p: &TilingParams) -> [u32; 2] {
@@ -186,7 +191,8 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// | binding | buffer | element |
 /// | --- | --- | --- |
 /// | `params`, `vis`, `valid`, `table` | as phase 1 | |
-/// | `masks`, `counter_offsets`, `counts`, `pixel_offsets` | phase 2's (read) | `u32` |
+/// | `masks`, `counts`, `pixel_offsets` | phase 2's (read) | `u32` |
+/// | `counter_offsets` | phase 2's (bound `read_write`, shared with phase 2 through `tiling::keyed`; only read here) | `u32` |
 /// | `final_counts` | per counter: commands written, zeroed | `atomic<u32>` |
 /// | `commands` | `ceil(command_count / 2)`, command `i` in bits `16 (i % 2)..` of word `i / 2`, zeroed | `atomic<u32>` |
 /// | `wave_offsets` | per counter: first wave command | `u32` |
@@ -224,7 +230,9 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     entries: &[
         per_pixel("write_commands"),
         Entry::once("wave_offsets_pass", 256),
-        Entry::items("write_waves", 64, |p| p.tiles_x * p.tiles_y * p.pass_count),
+        Entry::items("write_waves", ITEMS_WORKGROUP_SIZE, |p| {
+            p.tiles_x * p.tiles_y * p.pass_count
+        }),
     ],
     zeroed: &["final_counts", "commands", "stats"],
 };
@@ -276,12 +284,16 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
         ],
     }],
     entries: &[
-        Entry::items("uber_chunks", 64, |p| p.uber_count),
+        Entry::items("uber_chunks", ITEMS_WORKGROUP_SIZE, |p| p.uber_count),
         Entry::once("build_pyramid", 256),
-        Entry::items("micro_batch_deltas", 64, |p| p.micro_batch_count),
+        Entry::items("micro_batch_deltas", ITEMS_WORKGROUP_SIZE, |p| {
+            p.micro_batch_count
+        }),
         Entry::once("scan_deltas", 256),
-        Entry::items("write_vertex_commands", 64, |p| p.chunk_count),
-        Entry::items("pass_args", 64, |p| p.pass_count),
+        Entry::items("write_vertex_commands", ITEMS_WORKGROUP_SIZE, |p| {
+            p.chunk_count
+        }),
+        Entry::items("pass_args", ITEMS_WORKGROUP_SIZE, |p| p.pass_count),
     ],
     zeroed: &["deltas", "pass_items"],
 };
@@ -321,6 +333,7 @@ mod tests {
             ("TILING_UBER_CHUNKS", UBER_CHUNK_CHUNKS),
             ("TILING_PYRAMID_FANOUT", PYRAMID_FANOUT),
             ("TILING_MAX_DISPATCH_X", MAX_DISPATCH_X),
+            ("TILING_ITEMS_WORKGROUP_SIZE", ITEMS_WORKGROUP_SIZE),
             ("TILING_FLAG_VALIDITY", FLAG_VALIDITY),
             ("TILING_FLAG_VRS", FLAG_VRS),
             ("TILING_WAVE_TILE_Y_SHIFT", WAVE_TILE_Y_SHIFT),
@@ -374,92 +387,124 @@ mod tests {
         }
     }
 
-    /// (WGSL struct, Rust size, Rust field names) for every shared struct.
-    fn structs() -> Vec<(&'static str, usize, Vec<&'static str>)> {
+    /// `(WGSL member, Rust offset)` for each listed field of `$t`: the WGSL name is the
+    /// Rust field's unless given after a colon (`pass: "pass_index"`).
+    macro_rules! members {
+        ($t:ty { $($f:ident $(: $wgsl:literal)?),* $(,)? }) => {
+            alloc::vec![$((members!(@name $f $($wgsl)?), core::mem::offset_of!($t, $f) as u32)),*]
+        };
+        (@name $f:ident) => { stringify!($f) };
+        (@name $f:ident $wgsl:literal) => { $wgsl };
+    }
+
+    /// `(WGSL member, byte offset)` of each member of a struct, in WGSL order.
+    type Members = Vec<(&'static str, u32)>;
+
+    /// (WGSL struct, Rust size, WGSL members in WGSL order with the offsets of their Rust
+    /// fields) for every shared struct: a Rust field moved, added or removed changes an
+    /// offset or the size and fails the layout check.
+    fn structs() -> Vec<(&'static str, usize, Members)> {
         alloc::vec![
             (
                 "TilingParams",
                 size_of::<TilingParams>(),
-                alloc::vec![
-                    "width",
-                    "height",
-                    "tiles_x",
-                    "tiles_y",
-                    "pass_count",
-                    "wave_width",
-                    "flags",
-                    "table_len",
-                    "micro_batch_count",
-                    "chunk_count",
-                    "uber_count",
-                    "pad"
-                ]
+                members!(TilingParams {
+                    width,
+                    height,
+                    tiles_x,
+                    tiles_y,
+                    pass_count,
+                    wave_width,
+                    flags,
+                    table_len,
+                    micro_batch_count,
+                    chunk_count,
+                    uber_count,
+                    pad
+                })
             ),
             (
                 "TilingMicroBatchInfo",
                 size_of::<MicroBatchInfo>(),
-                alloc::vec![
-                    "first_id",
-                    "id_count",
-                    "pass_index",
-                    "batch_group",
-                    "primitive_bits",
-                    "primitive_count",
-                    "vertex_count",
-                    "instance_count",
-                    "first_instance",
-                    "batch",
-                    "batch_first_instance",
-                    "first_index",
-                    "base_vertex",
-                    "first_chunk",
-                    "ring_offset",
-                    "order"
-                ]
+                members!(MicroBatchInfo {
+                    first_id,
+                    id_count,
+                    pass: "pass_index",
+                    batch_group,
+                    primitive_bits,
+                    primitive_count,
+                    vertex_count,
+                    instance_count,
+                    first_instance,
+                    batch,
+                    batch_first_instance,
+                    first_index,
+                    base_vertex,
+                    first_chunk,
+                    ring_offset,
+                    order
+                })
             ),
             (
                 "TilingPassInfo",
                 size_of::<PassInfo>(),
-                alloc::vec![
-                    "first_micro_batch",
-                    "micro_batch_count",
-                    "vertex_count",
-                    "first_chunk",
-                    "chunk_count",
-                    "batch_group_count",
-                    "shader",
-                    "pad"
-                ]
+                members!(PassInfo {
+                    first_micro_batch,
+                    micro_batch_count,
+                    vertex_count,
+                    first_chunk,
+                    chunk_count,
+                    batch_group_count,
+                    shader,
+                    pad
+                })
             ),
             (
                 "TilingWaveCommand",
                 size_of::<WaveCommand>(),
-                alloc::vec!["tile", "pass_group", "first_command", "command_count"]
+                members!(WaveCommand {
+                    tile,
+                    pass_group,
+                    first_command,
+                    command_count
+                })
             ),
             (
                 "TilingPassDispatch",
                 size_of::<PassDispatch>(),
-                alloc::vec!["x", "y", "z", "first", "count", "items"]
+                members!(PassDispatch {
+                    x,
+                    y,
+                    z,
+                    first,
+                    count,
+                    items
+                })
             ),
             (
                 "TilingUberChunk",
                 size_of::<UberChunk>(),
-                alloc::vec!["mask_lo", "mask_hi", "count", "pad"]
+                members!(UberChunk {
+                    mask_lo,
+                    mask_hi,
+                    count,
+                    pad
+                })
             ),
             (
                 "TilingVertexWaveCommand",
                 size_of::<VertexWaveCommand>(),
-                alloc::vec!["micro_batch", "chunk"]
+                members!(VertexWaveCommand { micro_batch, chunk })
             ),
             (
                 "TilingTotals",
                 size_of::<Totals>(),
-                alloc::vec![
-                    "counter_count",
-                    "command_count",
-                    "wave_count",
-                    "visible_chunks"
-                ]
+                members!(Totals {
+                    counter_count,
+                    command_count,
+                    wave_count,
+                    visible_chunks
+                })
             ),
         ]
     }
@@ -536,10 +581,7 @@ mod tests {
         );
 
         let module = common();
-        for (name, size, fields) in structs() {
-            // Every member is one 4-byte word, in order.
-            let members: Vec<(&str, u32)> =
-                fields.iter().zip(0..).map(|(&f, k)| (f, 4 * k)).collect();
+        for (name, size, members) in structs() {
             shadercheck::assert_struct_layout(&module, name, size, &members);
         }
     }
@@ -568,7 +610,6 @@ mod tests {
             let src = pass.source(&["subgroups"]).unwrap();
             assert!(validate(&src, Caps::CORE).is_err(), "{}", pass.name);
         }
-        assert_eq!(MAX_DISPATCH_X, shader::MAX_WORKGROUPS_X);
     }
 
     #[test]

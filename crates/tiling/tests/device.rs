@@ -1,16 +1,6 @@
 //! The WGSL twins on a real device against the CPU twins, bit for bit: the three
 //! classification phases (pixel commands compared after `canonical_sort`, everything else
 //! as written) on both the subgroup path (where the adapter has `Features::SUBGROUP`) and
-//! the workgroup fallback, both vis-word layouts, with and without a validity mask; and
-//! the vertex wave commands.
-//!
-//! Runs on whatever adapter wgpu finds (lavapipe in CI, the H100 on the device machine).
-//! Without one every test fails with a message saying how to install one (lavapipe:
-//! `apt-get install -y mesa-vulkan-drivers libvulkan1`); a GPU test never passes silently.
-
-//! The WGSL twins on a real device against the CPU twins, bit for bit: the three
-//! classification phases (pixel commands compared after `canonical_sort`, everything else
-//! as written) on both the subgroup path (where the adapter has `Features::SUBGROUP`) and
 //! the workgroup fallback, the keyed histogram and the wave-append loop, both vis-word
 //! layouts, with and without a validity mask; and the vertex wave commands. The passes
 //! run through their descriptions (`tiling::wgsl`) on testkit's device (lavapipe in CI);
@@ -29,10 +19,12 @@ use tiling::{
 use visbuf::VisLayout;
 use wave::WaveWidth;
 
-#[allow(
-    clippy::too_many_arguments,
-    reason = "one case of the test matrix; every argument is a dimension of it"
-)]
+/// `n` zeroed elements of `T` (a whole number of words).
+fn zeros<T>(n: usize) -> Data<'static> {
+    const { assert!(size_of::<T>().is_multiple_of(4)) };
+    Data::Zeros(size_of::<T>() / 4 * n)
+}
+
 fn classification_case(
     features: &[&str],
     seed: u64,
@@ -120,8 +112,8 @@ fn classification_case(
                     Data::Zeros((cfg.chunk_count as usize).div_ceil(4)),
                 ),
                 ("indices", Data::Words(indices)),
-                ("totals", Data::Zeros(4)),
-                ("stats", Data::Zeros(8)),
+                ("totals", zeros::<Totals>(1)),
+                ("stats", zeros::<PixelStats>(1)),
             ],
         ),
     );
@@ -181,10 +173,10 @@ fn classification_case(
                 ("final_counts", Data::Zeros(counters)),
                 ("commands", Data::Zeros(commands.div_ceil(2))),
                 ("wave_offsets", Data::Zeros(counters)),
-                ("waves", Data::Zeros(4 * cpu.output.waves.len() + 4)),
-                ("passes", Data::Zeros(6 * p)),
-                ("totals", Data::Zeros(4)),
-                ("stats", Data::Zeros(8)),
+                ("waves", zeros::<WaveCommand>(cpu.output.waves.len() + 1)),
+                ("passes", zeros::<PassDispatch>(p)),
+                ("totals", zeros::<Totals>(1)),
+                ("stats", zeros::<PixelStats>(1)),
             ],
         ),
     );
@@ -248,14 +240,17 @@ fn classification_case(
             ("order", Data::Words(&plan.order)),
             ("pass_infos", Data::rows(&plan.passes)),
             ("vertex_cull", Data::Bytes(&cpu.mid.vertex_cull)),
-            ("ubers", Data::Zeros(4 * ubers)),
+            ("ubers", zeros::<UberChunk>(ubers)),
             ("pyramid", Data::Zeros(v.pyramid.data.len())),
             ("deltas", Data::Zeros(chunks)),
             ("micro_batch_waves", Data::Zeros(plan.order.len())),
-            ("vertex_commands", Data::Zeros(2 * chunks)),
-            ("vertex_dispatches", Data::Zeros(6 * plan.passes.len())),
+            ("vertex_commands", zeros::<VertexWaveCommand>(chunks)),
+            (
+                "vertex_dispatches",
+                zeros::<PassDispatch>(plan.passes.len()),
+            ),
             ("pass_items", Data::Zeros(plan.passes.len())),
-            ("totals", Data::Zeros(4)),
+            ("totals", zeros::<Totals>(1)),
         ],
     );
     assert_eq!(

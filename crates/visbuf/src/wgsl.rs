@@ -26,15 +26,12 @@ pub const MODULES: &[Module] = &[ID, VERTEX, BARY, RAY];
 mod tests {
     use super::*;
     use crate::id::*;
+    use core::mem::offset_of;
     use shadercheck::{Caps, const_u32};
-
-    fn assert_valid(_: &str, m: Module, caps: Caps) -> naga::Module {
-        shadercheck::assert_composed(&[MODULES], m.name, &[], caps)
-    }
 
     #[test]
     fn id_wgsl_is_valid_core_wgsl_and_its_constants_match_rust() {
-        let m = assert_valid("visbuf ID_WGSL", ID, Caps::CORE);
+        let m = shadercheck::assert_composed(&[MODULES], ID.name, &[], Caps::CORE);
         let expect = [
             ("VISBUF_NONE", VIS_NONE),
             ("VISBUF_MICRO_BATCH_SHIFT", VIS_MICRO_BATCH_SHIFT),
@@ -67,9 +64,31 @@ mod tests {
     }
 
     #[test]
+    fn id_range_matches_the_rust_layout() {
+        let m = shadercheck::assert_composed(&[MODULES], ID.name, &[], Caps::CORE);
+        shadercheck::assert_struct_layout(
+            &m,
+            "VisbufIdRange",
+            size_of::<VisbufIdRange>(),
+            &[
+                ("first_id", offset_of!(VisbufIdRange, first_id) as u32),
+                ("id_count", offset_of!(VisbufIdRange, id_count) as u32),
+                (
+                    "instance_count",
+                    offset_of!(VisbufIdRange, instance_count) as u32,
+                ),
+                (
+                    "primitive_count",
+                    offset_of!(VisbufIdRange, primitive_count) as u32,
+                ),
+            ],
+        );
+    }
+
+    #[test]
     fn vertex_wgsl_is_valid_core_wgsl_and_its_constants_match_rust() {
         use crate::vertex::*;
-        let m = assert_valid("", VERTEX, Caps::CORE);
+        let m = shadercheck::assert_composed(&[MODULES], VERTEX.name, &[], Caps::CORE);
         assert_eq!(
             shadercheck::const_f32(&m, "VISBUF_UV_SCALE"),
             Some(UV_SCALE)
@@ -91,27 +110,33 @@ mod tests {
             const_u32(&m, "VISBUF_VERTEX_WORDS"),
             Some((size_of::<VisbufVertex>() / 4) as u32)
         );
-        // The WGSL struct has the Rust struct's size (8 x 4 bytes, no padding).
+        // The WGSL struct has the Rust struct's size and member offsets (8 x 4 bytes).
         shadercheck::assert_struct_layout(
             &m,
             "VisbufVertex",
             size_of::<VisbufVertex>(),
             &[
-                ("hpos_xy", 0),
-                ("hpos_w", 4),
-                ("uv", 8),
-                ("color", 12),
-                ("normal", 16),
-                ("tangent", 20),
-                ("prev_hpos_xy", 24),
-                ("prev_hpos_w_extra", 28),
+                ("hpos_xy", offset_of!(VisbufVertex, hpos_xy) as u32),
+                ("hpos_w", offset_of!(VisbufVertex, hpos_w) as u32),
+                ("uv", offset_of!(VisbufVertex, uv) as u32),
+                ("color", offset_of!(VisbufVertex, color) as u32),
+                ("normal", offset_of!(VisbufVertex, normal) as u32),
+                ("tangent", offset_of!(VisbufVertex, tangent) as u32),
+                (
+                    "prev_hpos_xy",
+                    offset_of!(VisbufVertex, prev_hpos_xy) as u32,
+                ),
+                (
+                    "prev_hpos_w_extra",
+                    offset_of!(VisbufVertex, prev_hpos_w_extra) as u32,
+                ),
             ],
         );
     }
 
     #[test]
     fn bary_wgsl_constants_match_rust() {
-        let m = assert_valid("", BARY, Caps::CORE);
+        let m = shadercheck::assert_composed(&[MODULES], BARY.name, &[], Caps::CORE);
         let f = |n| shadercheck::const_f32(&m, n);
         assert_eq!(
             f("VISBUF_DEGENERATE_EPSILON"),
@@ -128,7 +153,7 @@ mod tests {
     #[test]
     fn modules_are_binding_free_prefixed_and_compose_together() {
         for m in MODULES {
-            let module = assert_valid(m.name, *m, Caps::CORE);
+            let module = shadercheck::assert_composed(&[MODULES], m.name, &[], Caps::CORE);
             shadercheck::assert_prefixed(m.name, &module, "visbuf", &[], true);
             assert!(m.imports(&[]).unwrap().is_empty(), "{} imports", m.name);
         }

@@ -1,6 +1,6 @@
-//! GPU stream compaction of 16M items at 1/3 density through this crate's WGSL: one atomic
-//! per thread, one per subgroup (the subgroup path), one per workgroup (the fallback), and
-//! a floor without any atomic, timed with timestamp queries. Prints the adapter, the
+//! GPU stream compaction of `2^--log2-items` items (16M by default) at 1/3 density through
+//! this crate's WGSL: one atomic per thread, one per subgroup (the subgroup path), one per
+//! workgroup (the fallback), and a floor without any atomic, timed with timestamp queries. Prints the adapter, the
 //! median time per dispatch, ns per item, and atomics per item (counted in a separate run).
 //!
 //! `cargo run --release -p wave --example gpu_append_timing`
@@ -10,6 +10,7 @@
 //! per-workgroup"); the `gpu` crate owns the renderer's own passes and their timings.
 
 use clap::Parser;
+use testkit::device::read_bytes;
 
 /// Times stream compaction through wave's WGSL on the workspace's headless device.
 #[derive(Debug, Parser)]
@@ -131,10 +132,13 @@ fn main() {
     let ctx = testkit::device::ctx();
     let (device, queue) = (&ctx.device, &ctx.queue);
     let features = device.features();
-    assert!(
-        features.contains(wgpu::Features::TIMESTAMP_QUERY),
-        "timestamps needed"
-    );
+    if !features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+        eprintln!(
+            "adapter {} lacks wgpu::Features::TIMESTAMP_QUERY, which the timings need",
+            ctx.adapter_line()
+        );
+        std::process::exit(1);
+    }
     let info = &ctx.info;
     println!(
         "adapter: {}, subgroup sizes {}..{}",
@@ -143,7 +147,7 @@ fn main() {
         info.subgroup_max_size
     );
 
-    // 16M pseudo-random words; a third pass `x % 3 == 0`.
+    // `n` pseudo-random words; a third pass `x % 3 == 0`.
     let input = testkit::Rng::new(0x2545_f491).words(n as usize);
     let kept = input.iter().filter(|&&x| x % 3 == 0).count() as u32;
     println!(
@@ -176,9 +180,6 @@ fn main() {
         usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let read = |src: &wgpu::Buffer, size: u64| -> Vec<u8> {
-        testkit::device::read_bytes(src)[..size as usize].to_vec()
-    };
     let period = f64::from(queue.get_timestamp_period());
 
     println!("| variant | workgroup | median ms | min ms | max ms | ns/item | atomics/item |");
@@ -250,7 +251,7 @@ fn main() {
         // Count the atomics once, then check the counter of a timed run.
         let counting = pipeline(true);
         run(&counting, 1, false);
-        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counters, 16));
+        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read_bytes(&counters));
         let atomics = if v.name.ends_with("dynamic_index") {
             c[2]
         } else {
@@ -259,13 +260,13 @@ fn main() {
         let timed = pipeline(false);
         run(&timed, 2, false); // warm-up
         run(&timed, reps, true);
-        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read(&counters, 16));
+        let c: Vec<u32> = bytemuck::pod_collect_to_vec(&read_bytes(&counters));
         if v.name.starts_with("floor") {
             assert_eq!(c[0], 0);
         } else {
             assert_eq!(c[0], kept, "{}: every kept item appended", v.name);
         }
-        let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&read(&resolve, u64::from(2 * reps) * 8));
+        let ts: Vec<u64> = bytemuck::pod_collect_to_vec(&read_bytes(&resolve));
         let mut ms: Vec<f64> = ts
             .chunks(2)
             .map(|p| (p[1].wrapping_sub(p[0])) as f64 * period / 1e6)

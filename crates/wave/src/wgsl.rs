@@ -260,18 +260,22 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
 
     #[test]
     fn wave_batch_matches_the_rust_layout() {
-        let m = module(COMMON, Caps::CORE);
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(m.to_ctx()).expect("layout");
-        let (h, _) = m
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("WaveBatch"))
-            .expect("WaveBatch declared");
-        assert_eq!(
-            layouter[h].size as usize,
-            size_of::<crate::WaveBatch>(),
-            "WGSL WaveBatch size"
+        use crate::WaveBatch;
+        use core::mem::offset_of;
+        shadercheck::assert_struct_layout(
+            &module(COMMON, Caps::CORE),
+            "WaveBatch",
+            size_of::<WaveBatch>(),
+            &[
+                (
+                    "first_instance",
+                    offset_of!(WaveBatch, first_instance) as u32,
+                ),
+                (
+                    "instance_count",
+                    offset_of!(WaveBatch, instance_count) as u32,
+                ),
+            ],
         );
     }
 }

@@ -1,13 +1,17 @@
 // gpu: zeroes the bound buffer, one word per invocation, in rows of TILING_MAX_DISPATCH_X
-// workgroups (shader's MAX_WORKGROUPS_X; the `Dispatch::Items` layout of its description).
+// workgroups (shader's MAX_WORKGROUPS_X; the `Dispatch::Items` layout of its description,
+// indexed by tiling_item_index).
 
 #import tiling::common
 
+// Invocations per workgroup (the `Entry::items` size of its description).
+const ZERO_WORKGROUP_SIZE: u32 = 256u;
+
 @group(0) @binding(0) var<storage, read_write> words: array<u32>;
 
-@compute @workgroup_size(256)
-fn zero(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.y * TILING_MAX_DISPATCH_X * 256u + id.x;
+@compute @workgroup_size(ZERO_WORKGROUP_SIZE)
+fn zero(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = tiling_item_index(id, groups, ZERO_WORKGROUP_SIZE);
     if i < arrayLength(&words) {
         words[i] = 0u;
     }

@@ -1,4 +1,4 @@
-// morton::WGSL: Morton codes on the GPU, the twin of the `morton` crate's 32-bit paths.
+// morton::codes: Morton codes on the GPU, the twin of the `morton` crate's 32-bit paths.
 // Binding-free: functions and constants only, all prefixed `morton_` / `MORTON_`.
 // Bit layout (same as the CPU): x in bit 0, y in bit 1 (, z in bit 2), then repeating.
 

@@ -207,9 +207,12 @@ fn wave_offsets_pass(@builtin(local_invocation_index) li: u32) {
     }
 }
 
-@compute @workgroup_size(64)
-fn write_waves(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let e = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
+@compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
+fn write_waves(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let e = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
     if (e >= params.tiles_x * params.tiles_y * params.pass_count || e >= arrayLength(&masks)) {
         return;
     }

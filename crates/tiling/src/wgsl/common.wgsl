@@ -17,6 +17,9 @@ const TILING_CHUNK_SIZE: u32 = 64u;
 const TILING_UBER_CHUNKS: u32 = 64u;
 const TILING_PYRAMID_FANOUT: u32 = 4u;
 const TILING_MAX_DISPATCH_X: u32 = 65535u;
+// Invocations per workgroup of every one-invocation-per-item entry point
+// (`shader::Entry::items` in the descriptions of `tiling::wgsl`).
+const TILING_ITEMS_WORKGROUP_SIZE: u32 = 64u;
 const TILING_FLAG_VALIDITY: u32 = 1u;
 const TILING_FLAG_VRS: u32 = 2u;
 const TILING_WAVE_TILE_Y_SHIFT: u32 = 16u;
@@ -131,6 +134,15 @@ fn tiling_dispatch(first: u32, count: u32, items: u32) -> TilingPassDispatch {
     let x = min(count, TILING_MAX_DISPATCH_X);
     let y = (count + TILING_MAX_DISPATCH_X - 1u) / TILING_MAX_DISPATCH_X;
     return TilingPassDispatch(x, y, select(0u, 1u, count != 0u), first, count, items);
+}
+
+// The item index of an invocation of a `shader::Dispatch::Items` entry point with `size`
+// invocations per workgroup; `gid` is its @builtin(global_invocation_id), `groups` its
+// @builtin(num_workgroups). The dispatch is `[n, 1, 1]` up to TILING_MAX_DISPATCH_X
+// workgroups (gid.y = 0) and `[TILING_MAX_DISPATCH_X, rows, 1]` past that, so this is
+// `gid.y * TILING_MAX_DISPATCH_X * size + gid.x` in both shapes.
+fn tiling_item_index(gid: vec3<u32>, groups: vec3<u32>, size: u32) -> u32 {
+    return gid.y * groups.x * size + gid.x;
 }
 
 // Tile (x, y) of a wave command's `tile` word (Rust: WaveCommand::tile_xy).

@@ -153,9 +153,12 @@ fn tiling_chunk_count(row: TilingMicroBatchInfo) -> u32 {
     return tiling_add_sat(tiling_add_sat(tiling_mul_sat(row.instance_count, a), q * b), (r * b + 63u) / 64u);
 }
 
-@compute @workgroup_size(64)
-fn uber_chunks(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let u = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
+@compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
+fn uber_chunks(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let u = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
     if (u >= params.uber_count) {
         return;
     }
@@ -219,9 +222,12 @@ fn build_pyramid(@builtin(local_invocation_index) li: u32) {
     }
 }
 
-@compute @workgroup_size(64)
-fn micro_batch_deltas(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
+@compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
+fn micro_batch_deltas(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let k = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
     if (k >= params.micro_batch_count || k >= arrayLength(&order)) {
         return;
     }
@@ -282,12 +288,12 @@ fn scan_deltas(@builtin(local_invocation_index) li: u32) {
     }
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
 fn write_vertex_commands(
     @builtin(global_invocation_id) gid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
 ) {
-    let i = gid.y * groups.x * 64u + gid.x;
+    let i = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
     if (i >= tiling_total() || i >= arrayLength(&deltas) || i >= arrayLength(&vertex_commands)) {
         return;
     }
@@ -306,9 +312,12 @@ fn write_vertex_commands(
     vertex_commands[i] = TilingVertexWaveCommand(id, chunk - first);
 }
 
-@compute @workgroup_size(64)
-fn pass_args(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let p = gid.y * TILING_MAX_DISPATCH_X * 64u + gid.x;
+@compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
+fn pass_args(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+) {
+    let p = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
     if (p >= params.pass_count || p >= arrayLength(&pass_infos) || p >= arrayLength(&vertex_dispatches)) {
         return;
     }
