@@ -138,6 +138,26 @@ pub fn struct_layout(module: &naga::Module, name: &str) -> Option<(u32, Vec<(Str
     }
 }
 
+/// `[(WGSL member name, byte offset)]` of fields of a `#[repr(C)]` Rust struct, in the
+/// order given, for [`assert_struct_layout`]: the offsets come from `offset_of!`, so a Rust
+/// field moved or resized fails the check. A member named differently in WGSL gives its
+/// WGSL name after a colon.
+///
+/// ```
+/// #[repr(C)]
+/// struct Light { position: [f32; 3], range: f32, color: [f32; 3], flags: u32 }
+/// let m = shadercheck::members!(Light { position, range, color: "colour", flags });
+/// assert_eq!(m, [("position", 0), ("range", 12), ("colour", 16), ("flags", 28)]);
+/// ```
+#[macro_export]
+macro_rules! members {
+    ($t:ty { $($f:ident $(: $wgsl:literal)?),* $(,)? }) => {
+        [$(($crate::members!(@name $f $($wgsl)?), ::core::mem::offset_of!($t, $f) as u32)),*]
+    };
+    (@name $f:ident) => { stringify!($f) };
+    (@name $f:ident $wgsl:literal) => { $wgsl };
+}
+
 /// Checks that WGSL struct `name` is `size` bytes with exactly `members` (name, byte
 /// offset), in order: how a crate proves its `#[repr(C)]` twin and its WGSL agree.
 #[track_caller]

@@ -40,9 +40,7 @@ pub const MODULES: &[Module] = &[QUERY];
 mod tests {
     use super::*;
     use crate::*;
-    use core::mem::offset_of;
     use shadercheck::{Caps, const_f32, const_u32};
-    use std::vec::Vec;
 
     fn module() -> naga::Module {
         shadercheck::assert_composed(&[MODULES], QUERY.name, &[], Caps::CORE)
@@ -109,9 +107,8 @@ mod tests {
     #[test]
     fn structs_match_rust_layouts() {
         let m = module();
-        let check = |name: &str, size: usize, offsets: &[(&str, usize)]| {
-            let members: Vec<(&str, u32)> = offsets.iter().map(|&(n, o)| (n, o as u32)).collect();
-            shadercheck::assert_struct_layout(&m, name, size, &members);
+        let check = |name: &str, size: usize, members: &[(&str, u32)]| {
+            shadercheck::assert_struct_layout(&m, name, size, members);
         };
         check(
             "StaticsceneQueryInstance",
@@ -126,22 +123,19 @@ mod tests {
         check(
             "StaticsceneQueryObject",
             size_of::<QueryObject>(),
-            &[
-                (
-                    "object_to_snapped",
-                    offset_of!(QueryObject, object_to_snapped),
-                ),
-                ("snapped", offset_of!(QueryObject, snapped)),
-                ("lod", offset_of!(QueryObject, lod)),
-            ],
+            &shadercheck::members!(QueryObject {
+                object_to_snapped,
+                snapped,
+                lod
+            }),
         );
         check(
             "StaticsceneQuerySetup",
             size_of::<QuerySetup>(),
-            &[
-                ("bounds", offset_of!(QuerySetup, bounds_min)),
-                ("handle", offset_of!(QuerySetup, handle)),
-            ],
+            &shadercheck::members!(QuerySetup {
+                bounds_min: "bounds",
+                handle
+            }),
         );
         check(
             "StaticsceneHalfAabb",
@@ -160,49 +154,40 @@ mod tests {
                 ("state", 0),
                 (
                     "local_to_floating",
-                    offset_of!(DrawableSetupInstance, local_to_floating),
+                    core::mem::offset_of!(DrawableSetupInstance, local_to_floating) as u32,
                 ),
             ],
         );
         check(
             "StaticsceneDrawableSetupBatch",
             size_of::<DrawableSetupBatch>(),
-            &[
-                ("sort_key", offset_of!(DrawableSetupBatch, sort_key)),
-                ("setup", offset_of!(DrawableSetupBatch, setup)),
-                ("sphere", offset_of!(DrawableSetupBatch, sphere)),
-                (
-                    "first_instance",
-                    offset_of!(DrawableSetupBatch, first_instance),
-                ),
-                ("flags", offset_of!(DrawableSetupBatch, flags)),
-                ("count", offset_of!(DrawableSetupBatch, count)),
-                ("stride", offset_of!(DrawableSetupBatch, stride)),
-            ],
+            &shadercheck::members!(DrawableSetupBatch {
+                sort_key,
+                setup,
+                sphere,
+                first_instance,
+                flags,
+                count,
+                stride
+            }),
         );
         check(
             "StaticsceneQueryParams",
             size_of::<QueryParams>(),
-            &[
-                (
-                    "clip_from_floating",
-                    offset_of!(QueryParams, clip_from_floating),
-                ),
-                (
-                    "hiz_clip_from_floating",
-                    offset_of!(QueryParams, hiz_clip_from_floating),
-                ),
-                ("planes", offset_of!(QueryParams, planes)),
-                ("forward", offset_of!(QueryParams, forward)),
-                ("lod_point", offset_of!(QueryParams, lod_point)),
-                ("origin", offset_of!(QueryParams, origin)),
-                ("prev_origin", offset_of!(QueryParams, prev_origin)),
-                ("viewport", offset_of!(QueryParams, viewport)),
-                ("filter_mask", offset_of!(QueryParams, filter_mask)),
-                ("flags", offset_of!(QueryParams, flags)),
-                ("fade_frames", offset_of!(QueryParams, fade_frames)),
-                ("hiz_scan_levels", offset_of!(QueryParams, hiz_scan_levels)),
-            ],
+            &shadercheck::members!(QueryParams {
+                clip_from_floating,
+                hiz_clip_from_floating,
+                planes,
+                forward,
+                lod_point,
+                origin,
+                prev_origin,
+                viewport,
+                filter_mask,
+                flags,
+                fade_frames,
+                hiz_scan_levels
+            }),
         );
     }
 

@@ -387,17 +387,9 @@ mod tests {
         }
     }
 
-    /// `(WGSL member, Rust offset)` for each listed field of `$t`: the WGSL name is the
-    /// Rust field's unless given after a colon (`pass: "pass_index"`).
-    macro_rules! members {
-        ($t:ty { $($f:ident $(: $wgsl:literal)?),* $(,)? }) => {
-            alloc::vec![$((members!(@name $f $($wgsl)?), core::mem::offset_of!($t, $f) as u32)),*]
-        };
-        (@name $f:ident) => { stringify!($f) };
-        (@name $f:ident $wgsl:literal) => { $wgsl };
-    }
-
-    /// `(WGSL member, byte offset)` of each member of a struct, in WGSL order.
+    /// `(WGSL member, byte offset)` of each member of a struct, in WGSL order
+    /// (`shadercheck::members!`: the Rust field's offset, its WGSL name after a colon where
+    /// they differ).
     type Members = Vec<(&'static str, u32)>;
 
     /// (WGSL struct, Rust size, WGSL members in WGSL order with the offsets of their Rust
@@ -408,7 +400,7 @@ mod tests {
             (
                 "TilingParams",
                 size_of::<TilingParams>(),
-                members!(TilingParams {
+                shadercheck::members!(TilingParams {
                     width,
                     height,
                     tiles_x,
@@ -422,11 +414,12 @@ mod tests {
                     uber_count,
                     pad
                 })
+                .to_vec()
             ),
             (
                 "TilingMicroBatchInfo",
                 size_of::<MicroBatchInfo>(),
-                members!(MicroBatchInfo {
+                shadercheck::members!(MicroBatchInfo {
                     first_id,
                     id_count,
                     pass: "pass_index",
@@ -444,11 +437,12 @@ mod tests {
                     ring_offset,
                     order
                 })
+                .to_vec()
             ),
             (
                 "TilingPassInfo",
                 size_of::<PassInfo>(),
-                members!(PassInfo {
+                shadercheck::members!(PassInfo {
                     first_micro_batch,
                     micro_batch_count,
                     vertex_count,
@@ -458,21 +452,23 @@ mod tests {
                     shader,
                     pad
                 })
+                .to_vec()
             ),
             (
                 "TilingWaveCommand",
                 size_of::<WaveCommand>(),
-                members!(WaveCommand {
+                shadercheck::members!(WaveCommand {
                     tile,
                     pass_group,
                     first_command,
                     command_count
                 })
+                .to_vec()
             ),
             (
                 "TilingPassDispatch",
                 size_of::<PassDispatch>(),
-                members!(PassDispatch {
+                shadercheck::members!(PassDispatch {
                     x,
                     y,
                     z,
@@ -480,31 +476,34 @@ mod tests {
                     count,
                     items
                 })
+                .to_vec()
             ),
             (
                 "TilingUberChunk",
                 size_of::<UberChunk>(),
-                members!(UberChunk {
+                shadercheck::members!(UberChunk {
                     mask_lo,
                     mask_hi,
                     count,
                     pad
                 })
+                .to_vec()
             ),
             (
                 "TilingVertexWaveCommand",
                 size_of::<VertexWaveCommand>(),
-                members!(VertexWaveCommand { micro_batch, chunk })
+                shadercheck::members!(VertexWaveCommand { micro_batch, chunk }).to_vec()
             ),
             (
                 "TilingTotals",
                 size_of::<Totals>(),
-                members!(Totals {
+                shadercheck::members!(Totals {
                     counter_count,
                     command_count,
                     wave_count,
                     visible_chunks
                 })
+                .to_vec()
             ),
         ]
     }

@@ -26,7 +26,6 @@ pub const MODULES: &[Module] = &[ID, VERTEX, BARY, RAY];
 mod tests {
     use super::*;
     use crate::id::*;
-    use core::mem::offset_of;
     use shadercheck::{Caps, const_u32};
 
     #[test]
@@ -70,18 +69,12 @@ mod tests {
             &m,
             "VisbufIdRange",
             size_of::<VisbufIdRange>(),
-            &[
-                ("first_id", offset_of!(VisbufIdRange, first_id) as u32),
-                ("id_count", offset_of!(VisbufIdRange, id_count) as u32),
-                (
-                    "instance_count",
-                    offset_of!(VisbufIdRange, instance_count) as u32,
-                ),
-                (
-                    "primitive_count",
-                    offset_of!(VisbufIdRange, primitive_count) as u32,
-                ),
-            ],
+            &shadercheck::members!(VisbufIdRange {
+                first_id,
+                id_count,
+                instance_count,
+                primitive_count
+            }),
         );
     }
 
@@ -115,22 +108,16 @@ mod tests {
             &m,
             "VisbufVertex",
             size_of::<VisbufVertex>(),
-            &[
-                ("hpos_xy", offset_of!(VisbufVertex, hpos_xy) as u32),
-                ("hpos_w", offset_of!(VisbufVertex, hpos_w) as u32),
-                ("uv", offset_of!(VisbufVertex, uv) as u32),
-                ("color", offset_of!(VisbufVertex, color) as u32),
-                ("normal", offset_of!(VisbufVertex, normal) as u32),
-                ("tangent", offset_of!(VisbufVertex, tangent) as u32),
-                (
-                    "prev_hpos_xy",
-                    offset_of!(VisbufVertex, prev_hpos_xy) as u32,
-                ),
-                (
-                    "prev_hpos_w_extra",
-                    offset_of!(VisbufVertex, prev_hpos_w_extra) as u32,
-                ),
-            ],
+            &shadercheck::members!(VisbufVertex {
+                hpos_xy,
+                hpos_w,
+                uv,
+                color,
+                normal,
+                tangent,
+                prev_hpos_xy,
+                prev_hpos_w_extra
+            }),
         );
     }
 

@@ -261,21 +261,14 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     #[test]
     fn wave_batch_matches_the_rust_layout() {
         use crate::WaveBatch;
-        use core::mem::offset_of;
         shadercheck::assert_struct_layout(
             &module(COMMON, Caps::CORE),
             "WaveBatch",
             size_of::<WaveBatch>(),
-            &[
-                (
-                    "first_instance",
-                    offset_of!(WaveBatch, first_instance) as u32,
-                ),
-                (
-                    "instance_count",
-                    offset_of!(WaveBatch, instance_count) as u32,
-                ),
-            ],
+            &shadercheck::members!(WaveBatch {
+                first_instance,
+                instance_count
+            }),
         );
     }
 }

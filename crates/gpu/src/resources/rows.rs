@@ -143,113 +143,108 @@ mod tests {
     use super::*;
     use crate::passes::LIBRARY;
 
-    fn check(module: &str, name: &str, size: usize, members: &[(&str, usize)]) {
+    fn check(module: &str, name: &str, size: usize, members: &[(&str, u32)]) {
         let m = shadercheck::assert_composed(LIBRARY, module, &[], shadercheck::Caps::CORE);
-        let members: Vec<(&str, u32)> = members.iter().map(|&(n, o)| (n, o as u32)).collect();
-        shadercheck::assert_struct_layout(&m, name, size, &members);
-    }
-
-    /// A member whose WGSL name is its Rust field's name, at the Rust offset.
-    macro_rules! field {
-        ($t:ty, $f:ident) => {
-            (stringify!($f), core::mem::offset_of!($t, $f))
-        };
+        shadercheck::assert_struct_layout(&m, name, size, members);
     }
 
     #[test]
     fn wgsl_structs_have_the_rust_layouts() {
-        type F = FrameUniforms;
+        use shadercheck::members;
         check(
             "gpu::frame",
             "FrameUniforms",
-            size_of::<F>(),
-            &[
-                field!(F, view_proj),
-                field!(F, inv_view_proj),
-                field!(F, prev_view_proj),
-                field!(F, camera_position),
-                field!(F, origin_offset),
-                field!(F, viewport),
-                field!(F, sun_direction),
-                field!(F, sun_color),
-                field!(F, ambient),
-                field!(F, sky),
-                field!(F, point_light_count),
-                field!(F, mip_bias),
-                field!(F, frame_index),
-                field!(F, time),
-            ],
+            size_of::<FrameUniforms>(),
+            &members!(FrameUniforms {
+                view_proj,
+                inv_view_proj,
+                prev_view_proj,
+                camera_position,
+                origin_offset,
+                viewport,
+                sun_direction,
+                sun_color,
+                ambient,
+                sky,
+                point_light_count,
+                mip_bias,
+                frame_index,
+                time,
+            }),
         );
-        type I = GpuInstance;
-        let rows = core::mem::offset_of!(I, rows);
+        // The Rust rows array is three WGSL members.
+        let rows = core::mem::offset_of!(GpuInstance, rows) as u32;
+        let rest = members!(GpuInstance {
+            micro_batch,
+            instance_field,
+            primitive_bits,
+            material,
+        });
+        let instance: Vec<(&str, u32)> = [("row0", rows), ("row1", rows + 16), ("row2", rows + 32)]
+            .into_iter()
+            .chain(rest)
+            .collect();
         check(
             "gpu::frame",
             "GpuInstance",
-            size_of::<I>(),
-            &[
-                ("row0", rows),
-                ("row1", rows + 16),
-                ("row2", rows + 32),
-                field!(I, micro_batch),
-                field!(I, instance_field),
-                field!(I, primitive_bits),
-                field!(I, material),
-            ],
+            size_of::<GpuInstance>(),
+            &instance,
         );
         check(
             "gpu::frame",
             "GpuPointLight",
             size_of::<GpuPointLight>(),
-            &[("position_radius", 0), ("color", 16)],
+            &members!(GpuPointLight {
+                position_radius,
+                color
+            }),
         );
-        type V = GpuVertex;
         check(
             "gpu::scene",
             "GpuVertex",
-            size_of::<V>(),
-            &[
-                field!(V, position),
-                field!(V, u),
-                field!(V, normal),
-                field!(V, v),
-                field!(V, tangent),
-            ],
+            size_of::<GpuVertex>(),
+            &members!(GpuVertex {
+                position,
+                u,
+                normal,
+                v,
+                tangent
+            }),
         );
-        type M = GpuMaterial;
         check(
             "gpu::scene",
             "GpuMaterial",
-            size_of::<M>(),
-            &[
-                field!(M, tint),
-                field!(M, albedo_layer),
-                field!(M, alpha_cutoff),
-                field!(M, roughness),
-                field!(M, specular),
-                field!(M, shader),
-            ],
+            size_of::<GpuMaterial>(),
+            &members!(GpuMaterial {
+                tint,
+                albedo_layer,
+                alpha_cutoff,
+                roughness,
+                specular,
+                shader
+            }),
         );
         check(
             "gpu::scene",
             "GpuMesh",
             size_of::<GpuMesh>(),
-            &[
-                ("first_index", 0),
-                ("primitive_count", 4),
-                ("base_vertex", 8),
-                ("vertex_count", 12),
-            ],
+            &members!(GpuMesh {
+                first_index,
+                primitive_count,
+                base_vertex,
+                vertex_count
+            }),
         );
         check(
             "gpu::scene",
             "GpuMicroBatch",
             size_of::<GpuMicroBatch>(),
-            &[
-                ("first_instance", 0),
-                ("first_id", 4),
-                ("mesh", 8),
-                ("primitive_bits", 12),
-            ],
+            &members!(GpuMicroBatch {
+                first_instance,
+                first_id,
+                mesh,
+                primitive_bits
+            }),
         );
     }
 }
