@@ -19,6 +19,7 @@
 mod deferred;
 mod framealloc;
 mod morton;
+mod shader;
 mod staticscene;
 mod tiling;
 mod visbuf;
@@ -27,6 +28,7 @@ mod wave;
 pub use deferred::*;
 pub use framealloc::*;
 pub use morton::*;
+pub use shader::*;
 pub use staticscene::*;
 pub use tiling::*;
 pub use visbuf::*;
@@ -44,6 +46,7 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("framealloc_stream_ops", framealloc_stream_ops),
     ("morton_decode", morton_decode),
     ("morton_roundtrip", morton_roundtrip),
+    ("shader_compose", shader_compose),
     ("staticscene_instance_decode", staticscene_instance_decode),
     ("staticscene_build", staticscene_build),
     ("staticscene_query", staticscene_query),
