@@ -114,6 +114,7 @@ mod math;
 pub mod output;
 #[cfg(feature = "parallel")]
 mod parallel;
+pub mod pass;
 pub mod query;
 pub mod records;
 pub mod resource;

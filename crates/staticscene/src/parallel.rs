@@ -39,7 +39,7 @@ impl Scene {
         out.instances.clear();
         out.batches.clear();
         out.stats = QueryStats::default();
-        let jobs = self.plan(params, options, c.fade, &mut out.stats);
+        let jobs = self.plan(params, options, c.fade, true, &mut out.stats);
         let (tiles, parts) = self.parts_mut();
 
         // Each job's fade states: disjoint sub-slices, jobs being in tile and cluster order.

@@ -36,6 +36,7 @@ impl BuiltTile {
         let fade = FadeStates {
             instances: alloc::vec![0; tile.instances().len()],
             clusters: alloc::vec![0; tile.clusters().len()],
+            last_run: alloc::vec![u32::MAX; tile.clusters().len()],
         };
         BuiltTile { tile, fade }
     }
@@ -53,6 +54,8 @@ impl BuiltTile {
 struct FadeStates {
     instances: Vec<u8>,
     clusters: Vec<u8>,
+    /// The GPU query's serial of each cluster's last run (`u32::MAX`: never).
+    last_run: Vec<u32>,
 }
 
 /// One tile's fade states, borrowed: per instance, per cluster.
@@ -258,6 +261,8 @@ impl<I> QueryOutput<I> {
 pub struct Scene {
     tiles: Vec<StaticTile>,
     fades: Vec<FadeStates>,
+    /// The serial of the last fading GPU query planned.
+    pub(crate) gpu_serial: u32,
 }
 
 /// A job planned by the pre-cull: tile slot, cluster index, and its dispatch.
@@ -266,6 +271,8 @@ pub(crate) struct PlannedJob {
     pub(crate) slot: usize,
     pub(crate) cluster: usize,
     pub(crate) job: ClusterJob,
+    /// Rejected by the LOD pre-cull in a fading view: runs only while the cluster is live.
+    pub(crate) unless_live: bool,
 }
 
 /// Pre-cull constants of one view.
@@ -274,7 +281,6 @@ struct PreCull {
     lod_point: Vec3,
     lod_scale: f32,
     filter: u8,
-    fade: bool,
 }
 
 enum Verdict {
@@ -295,7 +301,7 @@ fn dist_range(p: Vec3, b: &Aabb) -> (f32, f32) {
     (near, far)
 }
 
-fn precull(info: &CullInfo, offset: Vec3, pc: &PreCull, live: bool) -> Verdict {
+fn precull(info: &CullInfo, offset: Vec3, pc: &PreCull) -> Verdict {
     if info.filter & pc.filter == 0 {
         return Verdict::Filter;
     }
@@ -305,18 +311,16 @@ fn precull(info: &CullInfo, offset: Vec3, pc: &PreCull, live: bool) -> Verdict {
     if box_outside_frustum(&pc.planes, min - m, max + m) {
         return Verdict::Frustum;
     }
-    if !(pc.fade && live) {
-        let lb = Aabb::new(info.lod_bounds.min + offset, info.lod_bounds.max + offset);
-        let (near, far) = dist_range(pc.lod_point, &lb);
-        let near = near * (1.0 - PRECULL_REL) - PRECULL_ABS;
-        let far = far * (1.0 + PRECULL_REL) + PRECULL_ABS;
-        let rejected = |k: usize, g: f32| {
-            let l = &info.lod[k];
-            l.count == 0 || near >= l.near * g || far < l.far * g
-        };
-        if rejected(0, pc.lod_scale) && rejected(1, 1.0) {
-            return Verdict::Lod;
-        }
+    let lb = Aabb::new(info.lod_bounds.min + offset, info.lod_bounds.max + offset);
+    let (near, far) = dist_range(pc.lod_point, &lb);
+    let near = near * (1.0 - PRECULL_REL) - PRECULL_ABS;
+    let far = far * (1.0 + PRECULL_REL) + PRECULL_ABS;
+    let rejected = |k: usize, g: f32| {
+        let l = &info.lod[k];
+        l.count == 0 || near >= l.near * g || far < l.far * g
+    };
+    if rejected(0, pc.lod_scale) && rejected(1, 1.0) {
+        return Verdict::Lod;
     }
     Verdict::Pass
 }
@@ -383,11 +387,20 @@ impl Scene {
 
     /// The CPU pre-cull: the jobs to dispatch, in tile and cluster order; updates the
     /// clusters' stale flags (fading views only).
+    ///
+    /// Tiles and clusters are tested with the liveness unknown: a tile or cluster the LOD
+    /// test rejects in a fading view still has to run while some instance fades out, so
+    /// it becomes an `unless_live` job. With `resolve_live` (the CPU query) such a job is
+    /// kept only if the cluster's `CLUSTER_LIVE` bit is set (else it is culled and its
+    /// states are current: not stale); without (the GPU query) it is returned flagged
+    /// and the pass skips it unless the cluster's live serial says it is live. A cluster
+    /// outside the frustum is marked stale whatever its tile's LOD verdict.
     pub(crate) fn plan(
         &mut self,
         params: &QueryParams,
         options: &QueryOptions,
         fade: bool,
+        resolve_live: bool,
         stats: &mut QueryStats,
     ) -> Vec<PlannedJob> {
         let pc = PreCull {
@@ -395,14 +408,13 @@ impl Scene {
             lod_point: params.lod_point(),
             lod_scale: params.lod_point[3],
             filter: params.filter_mask as u8,
-            fade,
         };
         let origin = params.origin();
         let mut jobs = Vec::new();
         for (slot, tile) in self.tiles.iter().enumerate() {
             stats.tiles += 1;
             let states = &mut self.fades[slot].clusters;
-            let job = |ci: usize, states: &[u8]| PlannedJob {
+            let job = |ci: usize, states: &[u8], unless_live: bool| PlannedJob {
                 slot,
                 cluster: ci,
                 job: ClusterJob {
@@ -410,18 +422,19 @@ impl Scene {
                     count: tile.clusters()[ci].count,
                     snap_fade: fade && states[ci] & CLUSTER_STALE != 0,
                 },
+                unless_live,
             };
             if !options.precull {
                 for ci in 0..tile.clusters().len() {
                     stats.clusters += 1;
-                    jobs.push(job(ci, states));
+                    jobs.push(job(ci, states, false));
                 }
                 continue;
             }
             let offset = anchor_offset(tile.anchor(), origin);
-            let live = states.iter().any(|s| s & CLUSTER_LIVE != 0);
-            match precull(tile.cull(), offset, &pc, live) {
-                Verdict::Pass => {}
+            let tile_lod = match precull(tile.cull(), offset, &pc) {
+                Verdict::Pass => false,
+                Verdict::Lod if fade => true,
                 v => {
                     stats.tiles_culled += 1;
                     if fade {
@@ -429,12 +442,21 @@ impl Scene {
                     }
                     continue;
                 }
-            }
+            };
             for (ci, c) in tile.clusters().iter().enumerate() {
                 stats.clusters += 1;
-                let live = states[ci] & CLUSTER_LIVE != 0;
-                match precull(&c.cull, offset, &pc, live) {
-                    Verdict::Pass => jobs.push(job(ci, states)),
+                match precull(&c.cull, offset, &pc) {
+                    Verdict::Pass if !tile_lod => jobs.push(job(ci, states, false)),
+                    Verdict::Pass | Verdict::Lod if fade => {
+                        if !resolve_live {
+                            jobs.push(job(ci, states, true));
+                        } else if states[ci] & CLUSTER_LIVE != 0 {
+                            jobs.push(job(ci, states, false));
+                        } else {
+                            stats.clusters_culled += 1;
+                            mark(&mut states[ci..=ci], &Verdict::Lod);
+                        }
+                    }
                     v => {
                         stats.clusters_culled += 1;
                         if fade {
@@ -468,7 +490,7 @@ impl Scene {
         out.instances.clear();
         out.batches.clear();
         out.stats = QueryStats::default();
-        let jobs = self.plan(params, options, c.fade, &mut out.stats);
+        let jobs = self.plan(params, options, c.fade, true, &mut out.stats);
         for pj in &jobs {
             let tile = &self.tiles[pj.slot];
             let states = &mut self.fades[pj.slot];
@@ -505,6 +527,18 @@ impl Scene {
             );
         }
         Ok(())
+    }
+
+    /// The GPU serial of the last run of cluster `cluster` of the tile in `slot`.
+    pub(crate) fn cluster_last_run(&self, slot: usize, cluster: usize) -> u32 {
+        self.fades[slot].last_run[cluster]
+    }
+
+    /// Records that the GPU query `serial` ran a cluster: its states are current.
+    pub(crate) fn ran_on_gpu(&mut self, slot: usize, cluster: usize, serial: u32) {
+        let f = &mut self.fades[slot];
+        f.last_run[cluster] = serial;
+        f.clusters[cluster] = 0;
     }
 
     /// Borrows everything the parallel query needs.

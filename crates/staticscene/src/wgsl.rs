@@ -33,14 +33,94 @@ use shader::Module;
 /// [module docs](self)).
 pub const QUERY: Module = Module::new("staticscene::query", include_str!("wgsl/query.wgsl"));
 
+/// `staticscene::query_pass`: the query compute pass ([`QUERY_PASS`](crate::pass::QUERY_PASS)).
+pub const QUERY_PASS_MODULE: Module = Module::new(
+    "staticscene::query_pass",
+    include_str!("wgsl/query_pass.wgsl"),
+);
+
 /// This crate's modules, for `shader::compose`'s library.
-pub const MODULES: &[Module] = &[QUERY];
+pub const MODULES: &[Module] = &[QUERY, QUERY_PASS_MODULE];
+
+/// Every module list the query pass imports from.
+pub const LIBRARY: &[&[Module]] = &[wave::wgsl::MODULES, MODULES];
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::*;
     use shadercheck::{Caps, const_f32, const_u32};
+
+    #[test]
+    fn query_pass_description_matches_its_module() {
+        use crate::pass::*;
+        shadercheck::check_pass(&QUERY_PASS, |_| Caps::CORE);
+        let m = shadercheck::assert_composed(LIBRARY, QUERY_PASS_MODULE.name, &[], Caps::CORE);
+        shadercheck::assert_prefixed(QUERY_PASS_MODULE.name, &m, "staticscene", &["wave"], false);
+        for (name, v) in [
+            ("STATICSCENE_QUERY_WORKGROUP", QUERY_WORKGROUP),
+            ("STATICSCENE_JOB_SNAP_FADE", JOB_FLAG_SNAP_FADE),
+            ("STATICSCENE_JOB_LOD_UNLESS_LIVE", JOB_FLAG_LOD_UNLESS_LIVE),
+            ("STATICSCENE_OBJECT_WORDS", OBJECT_WORDS as u32),
+            ("STATICSCENE_SETUP_WORDS", SETUP_WORDS as u32),
+            ("STATICSCENE_TRANSFORM_WORDS", TRANSFORM_WORDS as u32),
+            ("STATICSCENE_BOUNDS_WORDS", BOUNDS_WORDS as u32),
+            ("STATICSCENE_HIZ_MAX_LEVELS", HIZ_MAX_LEVELS as u32),
+            ("STATICSCENE_HIZ_HEADER_WORDS", HIZ_HEADER_WORDS as u32),
+            ("STATICSCENE_STAT_THREADS", STAT_THREADS as u32),
+            ("STATICSCENE_STAT_FILTER", STAT_FILTER as u32),
+            ("STATICSCENE_STAT_LOD", STAT_LOD as u32),
+            ("STATICSCENE_STAT_FRUSTUM", STAT_FRUSTUM as u32),
+            ("STATICSCENE_STAT_SIZE", STAT_SIZE as u32),
+            ("STATICSCENE_STAT_OCCLUSION", STAT_OCCLUSION as u32),
+            ("STATICSCENE_STAT_FADED_OUT", STAT_FADED_OUT as u32),
+            ("STATICSCENE_STAT_INVALID", STAT_INVALID as u32),
+            ("STATICSCENE_STAT_VISIBLE", STAT_VISIBLE as u32),
+            ("STATICSCENE_STAT_DROPPED", STAT_DROPPED as u32),
+            ("STATICSCENE_STAT_COUNT", STAT_COUNT as u32),
+        ] {
+            assert_eq!(const_u32(&m, name), Some(v), "{name}");
+        }
+        shadercheck::assert_struct_layout(
+            &m,
+            "StaticsceneGpuJob",
+            size_of::<GpuJob>(),
+            &shadercheck::members!(GpuJob {
+                tile,
+                first,
+                count,
+                flags,
+                instance_base,
+                records,
+                objects,
+                setups,
+                transforms,
+                bounds,
+                first_wave,
+                cluster,
+                last_run,
+                serial,
+                fade_base,
+                pad
+            }),
+        );
+        shadercheck::assert_struct_layout(
+            &m,
+            "StaticsceneQueryCounters",
+            size_of::<QueryCounters>(),
+            &shadercheck::members!(QueryCounters {
+                instances,
+                batches,
+                pad,
+                stats
+            }),
+        );
+        // The record block's words are the records' bytes.
+        assert_eq!(OBJECT_WORDS * 4, size_of::<QueryObject>());
+        assert_eq!(SETUP_WORDS * 4, size_of::<QuerySetup>());
+        assert_eq!(TRANSFORM_WORDS * 4, size_of::<Transform4x3>());
+        assert_eq!(BOUNDS_WORDS * 4, size_of::<HalfAabb>());
+    }
 
     fn module() -> naga::Module {
         shadercheck::assert_composed(&[MODULES], QUERY.name, &[], Caps::CORE)
@@ -193,7 +273,7 @@ mod tests {
 
     #[test]
     fn modules_are_binding_free_and_prefixed() {
-        for m in MODULES {
+        for m in [QUERY] {
             let module = shadercheck::assert_composed(&[MODULES], m.name, &[], Caps::CORE);
             shadercheck::assert_prefixed(m.name, &module, "staticscene", &[], true);
             assert!(m.imports(&[]).unwrap().is_empty(), "{} imports", m.name);

@@ -37,3 +37,288 @@ fn wgsl_f16_decode_is_exact_for_every_finite_half() {
         "every finite half (2^16 - 2 * 1024 inf/NaN)"
     );
 }
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use glam::DVec3;
+use staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
+use staticscene::pass::{
+    GpuPlan, QUERY_PASS, QueryCounters, TileSlots, hiz_words, tile_record_words, tile_records,
+    tile_state_words,
+};
+use staticscene::{
+    Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
+    QueryStats, Scene, TileId, ViewDesc, snap_origin,
+};
+use testkit::device::{Data, run_pass};
+
+/// Every active tile's records in pooled buffers, in tile order (what the renderer's
+/// pool does, without the allocator).
+struct Pool {
+    slots: BTreeMap<TileId, TileSlots>,
+    instances: Vec<u32>,
+    records: Vec<u32>,
+    state: Vec<u32>,
+}
+
+impl Pool {
+    fn new(scene: &Scene) -> Pool {
+        let mut p = Pool {
+            slots: BTreeMap::new(),
+            instances: Vec::new(),
+            records: Vec::new(),
+            state: Vec::new(),
+        };
+        for t in scene.tiles() {
+            let s = TileSlots {
+                instance_base: (p.instances.len() / 4) as u32,
+                records: p.records.len() as u32,
+                state: p.state.len() as u32,
+            };
+            p.instances
+                .extend_from_slice(bytemuck::cast_slice(t.instances()));
+            let r = tile_records(t);
+            assert_eq!(r.len(), tile_record_words(t));
+            p.records.extend(r);
+            p.state.extend(std::iter::repeat_n(0, tile_state_words(t)));
+            p.slots.insert(t.id(), s);
+        }
+        p
+    }
+
+    /// The fade byte of instance `i` of tile `id`.
+    fn fade(&self, id: TileId, i: usize) -> u8 {
+        let b = self.slots[&id].fade_base() as usize + i;
+        (self.state[b / 4] >> ((b % 4) * 8)) as u8
+    }
+}
+
+struct GpuOut {
+    instances: Vec<DrawableSetupInstance>,
+    batches: Vec<DrawableSetupBatch>,
+    stats: QueryStats,
+}
+
+/// One GPU query: plan on `scene`, run the pass, keep the state buffer in `pool`.
+fn gpu_query(
+    scene: &mut Scene,
+    pool: &mut Pool,
+    params: &QueryParams,
+    hiz: Option<&HiZ>,
+) -> (GpuOut, GpuPlan) {
+    let slots = pool.slots.clone();
+    let plan = scene.plan_gpu(params, &QueryOptions::default(), |id| {
+        slots.get(&id).copied()
+    });
+    let cap = plan.instances() as usize + 1;
+    let hiz = hiz_words(hiz);
+    let jobs = plan.job_list();
+    let out = run_pass(
+        &QUERY_PASS,
+        &[],
+        &[],
+        &plan.dispatch(),
+        &[
+            ("params", Data::Bytes(bytemuck::bytes_of(params))),
+            ("job_list", Data::Words(&jobs)),
+            ("instances", Data::Words(&pool.instances)),
+            ("records", Data::Words(&pool.records)),
+            ("hiz", Data::Words(&hiz)),
+            ("state", Data::Words(&pool.state)),
+            ("counters", Data::Zeros(14)),
+            ("out_instances", Data::Zeros(cap * 16)),
+            ("out_batches", Data::Zeros(cap * 12)),
+        ],
+    );
+    pool.state = out.read("state", pool.state.len());
+    let counters: QueryCounters = out.read::<QueryCounters>("counters", 1)[0];
+    let stats = counters.stats(&plan.stats);
+    let instances = out.read("out_instances", counters.instances as usize);
+    let batches = out.read("out_batches", counters.batches as usize);
+    (
+        GpuOut {
+            instances,
+            batches,
+            stats,
+        },
+        plan,
+    )
+}
+
+/// A batch as (setup, flags, its instances' (tile, index) keys).
+type CanonicalBatch = (u64, u32, Vec<(u32, u32)>);
+
+/// Batches as (setup, its instances' (tile, index) keys), sorted: the canonical form in
+/// which GPU and CPU outputs compare (job order differs, contents do not).
+fn canonical(
+    instances: &[DrawableSetupInstance],
+    batches: &[DrawableSetupBatch],
+) -> Vec<CanonicalBatch> {
+    let mut v: Vec<_> = batches
+        .iter()
+        .map(|b| {
+            let keys: Vec<(u32, u32)> = (b.first_instance..b.first_instance + b.count)
+                .map(|i| {
+                    let s = instances[i as usize].state;
+                    (s.tile, s.instance)
+                })
+                .collect();
+            (b.setup, b.flags, keys)
+        })
+        .collect();
+    v.sort_by(|a, b| a.2.cmp(&b.2));
+    v
+}
+
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1.0)
+}
+
+/// The GPU output of one frame against the CPU twin's.
+fn assert_equal(frame: usize, gpu: &GpuOut, cpu: &QueryOutput<DrawableSetupInstance>) {
+    let mut g = gpu.stats;
+    let mut c = cpu.stats;
+    // The pre-cull counts clusters skipped as not live on the CPU only.
+    (g.clusters_culled, c.clusters_culled) = (0, 0);
+    assert_eq!(g, c, "frame {frame}: statistics");
+    let gc = canonical(&gpu.instances, &gpu.batches);
+    let cc = canonical(&cpu.instances, &cpu.batches);
+    assert_eq!(gc.len(), cc.len(), "frame {frame}: batch count");
+    assert_eq!(gc, cc, "frame {frame}: batches (setup, flags, instances)");
+    // Per instance: fade, flags and the transform (f32 rounding of the product).
+    let key = |d: &DrawableSetupInstance| (d.state.tile, d.state.instance);
+    let cpu_by: BTreeMap<_, _> = cpu.instances.iter().map(|d| (key(d), d)).collect();
+    for d in &gpu.instances {
+        let c = cpu_by[&key(d)];
+        assert_eq!(
+            (d.state.fade, d.state.flags),
+            (c.state.fade, c.state.flags),
+            "frame {frame}: {:?}",
+            key(d)
+        );
+        for (r, rc) in d
+            .local_to_floating
+            .rows
+            .iter()
+            .zip(&c.local_to_floating.rows)
+        {
+            for (x, y) in r.iter().zip(rc) {
+                assert!(
+                    close(*x, *y),
+                    "frame {frame} {:?}: transform {r:?} vs {rc:?}",
+                    key(d)
+                );
+            }
+        }
+    }
+    // Batch spheres and sort depths, up to rounding (sqrt on the GPU is not exact).
+    let by_first = |inst: &[DrawableSetupInstance], b: &DrawableSetupBatch| {
+        key(&inst[b.first_instance as usize])
+    };
+    let cpu_b: BTreeMap<_, _> = cpu
+        .batches
+        .iter()
+        .map(|b| (by_first(&cpu.instances, b), b))
+        .collect();
+    for b in &gpu.batches {
+        let c = cpu_b[&by_first(&gpu.instances, b)];
+        assert_eq!(b.sort_key >> 32, c.sort_key >> 32);
+        assert!(close(
+            f32::from_bits(b.sort_key as u32),
+            f32::from_bits(c.sort_key as u32)
+        ));
+        for k in 0..4 {
+            assert!(
+                close(b.sphere[k], c.sphere[k]),
+                "frame {frame}: sphere {:?} vs {:?}",
+                b.sphere,
+                c.sphere
+            );
+        }
+        assert_eq!(b.stride, 64);
+    }
+}
+
+/// A walk down the demo city's street: the camera moves and turns, LODs switch and fade,
+/// last frame's depth (the buildings' boxes) occludes.
+fn walk(frames: usize) -> Vec<(Camera, Camera)> {
+    let cfg = CityConfig::with_instances(20_000);
+    let start = street_camera(&cfg);
+    (0..frames)
+        .map(|f| {
+            let at = |f: usize| {
+                let mut c = start;
+                c.position += DVec3::new(0.0, 0.0, -9.0 * f as f64);
+                c.rotation *= glam::DQuat::from_rotation_y(0.25 * (f as f64 * 0.7).sin());
+                c
+            };
+            (at(f), at(f.saturating_sub(1)))
+        })
+        .collect()
+}
+
+/// The GPU query equals `Scene::query` (the CPU twin) frame after frame on a demo city:
+/// the statistics of every test, the batches (setup, flags and instances, after the
+/// canonical sort), each instance's fade and transform, and the fade states left behind.
+#[test]
+fn gpu_query_equals_the_cpu_twin_over_frames() {
+    let cfg = CityConfig::with_instances(20_000);
+    let c = city(&cfg);
+    let mut cpu_scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
+    let mut gpu_scene = cpu_scene.clone();
+    let mut pool = Pool::new(&gpu_scene);
+    let (w, h) = (320u32, 180u32);
+    let mut cpu_out = QueryOutput::<DrawableSetupInstance>::new();
+    let mut totals = QueryStats::default();
+    for (frame, (cam, prev)) in walk(12).into_iter().enumerate() {
+        let mut view = ViewDesc::camera(cam, [w, h]);
+        view.fade_frames = 4;
+        view.lod_scale = 0.35;
+        let hiz = (frame > 0).then(|| {
+            let origin = snap_origin(cam.position);
+            let depth = raster_boxes(
+                &c.building_boxes,
+                origin,
+                &prev.clip_from_floating(origin),
+                w,
+                h,
+                false,
+            );
+            HiZ::build(&depth, w, h, false).unwrap()
+        });
+        if hiz.is_some() {
+            view.occlusion_camera = Some(prev);
+        }
+        let params = QueryParams::new(&view).unwrap();
+        cpu_scene
+            .query(
+                &params,
+                hiz.as_ref(),
+                &QueryOptions::default(),
+                &mut cpu_out,
+            )
+            .unwrap();
+        let (gpu, plan) = gpu_query(&mut gpu_scene, &mut pool, &params, hiz.as_ref());
+        assert!(plan.skipped_tiles.is_empty());
+        assert_equal(frame, &gpu, &cpu_out);
+        for t in cpu_scene.tiles() {
+            for i in 0..t.instances().len() {
+                assert_eq!(
+                    pool.fade(t.id(), i),
+                    cpu_scene.fade_state(t.id(), i).unwrap(),
+                    "frame {frame}: fade state of tile {:?} instance {i}",
+                    t.id()
+                );
+            }
+        }
+        totals = totals.merge(&gpu.stats);
+    }
+    // The walk exercises every test and the fade.
+    eprintln!("{totals:?}");
+    assert!(
+        totals.rejected_lod > 0 && totals.rejected_frustum > 0 && totals.rejected_occlusion > 0
+    );
+    assert!(totals.visible > 1000 && totals.batches > 0);
+}

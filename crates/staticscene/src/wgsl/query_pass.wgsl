@@ -1,0 +1,551 @@
+// staticscene::query_pass: the query compute pass (twin of src/query.rs `query_cluster`
+// over the jobs of src/pass.rs `GpuQueryPlanner`). One workgroup of 64 invocations per
+// wave of a cluster job (HZD's wavefront), one invocation per QueryInstance, the tests
+// in the talk's order, LOD fade states updated in place, and the run-grouped batch output
+// of `wave::workgroup` (batches of at most 64 instances, as HZD's).
+//
+// Every tile's records live in pooled buffers; a job names its tile's bases and counts,
+// and every index read from a record is checked against them (an instance with an index
+// outside its tile is dropped and counted as invalid, as the CPU twin does), so corrupt
+// records never read outside their tile.
+
+#import staticscene::query
+#import wave::workgroup
+
+const STATICSCENE_QUERY_WORKGROUP: u32 = 64u;
+// Job flags (Rust: JOB_FLAG_*).
+const STATICSCENE_JOB_SNAP_FADE: u32 = 1u;
+const STATICSCENE_JOB_LOD_UNLESS_LIVE: u32 = 2u;
+// Words per record in a tile's record block (Rust: *_WORDS).
+const STATICSCENE_OBJECT_WORDS: u32 = 16u;
+const STATICSCENE_SETUP_WORDS: u32 = 8u;
+const STATICSCENE_TRANSFORM_WORDS: u32 = 12u;
+const STATICSCENE_BOUNDS_WORDS: u32 = 3u;
+// The HiZ buffer: a header of level count + 16 levels (width, height, first texel word,
+// 0), then texels as f32 bits (Rust: HIZ_HEADER_WORDS, HIZ_MAX_LEVELS).
+const STATICSCENE_HIZ_MAX_LEVELS: u32 = 16u;
+const STATICSCENE_HIZ_HEADER_WORDS: u32 = 68u;
+// Statistics slots of the counters block (Rust: STAT_*).
+const STATICSCENE_STAT_THREADS: u32 = 0u;
+const STATICSCENE_STAT_FILTER: u32 = 1u;
+const STATICSCENE_STAT_LOD: u32 = 2u;
+const STATICSCENE_STAT_FRUSTUM: u32 = 3u;
+const STATICSCENE_STAT_SIZE: u32 = 4u;
+const STATICSCENE_STAT_OCCLUSION: u32 = 5u;
+const STATICSCENE_STAT_FADED_OUT: u32 = 6u;
+const STATICSCENE_STAT_INVALID: u32 = 7u;
+const STATICSCENE_STAT_VISIBLE: u32 = 8u;
+const STATICSCENE_STAT_DROPPED: u32 = 9u;
+const STATICSCENE_STAT_COUNT: u32 = 10u;
+
+struct StaticsceneGpuJob {
+    tile: u32,
+    first: u32,
+    count: u32,
+    flags: u32,
+    instance_base: u32,
+    records: u32,
+    objects: u32,
+    setups: u32,
+    transforms: u32,
+    bounds: u32,
+    first_wave: u32,
+    cluster: u32,
+    last_run: u32,
+    serial: u32,
+    fade_base: u32,
+    pad: u32,
+}
+
+struct StaticsceneJobList {
+    count: u32,
+    waves: u32,
+    pad0: u32,
+    pad1: u32,
+    jobs: array<StaticsceneGpuJob>,
+}
+
+struct StaticsceneQueryCounters {
+    instances: atomic<u32>,
+    batches: atomic<u32>,
+    pad: vec2<u32>,
+    stats: array<atomic<u32>, STATICSCENE_STAT_COUNT>,
+}
+
+@group(0) @binding(0) var<uniform> params: StaticsceneQueryParams;
+@group(0) @binding(1) var<storage, read> job_list: StaticsceneJobList;
+@group(0) @binding(2) var<storage, read> instances: array<vec4<u32>>;
+@group(0) @binding(3) var<storage, read> records: array<u32>;
+@group(0) @binding(4) var<storage, read> hiz: array<u32>;
+// Fade state bytes (four per word) and the clusters' live serials.
+@group(0) @binding(5) var<storage, read_write> state: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read_write> counters: StaticsceneQueryCounters;
+@group(0) @binding(7) var<storage, read_write> out_instances: array<StaticsceneDrawableSetupInstance>;
+@group(0) @binding(8) var<storage, read_write> out_batches: array<StaticsceneDrawableSetupBatch>;
+
+var<workgroup> staticscene_wg_live_serial: u32;
+var<workgroup> staticscene_wg_stats: array<atomic<u32>, STATICSCENE_STAT_COUNT>;
+// The batch accumulation (the talk's LDS arrays), per group: bounds and nearest depth as
+// order-preserving words (the minima complemented, so zero-initialised memory is neutral
+// for atomicMax), OR of flags.
+var<workgroup> staticscene_wg_bmin: array<atomic<u32>, 192>;
+var<workgroup> staticscene_wg_bmax: array<atomic<u32>, 192>;
+var<workgroup> staticscene_wg_bdepth: array<atomic<u32>, 64>;
+var<workgroup> staticscene_wg_bflags: array<atomic<u32>, 64>;
+
+// f32 to a u32 with the same order (-0 below +0).
+fn staticscene_ordered(f: f32) -> u32 {
+    let b = bitcast<u32>(f);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+fn staticscene_unordered(u: u32) -> f32 {
+    return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
+}
+
+fn staticscene_is_nan(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+fn staticscene_word_f32(i: u32) -> f32 {
+    return bitcast<f32>(records[i]);
+}
+
+fn staticscene_load_transform(at: u32) -> StaticsceneTransform {
+    var t: StaticsceneTransform;
+    for (var r = 0u; r < 3u; r++) {
+        let b = at + r * 4u;
+        t.rows[r] = vec4<f32>(staticscene_word_f32(b), staticscene_word_f32(b + 1u), staticscene_word_f32(b + 2u), staticscene_word_f32(b + 3u));
+    }
+    return t;
+}
+
+fn staticscene_load_object(job: StaticsceneGpuJob, i: u32) -> StaticsceneQueryObject {
+    let at = job.records + i * STATICSCENE_OBJECT_WORDS;
+    var o: StaticsceneQueryObject;
+    o.object_to_snapped = staticscene_load_transform(at);
+    o.snapped = vec3<i32>(bitcast<i32>(records[at + 12u]), bitcast<i32>(records[at + 13u]), bitcast<i32>(records[at + 14u]));
+    o.lod = records[at + 15u];
+    return o;
+}
+
+fn staticscene_setups_at(job: StaticsceneGpuJob) -> u32 {
+    return job.records + job.objects * STATICSCENE_OBJECT_WORDS;
+}
+
+fn staticscene_transforms_at(job: StaticsceneGpuJob) -> u32 {
+    return staticscene_setups_at(job) + job.setups * STATICSCENE_SETUP_WORDS;
+}
+
+fn staticscene_bounds_at(job: StaticsceneGpuJob) -> u32 {
+    return staticscene_transforms_at(job) + job.transforms * STATICSCENE_TRANSFORM_WORDS;
+}
+
+fn staticscene_load_setup(job: StaticsceneGpuJob, i: u32) -> StaticsceneQuerySetup {
+    let at = staticscene_setups_at(job) + i * STATICSCENE_SETUP_WORDS;
+    var s: StaticsceneQuerySetup;
+    for (var k = 0u; k < 6u; k++) {
+        s.bounds[k] = staticscene_word_f32(at + k);
+    }
+    s.handle = vec2<u32>(records[at + 6u], records[at + 7u]);
+    return s;
+}
+
+fn staticscene_load_bounds(job: StaticsceneGpuJob, i: u32) -> StaticsceneAabb {
+    let at = staticscene_bounds_at(job) + i * STATICSCENE_BOUNDS_WORDS;
+    var b: StaticsceneHalfAabb;
+    b.words = array<u32, 3>(records[at], records[at + 1u], records[at + 2u]);
+    return staticscene_half_box(b);
+}
+
+// Whether the job's record block lies inside the records buffer.
+fn staticscene_job_records_fit(job: StaticsceneGpuJob) -> bool {
+    let n = arrayLength(&records);
+    // Each count is below its index space (17 bits at most), so no term overflows.
+    let limits = job.objects <= 131072u && job.setups <= 4096u && job.transforms <= 16384u && job.bounds <= 32768u;
+    let end = staticscene_bounds_at(job) + job.bounds * STATICSCENE_BOUNDS_WORDS;
+    return limits && job.records <= n && end <= n && end >= job.records;
+}
+
+// The LOD test of one level: the level's bounds through object-to-floating, the squared
+// distance from the LOD point against the bracket ("always" codes pass without a test).
+fn staticscene_level_selected(codes: vec2<u32>, b: StaticsceneAabb, o2f: StaticsceneTransform, scale2: f32) -> bool {
+    let bx = staticscene_transform_aabb(o2f, b);
+    let always = codes.x == 0u && codes.y == STATICSCENE_LOD_CODE_INFINITY;
+    return always || staticscene_lod_selects(codes, staticscene_dist2(params.lod_point.xyz, bx), scale2);
+}
+
+fn staticscene_hiz_texel(at: u32) -> f32 {
+    if (at >= arrayLength(&hiz)) {
+        // Outside the buffer: the far side of everything (never occludes).
+        return select(1.0e30, -1.0e30, (params.flags & STATICSCENE_QUERY_FLAG_REVERSED_DEPTH) != 0u);
+    }
+    return bitcast<f32>(hiz[at]);
+}
+
+// The HiZ occlusion test (twin of HiZ::occluded): the box's eight corners through the
+// HiZ frame's matrix, its pixel rectangle and nearest depth, the level where the
+// rectangle spans 2x2 texels (or a scan some levels finer), occluded only if behind every
+// texel read.
+fn staticscene_occluded(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
+    let level_count = min(hiz[0], STATICSCENE_HIZ_MAX_LEVELS);
+    if (level_count == 0u) {
+        return false;
+    }
+    let reversed = (params.flags & STATICSCENE_QUERY_FLAG_REVERSED_DEPTH) != 0u;
+    let m = params.hiz_clip_from_floating;
+    let base = m * vec4<f32>(bmin, 1.0);
+    let e = bmax - bmin;
+    let cx = m[0] * e.x;
+    let cy = m[1] * e.y;
+    let cz = m[2] * e.z;
+    var lo = vec3<f32>(3.0e38);
+    var hi = vec3<f32>(-3.0e38);
+    for (var i = 0u; i < 8u; i++) {
+        var c = base;
+        if ((i & 1u) != 0u) {
+            c += cx;
+        }
+        if ((i & 2u) != 0u) {
+            c += cy;
+        }
+        if ((i & 4u) != 0u) {
+            c += cz;
+        }
+        if (staticscene_is_nan(c.w) || c.w <= 1e-6) {
+            return false;
+        }
+        let inv = 1.0 / c.w;
+        let p = vec3<f32>(c.x * inv, c.y * inv, c.z * inv);
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    let size = vec2<u32>(hiz[4], hiz[5]);
+    if (size.x == 0u || size.y == 0u) {
+        return false;
+    }
+    let w = f32(size.x);
+    let h = f32(size.y);
+    let margin = 1.0 / 64.0;
+    let px0 = (lo.x * 0.5 + 0.5) * w - margin;
+    let px1 = (hi.x * 0.5 + 0.5) * w + margin;
+    let py0 = (0.5 - hi.y * 0.5) * h - margin;
+    let py1 = (0.5 - lo.y * 0.5) * h + margin;
+    if (!(px1 >= 0.0 && py1 >= 0.0 && px0 < w && py0 < h)) {
+        return false;
+    }
+    let x0 = select(min(u32(floor(px0)), size.x - 1u), 0u, px0 <= 0.0);
+    let y0 = select(min(u32(floor(py0)), size.y - 1u), 0u, py0 <= 0.0);
+    let x1 = select(min(u32(floor(px1)), size.x - 1u), 0u, px1 <= 0.0);
+    let y1 = select(min(u32(floor(py1)), size.y - 1u), 0u, py1 <= 0.0);
+    let depth = select(lo.z, hi.z, reversed);
+    var l = 0u;
+    while (((x1 >> l) - (x0 >> l)) > 1u || ((y1 >> l) - (y0 >> l)) > 1u) {
+        l += 1u;
+    }
+    l = min(l, level_count - 1u);
+    let scan = params.hiz_scan_levels;
+    let level = select(l, l - scan, scan > 0u && l > scan);
+    let lw = hiz[4u + level * 4u];
+    let lh = hiz[5u + level * 4u];
+    let offset = hiz[6u + level * 4u];
+    if (lw == 0u || lh == 0u) {
+        return false;
+    }
+    for (var y = y0 >> level; y <= min(y1 >> level, lh - 1u); y++) {
+        for (var x = x0 >> level; x <= min(x1 >> level, lw - 1u); x++) {
+            let t = staticscene_hiz_texel(offset + y * lw + x);
+            let behind = select(depth > t + STATICSCENE_HIZ_DEPTH_EPSILON, depth < t - STATICSCENE_HIZ_DEPTH_EPSILON, reversed);
+            if (!behind) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// What one invocation found: its outcome (a STAT_* slot, or STAT_COUNT for no instance)
+// and, when visible, its output.
+struct StaticsceneLane {
+    outcome: u32,
+    live: bool,
+    l2f: StaticsceneTransform,
+    bmin: vec3<f32>,
+    bmax: vec3<f32>,
+    depth: f32,
+    fade: f32,
+    flags: u32,
+    handle: vec2<u32>,
+}
+
+// The fade state byte `index` (of the state buffer), or 0 outside it.
+fn staticscene_fade_load(index: u32) -> u32 {
+    if ((index >> 2u) >= arrayLength(&state)) {
+        return 0u;
+    }
+    return (atomicLoad(&state[index >> 2u]) >> ((index & 3u) * 8u)) & 0xffu;
+}
+
+fn staticscene_fade_store(index: u32, old: u32, new_state: u32) {
+    if ((index >> 2u) < arrayLength(&state) && old != new_state) {
+        atomicXor(&state[index >> 2u], (old ^ new_state) << ((index & 3u) * 8u));
+    }
+}
+
+// One thread's tests (twin of query.rs `test_instance`).
+fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, tile_index: u32) -> StaticsceneLane {
+    var lane: StaticsceneLane;
+    lane.outcome = STATICSCENE_STAT_VISIBLE;
+    // 1. Filter: word 0 only.
+    if ((staticscene_filter(q) & params.filter_mask) == 0u) {
+        lane.outcome = STATICSCENE_STAT_FILTER;
+        return lane;
+    }
+    let oi = staticscene_object(q);
+    if (!records_fit || oi >= job.objects) {
+        lane.outcome = STATICSCENE_STAT_INVALID;
+        return lane;
+    }
+    let obj = staticscene_load_object(job, oi);
+    let o2f = staticscene_object_to_floating(obj, params.origin.xyz);
+    var scale = staticscene_lod_scale(obj);
+    if (!staticscene_ignores_global_lod_scale(obj)) {
+        scale *= params.lod_point.w;
+    }
+    let scale2 = scale * scale;
+    // 2. Parent LOD, then 3. child LOD only if the parent is selected.
+    let pbi = staticscene_parent_bounds(q);
+    let cbi = staticscene_child_bounds(q);
+    if (pbi >= job.bounds || cbi >= job.bounds) {
+        lane.outcome = STATICSCENE_STAT_INVALID;
+        return lane;
+    }
+    let p_sel = staticscene_level_selected(staticscene_parent_lod(q), staticscene_load_bounds(job, pbi), o2f, scale2);
+    var lod_sel = false;
+    if (p_sel) {
+        lod_sel = staticscene_level_selected(staticscene_child_lod(q), staticscene_load_bounds(job, cbi), o2f, scale2);
+    }
+    let fading_view = (params.flags & STATICSCENE_QUERY_FLAG_FADE) != 0u && params.fade_frames > 0u;
+    let fade_on = fading_view && (staticscene_flags(q) & STATICSCENE_INSTANCE_FLAG_NO_FADE) == 0u;
+    let n = min(params.fade_frames, 127u);
+    let fade_index = job.fade_base + tile_index;
+    var stored = 0u;
+    var prev = 0u;
+    if (fade_on) {
+        stored = staticscene_fade_load(fade_index);
+        if ((job.flags & STATICSCENE_JOB_SNAP_FADE) != 0u) {
+            prev = select(0u, n, lod_sel);
+        } else {
+            prev = min(stored, n);
+        }
+    }
+    if (!lod_sel && prev == 0u) {
+        if (fade_on) {
+            staticscene_fade_store(fade_index, stored, 0u);
+        }
+        lane.outcome = STATICSCENE_STAT_LOD;
+        return lane;
+    }
+    // 4. Accurate frustum test of the local bounds in floating space.
+    let mi = staticscene_matrix(q);
+    let si = staticscene_setup(q);
+    if (mi >= job.transforms || si >= job.setups) {
+        lane.outcome = STATICSCENE_STAT_INVALID;
+        return lane;
+    }
+    let l2o = staticscene_load_transform(staticscene_transforms_at(job) + mi * STATICSCENE_TRANSFORM_WORDS);
+    let setup = staticscene_load_setup(job, si);
+    let l2f = staticscene_mul(o2f, l2o);
+    let bx = staticscene_transform_aabb(l2f, staticscene_setup_box(setup));
+    let in_frustum = !staticscene_box_outside_frustum(params.planes, bx);
+    let centre = (bx.min + bx.max) * 0.5;
+    let radius = length(bx.max - bx.min) * 0.5;
+    // 5. Screen size at the sphere's nearest w.
+    let m = params.clip_from_floating;
+    let w_row = vec4<f32>(m[0].w, m[1].w, m[2].w, m[3].w);
+    var big = true;
+    if (in_frustum && (params.flags & STATICSCENE_QUERY_FLAG_SIZE) != 0u) {
+        let w = dot(w_row.xyz, centre) + w_row.w - radius * length(w_row.xyz);
+        big = staticscene_is_nan(w) || w <= 0.0 || 2.0 * radius * params.viewport.w >= params.viewport.z * w;
+    }
+    // 6. Occlusion against the HiZ.
+    var occluded = false;
+    if (in_frustum && big && (params.flags & STATICSCENE_QUERY_FLAG_OCCLUSION) != 0u && (staticscene_flags(q) & STATICSCENE_INSTANCE_FLAG_NO_OCCLUSION) == 0u) {
+        occluded = staticscene_occluded(bx.min, bx.max);
+    }
+    // 7. LOD fade state.
+    var shown = lod_sel;
+    var opacity = 1.0;
+    var flags = 0u;
+    if (fade_on) {
+        var next = 0u;
+        if (!in_frustum) {
+            next = select(0u, n, lod_sel);
+        } else if (lod_sel) {
+            next = min(prev + 1u, n);
+        } else {
+            next = select(prev - 1u, 0u, prev == 0u);
+        }
+        staticscene_fade_store(fade_index, stored, next);
+        lane.live = next > 0u;
+        if (next < n) {
+            flags |= STATICSCENE_STATE_FADING;
+        }
+        if (!lod_sel) {
+            flags |= STATICSCENE_STATE_FADING_OUT;
+        }
+        shown = next > 0u;
+        opacity = f32(next) / f32(n);
+    }
+    if (!in_frustum) {
+        lane.outcome = STATICSCENE_STAT_FRUSTUM;
+    } else if (!big) {
+        lane.outcome = STATICSCENE_STAT_SIZE;
+    } else if (occluded) {
+        lane.outcome = STATICSCENE_STAT_OCCLUSION;
+    } else if (!shown) {
+        lane.outcome = STATICSCENE_STAT_FADED_OUT;
+    }
+    // 8. Output data.
+    lane.l2f = l2f;
+    lane.bmin = bx.min;
+    lane.bmax = bx.max;
+    lane.depth = dot(params.forward.xyz, centre) + params.forward.w - radius * length(params.forward.xyz);
+    lane.fade = opacity;
+    lane.flags = flags;
+    lane.handle = setup.handle;
+    return lane;
+}
+
+// The index of the job holding `wave`: the last job whose first wave is at or below it.
+fn staticscene_find_job(wave: u32, count: u32) -> u32 {
+    var lo = 0u;
+    var hi = count;
+    while (hi - lo > 1u) {
+        let mid = (lo + hi) / 2u;
+        if (job_list.jobs[mid].first_wave <= wave) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+@compute @workgroup_size(64)
+fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let wave = wid.y * 65535u + wid.x;
+    let job_count = min(job_list.count, arrayLength(&job_list.jobs));
+    if (wave >= job_list.waves || job_count == 0u) {
+        return;
+    }
+    let job = job_list.jobs[staticscene_find_job(wave, job_count)];
+    let job_waves = (job.count + STATICSCENE_QUERY_WORKGROUP - 1u) / STATICSCENE_QUERY_WORKGROUP;
+    if (wave < job.first_wave || wave - job.first_wave >= job_waves) {
+        return;
+    }
+    // A cluster the pre-cull rejected for its LOD runs only while some instance fades.
+    if (li == 0u) {
+        var serial = 0u;
+        if (job.cluster < arrayLength(&state)) {
+            serial = atomicLoad(&state[job.cluster]);
+        }
+        staticscene_wg_live_serial = serial;
+    }
+    let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
+    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run) {
+        return;
+    }
+    let local = (wave - job.first_wave) * STATICSCENE_QUERY_WORKGROUP + li;
+    let tile_index = job.first + local;
+    let global_index = job.instance_base + tile_index;
+    let has_instance = local < job.count && global_index >= job.instance_base && global_index < arrayLength(&instances);
+    var lane: StaticsceneLane;
+    lane.outcome = STATICSCENE_STAT_COUNT;
+    var q = vec4<u32>(0u);
+    if (has_instance) {
+        q = instances[global_index];
+        lane = staticscene_test(job, staticscene_job_records_fit(job), q, tile_index);
+    }
+    let visible = lane.outcome == STATICSCENE_STAT_VISIBLE;
+    // Run-grouped output: one instance per visible invocation, one header per group.
+    let group_end = has_instance && staticscene_group_end(q);
+    let b = wave_wg_batch_begin(group_end, visible, li);
+    var old = 0u;
+    if (b.instance.total != 0u) {
+        old = atomicAdd(&counters.instances, b.instance.total);
+    }
+    let slot = wave_wg_append_end(b.instance, old);
+    var dropped = 0u;
+    if (visible) {
+        if (slot < arrayLength(&out_instances)) {
+            out_instances[slot] = StaticsceneDrawableSetupInstance(StaticsceneInstanceState(lane.fade, lane.flags, job.tile, tile_index), lane.l2f);
+        } else {
+            dropped += 1u;
+        }
+        let g = b.group;
+        atomicMax(&staticscene_wg_bmin[g * 3u], ~staticscene_ordered(lane.bmin.x));
+        atomicMax(&staticscene_wg_bmin[g * 3u + 1u], ~staticscene_ordered(lane.bmin.y));
+        atomicMax(&staticscene_wg_bmin[g * 3u + 2u], ~staticscene_ordered(lane.bmin.z));
+        atomicMax(&staticscene_wg_bmax[g * 3u], staticscene_ordered(lane.bmax.x));
+        atomicMax(&staticscene_wg_bmax[g * 3u + 1u], staticscene_ordered(lane.bmax.y));
+        atomicMax(&staticscene_wg_bmax[g * 3u + 2u], staticscene_ordered(lane.bmax.z));
+        atomicMax(&staticscene_wg_bdepth[g], ~staticscene_ordered(lane.depth));
+        atomicOr(&staticscene_wg_bflags[g], lane.flags);
+    }
+    let hdr = wave_wg_batch_headers_begin(b, li);
+    var old_b = 0u;
+    if (hdr.append.total != 0u) {
+        old_b = atomicAdd(&counters.batches, hdr.append.total);
+    }
+    let bslot = wave_wg_append_end(hdr.append, old_b);
+    if (hdr.append.amount != 0u) {
+        let g = b.group;
+        let bmin = vec3<f32>(
+            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u])),
+            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 1u])),
+            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 2u])),
+        );
+        let bmax = vec3<f32>(
+            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u])),
+            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 1u])),
+            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 2u])),
+        );
+        let depth = staticscene_unordered(~atomicLoad(&staticscene_wg_bdepth[g]));
+        if (bslot < arrayLength(&out_batches)) {
+            let centre = (bmin + bmax) * 0.5;
+            let r = length(bmax - bmin) * 0.5;
+            out_batches[bslot] = StaticsceneDrawableSetupBatch(
+                staticscene_sort_key(lane.handle, depth),
+                lane.handle,
+                vec4<f32>(centre, r),
+                slot,
+                atomicLoad(&staticscene_wg_bflags[g]),
+                hdr.instance_count,
+                64u,
+            );
+        } else {
+            dropped += 1u;
+        }
+    }
+    // Statistics: one global atomic per counter per workgroup.
+    if (has_instance) {
+        atomicAdd(&staticscene_wg_stats[STATICSCENE_STAT_THREADS], 1u);
+        if (lane.outcome != STATICSCENE_STAT_VISIBLE) {
+            atomicAdd(&staticscene_wg_stats[lane.outcome], 1u);
+        }
+    }
+    if (dropped != 0u) {
+        atomicAdd(&staticscene_wg_stats[STATICSCENE_STAT_DROPPED], dropped);
+    }
+    if (lane.live && job.cluster < arrayLength(&state)) {
+        atomicStore(&state[job.cluster], job.serial);
+    }
+    workgroupBarrier();
+    if (li < STATICSCENE_STAT_COUNT) {
+        let v = atomicLoad(&staticscene_wg_stats[li]);
+        if (v != 0u) {
+            atomicAdd(&counters.stats[li], v);
+        }
+    }
+}
