@@ -277,6 +277,6 @@ mod tests {
         let module = shadercheck::assert_composed(&[MODULES], QUERY.name, &[], Caps::CORE);
         shadercheck::assert_prefixed(QUERY.name, &module, "staticscene", &[], true);
         assert!(QUERY.imports(&[]).unwrap().is_empty());
-        assert!(module().functions.iter().count() >= 20);
+        assert!(module.functions.iter().count() >= 20);
     }
 }
