@@ -180,8 +180,10 @@ fn close(a: f32, b: f32) -> bool {
 fn assert_equal(frame: usize, gpu: &GpuOut, cpu: &QueryOutput<DrawableSetupInstance>) {
     let mut g = gpu.stats;
     let mut c = cpu.stats;
-    // The pre-cull counts clusters skipped as not live on the CPU only.
-    (g.clusters_culled, c.clusters_culled) = (0, 0);
+    // The pre-cull's counts (clusters skipped as not live are counted on the CPU only).
+    for s in [&mut g, &mut c] {
+        (s.tiles, s.tiles_culled, s.clusters, s.clusters_culled) = (0, 0, 0, 0);
+    }
     assert_eq!(g, c, "frame {frame}: statistics");
     let gc = canonical(&gpu.instances, &gpu.batches);
     let cc = canonical(&cpu.instances, &cpu.batches);
@@ -321,4 +323,133 @@ fn gpu_query_equals_the_cpu_twin_over_frames() {
         totals.rejected_lod > 0 && totals.rejected_frustum > 0 && totals.rejected_occlusion > 0
     );
     assert!(totals.visible > 1000 && totals.batches > 0);
+}
+
+/// Corrupt records never read outside their tile: instances whose object, LOD bounds,
+/// matrix or setup index points past the tile's records are dropped and counted as
+/// invalid, exactly as the CPU twin does on the same hand-made buffers, and a job whose
+/// record block lies outside the records buffer drops every instance that passes the
+/// filter; every other instance is output as before.
+#[test]
+fn corrupt_records_are_dropped_as_the_twin_drops_them() {
+    use staticscene::{ClusterJob, InstanceFields, QueryInstance, TileBuffers, query_cluster};
+    let cfg = CityConfig::with_instances(20_000);
+    let c = city(&cfg);
+    let mut scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
+    assert!(scene.tiles().len() > 2);
+    let mut pool = Pool::new(&scene);
+    let mut rng = testkit::Rng::new(9);
+    // Corrupt one instance in seven, each in one of four fields.
+    let mut corrupted: BTreeMap<TileId, Vec<QueryInstance>> = BTreeMap::new();
+    for t in scene.tiles() {
+        let mut inst = t.instances().to_vec();
+        for (i, q) in inst.iter_mut().enumerate() {
+            if i % 7 != 3 {
+                continue;
+            }
+            let mut f: InstanceFields = q.try_unpack().unwrap();
+            match rng.below(4) {
+                0 => f.object = t.objects().len() as u32 + rng.below(100) as u32,
+                1 => f.parent_bounds = t.bounds().len() as u16,
+                2 => f.matrix = t.transforms().len() as u16 + 3,
+                _ => f.setup = t.setups().len() as u16,
+            }
+            *q = QueryInstance::pack(&f).unwrap();
+        }
+        let base = pool.slots[&t.id()].instance_base as usize * 4;
+        pool.instances[base..base + inst.len() * 4].copy_from_slice(bytemuck::cast_slice(&inst));
+        corrupted.insert(t.id(), inst);
+    }
+    // One tile's record block is moved past the end of the records buffer.
+    let moved = scene.tiles()[1].id();
+    pool.slots.get_mut(&moved).unwrap().records = pool.records.len() as u32 + 16;
+
+    let mut view = ViewDesc::camera(street_camera(&cfg), [320, 180]);
+    view.fade_frames = 0;
+    let params = QueryParams::new(&view).unwrap();
+    let options = QueryOptions {
+        precull: false,
+        ..QueryOptions::default()
+    };
+    // The CPU twin on the same buffers, cluster by cluster.
+    let counter = std::cell::Cell::new(0u32);
+    let batch_counter = std::cell::Cell::new(0u32);
+    let mut out = vec![DrawableSetupInstance::default(); 40_000];
+    let mut batches = vec![DrawableSetupBatch::default(); 40_000];
+    let mut stats = QueryStats::default();
+    for t in scene.tiles() {
+        let inst = &corrupted[&t.id()];
+        let buffers = if t.id() == moved {
+            TileBuffers {
+                tile: t.id().0,
+                instances: inst,
+                objects: &[],
+                setups: &[],
+                transforms: &[],
+                bounds: &[],
+            }
+        } else {
+            TileBuffers {
+                instances: inst,
+                ..t.buffers()
+            }
+        };
+        for cl in t.clusters() {
+            let job = ClusterJob {
+                first: cl.first,
+                count: cl.count,
+                snap_fade: false,
+            };
+            query_cluster(
+                &params,
+                &buffers,
+                None,
+                &mut [],
+                job,
+                wave::WaveWidth::W64,
+                &counter,
+                &mut out,
+                &batch_counter,
+                &mut batches,
+                &mut stats,
+            )
+            .unwrap();
+        }
+    }
+    let mut cpu = QueryOutput::new();
+    cpu.instances = out[..counter.get() as usize].to_vec();
+    cpu.batches = batches[..batch_counter.get() as usize].to_vec();
+    cpu.stats = stats;
+    let slots = pool.slots.clone();
+    let plan = scene.plan_gpu(&params, &options, |id| slots.get(&id).copied());
+    let cap = plan.instances() as usize + 1;
+    let hiz = hiz_words(None);
+    let jobs = plan.job_list();
+    let run = run_pass(
+        &QUERY_PASS,
+        &[],
+        &[],
+        &plan.dispatch(),
+        &[
+            ("params", Data::Bytes(bytemuck::bytes_of(&params))),
+            ("job_list", Data::Words(&jobs)),
+            ("instances", Data::Words(&pool.instances)),
+            ("records", Data::Words(&pool.records)),
+            ("hiz", Data::Words(&hiz)),
+            ("state", Data::Words(&pool.state)),
+            ("counters", Data::Zeros(14)),
+            ("out_instances", Data::Zeros(cap * 16)),
+            ("out_batches", Data::Zeros(cap * 12)),
+        ],
+    );
+    let counters: QueryCounters = run.read::<QueryCounters>("counters", 1)[0];
+    let gpu = GpuOut {
+        instances: run.read("out_instances", counters.instances as usize),
+        batches: run.read("out_batches", counters.batches as usize),
+        stats: counters.stats(&QueryStats::default()),
+    };
+    assert!(cpu.stats.invalid > 500, "{:?}", cpu.stats);
+    assert!(cpu.stats.visible > 100, "{:?}", cpu.stats);
+    // Only the per-thread statistics compare (the twin ran without the pre-cull's).
+    assert_equal(0, &gpu, &cpu);
 }
