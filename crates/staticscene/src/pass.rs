@@ -232,6 +232,72 @@ pub fn hiz_words(hiz: Option<&HiZ>) -> Vec<u32> {
     words
 }
 
+/// The HiZ buffer's header for a `width x height` level 0 (the levels of
+/// [`HiZ::build`]: ceil-halved down to 1x1, texels packed level after level after the
+/// header), and the buffer's length in words. Fails on a zero side or one above
+/// [`MAX_VIEWPORT`](crate::MAX_VIEWPORT).
+pub fn hiz_header(width: u32, height: u32) -> Result<(Vec<u32>, usize), crate::Error> {
+    if width == 0 || height == 0 || width > crate::MAX_VIEWPORT || height > crate::MAX_VIEWPORT {
+        return Err(crate::Error::Viewport { width, height });
+    }
+    let mut words = alloc::vec![0u32; HIZ_HEADER_WORDS];
+    let (mut w, mut h, mut at, mut n) = (width, height, HIZ_HEADER_WORDS, 0);
+    loop {
+        words[4 + 4 * n] = w;
+        words[5 + 4 * n] = h;
+        words[6 + 4 * n] = at as u32;
+        at += (w * h) as usize;
+        n += 1;
+        if w == 1 && h == 1 {
+            break;
+        }
+        (w, h) = (w.div_ceil(2), h.div_ceil(2));
+    }
+    words[0] = n as u32;
+    Ok((words, at))
+}
+
+/// The HiZ pass's uniform (WGSL `StaticsceneHizStep`): the source level of one dispatch.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct HizStep {
+    /// The level read (the dispatch writes `level + 1`).
+    pub level: u32,
+    /// Non-zero for reversed depth (levels keep the minimum).
+    pub reversed: u32,
+    /// Zero.
+    pub pad: [u32; 2],
+}
+
+/// The size of the level one HiZ dispatch writes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HizGrid {
+    /// Texels across.
+    pub width: u32,
+    /// Texels down.
+    pub height: u32,
+}
+
+/// The HiZ pyramid's reduction: one bind group `hiz` (the [`HizStep`] uniform and the
+/// [`hiz_header`]-laid-out buffer, level 0 filled by the caller) and one entry point
+/// `hiz_reduce`, dispatched once per level over that level's texels, finest first. Equal
+/// to [`HiZ::build`] texel for texel (min and max are exact).
+pub const HIZ_PASS: Pass<HizGrid> = Pass {
+    name: "staticscene hiz",
+    module: "staticscene::hiz_pass",
+    library: crate::wgsl::LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "hiz",
+        bindings: &[
+            Binding::new("step", Kind::uniform(size_of::<HizStep>())),
+            Binding::new("hiz", Kind::read_write(4)),
+        ],
+    }],
+    entries: &[Entry::grid("hiz_reduce", 8, 8, |g| [g.width, g.height])],
+    zeroed: &[],
+};
+
 /// The pass's dispatch size.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct QueryDispatch {

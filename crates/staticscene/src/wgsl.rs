@@ -39,8 +39,12 @@ pub const QUERY_PASS_MODULE: Module = Module::new(
     include_str!("wgsl/query_pass.wgsl"),
 );
 
+/// `staticscene::hiz_pass`: one level of the HiZ pyramid ([`HIZ_PASS`](crate::pass::HIZ_PASS)).
+pub const HIZ_PASS_MODULE: Module =
+    Module::new("staticscene::hiz_pass", include_str!("wgsl/hiz_pass.wgsl"));
+
 /// This crate's modules, for `shader::compose`'s library.
-pub const MODULES: &[Module] = &[QUERY, QUERY_PASS_MODULE];
+pub const MODULES: &[Module] = &[QUERY, QUERY_PASS_MODULE, HIZ_PASS_MODULE];
 
 /// Every module list the query pass imports from.
 pub const LIBRARY: &[&[Module]] = &[wave::wgsl::MODULES, MODULES];
@@ -65,8 +69,6 @@ mod tests {
             ("STATICSCENE_SETUP_WORDS", SETUP_WORDS as u32),
             ("STATICSCENE_TRANSFORM_WORDS", TRANSFORM_WORDS as u32),
             ("STATICSCENE_BOUNDS_WORDS", BOUNDS_WORDS as u32),
-            ("STATICSCENE_HIZ_MAX_LEVELS", HIZ_MAX_LEVELS as u32),
-            ("STATICSCENE_HIZ_HEADER_WORDS", HIZ_HEADER_WORDS as u32),
             ("STATICSCENE_STAT_THREADS", STAT_THREADS as u32),
             ("STATICSCENE_STAT_FILTER", STAT_FILTER as u32),
             ("STATICSCENE_STAT_LOD", STAT_LOD as u32),
@@ -120,6 +122,23 @@ mod tests {
         assert_eq!(SETUP_WORDS * 4, size_of::<QuerySetup>());
         assert_eq!(TRANSFORM_WORDS * 4, size_of::<Transform4x3>());
         assert_eq!(BOUNDS_WORDS * 4, size_of::<HalfAabb>());
+    }
+
+    #[test]
+    fn hiz_pass_description_matches_its_module() {
+        use crate::pass::*;
+        shadercheck::check_pass(&HIZ_PASS, |_| Caps::CORE);
+        let m = shadercheck::assert_composed(LIBRARY, HIZ_PASS_MODULE.name, &[], Caps::CORE);
+        shadercheck::assert_struct_layout(
+            &m,
+            "StaticsceneHizStep",
+            size_of::<HizStep>(),
+            &shadercheck::members!(HizStep {
+                level,
+                reversed,
+                pad
+            }),
+        );
     }
 
     fn module() -> naga::Module {
@@ -180,7 +199,15 @@ mod tests {
         );
         // Every WGSL constant is one of the above.
         let names = shadercheck::const_names(&m);
-        assert_eq!(names.len(), 24, "{names:?}");
+        assert_eq!(
+            const_u32(&m, "STATICSCENE_HIZ_MAX_LEVELS"),
+            Some(crate::pass::HIZ_MAX_LEVELS as u32)
+        );
+        assert_eq!(
+            const_u32(&m, "STATICSCENE_HIZ_HEADER_WORDS"),
+            Some(crate::pass::HIZ_HEADER_WORDS as u32)
+        );
+        assert_eq!(names.len(), 26, "{names:?}");
         assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
     }
 

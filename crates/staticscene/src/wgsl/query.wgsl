@@ -28,6 +28,10 @@ const STATICSCENE_STATE_FADING: u32 = 1u;
 const STATICSCENE_STATE_FADING_OUT: u32 = 2u;
 const STATICSCENE_FRUSTUM_TOLERANCE: f32 = 1e-5;
 const STATICSCENE_HIZ_DEPTH_EPSILON: f32 = 9.5367431640625e-7;
+// The HiZ buffer of the query and HiZ passes: a header of the level count, three spare
+// words and 16 levels (width, height, first texel word, 0), then texels as f32 bits.
+const STATICSCENE_HIZ_MAX_LEVELS: u32 = 16u;
+const STATICSCENE_HIZ_HEADER_WORDS: u32 = 68u;
 
 struct StaticsceneQueryInstance {
     words: vec4<u32>,

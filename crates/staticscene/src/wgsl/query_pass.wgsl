@@ -21,10 +21,6 @@ const STATICSCENE_OBJECT_WORDS: u32 = 16u;
 const STATICSCENE_SETUP_WORDS: u32 = 8u;
 const STATICSCENE_TRANSFORM_WORDS: u32 = 12u;
 const STATICSCENE_BOUNDS_WORDS: u32 = 3u;
-// The HiZ buffer: a header of level count + 16 levels (width, height, first texel word,
-// 0), then texels as f32 bits (Rust: HIZ_HEADER_WORDS, HIZ_MAX_LEVELS).
-const STATICSCENE_HIZ_MAX_LEVELS: u32 = 16u;
-const STATICSCENE_HIZ_HEADER_WORDS: u32 = 68u;
 // Statistics slots of the counters block (Rust: STAT_*).
 const STATICSCENE_STAT_THREADS: u32 = 0u;
 const STATICSCENE_STAT_FILTER: u32 = 1u;
