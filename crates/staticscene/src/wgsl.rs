@@ -201,11 +201,11 @@ mod tests {
         let names = shadercheck::const_names(&m);
         assert_eq!(
             const_u32(&m, "STATICSCENE_HIZ_MAX_LEVELS"),
-            Some(crate::pass::HIZ_MAX_LEVELS as u32)
+            Some(pass::HIZ_MAX_LEVELS as u32)
         );
         assert_eq!(
             const_u32(&m, "STATICSCENE_HIZ_HEADER_WORDS"),
-            Some(crate::pass::HIZ_HEADER_WORDS as u32)
+            Some(pass::HIZ_HEADER_WORDS as u32)
         );
         assert_eq!(names.len(), 26, "{names:?}");
         assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
