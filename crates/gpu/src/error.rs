@@ -76,6 +76,13 @@ pub enum Error {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum SceneError {
+    /// A static tile cannot be activated on the GPU.
+    StaticTile {
+        /// The tile's id.
+        tile: u32,
+        /// Why.
+        problem: &'static str,
+    },
     /// A mesh has more primitives than 16-bit indices and the vis-buffer ID allow.
     TooManyPrimitives {
         /// The mesh's name.
@@ -248,6 +255,9 @@ impl fmt::Display for Error {
 impl fmt::Display for SceneError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            SceneError::StaticTile { tile, problem } => {
+                write!(f, "static tile {tile} not activated: {problem}")
+            }
             SceneError::TooManyPrimitives {
                 mesh,
                 primitives,

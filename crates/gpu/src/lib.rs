@@ -85,11 +85,14 @@ pub use glam;
 pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
+pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 pub use renderer::{FrameOutput, RenderPath, Renderer, RendererConfig, WARM_UP};
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
     MeshId, Scene, ShaderKind,
 };
+/// The static-scene crate whose tiles and views [`StaticQuery`] takes.
+pub use staticscene;
 pub use stats::{ClassificationStats, GpuClassification};
 pub use timing::Timing;

@@ -28,6 +28,7 @@ pub(crate) mod baseline;
 pub(crate) mod classify;
 pub(crate) mod laydown;
 pub(crate) mod lighting;
+pub(crate) mod query;
 pub(crate) mod resolve;
 pub(crate) mod vis_copy;
 

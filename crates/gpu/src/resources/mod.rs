@@ -6,6 +6,7 @@ pub(crate) mod geometry;
 pub(crate) mod plan;
 pub(crate) mod readback;
 pub(crate) mod rows;
+pub(crate) mod static_pool;
 pub(crate) mod targets;
 
 use glam::Vec3;
