@@ -56,7 +56,7 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
     let n = world.groups.len();
     // Frame f: groups [f/2, f/2 + n/2) are loaded (a sliding window), and the first one
     // again at the end.
-    let mut loaded: BTreeMap<u64, ()> = BTreeMap::new();
+    let mut loaded: std::collections::BTreeSet<u64> = std::collections::BTreeSet::new();
     let mut prev_cam = street_camera(&cfg);
     let mut max_tiles = 0;
     for frame in 0..10usize {
@@ -65,18 +65,17 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
             .chain(if frame >= 8 { vec![0] } else { vec![] })
             .collect();
         let mut updates = Vec::new();
-        for id in loaded.keys().copied().collect::<Vec<_>>() {
+        for id in loaded.iter().copied().collect::<Vec<_>>() {
             if !want.contains(&(id as usize)) {
                 updates.push(streamer.remove_group(id).unwrap());
                 loaded.remove(&id);
             }
         }
         for &g in &want {
-            if !loaded.contains_key(&(g as u64)) {
+            if loaded.insert(g as u64) {
                 let mut group = world.groups[g].clone();
                 group.id = g as u64;
                 updates.push(streamer.add_group(&group).unwrap());
-                loaded.insert(g as u64, ());
             }
         }
         for u in updates {
