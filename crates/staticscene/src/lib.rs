@@ -1,9 +1,10 @@
 //! Horizon Zero Dawn's static-scene visibility query (Will Vale, "Decima: Visibility in
 //! Horizon Zero Dawn", GDC 2018; seed 001) on the CPU, written as the twin of a planned
 //! GPU compute pass: the same packed buffers in, the same batched draw items out. The
-//! records and per-thread tests have a WGSL twin ([`wgsl::QUERY`]); the query is designed
-//! to feed the `gpu` crate's laydown but is not wired into `gpu` yet (its `prepare` takes
-//! every instance of the scene). For 0.5-1.5M static instances: immutable tiles built on
+//! records and per-thread tests have a WGSL twin ([`wgsl::QUERY`]), and the query runs as
+//! a GPU compute pass ([`pass::QUERY_PASS`], with the HiZ reduction [`pass::HIZ_PASS`])
+//! that `gpu::StaticQuery` dispatches; the query does not feed `gpu`'s laydown yet. For
+//! 0.5-1.5M static instances: immutable tiles built on
 //! the streaming thread, clusters pre-culled on the CPU, one compute job per visible
 //! cluster, one thread per 16-byte instance.
 //!
@@ -32,8 +33,11 @@
 //! - [`output`]: the batched output, [`DrawableSetupInstance`] (64 B, or 112 B with the
 //!   previous transform) and [`DrawableSetupBatch`] (48 B).
 //! - [`wgsl`]: `staticscene::query` ([`wgsl::QUERY`]), the WGSL twin of the records and
-//!   the per-thread tests, validated by naga, its constants and struct layouts tied to
-//!   the Rust ones; no pass dispatches it yet (`tests/device.rs` runs its f16 decode).
+//!   the per-thread tests, and the two pass modules, validated by naga, their constants
+//!   and struct layouts tied to the Rust ones.
+//! - [`pass`]: the query and HiZ passes' descriptions, the pooled record layout
+//!   ([`pass::tile_records`], [`pass::TileSlots`]), the GPU jobs ([`Scene::plan_gpu`]);
+//!   `tests/device.rs` runs them against the CPU twin.
 //! - [`baseline`]: the benches' flat loop (no tiles, clusters or packing).
 //! - [`demo`]: a procedural city (1.5M instances for the benches) and a box rasteriser
 //!   for depth buffers.

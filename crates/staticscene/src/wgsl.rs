@@ -1,10 +1,11 @@
 //! The WGSL twin of the records and the per-thread tests: `staticscene::query`
 //! ([`QUERY`], `src/wgsl/query.wgsl`), a binding-free library module (structs, `const`s,
-//! functions, every name prefixed `staticscene_` / `STATICSCENE_` / `Staticscene`) that a
-//! query pass would import with `#import staticscene::query` (see the `shader` crate). No
-//! pass imports it yet: the `gpu` crate has no query pass, and nothing runs this WGSL on a
-//! device; naga validates it in the unit tests below, with `Caps::CORE` (it needs no
-//! optional capability). Each `const` equals the Rust constant of the same meaning and
+//! functions, every name prefixed `staticscene_` / `STATICSCENE_` / `Staticscene`) that the
+//! passes import with `#import staticscene::query` (see the `shader` crate):
+//! `staticscene::query_pass` ([`QUERY_PASS_MODULE`], the query) and
+//! `staticscene::hiz_pass` ([`HIZ_PASS_MODULE`], one HiZ level), described in
+//! [`pass`](crate::pass). naga validates them in the unit tests below with `Caps::CORE`
+//! (no optional capability); `tests/device.rs` runs them against the CPU twin. Each `const` equals the Rust constant of the same meaning and
 //! each struct has the Rust struct's size and member offsets (the unit tests read them
 //! back).
 //!

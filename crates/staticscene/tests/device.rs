@@ -1,6 +1,7 @@
-//! The query module's WGSL run on testkit's device (lavapipe in CI) against the Rust
-//! reference. There is no query pass yet; until there is, the functions a pass will call
-//! are run here one by one. A machine without a GPU driver fails, saying how to install one.
+//! The query's WGSL run on testkit's device (lavapipe in CI) against the Rust reference:
+//! the f16 decode, the query pass against `Scene::query` over frames and on corrupt
+//! records, and the HiZ pass against `HiZ::build`. A machine without a GPU driver fails,
+//! saying how to install one.
 
 /// `staticscene_f16` (the half-float decode of the culling boxes and LOD scales, written
 /// out because `unpack2x16float` needs a capability) against the `half` crate for every

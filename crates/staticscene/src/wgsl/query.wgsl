@@ -1,5 +1,5 @@
-// staticscene::query: the query's records and per-thread tests (twin of src/query.rs;
-// no GPU pass imports it yet).
+// staticscene::query: the query's records and per-thread tests (twin of src/query.rs),
+// imported by staticscene::query_pass and staticscene::hiz_pass.
 // Binding-free: structs, constants and functions, all prefixed staticscene_ / Staticscene.
 // Constants equal the Rust constants of the same meaning (read back in unit tests).
 
