@@ -80,6 +80,10 @@ struct StaticsceneQueryCounters {
 @group(0) @binding(8) var<storage, read_write> out_batches: array<StaticsceneDrawableSetupBatch>;
 
 var<workgroup> staticscene_wg_live_serial: u32;
+// Whether any invocation has a visible instance (most waves have none: the batch output
+// and its barriers are skipped for them, uniformly).
+var<workgroup> staticscene_wg_any_visible: atomic<u32>;
+var<workgroup> staticscene_wg_any_visible_copy: u32;
 var<workgroup> staticscene_wg_stats: array<atomic<u32>, STATICSCENE_STAT_COUNT>;
 // The batch accumulation (the talk's LDS arrays), per group: bounds and nearest depth as
 // order-preserving words (the minima complemented, so zero-initialised memory is neutral
@@ -428,51 +432,16 @@ fn staticscene_find_job(wave: u32, count: u32) -> u32 {
     return lo;
 }
 
-@compute @workgroup_size(64)
-fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let wave = wid.y * 65535u + wid.x;
-    let job_count = min(job_list.count, arrayLength(&job_list.jobs));
-    if (wave >= job_list.waves || job_count == 0u) {
-        return;
-    }
-    let job = job_list.jobs[staticscene_find_job(wave, job_count)];
-    let job_waves = (job.count + STATICSCENE_QUERY_WORKGROUP - 1u) / STATICSCENE_QUERY_WORKGROUP;
-    if (wave < job.first_wave || wave - job.first_wave >= job_waves) {
-        return;
-    }
-    // A cluster the pre-cull rejected for its LOD runs only while some instance fades.
-    if (li == 0u) {
-        var serial = 0u;
-        if (job.cluster < arrayLength(&state)) {
-            serial = atomicLoad(&state[job.cluster]);
-        }
-        staticscene_wg_live_serial = serial;
-    }
-    let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
-    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run) {
-        return;
-    }
-    let local = (wave - job.first_wave) * STATICSCENE_QUERY_WORKGROUP + li;
-    let tile_index = job.first + local;
-    let global_index = job.instance_base + tile_index;
-    let has_instance = local < job.count && global_index >= job.instance_base && global_index < arrayLength(&instances);
-    var lane: StaticsceneLane;
-    lane.outcome = STATICSCENE_STAT_COUNT;
-    var q = vec4<u32>(0u);
-    if (has_instance) {
-        q = instances[global_index];
-        lane = staticscene_test(job, staticscene_job_records_fit(job), q, tile_index);
-    }
-    let visible = lane.outcome == STATICSCENE_STAT_VISIBLE;
-    // Run-grouped output: one instance per visible invocation, one header per group.
-    let group_end = has_instance && staticscene_group_end(q);
+// The run-grouped output of a wave with some visible invocation: one instance per
+// visible invocation, one header per group. Returns the items dropped past the buffers.
+fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bool, group_end: bool, tile_index: u32, li: u32) -> u32 {
+    var dropped = 0u;
     let b = wave_wg_batch_begin(group_end, visible, li);
     var old = 0u;
     if (b.instance.total != 0u) {
         old = atomicAdd(&counters.instances, b.instance.total);
     }
     let slot = wave_wg_append_end(b.instance, old);
-    var dropped = 0u;
     if (visible) {
         if (slot < arrayLength(&out_instances)) {
             out_instances[slot] = StaticsceneDrawableSetupInstance(StaticsceneInstanceState(lane.fade, lane.flags, job.tile, tile_index), lane.l2f);
@@ -523,6 +492,56 @@ fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
         } else {
             dropped += 1u;
         }
+    }
+    return dropped;
+}
+
+@compute @workgroup_size(64)
+fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let wave = wid.y * 65535u + wid.x;
+    let job_count = min(job_list.count, arrayLength(&job_list.jobs));
+    if (wave >= job_list.waves || job_count == 0u) {
+        return;
+    }
+    let job = job_list.jobs[staticscene_find_job(wave, job_count)];
+    let job_waves = (job.count + STATICSCENE_QUERY_WORKGROUP - 1u) / STATICSCENE_QUERY_WORKGROUP;
+    if (wave < job.first_wave || wave - job.first_wave >= job_waves) {
+        return;
+    }
+    // A cluster the pre-cull rejected for its LOD runs only while some instance fades.
+    if (li == 0u) {
+        var serial = 0u;
+        if (job.cluster < arrayLength(&state)) {
+            serial = atomicLoad(&state[job.cluster]);
+        }
+        staticscene_wg_live_serial = serial;
+    }
+    let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
+    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run) {
+        return;
+    }
+    let local = (wave - job.first_wave) * STATICSCENE_QUERY_WORKGROUP + li;
+    let tile_index = job.first + local;
+    let global_index = job.instance_base + tile_index;
+    let has_instance = local < job.count && global_index >= job.instance_base && global_index < arrayLength(&instances);
+    var lane: StaticsceneLane;
+    lane.outcome = STATICSCENE_STAT_COUNT;
+    var q = vec4<u32>(0u);
+    if (has_instance) {
+        q = instances[global_index];
+        lane = staticscene_test(job, staticscene_job_records_fit(job), q, tile_index);
+    }
+    let visible = lane.outcome == STATICSCENE_STAT_VISIBLE;
+    if (visible) {
+        atomicOr(&staticscene_wg_any_visible, 1u);
+    }
+    workgroupBarrier();
+    if (li == 0u) {
+        staticscene_wg_any_visible_copy = atomicLoad(&staticscene_wg_any_visible);
+    }
+    var dropped = 0u;
+    if (workgroupUniformLoad(&staticscene_wg_any_visible_copy) != 0u) {
+        dropped = staticscene_output(job, lane, visible, has_instance && staticscene_group_end(q), tile_index, li);
     }
     // Statistics: one global atomic per counter per workgroup.
     if (has_instance) {
