@@ -131,7 +131,9 @@ mod bmi2 {
     #[target_feature(enable = "bmi2")]
     pub fn enc3_64(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u64]) {
         for (((o, &x), &y), &z) in out.iter_mut().zip(xs).zip(ys).zip(zs) {
-            *o = _pdep_u64(x as u64, X3) | _pdep_u64(y as u64, X3 << 1) | _pdep_u64(z as u64, X3 << 2);
+            *o = _pdep_u64(x as u64, X3)
+                | _pdep_u64(y as u64, X3 << 1)
+                | _pdep_u64(z as u64, X3 << 2);
         }
     }
     #[target_feature(enable = "bmi2")]
@@ -151,7 +153,12 @@ mod bmi2 {
     #[target_feature(enable = "bmi2")]
     pub fn dec3_32(codes: &[u32], xs: &mut [u32], ys: &mut [u32], zs: &mut [u32]) {
         let m = X3 as u32 & 0x3fff_ffff;
-        for (((&c, x), y), z) in codes.iter().zip(xs.iter_mut()).zip(ys.iter_mut()).zip(zs.iter_mut()) {
+        for (((&c, x), y), z) in codes
+            .iter()
+            .zip(xs.iter_mut())
+            .zip(ys.iter_mut())
+            .zip(zs.iter_mut())
+        {
             *x = _pext_u32(c, m);
             *y = _pext_u32(c, m << 1);
             *z = _pext_u32(c, m << 2);
@@ -159,7 +166,12 @@ mod bmi2 {
     }
     #[target_feature(enable = "bmi2")]
     pub fn dec3_64(codes: &[u64], xs: &mut [u32], ys: &mut [u32], zs: &mut [u32]) {
-        for (((&c, x), y), z) in codes.iter().zip(xs.iter_mut()).zip(ys.iter_mut()).zip(zs.iter_mut()) {
+        for (((&c, x), y), z) in codes
+            .iter()
+            .zip(xs.iter_mut())
+            .zip(ys.iter_mut())
+            .zip(zs.iter_mut())
+        {
             *x = _pext_u64(c, X3) as u32;
             *y = _pext_u64(c, X3 << 1) as u32;
             *z = _pext_u64(c, X3 << 2) as u32;
@@ -192,14 +204,29 @@ fn inputs() -> Inputs {
     let mut rng = testkit::Rng::new(0x2545_f491_4f6c_dd1d);
     // Coordinates masked to 16, 32, 10 and 21 bits; codes masked to their used bits.
     let widths = [16u32, 32, 10, 21];
-    let mut lanes = || widths.map(|b| (0..N).map(|_| rng.next_u32() & (u32::MAX >> (32 - b))).collect::<Vec<u32>>());
+    let mut lanes = || {
+        widths.map(|b| {
+            (0..N)
+                .map(|_| rng.next_u32() & (u32::MAX >> (32 - b)))
+                .collect::<Vec<u32>>()
+        })
+    };
     let (xs, ys, zs) = (lanes(), lanes(), lanes());
-    let k32 = [rng.words(N), (0..N).map(|_| rng.next_u32() & 0x3fff_ffff).collect()];
+    let k32 = [
+        rng.words(N),
+        (0..N).map(|_| rng.next_u32() & 0x3fff_ffff).collect(),
+    ];
     let k64 = [
         (0..N).map(|_| rng.next_u64()).collect(),
         (0..N).map(|_| rng.next_u64() >> 1).collect(),
     ];
-    Inputs { xs, ys, zs, k32, k64 }
+    Inputs {
+        xs,
+        ys,
+        zs,
+        k32,
+        k64,
+    }
 }
 
 fn time(f: &mut dyn FnMut(), passes: usize) -> f64 {
@@ -281,7 +308,12 @@ macro_rules! dec_loop {
         }
     };
     ($k:ident, ($x:ident, $y:ident, $z:ident), $f:expr) => {
-        for (((&c, x), y), z) in $k.iter().zip($x.iter_mut()).zip($y.iter_mut()).zip($z.iter_mut()) {
+        for (((&c, x), y), z) in $k
+            .iter()
+            .zip($x.iter_mut())
+            .zip($y.iter_mut())
+            .zip($z.iter_mut())
+        {
             [*x, *y, *z] = ($f)(c);
         }
     };
@@ -352,39 +384,121 @@ fn main() {
     }
     let mut groups: Vec<(&str, Vec<Variant>)> = Vec::new();
     use magic as m;
-    enc_group!(groups, "enc2_32", 0, u32, encode2_u32_soa, encode2_u32_soa_with,
-        morton::encode2_u32, morton::encode2_u32,
-        |x, y| m::spread2_32(x) | (m::spread2_32(y) << 1), enc2_32, (xs, ys));
-    enc_group!(groups, "enc2_64", 1, u64, encode2_u64_soa, encode2_u64_soa_with,
-        morton::encode2_u64, morton::encode2_u64,
-        |x, y| m::spread2_64(x) | (m::spread2_64(y) << 1), enc2_64, (xs, ys));
-    enc_group!(groups, "enc3_32", 2, u32, encode3_u32_soa, encode3_u32_soa_with,
-        morton::encode3_u32, morton::encode3_u32,
+    enc_group!(
+        groups,
+        "enc2_32",
+        0,
+        u32,
+        encode2_u32_soa,
+        encode2_u32_soa_with,
+        morton::encode2_u32,
+        morton::encode2_u32,
+        |x, y| m::spread2_32(x) | (m::spread2_32(y) << 1),
+        enc2_32,
+        (xs, ys)
+    );
+    enc_group!(
+        groups,
+        "enc2_64",
+        1,
+        u64,
+        encode2_u64_soa,
+        encode2_u64_soa_with,
+        morton::encode2_u64,
+        morton::encode2_u64,
+        |x, y| m::spread2_64(x) | (m::spread2_64(y) << 1),
+        enc2_64,
+        (xs, ys)
+    );
+    enc_group!(
+        groups,
+        "enc3_32",
+        2,
+        u32,
+        encode3_u32_soa,
+        encode3_u32_soa_with,
+        morton::encode3_u32,
+        morton::encode3_u32,
         |x, y, z| m::spread3_32(x) | (m::spread3_32(y) << 1) | (m::spread3_32(z) << 2),
-        enc3_32, (xs, ys, zs));
-    enc_group!(groups, "enc3_64", 3, u64, encode3_u64_soa, encode3_u64_soa_with,
-        morton::encode3_u64, morton::encode3_u64,
+        enc3_32,
+        (xs, ys, zs)
+    );
+    enc_group!(
+        groups,
+        "enc3_64",
+        3,
+        u64,
+        encode3_u64_soa,
+        encode3_u64_soa_with,
+        morton::encode3_u64,
+        morton::encode3_u64,
         |x, y, z| m::spread3_64(x) | (m::spread3_64(y) << 1) | (m::spread3_64(z) << 2),
-        enc3_64, (xs, ys, zs));
-    dec_group!(groups, "dec2_32", |i: &'static Inputs| &i.k32[0], decode2_u32_soa,
-        decode2_u32_soa_with, morton::decode2_u32, morton::decode2_u32,
-        |c: u32| [m::squeeze2_32(c), m::squeeze2_32(c >> 1)], dec2_32, (xs, ys));
-    dec_group!(groups, "dec2_64", |i: &'static Inputs| &i.k64[0], decode2_u64_soa,
-        decode2_u64_soa_with, morton::decode2_u64, morton::decode2_u64,
-        |c: u64| [m::squeeze2_64(c), m::squeeze2_64(c >> 1)], dec2_64, (xs, ys));
-    dec_group!(groups, "dec3_32", |i: &'static Inputs| &i.k32[1], decode3_u32_soa,
-        decode3_u32_soa_with, morton::decode3_u32, morton::decode3_u32,
-        |c: u32| [m::squeeze3_32(c), m::squeeze3_32(c >> 1), m::squeeze3_32(c >> 2)],
-        dec3_32, (xs, ys, zs));
-    dec_group!(groups, "dec3_64", |i: &'static Inputs| &i.k64[1], decode3_u64_soa,
-        decode3_u64_soa_with, morton::decode3_u64, morton::decode3_u64,
-        |c: u64| [m::squeeze3_64(c), m::squeeze3_64(c >> 1), m::squeeze3_64(c >> 2)],
-        dec3_64, (xs, ys, zs));
+        enc3_64,
+        (xs, ys, zs)
+    );
+    dec_group!(
+        groups,
+        "dec2_32",
+        |i: &'static Inputs| &i.k32[0],
+        decode2_u32_soa,
+        decode2_u32_soa_with,
+        morton::decode2_u32,
+        morton::decode2_u32,
+        |c: u32| [m::squeeze2_32(c), m::squeeze2_32(c >> 1)],
+        dec2_32,
+        (xs, ys)
+    );
+    dec_group!(
+        groups,
+        "dec2_64",
+        |i: &'static Inputs| &i.k64[0],
+        decode2_u64_soa,
+        decode2_u64_soa_with,
+        morton::decode2_u64,
+        morton::decode2_u64,
+        |c: u64| [m::squeeze2_64(c), m::squeeze2_64(c >> 1)],
+        dec2_64,
+        (xs, ys)
+    );
+    dec_group!(
+        groups,
+        "dec3_32",
+        |i: &'static Inputs| &i.k32[1],
+        decode3_u32_soa,
+        decode3_u32_soa_with,
+        morton::decode3_u32,
+        morton::decode3_u32,
+        |c: u32| [
+            m::squeeze3_32(c),
+            m::squeeze3_32(c >> 1),
+            m::squeeze3_32(c >> 2)
+        ],
+        dec3_32,
+        (xs, ys, zs)
+    );
+    dec_group!(
+        groups,
+        "dec3_64",
+        |i: &'static Inputs| &i.k64[1],
+        decode3_u64_soa,
+        decode3_u64_soa_with,
+        morton::decode3_u64,
+        morton::decode3_u64,
+        |c: u64| [
+            m::squeeze3_64(c),
+            m::squeeze3_64(c >> 1),
+            m::squeeze3_64(c >> 2)
+        ],
+        dec3_64,
+        (xs, ys, zs)
+    );
     groups.retain(|(name, _)| name.contains(filter.as_str()));
 
     // Interleaved: every variant of every group once per round, then the medians.
-    let mut samples: Vec<Vec<Vec<f64>>> =
-        groups.iter().map(|(_, v)| vec![Vec::new(); v.len()]).collect();
+    let mut samples: Vec<Vec<Vec<f64>>> = groups
+        .iter()
+        .map(|(_, v)| vec![Vec::new(); v.len()])
+        .collect();
     for (g, (_, vs)) in groups.iter_mut().enumerate() {
         for (i, (_, f)) in vs.iter_mut().enumerate() {
             time(f.as_mut(), passes / 8 + 1); // warm-up

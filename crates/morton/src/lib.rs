@@ -94,6 +94,9 @@ pub mod batch;
 #[cfg(target_arch = "x86_64")]
 mod bmi2;
 mod error;
+// Not on soft-float targets (x86_64-unknown-none), where LLVM cannot lower 512-bit vectors.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+mod gfni;
 pub mod hilbert;
 pub mod locality;
 // Unused when the build has BMI2: the scalar encoders then inline `pdep`.
