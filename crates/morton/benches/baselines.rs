@@ -8,7 +8,7 @@
 //!
 //! and ours: `batch/best` (the slice functions on `Path::best`), `batch/<Path>` (each path
 //! the CPU has, forced), `loop/inline` (the scalar `morton::encode3_u32` and friends in a
-//! plain loop, as a user writes it) and `loop/dispatch` (`morton::dispatch::*`, the per-call
+//! plain loop, as a user writes it) and `loop/per_key` (`morton::per_key::*`, the per-key
 //! run-time dispatched functions, in the same loop).
 //!
 //! Every variant runs over the same inputs (16 384 keys, struct-of-arrays, cache-resident),
@@ -279,7 +279,7 @@ macro_rules! enc_group {
             black_box(&mut o);
         })));
         let mut o = vec![0 as $out; N];
-        v.push(("loop/dispatch".into(), Box::new(move || {
+        v.push(("loop/per_key".into(), Box::new(move || {
             let ($($ax),+) = ($(black_box($ax)),+);
             enc_loop!(o, ($($ax),+), $disp);
             black_box(&mut o);
@@ -360,7 +360,7 @@ macro_rules! dec_group {
             black_box(($(&mut $ax),+));
         })));
         let ($(mut $ax),+) = ($({ let $ax = vec![0u32; N]; $ax }),+);
-        v.push(("loop/dispatch".into(), Box::new(move || {
+        v.push(("loop/per_key".into(), Box::new(move || {
             let k = black_box(k);
             dec_loop!(k, ($($ax),+), $disp);
             black_box(($(&mut $ax),+));
@@ -392,7 +392,7 @@ fn main() {
         encode2_u32_soa,
         encode2_u32_soa_with,
         morton::encode2_u32,
-        morton::encode2_u32,
+        morton::per_key::encode2_u32,
         |x, y| m::spread2_32(x) | (m::spread2_32(y) << 1),
         enc2_32,
         (xs, ys)
@@ -405,7 +405,7 @@ fn main() {
         encode2_u64_soa,
         encode2_u64_soa_with,
         morton::encode2_u64,
-        morton::encode2_u64,
+        morton::per_key::encode2_u64,
         |x, y| m::spread2_64(x) | (m::spread2_64(y) << 1),
         enc2_64,
         (xs, ys)
@@ -418,7 +418,7 @@ fn main() {
         encode3_u32_soa,
         encode3_u32_soa_with,
         morton::encode3_u32,
-        morton::encode3_u32,
+        morton::per_key::encode3_u32,
         |x, y, z| m::spread3_32(x) | (m::spread3_32(y) << 1) | (m::spread3_32(z) << 2),
         enc3_32,
         (xs, ys, zs)
@@ -431,7 +431,7 @@ fn main() {
         encode3_u64_soa,
         encode3_u64_soa_with,
         morton::encode3_u64,
-        morton::encode3_u64,
+        morton::per_key::encode3_u64,
         |x, y, z| m::spread3_64(x) | (m::spread3_64(y) << 1) | (m::spread3_64(z) << 2),
         enc3_64,
         (xs, ys, zs)
@@ -443,7 +443,7 @@ fn main() {
         decode2_u32_soa,
         decode2_u32_soa_with,
         morton::decode2_u32,
-        morton::decode2_u32,
+        morton::per_key::decode2_u32,
         |c: u32| [m::squeeze2_32(c), m::squeeze2_32(c >> 1)],
         dec2_32,
         (xs, ys)
@@ -455,7 +455,7 @@ fn main() {
         decode2_u64_soa,
         decode2_u64_soa_with,
         morton::decode2_u64,
-        morton::decode2_u64,
+        morton::per_key::decode2_u64,
         |c: u64| [m::squeeze2_64(c), m::squeeze2_64(c >> 1)],
         dec2_64,
         (xs, ys)
@@ -467,7 +467,7 @@ fn main() {
         decode3_u32_soa,
         decode3_u32_soa_with,
         morton::decode3_u32,
-        morton::decode3_u32,
+        morton::per_key::decode3_u32,
         |c: u32| [
             m::squeeze3_32(c),
             m::squeeze3_32(c >> 1),
@@ -483,7 +483,7 @@ fn main() {
         decode3_u64_soa,
         decode3_u64_soa_with,
         morton::decode3_u64,
-        morton::decode3_u64,
+        morton::per_key::decode3_u64,
         |c: u64| [
             m::squeeze3_64(c),
             m::squeeze3_64(c >> 1),
