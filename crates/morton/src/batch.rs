@@ -146,8 +146,36 @@ kernels!(dec3_32_aos, unmap_aos, (codes: &[u32], points: &mut [[u32; 3]]),
 kernels!(dec3_64_aos, unmap_aos, (codes: &[u64], points: &mut [[u32; 3]]),
     magic: magic::decode3_u64, bmi2: |c| pd::decode3_u64(c));
 
-/// Generates the public `name` (best path) and `name_with` (given path) pair.
+/// Generates the public `name` (best path) and `name_with` (given path) pair; with
+/// `gfni: kernel`, [`Path::Gfni`] runs that kernel of [`crate::gfni`].
 macro_rules! public {
+    (
+        $(#[$doc:meta])*
+        $name:ident, $with:ident, $kernel:ident, gfni: $gfni:ident,
+        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
+    ) => {
+        $(#[$doc])*
+        #[inline]
+        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
+            $with(Path::best(), $first $(, $arg)*)
+        }
+
+        #[doc = concat!("[`", stringify!($name), "`] on a given [`Path`]; ",
+            "[`Error::PathUnavailable`] if this CPU or build lacks it.")]
+        pub fn $with(path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
+            available(path)?;
+            $( check(stringify!($arg), $first.len(), $arg.len())?; )*
+            #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+            if path == Path::Gfni {
+                // SAFETY: `available` checked that the CPU has what the GFNI kernels need;
+                // the lengths are equal.
+                unsafe { crate::gfni::$gfni($first $(, $arg)*) };
+                return Ok(());
+            }
+            $kernel::run(path, $first $(, $arg)*);
+            Ok(())
+        }
+    };
     (
         $(#[$doc:meta])*
         $name:ident, $with:ident, $kernel:ident,
@@ -172,31 +200,31 @@ macro_rules! public {
 
 public!(
     /// 2D Morton codes into u32 (16 bits per axis) from struct-of-arrays lanes.
-    encode2_u32_soa, encode2_u32_soa_with, enc2_32, (xs: &[u32], ys: &[u32], out: &mut [u32]));
+    encode2_u32_soa, encode2_u32_soa_with, enc2_32, gfni: enc2_32, (xs: &[u32], ys: &[u32], out: &mut [u32]));
 public!(
     /// 2D Morton codes into u64 (32 bits per axis) from struct-of-arrays lanes.
-    encode2_u64_soa, encode2_u64_soa_with, enc2_64, (xs: &[u32], ys: &[u32], out: &mut [u64]));
+    encode2_u64_soa, encode2_u64_soa_with, enc2_64, gfni: enc2_64, (xs: &[u32], ys: &[u32], out: &mut [u64]));
 public!(
     /// 3D Morton codes into u32 (10 bits per axis) from struct-of-arrays lanes.
-    encode3_u32_soa, encode3_u32_soa_with, enc3_32,
+    encode3_u32_soa, encode3_u32_soa_with, enc3_32, gfni: enc3_32,
     (xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u32]));
 public!(
     /// 3D Morton codes into u64 (21 bits per axis) from struct-of-arrays lanes.
-    encode3_u64_soa, encode3_u64_soa_with, enc3_64,
+    encode3_u64_soa, encode3_u64_soa_with, enc3_64, gfni: enc3_64,
     (xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u64]));
 public!(
     /// Decodes 2D u32 codes into struct-of-arrays lanes.
-    decode2_u32_soa, decode2_u32_soa_with, dec2_32, (codes: &[u32], xs: &mut [u32], ys: &mut [u32]));
+    decode2_u32_soa, decode2_u32_soa_with, dec2_32, gfni: dec2_32, (codes: &[u32], xs: &mut [u32], ys: &mut [u32]));
 public!(
     /// Decodes 2D u64 codes into struct-of-arrays lanes.
-    decode2_u64_soa, decode2_u64_soa_with, dec2_64, (codes: &[u64], xs: &mut [u32], ys: &mut [u32]));
+    decode2_u64_soa, decode2_u64_soa_with, dec2_64, gfni: dec2_64, (codes: &[u64], xs: &mut [u32], ys: &mut [u32]));
 public!(
     /// Decodes 3D u32 codes into struct-of-arrays lanes (bits 30 and 31 ignored).
-    decode3_u32_soa, decode3_u32_soa_with, dec3_32,
+    decode3_u32_soa, decode3_u32_soa_with, dec3_32, gfni: dec3_32,
     (codes: &[u32], xs: &mut [u32], ys: &mut [u32], zs: &mut [u32]));
 public!(
     /// Decodes 3D u64 codes into struct-of-arrays lanes (bit 63 ignored).
-    decode3_u64_soa, decode3_u64_soa_with, dec3_64,
+    decode3_u64_soa, decode3_u64_soa_with, dec3_64, gfni: dec3_64,
     (codes: &[u64], xs: &mut [u32], ys: &mut [u32], zs: &mut [u32]));
 
 public!(

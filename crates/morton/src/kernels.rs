@@ -70,8 +70,10 @@ macro_rules! kernels {
                     // SAFETY: as above, the CPU has AVX2.
                     $crate::Path::Avx2 => unsafe { avx2($($arg),*) },
                     #[cfg(target_arch = "x86_64")]
-                    // SAFETY: as above, the CPU has AVX-512 F, VL, BW and DQ (and so AVX2).
-                    $crate::Path::Avx512 => unsafe { avx512($($arg),*) },
+                    // SAFETY: as above, the CPU has AVX-512 F, VL, BW and DQ (and so AVX2);
+                    // the GFNI path needs those too and runs these loops where it has no
+                    // kernel of its own.
+                    $crate::Path::Avx512 | $crate::Path::Gfni => unsafe { avx512($($arg),*) },
                     _ => scalar($($arg),*),
                 }
             }

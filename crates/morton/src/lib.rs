@@ -44,17 +44,24 @@
 //! # What is here
 //!
 //! - Scalar [`encode2_u32`], [`decode2_u32`], [`encode2_u64`], [`decode2_u64`],
-//!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`]: BMI2
-//!   `pdep`/`pext` inlined when the build enables `target_feature = "bmi2"`. Otherwise
-//!   [`encode3_u32`] looks up a 4 KiB table, and the others run `pdep`/`pext` inline (as
-//!   assembly, no call) where the CPU has a fast `pdep` (run-time detection under `std`,
-//!   one predictable branch per call), else small tables (32-bit codes) or magic bits
-//!   (64-bit codes). The `const` magic-bits versions are in [`magic`]; `try_` variants
-//!   check the range. For many keys use [`batch`], which vectorises.
+//!   [`encode3_u32`], [`decode3_u32`], [`encode3_u64`], [`decode3_u64`], in three forms:
+//!   the crate-root functions, [`per_key`] and the `const` [`magic`] bits; `try_` variants
+//!   check the range.
 //! - [`batch`]: the same over slices (struct-of-arrays or `[[u32; N]]`), on the fastest
-//!   [`Path`] this CPU has: AVX-512 or AVX2 vectorised magic bits, BMI2 where `pdep` is fast
+//!   [`Path`] this CPU has: AVX-512 with GFNI (byte moves and bit matrices in explicit
+//!   512-bit intrinsics), AVX-512 or AVX2 vectorised magic bits, BMI2 where `pdep` is fast
 //!   (not AMD Zen 1/2, where it is microcoded), scalar otherwise. With `std` the path is
 //!   detected at run time; without, it follows the build's target features.
+//!
+//! Which to call:
+//!
+//! | you have | call | why |
+//! | --- | --- | --- |
+//! | slices of coordinates or codes | [`batch`] | run-time detected vector kernels, 2-4x a plain loop |
+//! | a loop that makes one key per iteration | the crate-root functions | with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`) they are [`magic`] bits inline and the loop vectorises; otherwise they are [`per_key`] |
+//! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key |
+//! | a `const` context | [`magic`] | `const fn` |
+//!
 //! - [`Quantizer3`] / [`Quantizer2`]: positions in an axis-aligned box onto the grid
 //!   (clamped; NaN is an error), and quantise+encode over slices.
 //! - [`hilbert`]: Hilbert curve encode/decode in 2D and 3D (better locality, dearer), and
@@ -94,6 +101,9 @@ pub mod batch;
 #[cfg(target_arch = "x86_64")]
 mod bmi2;
 mod error;
+// Not on soft-float targets (x86_64-unknown-none), where LLVM cannot lower 512-bit vectors.
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+mod gfni;
 pub mod hilbert;
 pub mod locality;
 // Unused when the build has BMI2: the scalar encoders then inline `pdep`.
@@ -152,7 +162,7 @@ pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 /// `$fallback` (`lut` or `magic`) everywhere else.
 macro_rules! scalar {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
-        $(#[$doc])*
+        #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
         #[inline]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
@@ -169,7 +179,7 @@ macro_rules! scalar {
     };
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
         dispatch($fallback:ident)) => {
-        $(#[$doc])*
+        #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
         #[inline]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
@@ -194,42 +204,117 @@ macro_rules! scalar {
     };
 }
 
-scalar!(
+/// The crate-root function of the same name: magic bits inline where the build has AVX2
+/// (a loop of calls then vectorises; `pdep` and table lookups would not), else the
+/// [`per_key`] function.
+macro_rules! top {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty) => {
+        $(#[$doc])*
+        ///
+        /// In a loop, builds with AVX2 (`-C target-cpu=native` on a recent x86-64, or
+        /// `x86-64-v3`) vectorise it: it is [`magic`]'s function inline. Other builds run
+        #[doc = concat!("[`per_key::", stringify!($name), "`].")]
+        /// For slices, [`batch`] is faster still.
+        #[inline(always)]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+            {
+                magic::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+            {
+                per_key::$name($($arg),*)
+            }
+        }
+    };
+}
+
+/// The scalar codes one key at a time, for a key computed among other work where the loop
+/// around it will not vectorise: BMI2 `pdep`/`pext` inline when the build enables BMI2;
+/// otherwise a table (3D u32 encode, every CPU), or `pdep`/`pext` as inline assembly behind
+/// a cached run-time check where the CPU has a fast `pdep` (with `std`), else tables (32-bit
+/// codes) or magic bits (64-bit). The crate-root functions of the same names are these in
+/// builds without AVX2, and [`magic`]'s (which loops vectorise) in builds with it.
+pub mod per_key {
+    #[allow(unused_imports)]
+    use crate::{bmi2, lut, magic, path};
+
+    scalar!(
+            /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
+        /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
+        encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
+    );
+    scalar!(
+            /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
+        decode2_u32(code: u32) -> [u32; 2], dispatch(lut)
+    );
+    scalar!(
+            /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
+        /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
+        /// `(0, 0, 1)` gives 4.
+        encode3_u32(x: u32, y: u32, z: u32) -> u32, lut
+    );
+    scalar!(
+            /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
+        /// ignored).
+        decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
+    );
+    scalar!(
+            /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
+        encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
+    );
+    scalar!(
+            /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
+        decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
+    );
+    scalar!(
+            /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
+        /// bit 63 is zero).
+        encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
+    );
+    scalar!(
+            /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
+        decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
+    );
+}
+
+top!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
-    encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
+    encode2_u32(x: u32, y: u32) -> u32
 );
-scalar!(
+top!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
-    decode2_u32(code: u32) -> [u32; 2], dispatch(lut)
+    decode2_u32(code: u32) -> [u32; 2]
 );
-scalar!(
+top!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
-    encode3_u32(x: u32, y: u32, z: u32) -> u32, lut
+    encode3_u32(x: u32, y: u32, z: u32) -> u32
 );
-scalar!(
+top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
-    decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
+    decode3_u32(code: u32) -> [u32; 3]
 );
-scalar!(
+top!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
-    encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
+    encode2_u64(x: u32, y: u32) -> u64
 );
-scalar!(
+top!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
-    decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
+    decode2_u64(code: u64) -> [u32; 2]
 );
-scalar!(
+top!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
     /// bit 63 is zero).
-    encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
+    encode3_u64(x: u32, y: u32, z: u32) -> u64
 );
-scalar!(
+top!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
-    decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
+    decode3_u64(code: u64) -> [u32; 3]
 );
 
 #[inline]

@@ -114,6 +114,15 @@ proptest! {
         prop_assert_eq!(morton::decode2_u64(k64), naive_decode::<2>(k64, 32));
         prop_assert_eq!(morton::decode3_u32(k32), naive_decode::<3>(k32 as u64, 10));
         prop_assert_eq!(morton::decode3_u64(k64), naive_decode::<3>(k64, 21));
+        // The per-key versions (BMI2, inline assembly or tables, as this CPU and build have).
+        prop_assert_eq!(morton::per_key::encode2_u32(x, y) as u64, naive_encode([x, y], 16));
+        prop_assert_eq!(morton::per_key::encode2_u64(x, y), naive_encode([x, y], 32));
+        prop_assert_eq!(morton::per_key::encode3_u32(x, y, z) as u64, naive_encode([x, y, z], 10));
+        prop_assert_eq!(morton::per_key::encode3_u64(x, y, z), naive_encode([x, y, z], 21));
+        prop_assert_eq!(morton::per_key::decode2_u32(k32), naive_decode::<2>(k32 as u64, 16));
+        prop_assert_eq!(morton::per_key::decode2_u64(k64), naive_decode::<2>(k64, 32));
+        prop_assert_eq!(morton::per_key::decode3_u32(k32), naive_decode::<3>(k32 as u64, 10));
+        prop_assert_eq!(morton::per_key::decode3_u64(k64), naive_decode::<3>(k64, 21));
         // The const magic-bits versions too (the plain ones may be BMI2).
         prop_assert_eq!(magic::encode3_u32(x, y, z), morton::encode3_u32(x, y, z));
         prop_assert_eq!(magic::encode3_u64(x, y, z), morton::encode3_u64(x, y, z));
@@ -255,6 +264,48 @@ fn paths_report_availability() {
         } else {
             assert_eq!(r, Err(morton::Error::PathUnavailable { path }));
         }
+    }
+}
+
+/// The crate-root functions in a loop the compiler may vectorise (magic bits inline in
+/// builds with AVX2) against the naive reference, every width and direction.
+#[test]
+fn scalar_loops_match_naive() {
+    let n = 1000;
+    let mut rng = testkit::Rng::new(0x0123_4567_89ab_cdef);
+    let (xs, ys, zs): (Vec<u32>, Vec<u32>, Vec<u32>) = (rng.words(n), rng.words(n), rng.words(n));
+    let k64: Vec<u64> = (0..n).map(|_| rng.next_u64()).collect();
+    let k32: Vec<u32> = k64.iter().map(|&k| k as u32).collect();
+    let e2: Vec<u32> = xs
+        .iter()
+        .zip(&ys)
+        .map(|(&x, &y)| morton::encode2_u32(x, y))
+        .collect();
+    let e2w: Vec<u64> = xs
+        .iter()
+        .zip(&ys)
+        .map(|(&x, &y)| morton::encode2_u64(x, y))
+        .collect();
+    let e3: Vec<u32> = (0..n)
+        .map(|i| morton::encode3_u32(xs[i], ys[i], zs[i]))
+        .collect();
+    let e3w: Vec<u64> = (0..n)
+        .map(|i| morton::encode3_u64(xs[i], ys[i], zs[i]))
+        .collect();
+    let d2: Vec<[u32; 2]> = k32.iter().map(|&k| morton::decode2_u32(k)).collect();
+    let d2w: Vec<[u32; 2]> = k64.iter().map(|&k| morton::decode2_u64(k)).collect();
+    let d3: Vec<[u32; 3]> = k32.iter().map(|&k| morton::decode3_u32(k)).collect();
+    let d3w: Vec<[u32; 3]> = k64.iter().map(|&k| morton::decode3_u64(k)).collect();
+    for i in 0..n {
+        let (p2, p3) = ([xs[i], ys[i]], [xs[i], ys[i], zs[i]]);
+        assert_eq!(e2[i] as u64, naive_encode(p2, 16), "{i}");
+        assert_eq!(e2w[i], naive_encode(p2, 32), "{i}");
+        assert_eq!(e3[i] as u64, naive_encode(p3, 10), "{i}");
+        assert_eq!(e3w[i], naive_encode(p3, 21), "{i}");
+        assert_eq!(d2[i], naive_decode::<2>(k32[i] as u64, 16), "{i}");
+        assert_eq!(d2w[i], naive_decode::<2>(k64[i], 32), "{i}");
+        assert_eq!(d3[i], naive_decode::<3>(k32[i] as u64, 10), "{i}");
+        assert_eq!(d3w[i], naive_decode::<3>(k64[i], 21), "{i}");
     }
 }
 
