@@ -58,7 +58,7 @@
 //! | you have | call | why |
 //! | --- | --- | --- |
 //! | slices of coordinates or codes | [`batch`] | run-time detected vector kernels, 2-4x a plain loop |
-//! | a loop that makes one key per iteration | the crate-root functions | with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`) they are [`magic`] bits inline and the loop vectorises; otherwise they are [`per_key`] |
+//! | a loop that makes one key per iteration | the crate-root functions | 32-bit codes with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`): [`magic`] bits inline, the loop vectorises; otherwise [`per_key`] (for 64-bit codes `pdep`/`pext` per key beats a vectorised loop) |
 //! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key |
 //! | a `const` context | [`magic`] | `const fn` |
 //!
@@ -204,11 +204,13 @@ macro_rules! scalar {
     };
 }
 
-/// The crate-root function of the same name: magic bits inline where the build has AVX2
-/// (a loop of calls then vectorises; `pdep` and table lookups would not), else the
-/// [`per_key`] function.
+/// The crate-root function of the same name. 32-bit codes: magic bits inline where the
+/// build has AVX2 (a loop of calls then vectorises; `pdep` and table lookups would not),
+/// else the [`per_key`] function. 64-bit codes: always [`per_key`] (measured: with AVX2 or
+/// AVX-512 in the build, a vectorised magic-bits loop of 64-bit codes is 1.2-1.4x slower
+/// than `pdep`/`pext` one key at a time; see BENCHMARKS.md).
 macro_rules! top {
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty) => {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, vectorise) => {
         $(#[$doc])*
         ///
         /// In a loop, builds with AVX2 (`-C target-cpu=native` on a recent x86-64, or
@@ -228,14 +230,26 @@ macro_rules! top {
             }
         }
     };
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, per_key) => {
+        $(#[$doc])*
+        ///
+        #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: `pdep`/`pext` ")]
+        /// one key at a time beats a vectorised magic-bits loop for 64-bit codes. For slices,
+        /// [`batch`] is faster still.
+        #[inline(always)]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            per_key::$name($($arg),*)
+        }
+    };
 }
 
 /// The scalar codes one key at a time, for a key computed among other work where the loop
 /// around it will not vectorise: BMI2 `pdep`/`pext` inline when the build enables BMI2;
 /// otherwise a table (3D u32 encode, every CPU), or `pdep`/`pext` as inline assembly behind
 /// a cached run-time check where the CPU has a fast `pdep` (with `std`), else tables (32-bit
-/// codes) or magic bits (64-bit). The crate-root functions of the same names are these in
-/// builds without AVX2, and [`magic`]'s (which loops vectorise) in builds with it.
+/// codes) or magic bits (64-bit). The crate-root functions of the same names are these,
+/// except the 32-bit codes in builds with AVX2: [`magic`]'s there, which loops vectorise.
 pub mod per_key {
     #[allow(unused_imports)]
     use crate::{bmi2, lut, magic, path};
@@ -282,39 +296,47 @@ pub mod per_key {
 top!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
-    encode2_u32(x: u32, y: u32) -> u32
+    encode2_u32(x: u32, y: u32) -> u32,
+    vectorise
 );
 top!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
-    decode2_u32(code: u32) -> [u32; 2]
+    decode2_u32(code: u32) -> [u32; 2],
+    vectorise
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
-    encode3_u32(x: u32, y: u32, z: u32) -> u32
+    encode3_u32(x: u32, y: u32, z: u32) -> u32,
+    vectorise
 );
 top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
-    decode3_u32(code: u32) -> [u32; 3]
+    decode3_u32(code: u32) -> [u32; 3],
+    vectorise
 );
 top!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
-    encode2_u64(x: u32, y: u32) -> u64
+    encode2_u64(x: u32, y: u32) -> u64,
+    per_key
 );
 top!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
-    decode2_u64(code: u64) -> [u32; 2]
+    decode2_u64(code: u64) -> [u32; 2],
+    per_key
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
     /// bit 63 is zero).
-    encode3_u64(x: u32, y: u32, z: u32) -> u64
+    encode3_u64(x: u32, y: u32, z: u32) -> u64,
+    per_key
 );
 top!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
-    decode3_u64(code: u64) -> [u32; 3]
+    decode3_u64(code: u64) -> [u32; 3],
+    per_key
 );
 
 #[inline]
