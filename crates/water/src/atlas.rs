@@ -348,7 +348,12 @@ impl FlowAtlas {
             u64::from(t[header::SLOTS_Y]),
             u64::from(t[header::SLOT_TOP]),
         );
-        if res == 0 || sx * stride > w || stop + sy * stride > h || stop < top + wh {
+        // Saturating: the fields are arbitrary u32s and their product passes u64.
+        if res == 0
+            || sx.saturating_mul(stride) > w
+            || stop.saturating_add(sy.saturating_mul(stride)) > h
+            || stop < top + wh
+        {
             return Err(bad("the tile slots are outside the texture"));
         }
         for &e in &t[t[header::TABLE] as usize..table_end as usize] {
