@@ -161,7 +161,7 @@ pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 /// fast `pdep` (checked once, then one predictable branch per call, no call), and
 /// `$fallback` (`lut` or `magic`) everywhere else.
 macro_rules! scalar {
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
+    ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
         #[inline]
         #[must_use]
@@ -177,7 +177,7 @@ macro_rules! scalar {
             }
         }
     };
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+    ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
         dispatch($fallback:ident)) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
         #[inline]
@@ -255,40 +255,27 @@ pub mod per_key {
     use crate::{bmi2, lut, magic, path};
 
     scalar!(
-            /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
-        /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
         encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
     );
     scalar!(
-            /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
         decode2_u32(code: u32) -> [u32; 2], dispatch(lut)
     );
     scalar!(
-            /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
-        /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
-        /// `(0, 0, 1)` gives 4.
         encode3_u32(x: u32, y: u32, z: u32) -> u32, lut
     );
     scalar!(
-            /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
-        /// ignored).
         decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
     );
     scalar!(
-            /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
         encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
     );
     scalar!(
-            /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
         decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
     );
     scalar!(
-            /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
-        /// bit 63 is zero).
         encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
     );
     scalar!(
-            /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
         decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
     );
 }
