@@ -103,7 +103,7 @@ fn main() -> anyhow::Result<()> {
             view.occlusion_camera = Some(cam);
         }
         let params = QueryParams::new(&view)?;
-        query.set_hiz(device, queue, occlusion.then_some(&hiz));
+        query.set_hiz(device, queue, occlusion.then_some(&hiz))?;
         let options = QueryOptions::default();
         // Warm-up: the SM clock drops when idle.
         let start = Instant::now();

@@ -61,6 +61,8 @@ pub enum Error {
     },
     /// Writing an image failed.
     Image(String),
+    /// The static scene refused a value (a HiZ size, a view).
+    StaticScene(staticscene::Error),
     /// A [`RendererConfig`](crate::RendererConfig) value outside its range.
     Config {
         /// Which value (`RendererConfig::width`).
@@ -243,6 +245,7 @@ impl fmt::Display for Error {
                 "the device limit `{limit}` is {available}, but the request needs {needed}"
             ),
             Error::Image(s) => write!(f, "writing an image failed: {s}"),
+            Error::StaticScene(e) => write!(f, "static scene: {e}"),
             Error::Config {
                 field,
                 value,
@@ -353,6 +356,12 @@ impl std::error::Error for FrameError {}
 impl From<FrameError> for Error {
     fn from(e: FrameError) -> Self {
         Error::Frame(e)
+    }
+}
+
+impl From<staticscene::Error> for Error {
+    fn from(e: staticscene::Error) -> Self {
+        Error::StaticScene(e)
     }
 }
 

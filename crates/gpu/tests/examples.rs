@@ -7,3 +7,16 @@ fn classify_variants_refuses_bad_arguments() {
         &[&["--width", "0"], &["--frames", "0"], &["--scene", "city"]],
     );
 }
+
+#[test]
+fn static_query_refuses_bad_arguments() {
+    testkit::check_example_cli(
+        "static_query",
+        &[
+            &["--instances", "0"],
+            &["--width", "0"],
+            &["--frames", "0"],
+            &["--camera", "orbit"],
+        ],
+    );
+}

@@ -7,31 +7,11 @@ use std::collections::BTreeMap;
 use gpu::staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
 use gpu::staticscene::glam::DQuat;
 use gpu::staticscene::{
-    BuildConfig, DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput,
-    QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
+    BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
+    ResourceLibrary, Scene, TileStreamer, ViewDesc, canonical_batches, snap_origin,
 };
 use gpu::{QueryReadback, StaticQuery};
 use testkit::device::ctx;
-
-/// (setup, flags, the instances' (tile, index) keys) per batch, sorted.
-type Canonical = Vec<(u64, u32, Vec<(u32, u32)>)>;
-
-fn canonical(instances: &[DrawableSetupInstance], batches: &[DrawableSetupBatch]) -> Canonical {
-    let mut v: Canonical = batches
-        .iter()
-        .map(|b| {
-            let keys = (b.first_instance..b.first_instance + b.count)
-                .map(|i| {
-                    let s = instances[i as usize].state;
-                    (s.tile, s.instance)
-                })
-                .collect();
-            (b.setup, b.flags, keys)
-        })
-        .collect();
-    v.sort_by(|a, b| a.2.cmp(&b.2));
-    v
-}
 
 /// Streaming groups come and go over the frames (and one group comes back, reusing freed
 /// pool space); every frame the GPU query equals the CPU query on the same tiles: the
@@ -112,7 +92,7 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
         cpu_scene
             .query(&params, Some(&hiz), &QueryOptions::default(), &mut cpu_out)
             .unwrap();
-        query.set_hiz(&c.device, &c.queue, Some(&hiz));
+        query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
         let gpu = query
             .run(
                 &c.device,
@@ -125,8 +105,8 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
             .unwrap();
         assert!(gpu.skipped_tiles.is_empty());
         assert_eq!(
-            canonical(&gpu.instances, &gpu.batches),
-            canonical(&cpu_out.instances, &cpu_out.batches),
+            canonical_batches(&gpu.instances, &gpu.batches),
+            canonical_batches(&cpu_out.instances, &cpu_out.batches),
             "frame {frame}"
         );
         let fades: BTreeMap<_, _> = cpu_out
@@ -149,4 +129,58 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
         assert!(gpu.stats.visible > 0, "frame {frame}: nothing visible");
     }
     assert!(max_tiles >= 3);
+}
+
+/// What the query refuses or skips, as errors or reports, never a panic: a tile activated
+/// twice (error naming the tile), a scene tile never activated on the GPU (skipped and
+/// listed, the other tiles still queried), a HiZ larger than the query's viewport limit.
+#[test]
+fn bad_activations_and_sizes_are_errors_or_reports() {
+    let c = ctx();
+    let mut cfg = CityConfig::with_instances(20_000);
+    cfg.sector_lots = 2;
+    let world = city(&cfg);
+    let mut streamer = TileStreamer::new(
+        ResourceLibrary::new(&world.resources),
+        BuildConfig::default(),
+    );
+    let mut scene = Scene::new();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    for g in &world.groups {
+        scene.apply(streamer.add_group(g).unwrap());
+    }
+    assert!(scene.tiles().len() >= 2);
+    let (first, rest) = scene.tiles().split_first().unwrap();
+    for t in rest {
+        query.activate(&c.device, &c.queue, t).unwrap();
+    }
+    let again = query.activate(&c.device, &c.queue, &rest[0]).unwrap_err();
+    assert!(
+        matches!(again, gpu::Error::Scene(gpu::SceneError::StaticTile { tile, .. }) if tile == rest[0].id().0),
+        "{again}"
+    );
+    let skipped = first.id();
+    let mut view = ViewDesc::camera(street_camera(&cfg), [256, 144]);
+    view.size_threshold_px = 0.0;
+    let params = QueryParams::new(&view).unwrap();
+    let out = query
+        .run(
+            &c.device,
+            &c.queue,
+            &mut scene,
+            &params,
+            &QueryOptions {
+                precull: false,
+                ..QueryOptions::default()
+            },
+            QueryReadback::Full,
+        )
+        .unwrap();
+    assert_eq!(out.skipped_tiles, vec![skipped]);
+    assert!(out.stats.visible > 0);
+    assert!(out.instances.iter().all(|d| d.state.tile != skipped.0));
+    // A 20000-pixel-wide pyramid passes MAX_VIEWPORT.
+    let wide = HiZ::build(&vec![0.5; 20_000], 20_000, 1, false).unwrap();
+    let e = query.set_hiz(&c.device, &c.queue, Some(&wide)).unwrap_err();
+    assert!(matches!(e, gpu::Error::StaticScene(_)), "{e}");
 }

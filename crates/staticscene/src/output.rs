@@ -164,3 +164,39 @@ pub fn sort_key(setup: u64, nearest_depth: f32) -> u64 {
     };
     (setup & 0xffff_ffff) << 32 | u64::from(d)
 }
+
+/// A batch in canonical form: its setup, flags and its instances' `(tile, index)` keys.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct CanonicalBatch {
+    /// The batch's instances' `(tile, instance index in the tile)`, in output order.
+    pub instances: alloc::vec::Vec<(u32, u32)>,
+    /// The setup handle.
+    pub setup: u64,
+    /// OR of the instances' state flags.
+    pub flags: u32,
+}
+
+/// The canonical form of a query's output, in which the GPU query and the CPU twin
+/// compare: on the GPU, jobs append in scheduling order, so instance and batch positions
+/// differ while each batch's contents do not. Each batch becomes its setup, flags and
+/// instance keys; the list is sorted by the keys (a batch's keys are unique). Batches
+/// pointing past `instances` keep only the keys that exist.
+#[must_use]
+pub fn canonical_batches<I: OutputInstance>(
+    instances: &[I],
+    batches: &[DrawableSetupBatch],
+) -> alloc::vec::Vec<CanonicalBatch> {
+    let mut v: alloc::vec::Vec<CanonicalBatch> = batches
+        .iter()
+        .map(|b| CanonicalBatch {
+            instances: (b.first_instance..b.first_instance.saturating_add(b.count))
+                .filter_map(|i| instances.get(i as usize))
+                .map(|d| (d.state().tile, d.state().instance))
+                .collect(),
+            setup: b.setup,
+            flags: b.flags,
+        })
+        .collect();
+    v.sort();
+    v
+}

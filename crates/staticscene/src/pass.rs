@@ -213,23 +213,19 @@ pub fn tile_state_words(tile: &StaticTile) -> usize {
     tile.instances().len().div_ceil(4) + tile.clusters().len()
 }
 
-/// The HiZ buffer the pass reads: the header, then every level's texels as f32 bits.
-/// `None` (no occlusion): a header with zero levels.
-#[must_use]
-pub fn hiz_words(hiz: Option<&HiZ>) -> Vec<u32> {
-    let mut words = alloc::vec![0u32; HIZ_HEADER_WORDS];
+/// The HiZ buffer the pass reads: the [`hiz_header`] of its size, then every level's
+/// texels as f32 bits. `None` (no occlusion): a header with zero levels. Fails on a
+/// pyramid side above [`MAX_VIEWPORT`](crate::MAX_VIEWPORT).
+pub fn hiz_words(hiz: Option<&HiZ>) -> Result<Vec<u32>, crate::Error> {
     let Some(z) = hiz else {
-        return words;
+        return Ok(alloc::vec![0u32; HIZ_HEADER_WORDS]);
     };
-    let levels = z.levels();
-    words[0] = levels.len().min(HIZ_MAX_LEVELS) as u32;
-    for (l, level) in levels.iter().take(HIZ_MAX_LEVELS).enumerate() {
-        words[4 + 4 * l] = level.width;
-        words[5 + 4 * l] = level.height;
-        words[6 + 4 * l] = (HIZ_HEADER_WORDS + level.offset) as u32;
-    }
+    let (w, h) = z.size();
+    let (mut words, len) = hiz_header(w, h)?;
+    // `HiZ::build` and `hiz_header` halve the same way: the texels fill the layout.
     words.extend(z.texels().iter().map(|t| t.to_bits()));
-    words
+    debug_assert_eq!(words.len(), len);
+    Ok(words)
 }
 
 /// The HiZ buffer's header for a `width x height` level 0 (the levels of

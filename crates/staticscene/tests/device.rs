@@ -51,7 +51,7 @@ use staticscene::pass::{
 };
 use staticscene::{
     Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
-    QueryStats, Scene, TileId, ViewDesc, snap_origin,
+    QueryStats, Scene, TileId, ViewDesc, canonical_batches, snap_origin,
 };
 use testkit::device::{Data, run_pass};
 
@@ -102,19 +102,10 @@ struct GpuOut {
     stats: QueryStats,
 }
 
-/// One GPU query: plan on `scene`, run the pass, keep the state buffer in `pool`.
-fn gpu_query(
-    scene: &mut Scene,
-    pool: &mut Pool,
-    params: &QueryParams,
-    hiz: Option<&HiZ>,
-) -> (GpuOut, GpuPlan) {
-    let slots = pool.slots.clone();
-    let plan = scene.plan_gpu(params, &QueryOptions::default(), |id| {
-        slots.get(&id).copied()
-    });
+/// One run of the query pass over `pool` with `plan`; keeps the state buffer in `pool`.
+fn run_query(pool: &mut Pool, plan: &GpuPlan, params: &QueryParams, hiz: Option<&HiZ>) -> GpuOut {
     let cap = plan.instances() as usize + 1;
-    let hiz = hiz_words(hiz);
+    let hiz = hiz_words(hiz).unwrap();
     let jobs = plan.job_list();
     let out = run_pass(
         &QUERY_PASS,
@@ -128,49 +119,38 @@ fn gpu_query(
             ("records", Data::Words(&pool.records)),
             ("hiz", Data::Words(&hiz)),
             ("state", Data::Words(&pool.state)),
-            ("counters", Data::Zeros(14)),
-            ("out_instances", Data::Zeros(cap * 16)),
-            ("out_batches", Data::Zeros(cap * 12)),
+            ("counters", Data::rows(&[QueryCounters::default()])),
+            (
+                "out_instances",
+                Data::rows(&vec![DrawableSetupInstance::default(); cap]),
+            ),
+            (
+                "out_batches",
+                Data::rows(&vec![DrawableSetupBatch::default(); cap]),
+            ),
         ],
     );
     pool.state = out.read("state", pool.state.len());
     let counters: QueryCounters = out.read::<QueryCounters>("counters", 1)[0];
-    let stats = counters.stats(&plan.stats);
-    let instances = out.read("out_instances", counters.instances as usize);
-    let batches = out.read("out_batches", counters.batches as usize);
-    (
-        GpuOut {
-            instances,
-            batches,
-            stats,
-        },
-        plan,
-    )
+    GpuOut {
+        instances: out.read("out_instances", counters.instances as usize),
+        batches: out.read("out_batches", counters.batches as usize),
+        stats: counters.stats(&plan.stats),
+    }
 }
 
-/// A batch as (setup, flags, its instances' (tile, index) keys).
-type CanonicalBatch = (u64, u32, Vec<(u32, u32)>);
-
-/// Batches as (setup, its instances' (tile, index) keys), sorted: the canonical form in
-/// which GPU and CPU outputs compare (job order differs, contents do not).
-fn canonical(
-    instances: &[DrawableSetupInstance],
-    batches: &[DrawableSetupBatch],
-) -> Vec<CanonicalBatch> {
-    let mut v: Vec<_> = batches
-        .iter()
-        .map(|b| {
-            let keys: Vec<(u32, u32)> = (b.first_instance..b.first_instance + b.count)
-                .map(|i| {
-                    let s = instances[i as usize].state;
-                    (s.tile, s.instance)
-                })
-                .collect();
-            (b.setup, b.flags, keys)
-        })
-        .collect();
-    v.sort_by(|a, b| a.2.cmp(&b.2));
-    v
+/// One GPU query: plan on `scene`, then [`run_query`].
+fn gpu_query(
+    scene: &mut Scene,
+    pool: &mut Pool,
+    params: &QueryParams,
+    hiz: Option<&HiZ>,
+) -> (GpuOut, GpuPlan) {
+    let slots = pool.slots.clone();
+    let plan = scene.plan_gpu(params, &QueryOptions::default(), |id| {
+        slots.get(&id).copied()
+    });
+    (run_query(pool, &plan, params, hiz), plan)
 }
 
 fn close(a: f32, b: f32) -> bool {
@@ -186,8 +166,8 @@ fn assert_equal(frame: usize, gpu: &GpuOut, cpu: &QueryOutput<DrawableSetupInsta
         (s.tiles, s.tiles_culled, s.clusters, s.clusters_culled) = (0, 0, 0, 0);
     }
     assert_eq!(g, c, "frame {frame}: statistics");
-    let gc = canonical(&gpu.instances, &gpu.batches);
-    let cc = canonical(&cpu.instances, &cpu.batches);
+    let gc = canonical_batches(&gpu.instances, &gpu.batches);
+    let cc = canonical_batches(&cpu.instances, &cpu.batches);
     assert_eq!(gc.len(), cc.len(), "frame {frame}: batch count");
     assert_eq!(gc, cc, "frame {frame}: batches (setup, flags, instances)");
     // Per instance: fade, flags and the transform (f32 rounding of the product).
@@ -423,32 +403,7 @@ fn corrupt_records_are_dropped_as_the_twin_drops_them() {
     cpu.stats = stats;
     let slots = pool.slots.clone();
     let plan = scene.plan_gpu(&params, &options, |id| slots.get(&id).copied());
-    let cap = plan.instances() as usize + 1;
-    let hiz = hiz_words(None);
-    let jobs = plan.job_list();
-    let run = run_pass(
-        &QUERY_PASS,
-        &[],
-        &[],
-        &plan.dispatch(),
-        &[
-            ("params", Data::Bytes(bytemuck::bytes_of(&params))),
-            ("job_list", Data::Words(&jobs)),
-            ("instances", Data::Words(&pool.instances)),
-            ("records", Data::Words(&pool.records)),
-            ("hiz", Data::Words(&hiz)),
-            ("state", Data::Words(&pool.state)),
-            ("counters", Data::Zeros(14)),
-            ("out_instances", Data::Zeros(cap * 16)),
-            ("out_batches", Data::Zeros(cap * 12)),
-        ],
-    );
-    let counters: QueryCounters = run.read::<QueryCounters>("counters", 1)[0];
-    let gpu = GpuOut {
-        instances: run.read("out_instances", counters.instances as usize),
-        batches: run.read("out_batches", counters.batches as usize),
-        stats: counters.stats(&QueryStats::default()),
-    };
+    let gpu = run_query(&mut pool, &plan, &params, None);
     assert!(cpu.stats.invalid > 500, "{:?}", cpu.stats);
     assert!(cpu.stats.visible > 100, "{:?}", cpu.stats);
     // Only the per-thread statistics compare (the twin ran without the pre-cull's).
@@ -476,9 +431,9 @@ fn gpu_hiz_pyramid_equals_the_cpu_one() {
                 .collect();
             let want = HiZ::build(&depth, w, h, reversed).unwrap();
             let (header, len) = hiz_header(w, h).unwrap();
-            let full = hiz_words(Some(&want));
-            assert_eq!(full.len(), len);
-            assert_eq!(&full[..header.len()], &header[..], "{w}x{h}");
+            // The CPU pyramid's texels fill the header's layout exactly.
+            let full = hiz_words(Some(&want)).unwrap();
+            assert_eq!(full.len(), len, "{w}x{h}");
             // Level 0 as the CPU maps it, the rest zero.
             let mut buf = header.clone();
             buf.resize(len, 0);

@@ -14,7 +14,7 @@ use staticscene::{
 
 use crate::error::Result;
 use crate::resources::readback::read_buffer;
-use crate::resources::static_pool::StaticPool;
+use crate::resources::static_pool::{StaticPool, empty_storage};
 use crate::timing::GpuTimer;
 
 /// What [`StaticQuery::run`] reads back.
@@ -56,17 +56,6 @@ pub struct StaticQuery {
     timer: GpuTimer,
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes.max(256).next_multiple_of(4),
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })
-}
-
 impl StaticQuery {
     /// The pipeline and empty buffers.
     ///
@@ -82,14 +71,14 @@ impl StaticQuery {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            job_list: storage(device, "static query jobs", 4096),
-            hiz: storage(device, "static query hiz", 0),
-            counters: storage(device, "static query counters", 0),
-            out_instances: storage(device, "static query instances", 0),
-            out_batches: storage(device, "static query batches", 0),
+            job_list: empty_storage(device, "static query jobs", 4096)?,
+            hiz: empty_storage(device, "static query hiz", 256)?,
+            counters: empty_storage(device, "static query counters", 256)?,
+            out_instances: empty_storage(device, "static query instances", 256)?,
+            out_batches: empty_storage(device, "static query batches", 256)?,
             timer: GpuTimer::new(device, queue, 1),
         };
-        q.set_hiz(device, queue, None);
+        q.set_hiz(device, queue, None)?;
         Ok(q)
     }
 
@@ -122,13 +111,23 @@ impl StaticQuery {
     }
 
     /// The HiZ the next queries test against (`None`: no occlusion).
-    pub fn set_hiz(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, hiz: Option<&HiZ>) {
-        let words = hiz_words(hiz);
+    ///
+    /// # Errors
+    /// [`Error::StaticScene`](crate::Error::StaticScene) for a pyramid side above
+    /// `staticscene::MAX_VIEWPORT`; [`Error::DeviceLimit`](crate::Error::DeviceLimit).
+    pub fn set_hiz(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        hiz: Option<&HiZ>,
+    ) -> Result<()> {
+        let words = hiz_words(hiz)?;
         let bytes = words.len() as u64 * 4;
         if self.hiz.size() < bytes {
-            self.hiz = storage(device, "static query hiz", bytes);
+            self.hiz = empty_storage(device, "static query hiz", bytes)?;
         }
         queue.write_buffer(&self.hiz, 0, bytemuck::cast_slice(&words));
+        Ok(())
     }
 
     /// Runs one view's query: the pre-cull on `scene` (which must hold the tiles
@@ -136,7 +135,9 @@ impl StaticQuery {
     /// the read-back of `readback`. Blocks until the GPU is done (HZD's mode).
     ///
     /// # Errors
-    /// Device errors (validation, out of memory, mapping).
+    /// [`Error::DeviceLimit`](crate::Error::DeviceLimit) when the output for every
+    /// dispatched thread passes `max_storage_buffer_binding_size`; device errors
+    /// (validation, out of memory, mapping).
     pub fn run(
         &mut self,
         device: &wgpu::Device,
@@ -152,18 +153,18 @@ impl StaticQuery {
         let jobs = plan.job_list();
         let job_bytes = jobs.len() as u64 * 4;
         if self.job_list.size() < job_bytes {
-            self.job_list = storage(device, "static query jobs", job_bytes * 2);
+            self.job_list = empty_storage(device, "static query jobs", job_bytes * 2)?;
         }
         // Every thread may output one instance and one header.
         let cap = threads.max(1);
         let inst_bytes = cap * size_of::<DrawableSetupInstance>() as u64;
         if self.out_instances.size() < inst_bytes {
-            self.out_instances = storage(device, "static query instances", inst_bytes);
-            self.out_batches = storage(
+            self.out_instances = empty_storage(device, "static query instances", inst_bytes)?;
+            self.out_batches = empty_storage(
                 device,
                 "static query batches",
                 cap * size_of::<DrawableSetupBatch>() as u64,
-            );
+            )?;
         }
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         queue.write_buffer(&self.job_list, 0, bytemuck::cast_slice(&jobs));

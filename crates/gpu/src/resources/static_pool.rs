@@ -98,15 +98,11 @@ impl GrowBuffer {
             return Ok(());
         }
         let max = device.limits().max_storage_buffer_binding_size;
-        if bytes > max {
-            return Err(Error::DeviceLimit {
-                limit: "max_storage_buffer_binding_size",
-                needed: bytes,
-                available: max,
-            });
-        }
-        let size = bytes.max(self.buffer.size() * 2).min(max);
-        let next = Self::make(device, self.label, size);
+        let next = empty_storage(
+            device,
+            self.label,
+            bytes.max((self.buffer.size() * 2).min(max)),
+        )?;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("static pool growth"),
         });
@@ -116,6 +112,24 @@ impl GrowBuffer {
         self.generation += 1;
         Ok(())
     }
+}
+
+/// An uninitialised storage buffer (`STORAGE | COPY_DST | COPY_SRC`) of at least `bytes`,
+/// after checking the device's binding-size limit.
+pub(crate) fn empty_storage(
+    device: &wgpu::Device,
+    label: &'static str,
+    bytes: u64,
+) -> Result<wgpu::Buffer> {
+    let max = device.limits().max_storage_buffer_binding_size;
+    if bytes > max {
+        return Err(Error::DeviceLimit {
+            limit: "max_storage_buffer_binding_size",
+            needed: bytes,
+            available: max,
+        });
+    }
+    Ok(GrowBuffer::make(device, label, bytes))
 }
 
 /// Where one active tile sits, and its sizes.
