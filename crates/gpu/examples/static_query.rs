@@ -1,7 +1,8 @@
 //! Times HZD's static query on the GPU: the demo city (default 1.5M instances) streamed
 //! into a `StaticQuery`, one camera view queried with and without occlusion (HiZ of the
 //! buildings' boxes), GPU time from timestamp queries after a warm-up, the CPU pre-cull
-//! timed on its own, and the HiZ reduction of a full-size depth buffer timed per pyramid.
+//! timed on its own, the CPU twin (`Scene::par_query` on every core) on the same view as
+//! the baseline, and the HiZ reduction of a full-size depth buffer timed per pyramid.
 //!
 //! ```sh
 //! cargo run --release -p gpu --example static_query -- --instances 1500000 --width 3840 --height 2160
@@ -13,8 +14,8 @@ use clap::{Parser, ValueEnum};
 use gpu::staticscene::demo::{CityConfig, aerial_camera, city, raster_boxes, street_camera};
 use gpu::staticscene::pass::{HIZ_PASS, HizGrid, HizStep, TileSlots, hiz_header};
 use gpu::staticscene::{
-    BuildConfig, HiZ, QueryOptions, QueryParams, QueryStats, ResourceLibrary, Scene, TileStreamer,
-    ViewDesc, snap_origin,
+    BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams, QueryStats,
+    ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
 };
 use gpu::{HeadlessOptions, QueryReadback, StaticQuery};
 
@@ -42,6 +43,10 @@ struct Args {
     /// Queries measured per mode (after a 0.5 s warm-up).
     #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -142,6 +147,16 @@ fn main() -> anyhow::Result<()> {
             cpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
             std::hint::black_box(plan);
         }
+        // The baseline: the CPU twin (`Scene::par_query`, rayon on every core) on the same
+        // view, its own copy of the scene.
+        let mut cpu_scene = scene.clone();
+        let mut cpu_out = QueryOutput::<DrawableSetupInstance>::new();
+        let mut cpu_query_ms = Vec::new();
+        for _ in 0..args.frames.min(20) {
+            let t = Instant::now();
+            cpu_scene.par_query(&params, occlusion.then_some(&hiz), &options, &mut cpu_out)?;
+            cpu_query_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
         let s: QueryStats = out.stats;
         println!(
             "\nocclusion {}: {}x{}, {:?} camera",
@@ -174,6 +189,12 @@ fn main() -> anyhow::Result<()> {
             s.visible,
             s.batches,
             100.0 * (1.0 - s.batches as f64 / s.visible.max(1) as f64)
+        );
+        println!(
+            "  baseline, CPU twin on {} threads: median {:.3} ms ({} instances out)",
+            rayon_threads(),
+            median(cpu_query_ms),
+            cpu_out.stats.visible
         );
         if gpu_ms.is_empty() {
             println!("  query GPU time: no timestamp queries on this adapter");

@@ -445,3 +445,46 @@ pub const QUERY_PASS: Pass<QueryDispatch> = Pass {
     })],
     zeroed: &["counters"],
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed vector: 5x3 halves to 3x2, 2x1, 1x1; texels follow the header level after
+    /// level.
+    #[test]
+    fn hiz_header_lays_out_ceil_halved_levels() {
+        let (h, len) = hiz_header(5, 3).unwrap();
+        let t = HIZ_HEADER_WORDS as u32;
+        assert_eq!(h[0], 4);
+        assert_eq!(
+            &h[4..20],
+            &[
+                5,
+                3,
+                t,
+                0,
+                3,
+                2,
+                t + 15,
+                0,
+                2,
+                1,
+                t + 21,
+                0,
+                1,
+                1,
+                t + 23,
+                0
+            ]
+        );
+        assert!(h[20..].iter().all(|&w| w == 0));
+        assert_eq!(len, HIZ_HEADER_WORDS + 15 + 6 + 2 + 1);
+        assert_eq!(hiz_header(1, 1).unwrap().0[..8], [1, 0, 0, 0, 1, 1, t, 0]);
+        assert!(hiz_header(0, 4).is_err());
+        assert!(hiz_header(crate::MAX_VIEWPORT + 1, 4).is_err());
+        // The largest viewport fits the header's levels.
+        let (h, _) = hiz_header(crate::MAX_VIEWPORT, 1).unwrap();
+        assert!(h[0] as usize <= HIZ_MAX_LEVELS);
+    }
+}

@@ -64,6 +64,7 @@ mod tests {
         shadercheck::assert_prefixed(QUERY_PASS_MODULE.name, &m, "staticscene", &["wave"], false);
         for (name, v) in [
             ("STATICSCENE_QUERY_WORKGROUP", QUERY_WORKGROUP),
+            ("STATICSCENE_MAX_WORKGROUPS_X", shader::MAX_WORKGROUPS_X),
             ("STATICSCENE_JOB_SNAP_FADE", JOB_FLAG_SNAP_FADE),
             ("STATICSCENE_JOB_LOD_UNLESS_LIVE", JOB_FLAG_LOD_UNLESS_LIVE),
             ("STATICSCENE_OBJECT_WORDS", OBJECT_WORDS as u32),

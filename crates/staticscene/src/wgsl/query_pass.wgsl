@@ -13,6 +13,8 @@
 #import wave::workgroup
 
 const STATICSCENE_QUERY_WORKGROUP: u32 = 64u;
+// Workgroups per row of a 2D dispatch (Rust: shader::MAX_WORKGROUPS_X).
+const STATICSCENE_MAX_WORKGROUPS_X: u32 = 65535u;
 // Job flags (Rust: JOB_FLAG_*).
 const STATICSCENE_JOB_SNAP_FADE: u32 = 1u;
 const STATICSCENE_JOB_LOD_UNLESS_LIVE: u32 = 2u;
@@ -498,7 +500,7 @@ fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bo
 
 @compute @workgroup_size(64)
 fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let wave = wid.y * 65535u + wid.x;
+    let wave = wid.y * STATICSCENE_MAX_WORKGROUPS_X + wid.x;
     let job_count = min(job_list.count, arrayLength(&job_list.jobs));
     if (wave >= job_list.waves || job_count == 0u) {
         return;
