@@ -107,7 +107,7 @@ pub use plan::{
     Batch, Geometry, InstanceRef, MAX_BATCH_GROUPS_PER_PASS, MAX_MICRO_BATCH_INSTANCES,
     MAX_MICRO_BATCH_PRIMITIVES, MAX_MICRO_BATCH_VERTICES, MAX_PASSES, MAX_PRIMITIVES_PER_GEOMETRY,
     MicroBatchInfo, PassInfo, Plan, PlanConfig, RING_BYTES_PS4, RING_BYTES_PS5, RING_VERTEX_BYTES,
-    VERTEX_CHUNK_SIZE, build_plan,
+    Reservation, ReservedRange, VERTEX_CHUNK_SIZE, build_plan,
 };
 pub use vertex::{UberChunk, VertexWaveCommand, VertexWaves, vertex_wave_commands};
 pub use vrs::{BroadcastList, expand_wave, quad_command, unpack_quad_command};

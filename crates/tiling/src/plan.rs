@@ -617,3 +617,231 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
     }
     Ok(plan)
 }
+
+/// Instances the GPU writes each frame (a GPU-driven batch, such as one setup of the static
+/// query's output): [`Plan::reserve`] gives them IDs, rows and instance-table slots for up to
+/// `capacity` instances, filled in any order by rank.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Reservation {
+    /// The shader (as [`Batch::shader`]).
+    pub shader: u32,
+    /// The per-batch data key (as [`Batch::batch_data`]).
+    pub batch_data: u64,
+    /// The geometry every instance draws.
+    pub geometry: Geometry,
+    /// Most instances one frame may place (≥ 1).
+    pub capacity: u32,
+}
+
+/// Where [`Plan::reserve`] put one reservation: instance of rank `r` (`0..capacity`) sits
+/// at `first_instance + r` in the instance table and its vis words carry
+/// `visbuf::split_instance(first_id, r, bits)`: every micro batch of the range except the
+/// last holds [`MAX_MICRO_BATCH_INSTANCES`] instances, a multiple of any geometry's
+/// instances per ID, so the IDs of consecutive ranks are consecutive across micro batches.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ReservedRange {
+    /// First micro-batch ID.
+    pub first_id: u32,
+    /// IDs of the range (over all its micro batches).
+    pub id_count: u32,
+    /// First slot in the instance table.
+    pub first_instance: u32,
+    /// Slots (the reservation's capacity).
+    pub capacity: u32,
+    /// The geometry's primitive bits.
+    pub primitive_bits: u32,
+    /// The pass its micro batches belong to.
+    pub pass: u32,
+}
+
+impl Plan {
+    /// Appends GPU-filled micro batches after the planned ones: for each reservation,
+    /// `ceil(capacity / MAX_MICRO_BATCH_INSTANCES)` micro batches with consecutive IDs, and
+    /// `capacity` instance-table slots after the planned instances. Reservations go into
+    /// passes of their own after the planned passes, one pass per run of equal shaders (in
+    /// the given order) with at most `config.max_batch_groups` batch groups.
+    ///
+    /// The ring does not bound these passes: what the GPU writes is unknown to the CPU, so
+    /// their vertex counts are capacities (saturated at `u32::MAX`) and their ring offsets
+    /// 0; a ring (seed 000's vertex pass) needs the visible count, which only the GPU has.
+    /// Vertex chunks are reserved for the full capacity, so the classification can mark
+    /// any of them.
+    ///
+    /// On error the plan is unchanged. Errors name the reservation (as `batch`, its index
+    /// in `reservations`): empty or oversized geometry, a zero capacity
+    /// ([`Error::InvalidConfig`]), exhausted micro-batch IDs, too many passes, or an instance
+    /// table past `u32` slots.
+    ///
+    /// ```
+    /// use tiling::{build_plan, Geometry, PlanConfig, Reservation};
+    ///
+    /// let mut plan = build_plan(&[], &PlanConfig::default())?;
+    /// let block = Geometry { vertex_count: 24, primitive_count: 12, first_index: 0, base_vertex: 0 };
+    /// let r = Reservation { shader: 0, batch_data: 0, geometry: block, capacity: 100_000 };
+    /// let ranges = plan.reserve(&[r], &PlanConfig::default())?;
+    /// // 12 triangles: 4 primitive bits, 4096 instances per ID, 25 IDs in two micro batches.
+    /// assert_eq!((ranges[0].first_id, ranges[0].id_count), (0, 25));
+    /// assert_eq!((plan.micro_batches.len(), plan.passes.len()), (2, 1));
+    /// // Rank 70 000 is in the second micro batch.
+    /// let (id, field) = visbuf::split_instance(0, 70_000, visbuf::PrimitiveBits::new(4)?);
+    /// assert_eq!(plan.row(id).unwrap().instance_id(70_000 - 65_536), (id, field));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn reserve(
+        &mut self,
+        reservations: &[Reservation],
+        config: &PlanConfig,
+    ) -> Result<Vec<ReservedRange>, Error> {
+        config.validate()?;
+        let mut next = self.clone();
+        let mut out = Vec::with_capacity(reservations.len());
+        let mut ids = self.table.len() as u32;
+        let usable = config.layout.usable_micro_batch_ids();
+        let mut open: Option<OpenPass> = None;
+        let mut closed: Vec<OpenPass> = Vec::new();
+        let planned_passes = next.passes.len() as u32;
+        for (i, r) in reservations.iter().enumerate() {
+            let batch = i as u32;
+            let g = r.geometry;
+            if g.primitive_count == 0 || g.vertex_count == 0 {
+                return Err(Error::EmptyGeometry { batch });
+            }
+            if g.primitive_count > MAX_PRIMITIVES_PER_GEOMETRY {
+                return Err(Error::GeometryTooLarge {
+                    batch,
+                    primitives: g.primitive_count,
+                    limit: MAX_PRIMITIVES_PER_GEOMETRY,
+                });
+            }
+            if r.capacity == 0 {
+                return Err(Error::InvalidConfig {
+                    what: "reservation capacity",
+                    value: 0,
+                    min: 1,
+                    max: u32::MAX.into(),
+                });
+            }
+            let bits = PrimitiveBits::for_count(g.primitive_count).map_err(|_| {
+                Error::GeometryTooLarge {
+                    batch,
+                    primitives: g.primitive_count,
+                    limit: MAX_PRIMITIVES_PER_GEOMETRY,
+                }
+            })?;
+            let needed = r.capacity.div_ceil(bits.instances_per_id());
+            if needed > usable - ids.min(usable) {
+                return Err(Error::MicroBatchIdsExhausted {
+                    batch,
+                    needed,
+                    available: usable - ids.min(usable),
+                    layout: config.layout,
+                });
+            }
+            let first_instance = next.instance_count;
+            if first_instance.checked_add(r.capacity).is_none() {
+                return Err(Error::InvalidConfig {
+                    what: "instance-table slots",
+                    value: u64::from(first_instance) + u64::from(r.capacity),
+                    min: 0,
+                    max: u32::MAX.into(),
+                });
+            }
+            let fits = open.as_ref().is_some_and(|p| {
+                p.info.shader == r.shader
+                    && (p.groups.contains(&r.batch_data)
+                        || (p.groups.len() as u32) < config.max_batch_groups)
+            });
+            if !fits {
+                closed.extend(open.take());
+                if planned_passes + closed.len() as u32 >= config.max_passes {
+                    return Err(Error::TooManyPasses {
+                        batch,
+                        limit: config.max_passes,
+                    });
+                }
+            }
+            let pass_index = planned_passes + closed.len() as u32;
+            let pass = open.get_or_insert_with(|| OpenPass {
+                info: PassInfo {
+                    first_micro_batch: next.micro_batches.len() as u32,
+                    first_chunk: next.chunk_count,
+                    shader: r.shader,
+                    ..PassInfo::default()
+                },
+                groups: Vec::new(),
+            });
+            let group = match pass.groups.iter().position(|&d| d == r.batch_data) {
+                Some(gi) => gi as u32,
+                None => {
+                    pass.groups.push(r.batch_data);
+                    pass.groups.len() as u32 - 1
+                }
+            };
+            let range = ReservedRange {
+                first_id: ids,
+                id_count: needed,
+                first_instance,
+                capacity: r.capacity,
+                primitive_bits: bits.get(),
+                pass: pass_index,
+            };
+            let mut done = 0u32;
+            while done < r.capacity {
+                let count = (r.capacity - done).min(MAX_MICRO_BATCH_INSTANCES);
+                let id_count = count.div_ceil(bits.instances_per_id());
+                let row = MicroBatchInfo {
+                    first_id: ids,
+                    id_count,
+                    pass: pass_index,
+                    batch_group: group,
+                    primitive_bits: bits.get(),
+                    primitive_count: g.primitive_count,
+                    vertex_count: g.vertex_count,
+                    instance_count: count,
+                    first_instance: first_instance + done,
+                    batch,
+                    batch_first_instance: done,
+                    first_index: g.first_index,
+                    base_vertex: g.base_vertex,
+                    first_chunk: next.chunk_count,
+                    ring_offset: 0,
+                    order: next.micro_batches.len() as u32,
+                };
+                let chunks = row.chunk_count();
+                next.chunk_count =
+                    next.chunk_count
+                        .checked_add(chunks)
+                        .ok_or(Error::InvalidConfig {
+                            what: "vertex chunks",
+                            value: u64::from(next.chunk_count) + u64::from(chunks),
+                            min: 0,
+                            max: u32::MAX.into(),
+                        })?;
+                pass.info.micro_batch_count += 1;
+                pass.info.vertex_count = pass
+                    .info
+                    .vertex_count
+                    .saturating_add((row.total_vertices().min(u64::from(u32::MAX))) as u32);
+                pass.info.chunk_count += chunks;
+                pass.info.batch_group_count = pass.groups.len() as u32;
+                next.vertex_count += row.total_vertices();
+                next.order.push(row.first_id);
+                next.micro_batches.push(row);
+                for _ in 0..id_count {
+                    next.table.push(row);
+                }
+                ids += id_count;
+                done += count;
+            }
+            next.instance_count = first_instance + r.capacity;
+            out.push(range);
+        }
+        closed.extend(open.take());
+        for p in closed {
+            next.passes.push(p.info);
+            next.pass_groups.push(p.groups);
+        }
+        *self = next;
+        Ok(out)
+    }
+}

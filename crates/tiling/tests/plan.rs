@@ -512,3 +512,98 @@ fn batches_sort_by_shader_data_then_position() {
     assert_eq!(order, [2, 1, 3, 0]);
     assert_eq!(plan.passes.len(), 2);
 }
+
+/// Reserved ranges: every rank's vis word decodes (through the table, with the pixel
+/// decoder's arithmetic written out here) to its own slot; the planned part is untouched;
+/// passes follow the shader runs; errors leave the plan as it was.
+#[test]
+fn reservations_map_every_rank_to_its_own_slot() {
+    use tiling::Reservation;
+    let positions = vec![[0.0f32; 3]; 300];
+    let batches = [Batch {
+        shader: 0,
+        batch_data: 1,
+        geometry: geometry(30, 40),
+        instances: &positions,
+    }];
+    let config = PlanConfig::default();
+    let planned = build_plan(&batches, &config).unwrap();
+    let mut plan = planned.clone();
+    let res = [
+        Reservation {
+            shader: 0,
+            batch_data: 2,
+            geometry: geometry(12, 24),
+            capacity: 150_000,
+        },
+        Reservation {
+            shader: 0,
+            batch_data: 3,
+            geometry: geometry(1, 3),
+            capacity: 70_000,
+        },
+        Reservation {
+            shader: 1,
+            batch_data: 2,
+            geometry: geometry(65_536, 9),
+            capacity: 3,
+        },
+    ];
+    let ranges = plan.reserve(&res, &config).unwrap();
+    assert_eq!(plan.table[..planned.table.len()], planned.table[..]);
+    assert_eq!(plan.passes[..planned.passes.len()], planned.passes[..]);
+    assert_eq!(plan.passes.len(), planned.passes.len() + 2);
+    assert_eq!(
+        plan.instance_count,
+        planned.instance_count + 150_000 + 70_000 + 3
+    );
+    let mut slots = BTreeSet::new();
+    for (r, range) in res.iter().zip(&ranges) {
+        let p = range.primitive_bits;
+        assert_eq!(1u32 << p >= r.geometry.primitive_count, true);
+        for rank in (0..r.capacity).step_by(97).chain([r.capacity - 1]) {
+            let per_id = 1u32 << (16 - p);
+            let id = range.first_id + rank / per_id;
+            let field = rank % per_id;
+            let row = plan.row(id).expect("every ID of the range has a row");
+            assert!(id >= row.first_id && id - row.first_id < row.id_count);
+            let within = ((id - row.first_id) << (16 - p)) | field;
+            assert!(within < row.instance_count);
+            let slot = row.first_instance + within;
+            assert_eq!(slot, range.first_instance + rank);
+            assert_eq!(plan.passes[row.pass as usize].shader, r.shader);
+            assert!(row.first_chunk + row.chunk_count() <= plan.chunk_count);
+            slots.insert(slot);
+        }
+    }
+    // Too many IDs: the plan is unchanged and the error names the reservation.
+    let before = plan.clone();
+    let big = Reservation {
+        shader: 2,
+        batch_data: 0,
+        geometry: geometry(65_536, 3),
+        capacity: 70_000,
+    };
+    assert!(matches!(
+        plan.reserve(&[res[1], big], &config),
+        Err(Error::MicroBatchIdsExhausted { batch: 1, .. })
+    ));
+    assert_eq!(plan, before);
+    let zero = Reservation {
+        capacity: 0,
+        ..res[0]
+    };
+    assert!(matches!(
+        plan.reserve(&[zero], &config),
+        Err(Error::InvalidConfig { .. })
+    ));
+    let empty = Reservation {
+        geometry: geometry(0, 3),
+        ..res[0]
+    };
+    assert_eq!(
+        plan.reserve(&[empty], &config),
+        Err(Error::EmptyGeometry { batch: 0 })
+    );
+    assert_eq!(plan, before);
+}
