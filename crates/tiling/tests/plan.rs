@@ -560,7 +560,7 @@ fn reservations_map_every_rank_to_its_own_slot() {
     let mut slots = BTreeSet::new();
     for (r, range) in res.iter().zip(&ranges) {
         let p = range.primitive_bits;
-        assert_eq!(1u32 << p >= r.geometry.primitive_count, true);
+        assert!(1u32 << p >= r.geometry.primitive_count);
         for rank in (0..r.capacity).step_by(97).chain([r.capacity - 1]) {
             let per_id = 1u32 << (16 - p);
             let id = range.first_id + rank / per_id;
