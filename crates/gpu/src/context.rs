@@ -14,7 +14,8 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::SHADER_F16)
     .union(wgpu::Features::SHADER_INT64)
-    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+    .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
+    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT);
 
 /// How the laydown's fragment shader learns which triangle it is shading.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -851,6 +851,7 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             materials,
             albedo_layers,
             batches,
+            static_setups: Vec::new(),
         },
         FrameInput {
             camera,
@@ -946,6 +947,7 @@ fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             materials,
             albedo_layers,
             batches,
+            static_setups: Vec::new(),
         },
         FrameInput::new(camera),
     )

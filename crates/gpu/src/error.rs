@@ -85,6 +85,14 @@ pub enum SceneError {
         /// Why.
         problem: &'static str,
     },
+    /// A static setup refers to a missing mesh or material, or its capacity is out of
+    /// range.
+    StaticSetup {
+        /// Index in `Scene::static_setups` (the setup handle).
+        setup: usize,
+        /// What is wrong.
+        problem: String,
+    },
     /// A mesh has more primitives than 16-bit indices and the vis-buffer ID allow.
     TooManyPrimitives {
         /// The mesh's name.
@@ -260,6 +268,9 @@ impl fmt::Display for SceneError {
         match self {
             SceneError::StaticTile { tile, problem } => {
                 write!(f, "static tile {tile} not activated: {problem}")
+            }
+            SceneError::StaticSetup { setup, problem } => {
+                write!(f, "static setup {setup}: {problem}")
             }
             SceneError::TooManyPrimitives {
                 mesh,

@@ -49,6 +49,7 @@
 //!             .map(|i| Affine3A::from_translation(Vec3::new(i as f32 * 1.2 - 60.0, 0.0, 0.0)))
 //!             .collect(),
 //!     }],
+//!     static_setups: vec![],
 //! };
 //!
 //! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
@@ -72,6 +73,7 @@ mod passes;
 mod renderer;
 mod resources;
 mod scene;
+mod statics;
 mod stats;
 mod timing;
 
@@ -90,9 +92,10 @@ pub use renderer::{FrameOutput, RenderPath, Renderer, RendererConfig, WARM_UP};
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
-    MeshId, Scene, ShaderKind,
+    MeshId, Scene, ShaderKind, StaticSetup,
 };
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;
+pub use statics::{StaticFrameStats, StaticView, static_view_desc};
 pub use stats::{ClassificationStats, GpuClassification};
 pub use timing::Timing;

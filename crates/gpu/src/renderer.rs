@@ -16,7 +16,15 @@ use crate::resources::readback::read_texture;
 use crate::resources::rows::{FrameUniforms, GpuPointLight};
 use crate::resources::targets::Targets;
 use crate::resources::{PrepareContext, PreparedScene, prepare};
+use crate::passes::query::PreparedView;
+use crate::passes::static_place::{
+    STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
+    STATIC_COUNTER_PLACED,
+};
+use crate::resources::readback::read_buffer;
+use crate::resources::rows::GpuStaticParams;
 use crate::scene::Scene;
+use crate::statics::{StaticFrameStats, StaticView};
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
 use crate::timing::{GpuTimer, Timing};
 
@@ -111,6 +119,8 @@ pub struct FrameOutput {
     pub gpu: Vec<Timing>,
     /// Wall-clock time of the frame's submission to completion (ms).
     pub wall_ms: f64,
+    /// The static query's and placement's statistics, in a frame with a static query.
+    pub statics: Option<StaticFrameStats>,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -313,6 +323,14 @@ impl Renderer {
                 path: self.paths.primitive_id,
                 wave_width: self.wave_width,
                 id,
+                multi_draw_count: self
+                    .device
+                    .features()
+                    .contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT),
+                indirect_first_instance: self
+                    .device
+                    .features()
+                    .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
             },
             scene,
         )
@@ -378,34 +396,141 @@ impl Renderer {
         Ok(())
     }
 
-    /// Records `what` after uploading `frame`, submits, waits, and reads the timings.
+    /// Records `what` after uploading `frame` (and, with `statics`, the static query and
+    /// the placement of its output first), submits, waits, and reads the timings and the
+    /// static statistics.
     fn run(
         &mut self,
         scene: &PreparedScene,
         frame: &FrameInput,
         label: &str,
         what: Recording,
+        mut statics: Option<&mut StaticView<'_>>,
     ) -> Result<FrameOutput> {
         let device = self.device.clone();
         let t0 = Instant::now();
-        scoped(&device, || {
+        let view = scoped(&device, || {
             self.upload_frame(scene, frame)?;
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+            let view = match statics.as_deref_mut() {
+                Some(v) => Some(self.record_static(&mut encoder, scene, v)?),
+                None => None,
+            };
             let f = FrameContext {
                 scene,
                 targets: &self.targets,
                 groups: &self.groups,
+                static_query: view.is_some(),
             };
             self.pipelines
                 .record(what, &mut encoder, &f, &mut self.timer);
             self.timer.resolve(&mut encoder);
             self.queue.submit([encoder.finish()]);
-            wait_idle(&device)
+            wait_idle(&device)?;
+            Ok(view)
         })?;
         let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         let gpu = self.timer.read(&self.device, &self.queue)?;
-        Ok(FrameOutput { gpu, wall_ms })
+        let statics = match (view, statics) {
+            (Some(view), Some(v)) => Some(self.read_static_stats(scene, v, view)?),
+            _ => None,
+        };
+        Ok(FrameOutput {
+            gpu,
+            wall_ms,
+            statics,
+        })
+    }
+
+    /// Records the static query of `v` and the placement of its output into `scene`'s
+    /// reserved slots and draw lists.
+    fn record_static(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &PreparedScene,
+        v: &mut StaticView<'_>,
+    ) -> Result<PreparedView> {
+        let Some(b) = &scene.statics else {
+            return Err(Error::Scene(crate::error::SceneError::StaticSetup {
+                setup: 0,
+                problem: "the prepared scene has none; render_static draws static setups".into(),
+            }));
+        };
+        let params = staticscene::QueryParams::new(&v.view)?;
+        let view = v
+            .query
+            .prepare_view(&self.device, &self.queue, v.scene, &params, &v.options)?;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("static query"),
+                timestamp_writes: self.timer.compute("static query"),
+            });
+            v.query.record_view(&mut pass, &view);
+        }
+        // Whole metres both: exact in f64, and in f32 below 2^24 m.
+        let origin = glam::DVec3::new(
+            f64::from(params.origin[0]),
+            f64::from(params.origin[1]),
+            f64::from(params.origin[2]),
+        );
+        let offset = (origin - scene.summary.origin.as_dvec3()).as_vec3();
+        let constants = GpuStaticParams {
+            offset: offset.extend(0.0).to_array(),
+            setup_count: b.setup_count,
+            row_width: shader::MAX_WORKGROUPS_X,
+            alpha_base: b.opaque,
+            pad: 0,
+        };
+        self.queue
+            .write_buffer(&b.params, 0, bytemuck::bytes_of(&constants));
+        let group = self.pipelines.static_place.group(
+            &self.device,
+            b,
+            &scene.instances,
+            &v.query.outputs(),
+        )?;
+        self.pipelines
+            .static_place
+            .record(encoder, b, &group, &mut self.timer);
+        Ok(view)
+    }
+
+    /// Reads the query's and the placement's counters after a frame with a static query.
+    fn read_static_stats(
+        &self,
+        scene: &PreparedScene,
+        v: &StaticView<'_>,
+        view: PreparedView,
+    ) -> Result<StaticFrameStats> {
+        let counters = v.query.read_counters(&self.device, &self.queue)?;
+        let Some(b) = &scene.statics else {
+            return Ok(StaticFrameStats::default());
+        };
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(
+            &self.device,
+            &self.queue,
+            &b.counters,
+            0,
+            4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
+        )?);
+        let w = |i: u32| words[i as usize];
+        Ok(StaticFrameStats {
+            query: counters.stats(&view.plan.stats),
+            threads: view.threads,
+            batches: counters.batches,
+            instances: counters.instances,
+            placed: (0..b.setup_count)
+                .map(|s| {
+                    let cap = scene.static_capacities[s as usize];
+                    u64::from(w(STATIC_COUNTER_PLACED + s).min(cap))
+                })
+                .sum(),
+            over_capacity: w(STATIC_COUNTER_OVER_CAPACITY),
+            bad_batches: w(STATIC_COUNTER_BAD_BATCHES),
+            draws: [w(STATIC_COUNTER_DRAWS), w(STATIC_COUNTER_DRAWS + 1)],
+            skipped_tiles: view.plan.skipped_tiles,
+        })
     }
 
     /// Renders one frame of `scene` as `frame` describes by `path` into the output image,
@@ -427,7 +552,32 @@ impl Renderer {
             RenderPath::Baseline => Recording::Baseline,
             RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
         };
-        self.run(scene, frame, path.name(), what)
+        self.run(scene, frame, path.name(), what, None)
+    }
+
+    /// Renders one frame as [`Renderer::render`] does, with HZD's static query in front:
+    /// the CPU pre-culls `statics.view` on `statics.scene`, then one command buffer runs
+    /// the query, places its batches into the scene's reserved instance slots and indirect
+    /// draw lists (no CPU round trip), and draws them with the scene's batches in the
+    /// laydown (or the baseline's passes). Reads the query's and the placement's counters
+    /// back after the frame ([`FrameOutput::statics`]).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; a scene without static setups ([`Error::Config`]); a view
+    /// the query rejects ([`Error::StaticScene`]).
+    pub fn render_static(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        path: RenderPath,
+        statics: &mut StaticView<'_>,
+    ) -> Result<FrameOutput> {
+        let what = match path {
+            RenderPath::Deferred => Recording::Deferred,
+            RenderPath::Baseline => Recording::Baseline,
+            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
+        };
+        self.run(scene, frame, path.name(), what, Some(statics))
     }
 
     /// Renders `path` for at least [`WARM_UP`] of wall time (at least one frame) to bring the
@@ -478,7 +628,11 @@ impl Renderer {
             }
         }
         let wall_ms = all.iter().map(|f| f.wall_ms).sum::<f64>() / n;
-        Ok(FrameOutput { gpu, wall_ms })
+        Ok(FrameOutput {
+            gpu,
+            wall_ms,
+            statics: None,
+        })
     }
 
     /// Reads the output image back (sRGB-encoded RGBA8).
@@ -510,7 +664,7 @@ impl Renderer {
         scene: &PreparedScene,
         frame: &FrameInput,
     ) -> Result<(Vec<u32>, Vec<f32>)> {
-        self.run(scene, frame, "laydown", Recording::Laydown)?;
+        self.run(scene, frame, "laydown", Recording::Laydown, None)?;
         let read =
             |t: &wgpu::Texture, aspect| read_texture(&self.device, &self.queue, t, aspect, 4);
         let vis = read(&self.targets.vis, wgpu::TextureAspect::All)?;
@@ -564,6 +718,7 @@ impl Renderer {
                 scene,
                 targets: &self.targets,
                 groups: &self.groups,
+                static_query: false,
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);

@@ -195,6 +195,22 @@ pub struct Batch {
     pub instances: Vec<Affine3A>,
 }
 
+/// What the static query's setup handle `h` draws: `Scene::static_setups[h]` (seed 001's
+/// DrawableSetup). The GPU places each frame's visible instances of the setup into
+/// `capacity` reserved instance slots and draws them with one indirect draw; instances
+/// past the capacity in one frame are dropped and counted
+/// ([`StaticFrameStats::over_capacity`](crate::StaticFrameStats)).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StaticSetup {
+    /// The geometry.
+    pub mesh: MeshId,
+    /// The material.
+    pub material: MaterialId,
+    /// Most visible instances of this setup in one frame (≥ 1): slots and micro-batch IDs
+    /// are reserved for that many at `prepare`.
+    pub capacity: u32,
+}
+
 /// Everything the renderer draws. An empty scene (no batches, or batches without
 /// instances) is valid: it renders the sky.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -205,8 +221,12 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// The albedo texture array's layers.
     pub albedo_layers: Vec<AlbedoLayer>,
-    /// Batches of instances.
+    /// Batches of instances (drawn every frame; the CPU plans them once).
     pub batches: Vec<Batch>,
+    /// What the static query's setup handles draw (index = handle); empty for a scene
+    /// without static content. Frames with a static query
+    /// ([`Renderer::render_static`](crate::Renderer::render_static)) draw its output.
+    pub static_setups: Vec<StaticSetup>,
 }
 
 impl Scene {
@@ -282,6 +302,31 @@ impl Scene {
                     what: format!("instance {i} of batch {b}"),
                 });
             }
+        }
+        let mut slots = 0u64;
+        for (i, st) in self.static_setups.iter().enumerate() {
+            let problem = if st.mesh.0 >= self.meshes.len() {
+                Some(format!("mesh {} of {}", st.mesh.0, self.meshes.len()))
+            } else if st.material.0 >= self.materials.len() {
+                Some(format!("material {} of {}", st.material.0, self.materials.len()))
+            } else if st.capacity == 0 {
+                Some("capacity 0 (at least 1)".to_owned())
+            } else {
+                None
+            };
+            if let Some(problem) = problem {
+                return Err(SceneError::StaticSetup { setup: i, problem });
+            }
+            slots += u64::from(st.capacity);
+        }
+        if slots + self.instance_count() as u64 > u64::from(u32::MAX) {
+            return Err(SceneError::StaticSetup {
+                setup: self.static_setups.len().saturating_sub(1),
+                problem: format!(
+                    "{slots} reserved slots and {} instances pass u32 instance indices",
+                    self.instance_count()
+                ),
+            });
         }
         Ok(())
     }

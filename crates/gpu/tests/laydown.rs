@@ -69,6 +69,7 @@ fn test_scene() -> (Scene, FrameInput) {
                 instances: rocks,
             },
         ],
+        static_setups: Vec::new(),
     };
     let camera = Camera {
         fov_y: 1.0,

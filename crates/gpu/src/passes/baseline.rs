@@ -116,13 +116,7 @@ impl Baseline {
         });
         pass.set_bind_group(0, &f.scene.baseline, &[]);
         // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
-        record_draws(
-            &mut pass,
-            &f.scene.draws,
-            &f.scene.index_buffer,
-            &self.pipeline,
-            &self.pipeline,
-        );
+        record_draws(&mut pass, f, &self.pipeline, &self.pipeline);
     }
 }
 

@@ -255,7 +255,7 @@ impl Laydown {
         let groups = &f.scene.laydown;
         pass.set_bind_group(0, &groups.scene, &[]);
         pass.set_bind_group(1, &groups.payloads, &[]);
-        record_draws(pass, &f.scene.draws, &f.scene.index_buffer, opaque, alpha);
+        record_draws(pass, f, opaque, alpha);
     }
 }
 
@@ -270,17 +270,18 @@ fn clear_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachme
     }
 }
 
-/// Records `draws` with the opaque or alpha-tested pipeline as each needs, opaque draws
-/// first (they fill depth that early-Z then uses against the foliage). Bind groups are the
-/// caller's.
+/// Records the scene's planned draws with the opaque or alpha-tested pipeline as each
+/// needs, opaque draws first (they fill depth that early-Z then uses against the
+/// foliage), then, in a frame with a static query, the static draw lists (opaque, then
+/// alpha-tested). Bind groups are the caller's.
 pub(crate) fn record_draws(
     pass: &mut wgpu::RenderPass<'_>,
-    draws: &[Draw],
-    index_buffer: &wgpu::Buffer,
+    f: &FrameContext<'_>,
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
 ) {
-    pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    let draws: &[Draw] = &f.scene.draws;
+    pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     for alpha_pass in [false, true] {
         pass.set_pipeline(if alpha_pass { alpha } else { opaque });
         for d in draws
@@ -292,6 +293,11 @@ pub(crate) fn record_draws(
                 d.base_vertex as i32,
                 d.first_instance..d.first_instance + d.instance_count,
             );
+        }
+    }
+    if f.static_query {
+        if let Some(b) = &f.scene.statics {
+            super::static_place::record_static_draws(pass, b, opaque, alpha);
         }
     }
 }

@@ -15,6 +15,8 @@
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
 //! | lighting | [`lighting`] | sun, ambient, point lights, tone mapping -> output |
+//! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
+//! | static placement | [`static_place`] | the query's batches -> instance rows and indirect draws |
 
 use shader::{Module, StageCounts};
 
@@ -30,6 +32,7 @@ pub(crate) mod laydown;
 pub(crate) mod lighting;
 pub(crate) mod query;
 pub(crate) mod resolve;
+pub(crate) mod static_place;
 pub(crate) mod vis_copy;
 
 macro_rules! gpu_modules {
@@ -62,6 +65,7 @@ gpu_modules!(
     LIGHTING = "lighting",
     VIS_COPY = "vis_copy",
     ZERO = "zero",
+    STATIC_PLACE = "static_place",
 );
 
 /// Every module list the renderer's passes import from.
@@ -70,6 +74,7 @@ pub(crate) const LIBRARY: &[&[Module]] = &[
     wave::wgsl::MODULES,
     tiling::wgsl::MODULES,
     deferred::wgsl::MODULES,
+    staticscene::wgsl::MODULES,
     MODULES,
 ];
 
@@ -83,6 +88,7 @@ pub(crate) fn stage_counts() -> StageCounts {
         classify::ZERO.stage_counts(),
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
+        static_place::STATIC_PLACE.stage_counts(),
     ]
     .into_iter()
     .chain(
@@ -103,6 +109,7 @@ pub(crate) struct Pipelines {
     pub resolve: resolve::Resolve,
     pub baseline: baseline::Baseline,
     pub lighting: lighting::Lighting,
+    pub static_place: static_place::StaticPlace,
 }
 
 impl Pipelines {
@@ -116,6 +123,7 @@ impl Pipelines {
             resolve: resolve::Resolve::new(device, wave_width)?,
             baseline: baseline::Baseline::new(device)?,
             lighting: lighting::Lighting::new(device)?,
+            static_place: static_place::StaticPlace::new(device)?,
         })
     }
 }
@@ -137,6 +145,9 @@ pub(crate) struct FrameContext<'a> {
     pub scene: &'a PreparedScene,
     pub targets: &'a Targets,
     pub groups: &'a TargetGroups,
+    /// Whether this frame's static query placed instances (the static draw lists are
+    /// drawn only then: without a query this frame, they hold an older frame's draws).
+    pub static_query: bool,
 }
 
 /// What a command buffer records.

@@ -12,6 +12,7 @@ use staticscene::{
     StaticTile, TileId,
 };
 
+use super::static_place::QueryOutputs;
 use crate::error::Result;
 use crate::resources::readback::read_buffer;
 use crate::resources::static_pool::{StaticPool, empty_storage};
@@ -41,6 +42,17 @@ pub struct StaticQueryOutput {
     pub gpu_ms: Option<f64>,
     /// Active tiles of the scene that were not activated on the GPU (skipped).
     pub skipped_tiles: Vec<TileId>,
+}
+
+/// One view's pre-cull and dispatch, ready to record.
+pub(crate) struct PreparedView {
+    group: wgpu::BindGroup,
+    /// The pre-cull's jobs and statistics.
+    pub plan: GpuPlan,
+    /// Threads dispatched.
+    pub threads: u64,
+    /// Records the output buffers hold.
+    pub cap: u64,
 }
 
 /// The GPU static query: the pass, the tile pool and the per-view buffers.
@@ -130,23 +142,16 @@ impl StaticQuery {
         Ok(())
     }
 
-    /// Runs one view's query: the pre-cull on `scene` (which must hold the tiles
-    /// activated here; it keeps the clusters' stale flags and last runs), the pass, and
-    /// the read-back of `readback`. Blocks until the GPU is done (HZD's mode).
-    ///
-    /// # Errors
-    /// [`Error::DeviceLimit`](crate::Error::DeviceLimit) when the output for every
-    /// dispatched thread passes `max_storage_buffer_binding_size`; device errors
-    /// (validation, out of memory, mapping).
-    pub fn run(
+    /// The pre-cull of one view on `scene`, and the uploads and bind group of its
+    /// dispatch (the output buffers grown to one record per dispatched thread).
+    pub(crate) fn prepare_view(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &mut staticscene::Scene,
         params: &QueryParams,
         options: &QueryOptions,
-        readback: QueryReadback,
-    ) -> Result<StaticQueryOutput> {
+    ) -> Result<PreparedView> {
         let pool = &self.pool;
         let plan: GpuPlan = scene.plan_gpu(params, options, |id| pool.slots(id));
         let threads = plan.instances();
@@ -188,6 +193,61 @@ impl StaticQuery {
                 ("out_batches", self.out_batches.as_entire_binding()),
             ],
         )?;
+        Ok(PreparedView {
+            group,
+            plan,
+            threads,
+            cap,
+        })
+    }
+
+    /// Records a prepared view's dispatch.
+    pub(crate) fn record_view(&self, pass: &mut wgpu::ComputePass<'_>, view: &PreparedView) {
+        self.pass.record(pass, &[&view.group], &view.plan.dispatch());
+    }
+
+    /// The buffers the query writes (the static placement reads them).
+    pub(crate) fn outputs(&self) -> QueryOutputs<'_> {
+        QueryOutputs {
+            counters: &self.counters,
+            instances: &self.out_instances,
+            batches: &self.out_batches,
+        }
+    }
+
+    /// Reads the counters of the last recorded view back (after its submission).
+    pub(crate) fn read_counters(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<QueryCounters> {
+        Ok(bytemuck::pod_read_unaligned(&read_buffer(
+            device,
+            queue,
+            &self.counters,
+            0,
+            size_of::<QueryCounters>() as u64,
+        )?))
+    }
+
+    /// Runs one view's query: the pre-cull on `scene` (which must hold the tiles
+    /// activated here; it keeps the clusters' stale flags and last runs), the pass, and
+    /// the read-back of `readback`. Blocks until the GPU is done (HZD's mode).
+    ///
+    /// # Errors
+    /// [`Error::DeviceLimit`](crate::Error::DeviceLimit) when the output for every
+    /// dispatched thread passes `max_storage_buffer_binding_size`; device errors
+    /// (validation, out of memory, mapping).
+    pub fn run(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &mut staticscene::Scene,
+        params: &QueryParams,
+        options: &QueryOptions,
+        readback: QueryReadback,
+    ) -> Result<StaticQueryOutput> {
+        let view = self.prepare_view(device, queue, scene, params, options)?;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("static query"),
         });
@@ -196,23 +256,18 @@ impl StaticQuery {
                 label: Some("static query"),
                 timestamp_writes: self.timer.compute("static query"),
             });
-            self.pass.record(&mut pass, &[&group], &plan.dispatch());
+            self.record_view(&mut pass, &view);
         }
         self.timer.resolve(&mut encoder);
         queue.submit([encoder.finish()]);
         let gpu_ms = self.timer.read(device, queue)?.first().map(|t| t.ms);
-        let counters: QueryCounters = bytemuck::pod_read_unaligned(&read_buffer(
-            device,
-            queue,
-            &self.counters,
-            0,
-            size_of::<QueryCounters>() as u64,
-        )?);
+        let counters = self.read_counters(device, queue)?;
+        let cap = view.cap;
         let mut out = StaticQueryOutput {
-            stats: counters.stats(&plan.stats),
-            threads,
+            stats: counters.stats(&view.plan.stats),
+            threads: view.threads,
             gpu_ms,
-            skipped_tiles: plan.skipped_tiles,
+            skipped_tiles: view.plan.skipped_tiles,
             ..StaticQueryOutput::default()
         };
         if readback == QueryReadback::Full {

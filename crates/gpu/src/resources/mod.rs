@@ -14,9 +14,10 @@ use wgpu::util::DeviceExt as _;
 
 use self::geometry::Geometry;
 use self::plan::{Draw, Plan};
-use self::rows::GpuMaterial;
+use self::rows::{GpuInstance, GpuMaterial, GpuMicroBatch, GpuStaticSetup};
 use crate::context::PrimitiveIdPath;
 use crate::error::{Error, Result, SceneError};
+use crate::passes::static_place::StaticBuffers;
 use crate::passes::{Pipelines, classify, laydown, resolve};
 use crate::scene::{Scene, ShaderKind};
 
@@ -108,6 +109,12 @@ pub struct PreparedScene {
     pub(crate) baseline: wgpu::BindGroup,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
+    /// The instance table (planned instances, then the static setups' reserved slots).
+    pub(crate) instances: wgpu::Buffer,
+    /// The static setups' table, counters and draw lists (`None` without static setups).
+    pub(crate) statics: Option<StaticBuffers>,
+    /// Each static setup's capacity (index = handle).
+    pub(crate) static_capacities: Vec<u32>,
     _kept: Vec<wgpu::Buffer>,
     _albedo: wgpu::Texture,
 }
@@ -135,6 +142,10 @@ pub(crate) struct PrepareContext<'a> {
     pub path: PrimitiveIdPath,
     pub wave_width: wave::WaveWidth,
     pub id: u64,
+    /// Whether the device draws indirect lists with a count buffer.
+    pub multi_draw_count: bool,
+    /// Whether indirect draws may start past instance 0 (static setups need it).
+    pub indirect_first_instance: bool,
 }
 
 /// The floating origin of `scene`: its instances' bounds centre snapped to 1 m (zero for
@@ -149,6 +160,79 @@ fn origin(scene: &Scene) -> Vec3 {
     };
     let (lo, hi) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
     ((lo + hi) * 0.5).round()
+}
+
+/// Reserves instance slots and micro-batch IDs for every static setup (`tiling`'s
+/// reservations, in shader and material order so they share passes) and returns the GPU
+/// table of setups, indexed by setup handle.
+fn reserve_static(
+    scene: &Scene,
+    geometry: &Geometry,
+    plan: &mut tiling::Plan,
+    config: &tiling::PlanConfig,
+) -> Result<Vec<GpuStaticSetup>> {
+    let mut order: Vec<usize> = (0..scene.static_setups.len()).collect();
+    let key = |i: usize| {
+        let m = &scene.materials[scene.static_setups[i].material.0];
+        (m.shader.id(), scene.static_setups[i].material.0)
+    };
+    order.sort_by_key(|&i| key(i));
+    let reservations: Vec<tiling::Reservation> = order
+        .iter()
+        .map(|&i| {
+            let s = &scene.static_setups[i];
+            let m = geometry.meshes[s.mesh.0];
+            tiling::Reservation {
+                shader: scene.materials[s.material.0].shader.id(),
+                batch_data: s.material.0 as u64,
+                geometry: tiling::Geometry {
+                    vertex_count: m.vertex_count,
+                    primitive_count: m.primitive_count,
+                    first_index: m.first_index,
+                    base_vertex: m.base_vertex,
+                },
+                capacity: s.capacity,
+            }
+        })
+        .collect();
+    let first_new = plan.micro_batches.len();
+    let ranges = plan.reserve(&reservations, config).map_err(|e| {
+        Error::Scene(SceneError::StaticSetup {
+            setup: match e {
+                tiling::Error::MicroBatchIdsExhausted { batch, .. }
+                | tiling::Error::TooManyPasses { batch, .. }
+                | tiling::Error::EmptyGeometry { batch }
+                | tiling::Error::GeometryTooLarge { batch, .. } => order[batch as usize],
+                _ => 0,
+            },
+            problem: e.to_string(),
+        })
+    })?;
+    // The rows name the reservation; make them name the setup handle.
+    for mb in &mut plan.micro_batches[first_new..] {
+        mb.batch = order[mb.batch as usize] as u32;
+    }
+    for row in plan.table.iter_mut().skip_while(|r| (r.order as usize) < first_new) {
+        row.batch = order[row.batch as usize] as u32;
+    }
+    let mut setups = vec![GpuStaticSetup::default(); scene.static_setups.len()];
+    for (&i, r) in order.iter().zip(&ranges) {
+        let s = &scene.static_setups[i];
+        let m = geometry.meshes[s.mesh.0];
+        setups[i] = GpuStaticSetup {
+            first_index: m.first_index,
+            index_count: m.primitive_count * 3,
+            base_vertex: m.base_vertex,
+            first_slot: r.first_instance,
+            capacity: r.capacity,
+            first_id: r.first_id,
+            primitive_bits: r.primitive_bits,
+            material: s.material.0 as u32,
+            list: u32::from(scene.materials[s.material.0].shader == ShaderKind::AlphaTested),
+            ..GpuStaticSetup::default()
+        };
+    }
+    Ok(setups)
 }
 
 /// Validates `scene`, encodes it, plans it with `tiling`, uploads it and makes every pass's
@@ -167,10 +251,36 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             base_vertex: m.base_vertex,
         }
     });
-    let tiling_plan = tiling::build_plan(&batches, &tiling::PlanConfig::default())
+    let config = tiling::PlanConfig::default();
+    let mut tiling_plan = tiling::build_plan(&batches, &config)
         .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
+    let planned = tiling_plan.micro_batches.len();
     let origin = origin(scene);
-    let plan = Plan::new(scene, &geometry, &tiling_plan.micro_batches, origin);
+    let mut plan = Plan::new(scene, &geometry, &tiling_plan.micro_batches, origin);
+    let static_setups = reserve_static(scene, &geometry, &mut tiling_plan, &config)?;
+    if !static_setups.is_empty() && !c.indirect_first_instance {
+        return Err(Error::MissingFeature {
+            feature: "INDIRECT_FIRST_INSTANCE",
+            needed_by: "static setups (indirect draws of reserved instance slots)",
+        });
+    }
+    // Reserved slots start zeroed (a zero scale: nothing drawn until placed); their IDs
+    // resolve to their setup's mesh.
+    plan.instances
+        .resize(tiling_plan.instance_count as usize, GpuInstance::default());
+    for mb in &tiling_plan.micro_batches[planned..] {
+        let mesh = scene.static_setups[mb.batch as usize].mesh.0 as u32;
+        let end = (mb.first_id + mb.id_count) as usize;
+        if plan.micro_batch_ids.len() < end {
+            plan.micro_batch_ids.resize(end, GpuMicroBatch::default());
+        }
+        plan.micro_batch_ids[mb.first_id as usize..end].fill(GpuMicroBatch {
+            first_instance: mb.first_instance,
+            first_id: mb.first_id,
+            mesh,
+            primitive_bits: mb.primitive_bits,
+        });
+    }
     let materials: Vec<GpuMaterial> = scene
         .materials
         .iter()
@@ -213,7 +323,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             device,
             "instances",
             bytemuck::cast_slice(&plan.instances),
-            size_of::<rows::GpuInstance>(),
+            size_of::<GpuInstance>(),
             none,
         )?;
         let materials = storage(
@@ -234,7 +344,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             device,
             "micro batches",
             bytemuck::cast_slice(&plan.micro_batch_ids),
-            size_of::<rows::GpuMicroBatch>(),
+            size_of::<GpuMicroBatch>(),
             none,
         )?;
         let albedo = albedo::albedo_texture(device, c.queue, &scene.albedo_layers);
@@ -294,6 +404,10 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             classification,
             resolve,
             draws: plan.draws,
+            statics: (!static_setups.is_empty())
+                .then(|| StaticBuffers::new(device, &static_setups, c.multi_draw_count)),
+            instances: instances.clone(),
+            static_capacities: scene.static_setups.iter().map(|s| s.capacity).collect(),
             index_buffer,
             geometry,
             tiling: tiling_plan,

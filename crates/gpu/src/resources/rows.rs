@@ -138,6 +138,55 @@ pub(crate) struct GpuMicroBatch {
 }
 const _: () = assert!(size_of::<GpuMicroBatch>() == 16);
 
+/// What one static setup handle draws and where its reserved slots and micro-batch IDs
+/// are (WGSL `GpuStaticSetup`, `gpu::static_place`), 48 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub(crate) struct GpuStaticSetup {
+    /// The mesh's first index.
+    pub first_index: u32,
+    /// Its index count (3 × primitives).
+    pub index_count: u32,
+    /// Its base vertex.
+    pub base_vertex: u32,
+    /// The instance-table slot of rank 0.
+    pub first_slot: u32,
+    /// Slots reserved (most instances placed per frame).
+    pub capacity: u32,
+    /// The micro-batch ID of rank 0.
+    pub first_id: u32,
+    /// The mesh's primitive bits.
+    pub primitive_bits: u32,
+    /// The material index.
+    pub material: u32,
+    /// The draw list: 0 opaque, 1 alpha-tested.
+    pub list: u32,
+    /// Zero.
+    pub pad0: u32,
+    /// Zero.
+    pub pad1: u32,
+    /// Zero.
+    pub pad2: u32,
+}
+const _: () = assert!(size_of::<GpuStaticSetup>() == 48);
+
+/// The placement's per-frame constants (WGSL `GpuStaticParams`), 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub(crate) struct GpuStaticParams {
+    /// The query's floating origin minus the scene's origin, metres (whole numbers), `w` 0.
+    pub offset: [f32; 4],
+    /// Setups in the table.
+    pub setup_count: u32,
+    /// Workgroups per dispatch row (`shader::MAX_WORKGROUPS_X`).
+    pub row_width: u32,
+    /// First draw of the alpha-tested list (the opaque setups' count).
+    pub alpha_base: u32,
+    /// Zero.
+    pub pad: u32,
+}
+const _: () = assert!(size_of::<GpuStaticParams>() == 32);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,6 +293,37 @@ mod tests {
                 first_id,
                 mesh,
                 primitive_bits
+            }),
+        );
+        check(
+            "gpu::static_place",
+            "GpuStaticSetup",
+            size_of::<GpuStaticSetup>(),
+            &members!(GpuStaticSetup {
+                first_index,
+                index_count,
+                base_vertex,
+                first_slot,
+                capacity,
+                first_id,
+                primitive_bits,
+                material,
+                list,
+                pad0,
+                pad1,
+                pad2
+            }),
+        );
+        check(
+            "gpu::static_place",
+            "GpuStaticParams",
+            size_of::<GpuStaticParams>(),
+            &members!(GpuStaticParams {
+                offset,
+                setup_count,
+                row_width,
+                alpha_base,
+                pad
             }),
         );
     }

@@ -1,0 +1,67 @@
+//! What a frame with HZD's static query takes and reports ([`Renderer::render_static`]):
+//! the query, its CPU-side scene and view, and the statistics of the query and of the
+//! placement of its output into the frame.
+//!
+//! [`Renderer::render_static`]: crate::Renderer::render_static
+
+use glam::DVec3;
+use staticscene::{QueryOptions, QueryStats, TileId, ViewDesc};
+
+use crate::frame::Camera;
+use crate::passes::query::StaticQuery;
+
+/// The static content of a frame: the GPU query (its tiles activated), the CPU scene that
+/// holds the same tiles (pre-cull, stale flags), and the view to query.
+pub struct StaticView<'a> {
+    /// The GPU query, with every active tile of `scene` activated.
+    pub query: &'a mut StaticQuery,
+    /// The CPU side: tiles, clusters and their per-frame state.
+    pub scene: &'a mut staticscene::Scene,
+    /// The view: [`static_view_desc`] for the frame's camera, then any change (fade
+    /// frames, size threshold, the occlusion camera of the HiZ set on `query`).
+    pub view: ViewDesc,
+    /// Wave width and pre-cull switch.
+    pub options: QueryOptions,
+}
+
+/// The camera view of `camera` for a `width` x `height` image, as the renderer draws it
+/// (reversed Z, infinite far plane), with `staticscene`'s defaults (visual filter, LOD from
+/// the camera, 1-pixel size threshold, 8-frame fade, no occlusion).
+#[must_use]
+pub fn static_view_desc(camera: &Camera, width: u32, height: u32) -> ViewDesc {
+    let aspect = width as f32 / height.max(1) as f32;
+    let cam = staticscene::Camera::look_at(
+        camera.position.as_dvec3(),
+        camera.target.as_dvec3(),
+        camera.up.as_dvec3(),
+        camera.projection(aspect),
+        true,
+    );
+    let mut desc = ViewDesc::camera(cam, [width, height]);
+    desc.lod_position = DVec3::from(cam.position);
+    desc
+}
+
+/// What the static query and the placement did in one frame (read back after it).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StaticFrameStats {
+    /// The pre-cull's and the query pass's statistics (instances after each test).
+    pub query: QueryStats,
+    /// Threads the query dispatched (instances of the clusters left by the pre-cull).
+    pub threads: u64,
+    /// Batches the query appended (HZD's render items).
+    pub batches: u32,
+    /// Visible instances the query appended.
+    pub instances: u32,
+    /// Instances placed into reserved slots and drawn.
+    pub placed: u64,
+    /// Instances dropped past their setup's capacity.
+    pub over_capacity: u32,
+    /// Batches dropped by the placement (an unknown setup handle, or a source past the
+    /// query's buffers).
+    pub bad_batches: u32,
+    /// Indirect draws: opaque list, alpha-tested list.
+    pub draws: [u32; 2],
+    /// Active tiles of the CPU scene not activated on the GPU (skipped).
+    pub skipped_tiles: Vec<TileId>,
+}

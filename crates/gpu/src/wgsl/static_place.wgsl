@@ -1,0 +1,164 @@
+// gpu: the static query's output placed in the frame, with no CPU round trip (issue 13).
+// The query appends HZD's batches (DrawableSetupBatch, run-grouped by setup) and their
+// instances; here each batch claims a run of its setup's reserved instance slots (one
+// atomic per batch, by its first lane), its lanes write the instances' GpuInstance rows with
+// the vis-word fields of their rank (tiling's reserved range: rank r -> ID first_id +
+// r >> (16 - p)), then one invocation per setup with placed instances appends its indexed
+// indirect draw (opaque or alpha-tested list) and bumps that list's count. Every index is
+// checked: a batch naming no setup, a source past the query's buffers, or a rank past
+// the setup's capacity is dropped and counted, never written.
+//
+// Rust twins: GpuStaticSetup, GpuStaticParams (gpu's rows.rs), STATIC_COUNTER_* (static_place.rs).
+
+#import visbuf::id
+#import gpu::frame
+#import staticscene::query
+
+// What a setup handle draws, and where its slots and IDs are.
+struct GpuStaticSetup {
+    first_index: u32,
+    index_count: u32,
+    base_vertex: u32,
+    first_slot: u32,
+    capacity: u32,
+    first_id: u32,
+    primitive_bits: u32,
+    material: u32,
+    // 0: opaque list, 1: alpha-tested list.
+    list: u32,
+    // The setup's index within its list's part of the draw buffer is not fixed (draws are
+    // appended); these pad to 48 bytes.
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+struct GpuStaticParams {
+    // The query's floating origin minus the scene's origin (metres, whole numbers): added
+    // to every output translation so the rows share the scene's origin.
+    offset: vec4<f32>,
+    setup_count: u32,
+    // Workgroups per dispatch row (shader::MAX_WORKGROUPS_X).
+    row_width: u32,
+    // First draw of the alpha-tested list in `draws` (the opaque setups' count).
+    alpha_base: u32,
+    pad: u32,
+}
+
+// counters[GPU_STATIC_COUNTER_DRAWS + list]: draws appended per list (the count buffer).
+const GPU_STATIC_COUNTER_DRAWS: u32 = 0u;
+// Instances dropped past their setup's capacity.
+const GPU_STATIC_COUNTER_OVER_CAPACITY: u32 = 2u;
+// Batches dropped: no such setup, or a source past the query's buffers.
+const GPU_STATIC_COUNTER_BAD_BATCHES: u32 = 3u;
+// counters[GPU_STATIC_COUNTER_PLACED + s]: instances of setup s (before the capacity clamp).
+const GPU_STATIC_COUNTER_PLACED: u32 = 4u;
+// The query's counter words: visible instances, batches.
+const GPU_STATIC_QUERY_BATCHES: u32 = 1u;
+// Words per DrawIndexedIndirect.
+const GPU_STATIC_DRAW_WORDS: u32 = 5u;
+const GPU_STATIC_BATCH_LANES: u32 = 64u;
+
+@group(0) @binding(0) var<uniform> params: GpuStaticParams;
+@group(0) @binding(1) var<storage, read> setups: array<GpuStaticSetup>;
+@group(0) @binding(2) var<storage, read> query_counters: array<u32>;
+@group(0) @binding(3) var<storage, read> query_instances: array<StaticsceneDrawableSetupInstance>;
+@group(0) @binding(4) var<storage, read> query_batches: array<StaticsceneDrawableSetupBatch>;
+@group(0) @binding(5) var<storage, read_write> counters: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read_write> instances: array<GpuInstance>;
+@group(0) @binding(7) var<storage, read_write> place_dispatch: array<u32>;
+@group(0) @binding(8) var<storage, read_write> draws: array<u32>;
+
+// Batches the query wrote that its buffer holds.
+fn gpu_static_batch_count() -> u32 {
+    return min(query_counters[GPU_STATIC_QUERY_BATCHES], arrayLength(&query_batches));
+}
+
+// The workgroups of `place`: one per batch, in rows of `row_width`.
+@compute @workgroup_size(1)
+fn place_args() {
+    let n = gpu_static_batch_count();
+    let w = max(params.row_width, 1u);
+    place_dispatch[0] = min(n, w);
+    place_dispatch[1] = (n + w - 1u) / w;
+    place_dispatch[2] = 1u;
+}
+
+var<workgroup> gpu_static_wg_setup: u32;
+var<workgroup> gpu_static_wg_count: u32;
+var<workgroup> gpu_static_wg_base: u32;
+var<workgroup> gpu_static_wg_source: u32;
+
+// One workgroup per batch (a batch holds at most 64 instances).
+@compute @workgroup_size(64)
+fn place(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let b = wid.y * params.row_width + wid.x;
+    if li == 0u {
+        gpu_static_wg_count = 0u;
+        if b < gpu_static_batch_count() {
+            let batch = query_batches[b];
+            let count = min(batch.count, GPU_STATIC_BATCH_LANES);
+            let n = arrayLength(&query_instances);
+            let bad = batch.setup.y != 0u || batch.setup.x >= params.setup_count
+                || batch.setup.x >= arrayLength(&setups) || batch.first_instance > n
+                || count > n - min(batch.first_instance, n);
+            if bad {
+                atomicAdd(&counters[GPU_STATIC_COUNTER_BAD_BATCHES], 1u);
+            } else if count > 0u {
+                gpu_static_wg_setup = batch.setup.x;
+                gpu_static_wg_count = count;
+                gpu_static_wg_source = batch.first_instance;
+                gpu_static_wg_base = atomicAdd(&counters[GPU_STATIC_COUNTER_PLACED + batch.setup.x], count);
+            }
+        }
+    }
+    let count = workgroupUniformLoad(&gpu_static_wg_count);
+    if li >= count {
+        return;
+    }
+    let s = setups[gpu_static_wg_setup];
+    let rank = gpu_static_wg_base + li;
+    if rank >= s.capacity {
+        atomicAdd(&counters[GPU_STATIC_COUNTER_OVER_CAPACITY], 1u);
+        return;
+    }
+    let slot = s.first_slot + rank;
+    if slot >= arrayLength(&instances) {
+        return;
+    }
+    let src = query_instances[gpu_static_wg_source + li].local_to_floating.rows;
+    let id = visbuf_split_instance(s.first_id, rank, s.primitive_bits);
+    var out: GpuInstance;
+    out.row0 = src[0] + vec4<f32>(0.0, 0.0, 0.0, params.offset.x);
+    out.row1 = src[1] + vec4<f32>(0.0, 0.0, 0.0, params.offset.y);
+    out.row2 = src[2] + vec4<f32>(0.0, 0.0, 0.0, params.offset.z);
+    out.micro_batch = id.x;
+    out.instance_field = id.y;
+    out.primitive_bits = s.primitive_bits;
+    out.material = s.material;
+    instances[slot] = out;
+}
+
+// One invocation per setup: the draw of its placed instances, appended to its list.
+@compute @workgroup_size(64)
+fn emit_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= params.setup_count || i >= arrayLength(&setups) {
+        return;
+    }
+    let s = setups[i];
+    let n = min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + i]), s.capacity);
+    if n == 0u || s.list > 1u {
+        return;
+    }
+    let d = atomicAdd(&counters[GPU_STATIC_COUNTER_DRAWS + s.list], 1u);
+    let at = (select(0u, params.alpha_base, s.list == 1u) + d) * GPU_STATIC_DRAW_WORDS;
+    if at + GPU_STATIC_DRAW_WORDS > arrayLength(&draws) {
+        return;
+    }
+    draws[at] = s.index_count;
+    draws[at + 1u] = n;
+    draws[at + 2u] = s.first_index;
+    draws[at + 3u] = s.base_vertex;
+    draws[at + 4u] = s.first_slot;
+}
