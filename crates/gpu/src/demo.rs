@@ -10,6 +10,8 @@ use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 use crate::frame::{Camera, FrameInput, Lighting, PointLight};
 use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
+pub mod city;
+
 /// Which demo scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DemoScene {

@@ -11,18 +11,18 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, point_light_rows};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
-use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
-use crate::resources::readback::read_texture;
-use crate::resources::rows::{FrameUniforms, GpuPointLight};
-use crate::resources::targets::Targets;
-use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::passes::query::PreparedView;
 use crate::passes::static_place::{
     STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
     STATIC_COUNTER_PLACED,
 };
+use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
 use crate::resources::readback::read_buffer;
+use crate::resources::readback::read_texture;
 use crate::resources::rows::GpuStaticParams;
+use crate::resources::rows::{FrameUniforms, GpuPointLight};
+use crate::resources::targets::Targets;
+use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::scene::Scene;
 use crate::statics::{StaticFrameStats, StaticView};
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
@@ -673,6 +673,38 @@ impl Renderer {
             bytemuck::pod_collect_to_vec(&vis),
             bytemuck::pod_collect_to_vec(&depth),
         ))
+    }
+
+    /// Reads the depth buffer of the last frame back (row-major, reversed Z: 1 at the near
+    /// plane, 0 for the sky): what a HiZ for the next frame's occlusion is built from.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_depth(&self) -> Result<Vec<f32>> {
+        let depth = read_texture(
+            &self.device,
+            &self.queue,
+            &self.targets.depth,
+            wgpu::TextureAspect::DepthOnly,
+            4,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&depth))
+    }
+
+    /// Reads the vis buffer of the last frame back (row-major words, `visbuf`'s layout;
+    /// `VIS_NONE` where nothing was drawn).
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_vis(&self) -> Result<Vec<u32>> {
+        let vis = read_texture(
+            &self.device,
+            &self.queue,
+            &self.targets.vis,
+            wgpu::TextureAspect::All,
+            4,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&vis))
     }
 
     /// Reads back what the last deferred frame's classification wrote.

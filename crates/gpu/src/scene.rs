@@ -308,7 +308,11 @@ impl Scene {
             let problem = if st.mesh.0 >= self.meshes.len() {
                 Some(format!("mesh {} of {}", st.mesh.0, self.meshes.len()))
             } else if st.material.0 >= self.materials.len() {
-                Some(format!("material {} of {}", st.material.0, self.materials.len()))
+                Some(format!(
+                    "material {} of {}",
+                    st.material.0,
+                    self.materials.len()
+                ))
             } else if st.capacity == 0 {
                 Some("capacity 0 (at least 1)".to_owned())
             } else {

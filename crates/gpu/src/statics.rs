@@ -4,7 +4,6 @@
 //!
 //! [`Renderer::render_static`]: crate::Renderer::render_static
 
-use glam::DVec3;
 use staticscene::{QueryOptions, QueryStats, TileId, ViewDesc};
 
 use crate::frame::Camera;
@@ -38,7 +37,7 @@ pub fn static_view_desc(camera: &Camera, width: u32, height: u32) -> ViewDesc {
         true,
     );
     let mut desc = ViewDesc::camera(cam, [width, height]);
-    desc.lod_position = DVec3::from(cam.position);
+    desc.lod_position = cam.position;
     desc
 }
 

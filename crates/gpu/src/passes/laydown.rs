@@ -295,10 +295,10 @@ pub(crate) fn record_draws(
             );
         }
     }
-    if f.static_query {
-        if let Some(b) = &f.scene.statics {
-            super::static_place::record_static_draws(pass, b, opaque, alpha);
-        }
+    if f.static_query
+        && let Some(b) = &f.scene.statics
+    {
+        super::static_place::record_static_draws(pass, b, opaque, alpha);
     }
 }
 

@@ -203,7 +203,8 @@ impl StaticQuery {
 
     /// Records a prepared view's dispatch.
     pub(crate) fn record_view(&self, pass: &mut wgpu::ComputePass<'_>, view: &PreparedView) {
-        self.pass.record(pass, &[&view.group], &view.plan.dispatch());
+        self.pass
+            .record(pass, &[&view.group], &view.plan.dispatch());
     }
 
     /// The buffers the query writes (the static placement reads them).

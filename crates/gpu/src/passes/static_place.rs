@@ -81,6 +81,9 @@ pub(crate) struct StaticBuffers {
     /// `STATIC_COUNTER_*` words; the first two are the draw lists' count buffer.
     pub counters: wgpu::Buffer,
     pub place_dispatch: wgpu::Buffer,
+    /// What `place` is dispatched from: `place_dispatch` copied (a buffer bound as storage
+    /// in a dispatch cannot also be its indirect argument).
+    pub place_indirect: wgpu::Buffer,
     /// Opaque draws (`opaque` of them), then alpha-tested draws (`alpha`).
     pub draws: wgpu::Buffer,
     pub setup_count: u32,
@@ -99,11 +102,7 @@ pub(crate) struct QueryOutputs<'a> {
 
 impl StaticBuffers {
     /// The buffers for `setups` (each list's setups counted from their `list`).
-    pub(crate) fn new(
-        device: &wgpu::Device,
-        setups: &[GpuStaticSetup],
-        with_count: bool,
-    ) -> Self {
+    pub(crate) fn new(device: &wgpu::Device, setups: &[GpuStaticSetup], with_count: bool) -> Self {
         use wgpu::BufferUsages as U;
         let opaque = setups.iter().filter(|s| s.list == 0).count() as u32;
         let alpha = setups.len() as u32 - opaque;
@@ -133,7 +132,8 @@ impl StaticBuffers {
                 4 * (u64::from(STATIC_COUNTER_PLACED) + setups.len() as u64),
                 U::STORAGE | U::INDIRECT,
             ),
-            place_dispatch: make("static place dispatch", 12, U::STORAGE | U::INDIRECT),
+            place_dispatch: make("static place dispatch", 12, U::STORAGE),
+            place_indirect: make("static place indirect", 12, U::INDIRECT),
             draws: make(
                 "static draws",
                 DRAW_BYTES * setups.len() as u64,
@@ -197,18 +197,26 @@ impl StaticPlace {
         if !b.with_count {
             encoder.clear_buffer(&b.draws, 0, None);
         }
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("static placement arguments"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, group, &[]);
+            let args = &self.pass.steps[self.place_args];
+            if let Some([x, y, z]) = self.pass.workgroups(args, &b.setup_count) {
+                pass.set_pipeline(&args.pipeline);
+                pass.dispatch_workgroups(x, y, z);
+            }
+        }
+        encoder.copy_buffer_to_buffer(&b.place_dispatch, 0, &b.place_indirect, 0, 12);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("static placement"),
             timestamp_writes: timer.compute("static placement"),
         });
         pass.set_bind_group(0, group, &[]);
-        let args = &self.pass.steps[self.place_args];
-        if let Some([x, y, z]) = self.pass.workgroups(args, &b.setup_count) {
-            pass.set_pipeline(&args.pipeline);
-            pass.dispatch_workgroups(x, y, z);
-        }
         pass.set_pipeline(&self.pass.steps[self.place].pipeline);
-        pass.dispatch_workgroups_indirect(&b.place_dispatch, 0);
+        pass.dispatch_workgroups_indirect(&b.place_indirect, 0);
         let emit = &self.pass.steps[self.emit];
         if let Some([x, y, z]) = self.pass.workgroups(emit, &b.setup_count) {
             pass.set_pipeline(&emit.pipeline);
@@ -225,7 +233,10 @@ pub(crate) fn record_static_draws(
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
 ) {
-    for (list, pipeline, first, count) in [(0u64, opaque, 0u32, b.opaque), (1, alpha, b.opaque, b.alpha)] {
+    for (list, pipeline, first, count) in [
+        (0u64, opaque, 0u32, b.opaque),
+        (1, alpha, b.opaque, b.alpha),
+    ] {
         if count == 0 {
             continue;
         }
@@ -262,8 +273,14 @@ mod tests {
         );
         for (name, value) in [
             ("GPU_STATIC_COUNTER_DRAWS", super::STATIC_COUNTER_DRAWS),
-            ("GPU_STATIC_COUNTER_OVER_CAPACITY", super::STATIC_COUNTER_OVER_CAPACITY),
-            ("GPU_STATIC_COUNTER_BAD_BATCHES", super::STATIC_COUNTER_BAD_BATCHES),
+            (
+                "GPU_STATIC_COUNTER_OVER_CAPACITY",
+                super::STATIC_COUNTER_OVER_CAPACITY,
+            ),
+            (
+                "GPU_STATIC_COUNTER_BAD_BATCHES",
+                super::STATIC_COUNTER_BAD_BATCHES,
+            ),
             ("GPU_STATIC_COUNTER_PLACED", super::STATIC_COUNTER_PLACED),
             ("GPU_STATIC_DRAW_WORDS", (super::DRAW_BYTES / 4) as u32),
         ] {

@@ -212,7 +212,11 @@ fn reserve_static(
     for mb in &mut plan.micro_batches[first_new..] {
         mb.batch = order[mb.batch as usize] as u32;
     }
-    for row in plan.table.iter_mut().skip_while(|r| (r.order as usize) < first_new) {
+    for row in plan
+        .table
+        .iter_mut()
+        .skip_while(|r| (r.order as usize) < first_new)
+    {
         row.batch = order[row.batch as usize] as u32;
     }
     let mut setups = vec![GpuStaticSetup::default(); scene.static_setups.len()];

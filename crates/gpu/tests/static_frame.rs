@@ -1,0 +1,282 @@
+//! HZD's static query in front of the frame (lavapipe in CI): the city drawn from the GPU
+//! query's output through reserved slots and indirect draws equals the CPU twin's visible
+//! set drawn as planned batches; the deferred image matches the depth-equal baseline on
+//! it; occlusion against a HiZ of the previous frame's depth leaves the image unchanged
+//! (conservative) while it culls; bad input to `render_static` is an error.
+
+use gpu::demo::city::{City, city};
+use gpu::glam::{self, Affine3A, Vec3};
+use gpu::staticscene;
+use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
+use gpu::{
+    Batch, Camera, FrameInput, MaterialId, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene,
+    StaticQuery, StaticView, diff_metrics, static_view_desc,
+};
+use testkit::device::ctx;
+
+const W: u32 = 320;
+const H: u32 = 180;
+
+fn renderer() -> Renderer {
+    let c = ctx();
+    Renderer::new(
+        &c.device,
+        &c.queue,
+        RendererConfig {
+            width: W,
+            height: H,
+            ..RendererConfig::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn small_city() -> City {
+    city(30_000)
+}
+
+/// The CPU twin's visible instances of `view` as planned batches (world transforms: the
+/// snapped origin plus the floating-space transform), on `city`'s meshes and materials.
+fn twin_scene(city: &City, cpu: &mut gpu::staticscene::Scene, params: &QueryParams) -> Scene {
+    let mut out = QueryOutput::<DrawableSetupInstance>::new();
+    cpu.query(params, None, &QueryOptions::default(), &mut out)
+        .unwrap();
+    let origin = Vec3::new(
+        params.origin[0] as f32,
+        params.origin[1] as f32,
+        params.origin[2] as f32,
+    );
+    let mut scene = city.scene.clone();
+    scene.static_setups.clear();
+    for b in &out.batches {
+        let setup = city.scene.static_setups[b.setup as usize];
+        let first = b.first_instance as usize;
+        let instances = out.instances[first..first + b.count as usize]
+            .iter()
+            .map(|i| Affine3A::from_translation(origin) * i.local_to_floating.to_affine())
+            .collect();
+        scene.batches.push(Batch {
+            mesh: setup.mesh,
+            material: MaterialId(setup.material.0),
+            instances,
+        });
+    }
+    scene
+}
+
+#[test]
+fn the_city_from_the_gpu_query_equals_the_twins_visible_set_drawn_as_batches() {
+    let c = ctx();
+    let city = small_city();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
+    let mut twin = cpu.clone();
+    let mut r = renderer();
+    let prepared = r.prepare(&city.scene).unwrap();
+    let desc = static_view_desc(&city.frame.camera, W, H);
+    let params = QueryParams::new(&desc).unwrap();
+    let mut view = StaticView {
+        query: &mut query,
+        scene: &mut cpu,
+        view: desc,
+        options: QueryOptions::default(),
+    };
+    let out = r
+        .render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)
+        .unwrap();
+    let gpu_image = r.read_output().unwrap();
+    let stats = out.statics.expect("a static frame reports its statistics");
+    let reference = twin_scene(&city, &mut twin, &params);
+    let visible = reference.instance_count() - city.scene.instance_count();
+    eprintln!(
+        "city: {} static instances, {} visible, {} batches, draws {:?}",
+        cpu_instances(&city),
+        visible,
+        stats.batches,
+        stats.draws
+    );
+    assert!(visible > 1000, "the street view sees the city");
+    assert_eq!(stats.instances as usize, visible);
+    assert_eq!(stats.placed as usize, visible);
+    assert_eq!((stats.over_capacity, stats.bad_batches), (0, 0));
+    assert!(stats.draws[0] > 0 && stats.draws[1] > 0, "both lists drawn");
+    let planned = r.prepare(&reference).unwrap();
+    r.render(&planned, &city.frame, RenderPath::Deferred)
+        .unwrap();
+    let twin_image = r.read_output().unwrap();
+    let (mean, _) = diff_metrics(&gpu_image, &twin_image, 0.5).unwrap();
+    let (_, p99) = diff_metrics(&gpu_image, &twin_image, 0.99).unwrap();
+    eprintln!("GPU-driven vs planned twin: mean {mean:.4} / 255, p99 {p99}");
+    // Same instances, same meshes: only the transforms' rounding differs (the planned
+    // path re-bases them on the scene origin in f32).
+    assert!(mean < 0.05 && p99 <= 2, "mean {mean}, p99 {p99}");
+    save("static_city_deferred", &gpu_image);
+}
+
+fn cpu_instances(city: &City) -> u64 {
+    city.scene
+        .static_setups
+        .iter()
+        .map(|s| u64::from(s.capacity))
+        .sum()
+}
+
+fn save(name: &str, image: &Rgba8Image) {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    image
+        .write_png(&dir.join(format!("{name}.png")))
+        .unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
+fn the_static_frame_matches_the_depth_equal_baseline() {
+    let c = ctx();
+    let city = small_city();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
+    let mut r = renderer();
+    let prepared = r.prepare(&city.scene).unwrap();
+    let mut images = Vec::new();
+    for path in [RenderPath::Deferred, RenderPath::Baseline] {
+        let mut view = StaticView {
+            query: &mut query,
+            scene: &mut cpu,
+            view: static_view_desc(&city.frame.camera, W, H),
+            options: QueryOptions::default(),
+        };
+        r.render_static(&prepared, &city.frame, path, &mut view)
+            .unwrap();
+        images.push(r.read_output().unwrap());
+    }
+    let (mean, _) = diff_metrics(&images[0], &images[1], 0.5).unwrap();
+    let (_, p99) = diff_metrics(&images[0], &images[1], 0.99).unwrap();
+    eprintln!("static city, deferred vs baseline: mean {mean:.3}, p99 {p99}");
+    // The frame test's bounds (tests/frame.rs).
+    assert!(mean <= 1.0 && p99 <= 24, "mean {mean}, p99 {p99}");
+}
+
+/// Cameras around the street view: moved along the street, turned, raised.
+fn cameras(city: &City) -> Vec<Camera> {
+    let base = city.frame.camera;
+    let fwd = (base.target - base.position).normalize();
+    let turn = |c: Camera, a: f32| Camera {
+        target: c.position + glam::Quat::from_rotation_y(a) * (c.target - c.position),
+        ..c
+    };
+    let lift = |c: Camera, y: f32| Camera {
+        position: c.position + Vec3::Y * y,
+        target: c.target + Vec3::Y * y * 0.5,
+        ..c
+    };
+    let walk = |c: Camera, d: f32| Camera {
+        position: c.position + fwd * d,
+        target: c.target + fwd * d,
+        ..c
+    };
+    vec![
+        base,
+        walk(base, 2.0),
+        turn(walk(base, -3.0), 0.65),
+        lift(turn(base, -0.4), 24.0),
+        lift(turn(base, 2.5), 60.0),
+    ]
+}
+
+/// Occlusion against a HiZ of the previous frame's depth (read back, reduced by
+/// `HiZ::build`), the camera held still for a frame: for several cameras the image with
+/// occlusion equals the image without, the query culls instances doing it, and the GPU's
+/// visible set has the CPU twin's size. (With the camera moving, one-pass occlusion
+/// against last frame's depth culls what the motion disoccludes: two-pass occlusion's job.)
+#[test]
+fn occlusion_against_the_previous_frames_depth_is_conservative() {
+    let c = ctx();
+    let city = small_city();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
+    let mut r = renderer();
+    let prepared = r.prepare(&city.scene).unwrap();
+    let desc = |camera: &Camera, occlusion: bool| {
+        let mut d = static_view_desc(camera, W, H);
+        // LODs switch at once: during a fade both LODs are drawn undithered, and a
+        // fading-out block coplanar with its detail parts z-fights with them.
+        d.fade_frames = 0;
+        d.occlusion_camera = occlusion.then_some(d.camera);
+        d
+    };
+    let mut culled = 0;
+    for camera in cameras(&city) {
+        let frame = |r: &mut Renderer,
+                     occlusion: bool,
+                     query: &mut StaticQuery,
+                     cpu: &mut staticscene::Scene| {
+            let mut view = StaticView {
+                query,
+                scene: cpu,
+                view: desc(&camera, occlusion),
+                options: QueryOptions::default(),
+            };
+            let input = FrameInput {
+                camera,
+                ..city.frame.clone()
+            };
+            let out = r
+                .render_static(&prepared, &input, RenderPath::Deferred, &mut view)
+                .unwrap();
+            (r.read_output().unwrap(), out.statics.unwrap())
+        };
+        query.set_hiz(&c.device, &c.queue, None).unwrap();
+        let (off, _) = frame(&mut r, false, &mut query, &mut cpu);
+        let hiz = HiZ::build(&r.read_depth().unwrap(), W, H, true).unwrap();
+        query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
+        let mut twin = cpu.clone();
+        let (on, stats) = frame(&mut r, true, &mut query, &mut cpu);
+        let params = QueryParams::new(&desc(&camera, true)).unwrap();
+        let mut out = QueryOutput::<DrawableSetupInstance>::new();
+        twin.query(&params, Some(&hiz), &QueryOptions::default(), &mut out)
+            .unwrap();
+        assert_eq!(stats.instances as usize, out.instances.len());
+        culled += stats.query.rejected_occlusion;
+        let (mean, _) = diff_metrics(&on, &off, 0.5).unwrap();
+        let (_, max) = diff_metrics(&on, &off, 1.0).unwrap();
+        if max != 0 {
+            save("occlusion_on", &on);
+            save("occlusion_off", &off);
+        }
+        assert_eq!(
+            max, 0,
+            "occlusion changed the image (mean {mean}; images in CARGO_TARGET_TMPDIR)"
+        );
+    }
+    eprintln!("occlusion culled {culled} instances over the cameras, image unchanged");
+    assert!(
+        culled > 1000,
+        "the test exercises occlusion ({culled} culled)"
+    );
+}
+
+#[test]
+fn render_static_refuses_a_scene_without_static_setups() {
+    let c = ctx();
+    let city = small_city();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut cpu = staticscene::Scene::new();
+    let mut r = renderer();
+    let mut plain = city.scene.clone();
+    plain.static_setups.clear();
+    let prepared = r.prepare(&plain).unwrap();
+    let mut view = StaticView {
+        query: &mut query,
+        scene: &mut cpu,
+        view: static_view_desc(&city.frame.camera, W, H),
+        options: QueryOptions::default(),
+    };
+    let e = r
+        .render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)
+        .unwrap_err();
+    assert!(e.to_string().contains("static setup"), "{e}");
+    // A setup naming a missing mesh is refused at prepare, naming it.
+    let mut bad = city.scene.clone();
+    bad.static_setups[3].mesh = gpu::MeshId(10_000);
+    let e = r.prepare(&bad).err().expect("a missing mesh is refused");
+    assert!(e.to_string().contains("static setup 3"), "{e}");
+}
