@@ -595,6 +595,31 @@ impl Renderer {
         path: RenderPath,
         frames: u32,
     ) -> Result<FrameOutput> {
+        self.measure(frames, |r| r.render(scene, frame, path))
+    }
+
+    /// [`Renderer::render_static`] measured as [`Renderer::render_frames`] measures
+    /// [`Renderer::render`]; the static statistics are the last frame's.
+    ///
+    /// # Errors
+    /// `frames` is 0, or as [`Renderer::render_static`].
+    pub fn render_static_frames(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        path: RenderPath,
+        statics: &mut StaticView<'_>,
+        frames: u32,
+    ) -> Result<FrameOutput> {
+        self.measure(frames, |r| r.render_static(scene, frame, path, statics))
+    }
+
+    /// Renders for [`WARM_UP`], then `frames` more (at least one), and averages those.
+    fn measure(
+        &mut self,
+        frames: u32,
+        mut render: impl FnMut(&mut Self) -> Result<FrameOutput>,
+    ) -> Result<FrameOutput> {
         if frames == 0 {
             return Err(Error::Length {
                 what: "frames to measure",
@@ -604,14 +629,14 @@ impl Renderer {
         }
         let start = Instant::now();
         loop {
-            self.render(scene, frame, path)?;
+            render(self)?;
             if start.elapsed() >= WARM_UP {
                 break;
             }
         }
         let mut all = Vec::new();
         for _ in 0..frames {
-            all.push(self.render(scene, frame, path)?);
+            all.push(render(self)?);
         }
         let n = all.len() as f64;
         let mut gpu: Vec<Timing> = Vec::new();
@@ -631,7 +656,7 @@ impl Renderer {
         Ok(FrameOutput {
             gpu,
             wall_ms,
-            statics: None,
+            statics: all.last().and_then(|f| f.statics.clone()),
         })
     }
 

@@ -31,7 +31,10 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
-    /// Both, one after the other (the same renderer and device).
+    /// HZD's static city (`--instances` of them) through the GPU static query, with
+    /// foliage batches along the streets.
+    City,
+    /// All three, one after the other (the same renderer and device).
     All,
 }
 
@@ -90,6 +93,12 @@ pub struct Args {
     /// largest that fits the talk's limits is checked before anything is built).
     #[arg(long, default_value_t = 1.0, value_parser = positive_density, allow_negative_numbers = true)]
     pub density: f32,
+    /// Static instances of the city scene (about; 1000 to 4000000).
+    #[arg(long, default_value_t = 500_000, value_parser = clap::value_parser!(u64).range(1000..=4_000_000))]
+    pub instances: u64,
+    /// Test the city's static instances against a HiZ of the previous frame's depth.
+    #[arg(long)]
+    pub occlusion: bool,
     /// How the laydown gets primitive IDs.
     #[arg(long, value_enum, default_value = "auto")]
     pub primitive_id: PrimitiveIdArg,
@@ -115,13 +124,19 @@ fn positive_density(s: &str) -> Result<f32, String> {
 }
 
 impl Args {
-    /// The demo scenes to render.
+    /// The demo scenes to render (the city aside: [`Args::city`]).
     pub fn scenes(&self) -> &'static [DemoScene] {
         match self.scene {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
+            SceneArg::City => &[],
             SceneArg::All => &DemoScene::ALL,
         }
+    }
+
+    /// Whether the city is rendered.
+    pub fn city(&self) -> bool {
+        matches!(self.scene, SceneArg::City | SceneArg::All)
     }
 
     /// Checks what clap cannot alone: every scene's density against the talk's limits
@@ -179,6 +194,91 @@ pub fn run(args: &Args) -> Result<()> {
         println!("== {} ==", scene_kind.name());
         render_scene(args, &ctx, &mut renderer, scene_kind)?;
     }
+    if args.city() {
+        if !args.scenes().is_empty() {
+            println!();
+        }
+        println!("== city ==");
+        render_city(args, &ctx, &mut renderer)?;
+    }
+    Ok(())
+}
+
+/// The city: streamed into the GPU static query, prepared with its static setups, rendered
+/// with the query in front of the frame (optionally with occlusion against the previous
+/// frame's depth); images and the query's statistics.
+fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> Result<()> {
+    use gpu::staticscene::{HiZ, QueryOptions};
+    let t0 = std::time::Instant::now();
+    let city = demo::city::city(args.instances as usize);
+    let mut query = gpu::StaticQuery::new(&ctx.device, &ctx.queue)?;
+    let mut cpu = city.stream(&ctx.device, &ctx.queue, &mut query)?;
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let t1 = std::time::Instant::now();
+    let prepared = renderer.prepare(&city.scene)?;
+    let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
+    let mut report = Report::new(ctx, renderer, &prepared);
+    report.cpu_ms("city build, tiles built and activated (CPU)", build_ms);
+    report.cpu_ms("prepare: meshes, reservations, upload (CPU)", prepare_ms);
+    let paths: &[RenderPath] = match args.path {
+        PathArg::Deferred => &[RenderPath::Deferred],
+        PathArg::Baseline => &[RenderPath::Baseline],
+        PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
+    };
+    let (w, h) = (args.width, args.height);
+    let mut desc = gpu::static_view_desc(&city.frame.camera, w, h);
+    if args.occlusion {
+        // The previous frame's depth (the camera holds still): one frame without, then
+        // its depth reduced into the HiZ the measured frames test against.
+        let mut view = gpu::StaticView {
+            query: &mut query,
+            scene: &mut cpu,
+            view: desc,
+            options: QueryOptions::default(),
+        };
+        renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
+        let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
+        query.set_hiz(&ctx.device, &ctx.queue, Some(&hiz))?;
+        desc.occlusion_camera = Some(desc.camera);
+    }
+    let mut images = Vec::new();
+    for &path in paths {
+        let mut view = gpu::StaticView {
+            query: &mut query,
+            scene: &mut cpu,
+            view: desc,
+            options: QueryOptions::default(),
+        };
+        let frames =
+            renderer.render_static_frames(&prepared, &city.frame, path, &mut view, args.frames)?;
+        let image = renderer.read_output()?;
+        let file = args.out.join(format!("city_{}.png", path.name()));
+        image.write_png(&file)?;
+        report.image(path, &file);
+        report.timings(path, &frames);
+        if let Some(s) = &frames.statics {
+            report.static_query(s, cpu.instance_count() as u64);
+        }
+        if path == RenderPath::Deferred {
+            let classified = renderer.read_classification(&prepared)?;
+            let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
+            report.classification(&stats);
+            if !args.no_debug_views {
+                let file = args.out.join("city_debug_vis_ids.png");
+                gpu::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
+                report.image_named("vis IDs", &file);
+            }
+            if let Some(m) = &mismatch {
+                print!("{report}");
+                anyhow::bail!("the GPU classification differs from its CPU twin: {m}");
+            }
+        }
+        images.push(image);
+    }
+    if let [deferred, baseline] = images.as_slice() {
+        report.compare(deferred, baseline);
+    }
+    print!("{report}");
     Ok(())
 }
 

@@ -65,6 +65,73 @@ impl Report {
         self.row(what, format!("{ms:.1} ms"));
     }
 
+    /// The static query's counts (seed 001's funnel) and the placement into the frame.
+    pub fn static_query(&mut self, s: &gpu::StaticFrameStats, scene_instances: u64) {
+        let q = &s.query;
+        self.row(
+            "static instances in the scene",
+            group_digits(scene_instances),
+        );
+        self.row(
+            "static: tiles / clusters after the pre-cull",
+            format!(
+                "{} of {} / {} of {}",
+                group_digits(q.tiles - q.tiles_culled),
+                group_digits(q.tiles),
+                group_digits(q.clusters - q.clusters_culled),
+                group_digits(q.clusters)
+            ),
+        );
+        self.row(
+            "static: instances after the pre-cull (threads run / dispatched)",
+            format!(
+                "{} / {}",
+                group_digits(q.instances),
+                group_digits(s.threads)
+            ),
+        );
+        let mut left = q.instances;
+        for (what, n) in [
+            ("filter and LOD", q.rejected_filter + q.rejected_lod),
+            ("frustum", q.rejected_frustum),
+            ("size", q.rejected_size),
+            ("occlusion", q.rejected_occlusion),
+            ("LOD fade (faded out)", q.faded_out),
+        ] {
+            left = left.saturating_sub(n);
+            self.row(
+                &format!("static: after the {what} test"),
+                format!("{} ({} rejected)", group_digits(left), group_digits(n)),
+            );
+        }
+        self.row(
+            "static: instances / batches out",
+            format!(
+                "{} / {} (batching saves {:.0}% of render items; HZD 60-70%)",
+                group_digits(u64::from(s.instances)),
+                group_digits(u64::from(s.batches)),
+                100.0 * (1.0 - f64::from(s.batches) / f64::from(s.instances.max(1)))
+            ),
+        );
+        self.row(
+            "static: placed / indirect draws (opaque, alpha)",
+            format!(
+                "{} / {} + {}{}",
+                group_digits(s.placed),
+                s.draws[0],
+                s.draws[1],
+                if s.over_capacity + s.bad_batches > 0 {
+                    format!(
+                        " ({} over capacity, {} bad batches)",
+                        s.over_capacity, s.bad_batches
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+        );
+    }
+
     /// The classification counters and the talk's ratios.
     pub fn classification(&mut self, s: &ClassificationStats) {
         self.row("vis pixels", group_digits(s.vis_pixels));
