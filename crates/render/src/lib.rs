@@ -256,7 +256,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
-        if let Some(s) = &frames.statics {
+        if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
         }
         if path == RenderPath::Deferred {

@@ -31,7 +31,7 @@ pub struct City {
     pub world: staticscene::demo::City,
     /// The city's layout.
     pub config: CityConfig,
-    /// A street-level view down an alley towards the far skyline.
+    /// A view down a street, from 6 m up, towards the far skyline.
     pub frame: FrameInput,
 }
 
@@ -303,7 +303,8 @@ pub fn city(instances: usize) -> City {
     };
     let street = street_camera(&config);
     let forward = (street.rotation * DVec3::NEG_Z).as_vec3();
-    let eye = street.position.as_vec3();
+    // Above the parked cars, so the street leads the eye to the skyline.
+    let eye = street.position.as_vec3() + Vec3::Y * 4.5;
     let camera = Camera {
         fov_y: 1.0,
         ..Camera::look_at(eye, eye + forward * 10.0 + Vec3::Y * 1.2)
