@@ -25,6 +25,8 @@ fn help_lists_the_options() {
         "--frames",
         "--primitive-id",
         "--width",
+        "--instances",
+        "--occlusion",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }
@@ -41,7 +43,9 @@ fn bad_values_are_refused_by_name_without_a_panic() {
         (&["--frames", "0"][..], "--frames"),
         (&["--width", "0"][..], "--width"),
         (&["--height", "100000"][..], "--height"),
-        (&["--scene", "city"][..], "--scene"),
+        (&["--scene", "town"][..], "--scene"),
+        (&["--instances", "10"][..], "--instances"),
+        (&["--instances", "many"][..], "--instances"),
     ] {
         let (code, _, err) = render(args);
         assert_eq!(code, 2, "{args:?}: clap's usage error\n{err}");
