@@ -439,6 +439,77 @@ struct OpenPass {
     groups: Vec<u64>,
 }
 
+impl OpenPass {
+    /// A pass of `shader` starting at `plan`'s next micro batch and chunk.
+    fn new(plan: &Plan, shader: u32) -> OpenPass {
+        OpenPass {
+            info: PassInfo {
+                first_micro_batch: plan.micro_batches.len() as u32,
+                first_chunk: plan.chunk_count,
+                shader,
+                ..PassInfo::default()
+            },
+            groups: Vec::new(),
+        }
+    }
+
+    /// Whether a batch of `shader` and `batch_data` may join (the vertex budget aside).
+    fn takes(&self, shader: u32, batch_data: u64, max_groups: u32) -> bool {
+        self.info.shader == shader
+            && (self.groups.contains(&batch_data) || (self.groups.len() as u32) < max_groups)
+    }
+
+    /// The batch group of `batch_data`, added if new.
+    fn group(&mut self, batch_data: u64) -> u32 {
+        match self.groups.iter().position(|&d| d == batch_data) {
+            Some(gi) => gi as u32,
+            None => {
+                self.groups.push(batch_data);
+                self.groups.len() as u32 - 1
+            }
+        }
+    }
+}
+
+/// Empty geometry, or more primitives than a vis ID names, as the error of batch `batch`.
+fn check_geometry(g: Geometry, batch: u32) -> Result<(), Error> {
+    if g.primitive_count == 0 || g.vertex_count == 0 {
+        return Err(Error::EmptyGeometry { batch });
+    }
+    if g.primitive_count > MAX_PRIMITIVES_PER_GEOMETRY {
+        return Err(Error::GeometryTooLarge {
+            batch,
+            primitives: g.primitive_count,
+            limit: MAX_PRIMITIVES_PER_GEOMETRY,
+        });
+    }
+    Ok(())
+}
+
+impl Plan {
+    /// Appends `row` (its table entries, order entry, chunks, instances and vertices) and
+    /// counts it in `pass`.
+    fn push_row(&mut self, pass: &mut OpenPass, row: MicroBatchInfo) {
+        let chunks = row.chunk_count();
+        let vertices = row.total_vertices();
+        pass.info.micro_batch_count += 1;
+        pass.info.vertex_count = pass
+            .info
+            .vertex_count
+            .saturating_add(vertices.min(u64::from(u32::MAX)) as u32);
+        pass.info.chunk_count += chunks;
+        pass.info.batch_group_count = pass.groups.len() as u32;
+        self.chunk_count += chunks;
+        self.instance_count += row.instance_count;
+        self.vertex_count += vertices;
+        self.order.push(row.first_id);
+        self.micro_batches.push(row);
+        for _ in 0..row.id_count {
+            self.table.push(row);
+        }
+    }
+}
+
 /// Sorts `batches`, splits them into micro batches and packs those into passes. See the
 /// [module docs](self) for the rules; errors name the limit and the batch.
 ///
@@ -469,16 +540,7 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
     for (i, b) in batches.iter().enumerate() {
         let g = b.geometry;
         let batch = i as u32;
-        if g.primitive_count == 0 || g.vertex_count == 0 {
-            return Err(Error::EmptyGeometry { batch });
-        }
-        if g.primitive_count > MAX_PRIMITIVES_PER_GEOMETRY {
-            return Err(Error::GeometryTooLarge {
-                batch,
-                primitives: g.primitive_count,
-                limit: MAX_PRIMITIVES_PER_GEOMETRY,
-            });
-        }
+        check_geometry(g, batch)?;
         if g.vertex_count > vertex_limit {
             return Err(Error::InstanceTooLarge {
                 batch,
@@ -522,10 +584,7 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
             // The pass this micro batch goes to: the open one if the shader matches, the
             // group fits and at least one instance's vertices fit.
             let fits = open.as_ref().is_some_and(|p| {
-                let group_ok = p.groups.contains(&b.batch_data)
-                    || (p.groups.len() as u32) < config.max_batch_groups;
-                p.info.shader == b.shader
-                    && group_ok
+                p.takes(b.shader, b.batch_data, config.max_batch_groups)
                     && pass_budget - p.info.vertex_count >= g.vertex_count
             });
             if !fits {
@@ -539,22 +598,8 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
                     });
                 }
             }
-            let pass = open.get_or_insert_with(|| OpenPass {
-                info: PassInfo {
-                    first_micro_batch: plan.micro_batches.len() as u32,
-                    first_chunk: plan.chunk_count,
-                    shader: b.shader,
-                    ..PassInfo::default()
-                },
-                groups: Vec::new(),
-            });
-            let group = match pass.groups.iter().position(|&d| d == b.batch_data) {
-                Some(gi) => gi as u32,
-                None => {
-                    pass.groups.push(b.batch_data);
-                    pass.groups.len() as u32 - 1
-                }
-            };
+            let pass = open.get_or_insert_with(|| OpenPass::new(&plan, b.shader));
+            let group = pass.group(b.batch_data);
             let room = (pass_budget - pass.info.vertex_count) / g.vertex_count;
             let count = (instance_count - done).min(per_micro_batch).min(room);
             let range = ids.push(g.primitive_count, count).map_err(|e| match e {
@@ -592,19 +637,7 @@ pub fn build_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Result<Plan, Er
                 ring_offset: pass.info.vertex_count,
                 order: plan.micro_batches.len() as u32,
             };
-            let chunks = row.chunk_count();
-            pass.info.micro_batch_count += 1;
-            pass.info.vertex_count += count * g.vertex_count;
-            pass.info.chunk_count += chunks;
-            pass.info.batch_group_count = pass.groups.len() as u32;
-            plan.chunk_count += chunks;
-            plan.instance_count += count;
-            plan.vertex_count += row.total_vertices();
-            plan.order.push(row.first_id);
-            plan.micro_batches.push(row);
-            for _ in 0..range.id_count {
-                plan.table.push(row);
-            }
+            plan.push_row(pass, row);
             done += count;
         }
     }
@@ -667,6 +700,9 @@ impl Plan {
     /// Vertex chunks are reserved for the full capacity, so the classification can mark
     /// any of them.
     ///
+    /// The rows' `batch` is the reservation's index in `reservations`, and their
+    /// `batch_first_instance` the rank of their first instance.
+    ///
     /// On error the plan is unchanged. Errors name the reservation (as `batch`, its index
     /// in `reservations`): empty or oversized geometry, a zero capacity
     /// ([`Error::InvalidConfig`]), exhausted micro-batch IDs, too many passes, or an instance
@@ -703,16 +739,7 @@ impl Plan {
         for (i, r) in reservations.iter().enumerate() {
             let batch = i as u32;
             let g = r.geometry;
-            if g.primitive_count == 0 || g.vertex_count == 0 {
-                return Err(Error::EmptyGeometry { batch });
-            }
-            if g.primitive_count > MAX_PRIMITIVES_PER_GEOMETRY {
-                return Err(Error::GeometryTooLarge {
-                    batch,
-                    primitives: g.primitive_count,
-                    limit: MAX_PRIMITIVES_PER_GEOMETRY,
-                });
-            }
+            check_geometry(g, batch)?;
             if r.capacity == 0 {
                 return Err(Error::InvalidConfig {
                     what: "reservation capacity",
@@ -746,11 +773,9 @@ impl Plan {
                     max: u32::MAX.into(),
                 });
             }
-            let fits = open.as_ref().is_some_and(|p| {
-                p.info.shader == r.shader
-                    && (p.groups.contains(&r.batch_data)
-                        || (p.groups.len() as u32) < config.max_batch_groups)
-            });
+            let fits = open
+                .as_ref()
+                .is_some_and(|p| p.takes(r.shader, r.batch_data, config.max_batch_groups));
             if !fits {
                 closed.extend(open.take());
                 if planned_passes + closed.len() as u32 >= config.max_passes {
@@ -761,22 +786,8 @@ impl Plan {
                 }
             }
             let pass_index = planned_passes + closed.len() as u32;
-            let pass = open.get_or_insert_with(|| OpenPass {
-                info: PassInfo {
-                    first_micro_batch: next.micro_batches.len() as u32,
-                    first_chunk: next.chunk_count,
-                    shader: r.shader,
-                    ..PassInfo::default()
-                },
-                groups: Vec::new(),
-            });
-            let group = match pass.groups.iter().position(|&d| d == r.batch_data) {
-                Some(gi) => gi as u32,
-                None => {
-                    pass.groups.push(r.batch_data);
-                    pass.groups.len() as u32 - 1
-                }
-            };
+            let pass = open.get_or_insert_with(|| OpenPass::new(&next, r.shader));
+            let group = pass.group(r.batch_data);
             let range = ReservedRange {
                 first_id: ids,
                 id_count: needed,
@@ -808,32 +819,18 @@ impl Plan {
                     order: next.micro_batches.len() as u32,
                 };
                 let chunks = row.chunk_count();
-                next.chunk_count =
-                    next.chunk_count
-                        .checked_add(chunks)
-                        .ok_or(Error::InvalidConfig {
-                            what: "vertex chunks",
-                            value: u64::from(next.chunk_count) + u64::from(chunks),
-                            min: 0,
-                            max: u32::MAX.into(),
-                        })?;
-                pass.info.micro_batch_count += 1;
-                pass.info.vertex_count = pass
-                    .info
-                    .vertex_count
-                    .saturating_add((row.total_vertices().min(u64::from(u32::MAX))) as u32);
-                pass.info.chunk_count += chunks;
-                pass.info.batch_group_count = pass.groups.len() as u32;
-                next.vertex_count += row.total_vertices();
-                next.order.push(row.first_id);
-                next.micro_batches.push(row);
-                for _ in 0..id_count {
-                    next.table.push(row);
+                if next.chunk_count.checked_add(chunks).is_none() {
+                    return Err(Error::InvalidConfig {
+                        what: "vertex chunks",
+                        value: u64::from(next.chunk_count) + u64::from(chunks),
+                        min: 0,
+                        max: u32::MAX.into(),
+                    });
                 }
+                next.push_row(pass, row);
                 ids += id_count;
                 done += count;
             }
-            next.instance_count = first_instance + r.capacity;
             out.push(range);
         }
         closed.extend(open.take());
