@@ -7,10 +7,11 @@
 use gpu::demo::city::{City, city};
 use gpu::glam::{self, Affine3A, Vec3};
 use gpu::staticscene;
+use gpu::staticscene::ViewDesc;
 use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
 use gpu::{
-    Batch, Camera, FrameInput, MaterialId, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene,
-    StaticQuery, StaticView, diff_metrics, static_view_desc,
+    Batch, Camera, FrameInput, PreparedScene, RenderPath, Renderer, RendererConfig, Rgba8Image,
+    Scene, StaticFrameStats, StaticQuery, StaticView, diff_metrics, static_view_desc,
 };
 use testkit::device::ctx;
 
@@ -35,6 +36,58 @@ fn small_city() -> City {
     city(30_000)
 }
 
+/// The small city streamed into a query and prepared on a 320x180 renderer.
+struct Rig {
+    city: City,
+    query: StaticQuery,
+    cpu: staticscene::Scene,
+    r: Renderer,
+    prepared: PreparedScene,
+}
+
+impl Rig {
+    fn new() -> Rig {
+        let c = ctx();
+        let city = small_city();
+        let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+        let cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
+        let r = renderer();
+        let prepared = r.prepare(&city.scene).unwrap();
+        Rig {
+            city,
+            query,
+            cpu,
+            r,
+            prepared,
+        }
+    }
+
+    /// One static frame of `view` from `camera` by `path`: its image and statistics.
+    fn frame(
+        &mut self,
+        view: ViewDesc,
+        camera: Camera,
+        path: RenderPath,
+    ) -> (Rgba8Image, StaticFrameStats) {
+        let mut view = StaticView {
+            query: &mut self.query,
+            scene: &mut self.cpu,
+            view,
+            options: QueryOptions::default(),
+        };
+        let input = FrameInput {
+            camera,
+            ..self.city.frame.clone()
+        };
+        let out = self
+            .r
+            .render_static(&self.prepared, &input, path, &mut view)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let stats = out.statics.expect("a static frame reports its statistics");
+        (self.r.read_output().unwrap(), stats)
+    }
+}
+
 /// The CPU twin's visible instances of `view` as planned batches (world transforms: the
 /// snapped origin plus the floating-space transform), on `city`'s meshes and materials.
 fn twin_scene(city: &City, cpu: &mut gpu::staticscene::Scene, params: &QueryParams) -> Scene {
@@ -57,7 +110,7 @@ fn twin_scene(city: &City, cpu: &mut gpu::staticscene::Scene, params: &QueryPara
             .collect();
         scene.batches.push(Batch {
             mesh: setup.mesh,
-            material: MaterialId(setup.material.0),
+            material: setup.material,
             instances,
         });
     }
@@ -66,31 +119,18 @@ fn twin_scene(city: &City, cpu: &mut gpu::staticscene::Scene, params: &QueryPara
 
 #[test]
 fn the_city_from_the_gpu_query_equals_the_twins_visible_set_drawn_as_batches() {
-    let c = ctx();
-    let city = small_city();
-    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
-    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
-    let mut twin = cpu.clone();
-    let mut r = renderer();
-    let prepared = r.prepare(&city.scene).unwrap();
-    let desc = static_view_desc(&city.frame.camera, W, H);
+    let mut rig = Rig::new();
+    let mut twin = rig.cpu.clone();
+    let camera = rig.city.frame.camera;
+    let desc = static_view_desc(&camera, W, H);
     let params = QueryParams::new(&desc).unwrap();
-    let mut view = StaticView {
-        query: &mut query,
-        scene: &mut cpu,
-        view: desc,
-        options: QueryOptions::default(),
-    };
-    let out = r
-        .render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)
-        .unwrap();
-    let gpu_image = r.read_output().unwrap();
-    let stats = out.statics.expect("a static frame reports its statistics");
-    let reference = twin_scene(&city, &mut twin, &params);
+    let (gpu_image, stats) = rig.frame(desc, camera, RenderPath::Deferred);
+    let (city, r) = (&rig.city, &mut rig.r);
+    let reference = twin_scene(city, &mut twin, &params);
     let visible = reference.instance_count() - city.scene.instance_count();
     eprintln!(
         "city: {} static instances, {} visible, {} batches, draws {:?}",
-        cpu_instances(&city),
+        cpu_instances(city),
         visible,
         stats.batches,
         stats.draws
@@ -130,23 +170,11 @@ fn save(name: &str, image: &Rgba8Image) {
 
 #[test]
 fn the_static_frame_matches_the_depth_equal_baseline() {
-    let c = ctx();
-    let city = small_city();
-    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
-    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
-    let mut r = renderer();
-    let prepared = r.prepare(&city.scene).unwrap();
+    let mut rig = Rig::new();
+    let camera = rig.city.frame.camera;
     let mut images = Vec::new();
     for path in [RenderPath::Deferred, RenderPath::Baseline] {
-        let mut view = StaticView {
-            query: &mut query,
-            scene: &mut cpu,
-            view: static_view_desc(&city.frame.camera, W, H),
-            options: QueryOptions::default(),
-        };
-        r.render_static(&prepared, &city.frame, path, &mut view)
-            .unwrap();
-        images.push(r.read_output().unwrap());
+        images.push(rig.frame(static_view_desc(&camera, W, H), camera, path).0);
     }
     let (mean, _) = diff_metrics(&images[0], &images[1], 0.5).unwrap();
     let (_, p99) = diff_metrics(&images[0], &images[1], 0.99).unwrap();
@@ -190,11 +218,7 @@ fn cameras(city: &City) -> Vec<Camera> {
 #[test]
 fn occlusion_against_the_previous_frames_depth_is_conservative() {
     let c = ctx();
-    let city = small_city();
-    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
-    let mut cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
-    let mut r = renderer();
-    let prepared = r.prepare(&city.scene).unwrap();
+    let mut rig = Rig::new();
     let desc = |camera: &Camera, occlusion: bool| {
         let mut d = static_view_desc(camera, W, H);
         // LODs switch at once: during a fade both LODs are drawn undithered, and a
@@ -204,32 +228,14 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
         d
     };
     let mut culled = 0;
-    for camera in cameras(&city) {
-        let frame = |r: &mut Renderer,
-                     occlusion: bool,
-                     query: &mut StaticQuery,
-                     cpu: &mut staticscene::Scene| {
-            let mut view = StaticView {
-                query,
-                scene: cpu,
-                view: desc(&camera, occlusion),
-                options: QueryOptions::default(),
-            };
-            let input = FrameInput {
-                camera,
-                ..city.frame.clone()
-            };
-            let out = r
-                .render_static(&prepared, &input, RenderPath::Deferred, &mut view)
-                .unwrap();
-            (r.read_output().unwrap(), out.statics.unwrap())
-        };
-        query.set_hiz(&c.device, &c.queue, None).unwrap();
-        let (off, _) = frame(&mut r, false, &mut query, &mut cpu);
-        let hiz = HiZ::build(&r.read_depth().unwrap(), W, H, true).unwrap();
-        query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
-        let mut twin = cpu.clone();
-        let (on, stats) = frame(&mut r, true, &mut query, &mut cpu);
+    for camera in cameras(&rig.city) {
+        let deferred = RenderPath::Deferred;
+        rig.query.set_hiz(&c.device, &c.queue, None).unwrap();
+        let (off, _) = rig.frame(desc(&camera, false), camera, deferred);
+        let hiz = HiZ::build(&rig.r.read_depth().unwrap(), W, H, true).unwrap();
+        rig.query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
+        let mut twin = rig.cpu.clone();
+        let (on, stats) = rig.frame(desc(&camera, true), camera, deferred);
         let params = QueryParams::new(&desc(&camera, true)).unwrap();
         let mut out = QueryOutput::<DrawableSetupInstance>::new();
         twin.query(&params, Some(&hiz), &QueryOptions::default(), &mut out)

@@ -57,7 +57,8 @@ pub(crate) const STATIC_PLACE: Pass<u32> = Pass {
         Entry::once("place_args", 1),
         Entry {
             name: "place",
-            stage: Stage::compute(64, 1, 1),
+            // One workgroup per batch: a batch is at most one query workgroup long.
+            stage: Stage::compute(staticscene::pass::QUERY_WORKGROUP, 1, 1),
             dispatch: Dispatch::Indirect("place_dispatch"),
         },
         Entry::items("emit_draws", 64, |setups| *setups),
@@ -283,6 +284,12 @@ mod tests {
             ),
             ("GPU_STATIC_COUNTER_PLACED", super::STATIC_COUNTER_PLACED),
             ("GPU_STATIC_DRAW_WORDS", (super::DRAW_BYTES / 4) as u32),
+            // The query's counter words and longest batch, as staticscene lays them out.
+            (
+                "GPU_STATIC_QUERY_BATCHES",
+                (core::mem::offset_of!(staticscene::pass::QueryCounters, batches) / 4) as u32,
+            ),
+            ("GPU_STATIC_BATCH_LANES", staticscene::pass::QUERY_WORKGROUP),
         ] {
             assert_eq!(shadercheck::const_u32(&src, name), Some(value), "{name}");
         }
