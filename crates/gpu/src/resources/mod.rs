@@ -197,14 +197,16 @@ fn reserve_static(
         .collect();
     let first_new = plan.micro_batches.len();
     let ranges = plan.reserve(&reservations, config).map_err(|e| {
+        let setup = match e {
+            tiling::Error::MicroBatchIdsExhausted { batch, .. }
+            | tiling::Error::TooManyPasses { batch, .. }
+            | tiling::Error::EmptyGeometry { batch }
+            | tiling::Error::GeometryTooLarge { batch, .. } => order[batch as usize],
+            // A sum over every setup (slots, chunks): no one setup to name.
+            _ => return Error::Scene(SceneError::Tiling(format!("static setups: {e}"))),
+        };
         Error::Scene(SceneError::StaticSetup {
-            setup: match e {
-                tiling::Error::MicroBatchIdsExhausted { batch, .. }
-                | tiling::Error::TooManyPasses { batch, .. }
-                | tiling::Error::EmptyGeometry { batch }
-                | tiling::Error::GeometryTooLarge { batch, .. } => order[batch as usize],
-                _ => 0,
-            },
+            setup,
             problem: e.to_string(),
         })
     })?;
