@@ -51,7 +51,7 @@ impl Scene {
         }
         let mut work: Vec<(crate::scene::PlannedJob, &mut [u8])> = Vec::with_capacity(jobs.len());
         for pj in &jobs {
-            let fade: &mut [u8] = if c.fade {
+            let fade: &mut [u8] = if c.state {
                 let (buf, used) = &mut rest[pj.slot];
                 let taken = core::mem::take(buf);
                 let (_, tail) = taken.split_at_mut(pj.job.first as usize - *used);
@@ -95,7 +95,7 @@ impl Scene {
 
         for (pj, r) in jobs.iter().zip(results) {
             let r = r?;
-            if c.fade {
+            if c.fade && !c.first {
                 set_live(&mut cluster_states[pj.slot][pj.cluster], r.live);
             }
             out.stats = out.stats.merge(&r.stats);

@@ -76,8 +76,10 @@ pub const STAT_INVALID: usize = 7;
 pub const STAT_VISIBLE: usize = 8;
 /// Statistics slot: instances and headers past the end of their output buffers.
 pub const STAT_DROPPED: usize = 9;
+/// Statistics slot: visible in a second pass, drawn by the first already.
+pub const STAT_DRAWN_EARLY: usize = 10;
 /// Statistics slots.
-pub const STAT_COUNT: usize = 10;
+pub const STAT_COUNT: usize = 11;
 
 /// One cluster job as the pass reads it (WGSL `StaticsceneGpuJob`), 64 bytes.
 #[repr(C)]
@@ -119,7 +121,7 @@ pub struct GpuJob {
 
 const _: () = assert!(size_of::<GpuJob>() == 64);
 
-/// The pass's counters (WGSL `StaticsceneQueryCounters`), 56 bytes, zeroed before each
+/// The pass's counters (WGSL `StaticsceneQueryCounters`), 60 bytes, zeroed before each
 /// dispatch.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
@@ -129,12 +131,14 @@ pub struct QueryCounters {
     /// Batch headers appended, including dropped ones.
     pub batches: u32,
     /// Zero.
-    pub pad: [u32; 2],
+    pub pad0: u32,
+    /// Zero.
+    pub pad1: u32,
     /// `STAT_*` slots.
     pub stats: [u32; STAT_COUNT],
 }
 
-const _: () = assert!(size_of::<QueryCounters>() == 56);
+const _: () = assert!(size_of::<QueryCounters>() == 60);
 
 impl QueryCounters {
     /// The counters as [`QueryStats`], with the pre-cull's part from `precull`.
@@ -149,6 +153,7 @@ impl QueryCounters {
             rejected_size: s(STAT_SIZE),
             rejected_occlusion: s(STAT_OCCLUSION),
             faded_out: s(STAT_FADED_OUT),
+            drawn_early: s(STAT_DRAWN_EARLY),
             invalid: s(STAT_INVALID),
             visible: u64::from(self.instances),
             batches: u64::from(self.batches),

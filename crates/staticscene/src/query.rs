@@ -7,7 +7,7 @@
 //! | uniform | the view's constants | [`QueryParams`] |
 //! | storage, read | QueryInstances, QueryObjects, QuerySetups, matrices, bounds | [`TileBuffers`] |
 //! | texture | last frame's HiZ pyramid | [`HiZ`] |
-//! | storage, read-write | LOD fade states, one byte per instance | `fade` |
+//! | storage, read-write | camera states, one byte per instance (fade, last visibility) | `fade` |
 //! | storage, atomic | instance counter + [`DrawableSetupInstance`](crate::DrawableSetupInstance)s | `instance_counter`, `instances` |
 //! | storage, atomic | batch counter + [`DrawableSetupBatch`]es | `batch_counter`, `batches` |
 //! | dispatch | the cluster's instance range | [`ClusterJob`] |
@@ -27,14 +27,19 @@
 //! 5. **Screen size**: the box's enclosing sphere, projected at its nearest clip `w`, must
 //!    span at least the threshold in pixels.
 //! 6. **Occlusion** (camera views with a HiZ): [`HiZ::occluded`] with the matrix the depth
-//!    was rendered with; skipped for instances flagged `INSTANCE_FLAG_NO_OCCLUSION`.
+//!    was rendered with; skipped for instances flagged `INSTANCE_FLAG_NO_OCCLUSION`. In the
+//!    first pass of two-pass occlusion ([`OcclusionPass::First`](crate::OcclusionPass)) the
+//!    test is last frame's visibility instead ([`CAMERA_STATE_VISIBLE`]), and nothing is
+//!    written.
 //! 7. **LOD fade** (camera views): the instance's state `s` in `0..=N` (`N` the fade
 //!    length): outside the frustum it snaps to `N` if the LOD is selected and `0`
 //!    otherwise (nothing on screen to fade); inside, it steps one frame towards `N` when
 //!    selected and towards `0` when not. An instance fading in and the one it replaces
 //!    fading out have opacities `k / N` and `(N - k) / N`: they always sum to one.
 //! 8. **Output**: visible threads (frustum, size and occlusion passed, and LOD selected or
-//!    fade state above zero) append a [`DrawableSetupInstance`](crate::DrawableSetupInstance) with one aggregated atomic
+//!    fade state above zero) record that in [`CAMERA_STATE_VISIBLE`]; those a second pass
+//!    knows the first output are counted in [`QueryStats::drawn_early`]; the others append
+//!    a [`DrawableSetupInstance`](crate::DrawableSetupInstance) with one aggregated atomic
 //!    per wave, and the first visible thread of each run of one setup appends a
 //!    [`DrawableSetupBatch`], through [`wave::Wave::batch_output_with`].
 //!
@@ -48,7 +53,8 @@ use wave::{Counter, LaneMask, Wave, WaveWidth};
 use crate::output::{OutputInstance, STATE_FADING, STATE_FADING_OUT, sort_key};
 use crate::records::{floating_offset, lod_selects};
 use crate::view::{
-    QUERY_FLAG_FADE, QUERY_FLAG_OCCLUSION, QUERY_FLAG_SIZE, QueryParams, box_outside_frustum,
+    CAMERA_STATE_VISIBLE, QUERY_FLAG_FADE, QUERY_FLAG_FIRST_PASS, QUERY_FLAG_OCCLUSION,
+    QUERY_FLAG_SECOND_PASS, QUERY_FLAG_SIZE, QueryParams, box_outside_frustum,
 };
 use crate::{
     DrawableSetupBatch, Error, HalfAabb, HiZ, INSTANCE_FLAG_NO_FADE, INSTANCE_FLAG_NO_OCCLUSION,
@@ -110,6 +116,9 @@ pub struct QueryStats {
     pub rejected_occlusion: u64,
     /// Passed the visibility tests but faded out (fade state 0).
     pub faded_out: u64,
+    /// Visible in a second pass ([`OcclusionPass::Second`](crate::OcclusionPass)) but
+    /// output by the first already, so not output again.
+    pub drawn_early: u64,
     /// Dropped for an index outside its buffer (hand-made buffers only).
     pub invalid: u64,
     /// Instances appended (visible).
@@ -135,6 +144,7 @@ impl QueryStats {
         self.rejected_size += o.rejected_size;
         self.rejected_occlusion += o.rejected_occlusion;
         self.faded_out += o.faded_out;
+        self.drawn_early += o.drawn_early;
         self.invalid += o.invalid;
         self.visible += o.visible;
         self.batches += o.batches;
@@ -169,6 +179,12 @@ pub(crate) struct Consts {
     pub(crate) px_per_unit: f32,
     pub(crate) occlusion: bool,
     pub(crate) fade: bool,
+    /// The camera state bytes are read (fading, or a two-pass occlusion pass).
+    pub(crate) state: bool,
+    /// Two-pass occlusion's first pass: reads states, writes none.
+    pub(crate) first: bool,
+    /// Two-pass occlusion's second pass.
+    pub(crate) second: bool,
     pub(crate) fade_frames: u8,
     pub(crate) scan_levels: u32,
 }
@@ -195,6 +211,11 @@ impl Consts {
             px_per_unit: p.viewport[3],
             occlusion: p.has(QUERY_FLAG_OCCLUSION),
             fade: p.has(QUERY_FLAG_FADE) && p.fade_frames > 0,
+            state: (p.has(QUERY_FLAG_FADE) && p.fade_frames > 0)
+                || p.has(QUERY_FLAG_FIRST_PASS)
+                || p.has(QUERY_FLAG_SECOND_PASS),
+            first: p.has(QUERY_FLAG_FIRST_PASS),
+            second: p.has(QUERY_FLAG_SECOND_PASS) && !p.has(QUERY_FLAG_FIRST_PASS),
             fade_frames: p.fade_frames.min(crate::MAX_FADE_FRAMES) as u8,
             scan_levels: p.hiz_scan_levels,
         }
@@ -220,6 +241,7 @@ enum Outcome {
     Size,
     Occluded,
     FadedOut,
+    DrawnEarly,
     Invalid,
     Visible,
 }
@@ -367,18 +389,27 @@ fn test_instance(
     let lod_sel = p_sel && lod_level(q.child_lod_codes(), cb, &o2f, c, scale2);
     let fade_on = c.fade && q.flags() & INSTANCE_FLAG_NO_FADE == 0;
     let n = c.fade_frames;
-    let prev = match (&fade, fade_on) {
-        (Some(f), true) => {
-            if snap {
-                if lod_sel { n } else { 0 }
-            } else {
-                (**f).min(n)
-            }
-        }
+    // The camera state byte: fade state in the low 7 bits, CAMERA_STATE_VISIBLE on top.
+    // The first pass of two-pass occlusion only reads it.
+    let stored = match &fade {
+        Some(f) if c.state => **f,
         _ => 0,
     };
+    let mut fade = if c.first { None } else { fade };
+    let was_visible = stored & CAMERA_STATE_VISIBLE != 0;
+    let prev = match fade_on && c.state {
+        true if snap => {
+            if lod_sel {
+                n
+            } else {
+                0
+            }
+        }
+        true => (stored & !CAMERA_STATE_VISIBLE).min(n),
+        false => 0,
+    };
     if !lod_sel && prev == 0 {
-        if let (Some(f), true) = (fade, fade_on) {
+        if let Some(f) = fade.as_deref_mut() {
             *f = 0;
         }
         return Outcome::Lod;
@@ -401,14 +432,18 @@ fn test_instance(
         let w = c.w_row.truncate().dot(centre) + c.w_row.w - radius * c.w_row_len;
         w.is_nan() || w <= 0.0 || 2.0 * radius * c.px_per_unit >= c.size_px * w
     };
-    // 6. Occlusion against last frame's depth.
-    let occluded = in_frustum
-        && big
-        && c.occlusion
-        && q.flags() & INSTANCE_FLAG_NO_OCCLUSION == 0
-        && hiz.is_some_and(|z| z.occluded(&c.hiz_m, min, max, c.scan_levels));
+    // 6. Occlusion: against the HiZ, or, in the first of two passes, last frame's
+    // visibility.
+    let testable = in_frustum && big && q.flags() & INSTANCE_FLAG_NO_OCCLUSION == 0;
+    let occluded = if c.first {
+        testable && !was_visible
+    } else {
+        testable
+            && c.occlusion
+            && hiz.is_some_and(|z| z.occluded(&c.hiz_m, min, max, c.scan_levels))
+    };
     // 7. LOD fade state.
-    let (shown, opacity, flags) = if fade_on && let Some(f) = fade {
+    let (next, opacity, flags) = if fade_on {
         let next = if !in_frustum {
             if lod_sel { n } else { 0 }
         } else if lod_sel {
@@ -416,8 +451,6 @@ fn test_instance(
         } else {
             prev.saturating_sub(1)
         };
-        *f = next;
-        *live |= next > 0;
         let mut flags = 0;
         if next < n {
             flags |= STATE_FADING;
@@ -425,10 +458,19 @@ fn test_instance(
         if !lod_sel {
             flags |= STATE_FADING_OUT;
         }
-        (next > 0, f32::from(next) / f32::from(n), flags)
+        (next, f32::from(next) / f32::from(n), flags)
     } else {
-        (lod_sel, 1.0, 0)
+        (0, 1.0, 0)
     };
+    let shown = if fade_on { next > 0 } else { lod_sel };
+    if fade_on {
+        *live |= next > 0;
+    }
+    let visible = in_frustum && big && !occluded && shown;
+    if let Some(f) = fade {
+        let seen = if visible { CAMERA_STATE_VISIBLE } else { 0 };
+        *f = (if fade_on { next } else { 0 }) | seen;
+    }
     if !in_frustum {
         return Outcome::Frustum;
     }
@@ -440,6 +482,11 @@ fn test_instance(
     }
     if !shown {
         return Outcome::FadedOut;
+    }
+    // The first pass output what it would have output now: visible last frame (or never
+    // occlusion-tested), and every other test as here.
+    if c.second && (was_visible || q.flags() & INSTANCE_FLAG_NO_OCCLUSION != 0) {
+        return Outcome::DrawnEarly;
     }
     // 8. Output data for the wave.
     *lane = Lane {
@@ -555,7 +602,7 @@ where
             what: "cluster job outside the tile's instances",
         });
     };
-    if c.fade && fade.len() < count {
+    if c.state && fade.len() < count {
         return Err(Error::Config {
             what: "fade states shorter than the cluster job",
         });
@@ -572,7 +619,7 @@ where
                 ends |= 1 << l;
             }
             let i = w * wl + l;
-            let f = if c.fade { fade.get_mut(i) } else { None };
+            let f = if c.state { fade.get_mut(i) } else { None };
             let outcome = test_instance(
                 c,
                 tile,
@@ -591,6 +638,7 @@ where
                 Outcome::Size => stats.rejected_size += 1,
                 Outcome::Occluded => stats.rejected_occlusion += 1,
                 Outcome::FadedOut => stats.faded_out += 1,
+                Outcome::DrawnEarly => stats.drawn_early += 1,
                 Outcome::Invalid => stats.invalid += 1,
                 Outcome::Visible => visible |= 1 << l,
             }

@@ -48,7 +48,8 @@ impl BuiltTile {
     }
 }
 
-/// Per-tile LOD fade state of the camera view: one byte per instance (`0..=N`), one per
+/// Per-tile state of the camera view: one byte per instance (fade state `0..=N` and
+/// `CAMERA_STATE_VISIBLE`), one per
 /// cluster (`CLUSTER_LIVE`, `CLUSTER_STALE`).
 #[derive(Clone, Debug, Default, PartialEq)]
 struct FadeStates {
@@ -381,6 +382,15 @@ impl Scene {
     /// The fade state of instance `instance` of tile `id` (camera view), `0..=N`.
     #[must_use]
     pub fn fade_state(&self, id: TileId, instance: usize) -> Option<u8> {
+        self.camera_state(id, instance)
+            .map(|s| s & !crate::CAMERA_STATE_VISIBLE)
+    }
+
+    /// The whole camera state byte of instance `instance` of tile `id`: its fade state
+    /// and [`CAMERA_STATE_VISIBLE`](crate::CAMERA_STATE_VISIBLE) (what the GPU query keeps
+    /// in its state buffer).
+    #[must_use]
+    pub fn camera_state(&self, id: TileId, instance: usize) -> Option<u8> {
         let i = self.tiles.iter().position(|t| t.id() == id)?;
         self.fades[i].instances.get(instance).copied()
     }
@@ -498,7 +508,7 @@ impl Scene {
                 pj.job.first as usize,
                 (pj.job.first + pj.job.count) as usize,
             );
-            let fade: &mut [u8] = if c.fade {
+            let fade: &mut [u8] = if c.state {
                 &mut states.instances[f..e]
             } else {
                 &mut []
@@ -514,7 +524,7 @@ impl Scene {
                 &mut out.scratch_batches,
                 &mut out.stats,
             )?;
-            if c.fade {
+            if c.fade && !c.first {
                 set_live(&mut states.clusters[pj.cluster], r.live);
             }
             append(

@@ -24,6 +24,41 @@ pub const QUERY_FLAG_OCCLUSION: u32 = 2;
 pub const QUERY_FLAG_REVERSED_DEPTH: u32 = 4;
 /// Query flag: the screen-size threshold is on.
 pub const QUERY_FLAG_SIZE: u32 = 8;
+/// Query flag: the first pass of two-pass occlusion ([`OcclusionPass::First`]).
+pub const QUERY_FLAG_FIRST_PASS: u32 = 16;
+/// Query flag: the second pass of two-pass occlusion ([`OcclusionPass::Second`]).
+pub const QUERY_FLAG_SECOND_PASS: u32 = 32;
+
+/// Bit of an instance's camera state byte (beside its fade state, `0..=MAX_FADE_FRAMES`):
+/// the instance passed every test, occlusion included, in the last camera query that
+/// wrote it (a [`OcclusionPass::Single`] query with fading, or a
+/// [`OcclusionPass::Second`]).
+pub const CAMERA_STATE_VISIBLE: u8 = 0x80;
+
+/// Which pass of the occlusion scheme a camera view's query is.
+///
+/// Two-pass occlusion (RedLynx, niagara, Nanite; beyond HZD, which tests against the
+/// previous frame's depth): the [`First`](OcclusionPass::First) pass outputs what passes
+/// every other test and was visible last frame ([`CAMERA_STATE_VISIBLE`]); the caller draws
+/// it, builds a HiZ of that depth with this frame's camera, and runs the
+/// [`Second`](OcclusionPass::Second) pass against it (`occlusion_camera` = this frame's
+/// camera), which outputs only what is visible and was not drawn by the first. Both passes
+/// take the same view otherwise. Conservative for any camera motion: the first pass's depth
+/// is this frame's real geometry.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum OcclusionPass {
+    /// One query, occlusion against whatever HiZ the caller gives (HZD: the previous
+    /// frame's depth, reprojected through `occlusion_camera`).
+    #[default]
+    Single,
+    /// Two-pass occlusion's first pass: an instance not visible last frame is culled as
+    /// occluded (no HiZ is read); no state is written.
+    First,
+    /// Two-pass occlusion's second pass: every test against the HiZ of the first pass's
+    /// depth; fade and visibility states updated; instances the first pass output are
+    /// counted in [`QueryStats::drawn_early`](crate::QueryStats::drawn_early), not output.
+    Second,
+}
 
 /// A camera in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -123,6 +158,8 @@ pub struct ViewDesc {
     /// levels finer (the talk's "scan box of texels for larger objects"); see
     /// [`HiZ::occluded`](crate::HiZ::occluded). 0 = always four texels.
     pub hiz_scan_levels: u32,
+    /// Single-pass or one of two-pass occlusion's passes (camera views only).
+    pub occlusion_pass: OcclusionPass,
 }
 
 impl ViewDesc {
@@ -142,6 +179,7 @@ impl ViewDesc {
             occlusion_camera: None,
             previous_origin: None,
             hiz_scan_levels: 2,
+            occlusion_pass: OcclusionPass::Single,
         }
     }
 
@@ -286,6 +324,11 @@ impl QueryParams {
         }
         if view.size_threshold_px > 0.0 {
             flags |= QUERY_FLAG_SIZE;
+        }
+        match (camera, view.occlusion_pass) {
+            (true, OcclusionPass::First) => flags |= QUERY_FLAG_FIRST_PASS,
+            (true, OcclusionPass::Second) => flags |= QUERY_FLAG_SECOND_PASS,
+            _ => {}
         }
         let prev = view.previous_origin.unwrap_or(origin);
         Ok(QueryParams {

@@ -81,6 +81,7 @@ mod tests {
             ("STATICSCENE_STAT_INVALID", STAT_INVALID as u32),
             ("STATICSCENE_STAT_VISIBLE", STAT_VISIBLE as u32),
             ("STATICSCENE_STAT_DROPPED", STAT_DROPPED as u32),
+            ("STATICSCENE_STAT_DRAWN_EARLY", STAT_DRAWN_EARLY as u32),
             ("STATICSCENE_STAT_COUNT", STAT_COUNT as u32),
         ] {
             assert_eq!(const_u32(&m, name), Some(v), "{name}");
@@ -115,7 +116,8 @@ mod tests {
             &shadercheck::members!(QueryCounters {
                 instances,
                 batches,
-                pad,
+                pad0,
+                pad1,
                 stats
             }),
         );
@@ -186,6 +188,12 @@ mod tests {
                 QUERY_FLAG_REVERSED_DEPTH,
             ),
             ("STATICSCENE_QUERY_FLAG_SIZE", QUERY_FLAG_SIZE),
+            ("STATICSCENE_QUERY_FLAG_FIRST_PASS", QUERY_FLAG_FIRST_PASS),
+            ("STATICSCENE_QUERY_FLAG_SECOND_PASS", QUERY_FLAG_SECOND_PASS),
+            (
+                "STATICSCENE_CAMERA_STATE_VISIBLE",
+                u32::from(CAMERA_STATE_VISIBLE),
+            ),
             ("STATICSCENE_STATE_FADING", STATE_FADING),
             ("STATICSCENE_STATE_FADING_OUT", STATE_FADING_OUT),
         ] {
@@ -209,7 +217,7 @@ mod tests {
             const_u32(&m, "STATICSCENE_HIZ_HEADER_WORDS"),
             Some(pass::HIZ_HEADER_WORDS as u32)
         );
-        assert_eq!(names.len(), 26, "{names:?}");
+        assert_eq!(names.len(), 29, "{names:?}");
         assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
     }
 

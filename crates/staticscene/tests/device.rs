@@ -50,8 +50,8 @@ use staticscene::pass::{
     tile_state_words,
 };
 use staticscene::{
-    Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
-    QueryStats, Scene, TileId, ViewDesc, canonical_batches, snap_origin,
+    Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, OcclusionPass, QueryOptions,
+    QueryOutput, QueryParams, QueryStats, Scene, TileId, ViewDesc, canonical_batches, snap_origin,
 };
 use testkit::device::{Data, run_pass};
 
@@ -89,7 +89,7 @@ impl Pool {
         p
     }
 
-    /// The fade byte of instance `i` of tile `id`.
+    /// The camera state byte of instance `i` of tile `id`.
     fn fade(&self, id: TileId, i: usize) -> u8 {
         let b = self.slots[&id].fade_base() as usize + i;
         (self.state[b / 4] >> ((b % 4) * 8)) as u8
@@ -137,20 +137,6 @@ fn run_query(pool: &mut Pool, plan: &GpuPlan, params: &QueryParams, hiz: Option<
         batches: out.read("out_batches", counters.batches as usize),
         stats: counters.stats(&plan.stats),
     }
-}
-
-/// One GPU query: plan on `scene`, then [`run_query`].
-fn gpu_query(
-    scene: &mut Scene,
-    pool: &mut Pool,
-    params: &QueryParams,
-    hiz: Option<&HiZ>,
-) -> (GpuOut, GpuPlan) {
-    let slots = pool.slots.clone();
-    let plan = scene.plan_gpu(params, &QueryOptions::default(), |id| {
-        slots.get(&id).copied()
-    });
-    (run_query(pool, &plan, params, hiz), plan)
 }
 
 fn close(a: f32, b: f32) -> bool {
@@ -247,6 +233,18 @@ fn walk(frames: usize) -> Vec<(Camera, Camera)> {
 /// canonical sort), each instance's fade and transform, and the fade states left behind.
 #[test]
 fn gpu_query_equals_the_cpu_twin_over_frames() {
+    twin_over_frames(false);
+}
+
+/// Two-pass occlusion on the GPU equals the twin frame after frame: the first pass (last
+/// frame's visibility, no state written) and the second (this frame's HiZ, states and
+/// visibility written, the first pass's instances left out), each compared as above.
+#[test]
+fn gpu_two_pass_occlusion_equals_the_cpu_twin_over_frames() {
+    twin_over_frames(true);
+}
+
+fn twin_over_frames(two_pass: bool) {
     let cfg = CityConfig::with_instances(20_000);
     let c = city(&cfg);
     let mut cpu_scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
@@ -259,12 +257,15 @@ fn gpu_query_equals_the_cpu_twin_over_frames() {
         let mut view = ViewDesc::camera(cam, [w, h]);
         view.fade_frames = 4;
         view.lod_scale = 0.35;
-        let hiz = (frame > 0).then(|| {
+        // Single pass: last frame's depth through last frame's camera. Two-pass: this
+        // frame's (the boxes stand in for what the first pass drew).
+        let depth_camera = if two_pass { cam } else { prev };
+        let hiz = (two_pass || frame > 0).then(|| {
             let origin = snap_origin(cam.position);
             let depth = raster_boxes(
                 &c.building_boxes,
                 origin,
-                &prev.clip_from_floating(origin),
+                &depth_camera.clip_from_floating(origin),
                 w,
                 h,
                 false,
@@ -272,31 +273,46 @@ fn gpu_query_equals_the_cpu_twin_over_frames() {
             HiZ::build(&depth, w, h, false).unwrap()
         });
         if hiz.is_some() {
-            view.occlusion_camera = Some(prev);
+            view.occlusion_camera = Some(depth_camera);
         }
-        let params = QueryParams::new(&view).unwrap();
-        cpu_scene
-            .query(
-                &params,
-                hiz.as_ref(),
-                &QueryOptions::default(),
-                &mut cpu_out,
-            )
-            .unwrap();
-        let (gpu, plan) = gpu_query(&mut gpu_scene, &mut pool, &params, hiz.as_ref());
+        let passes: &[OcclusionPass] = if two_pass {
+            &[OcclusionPass::First, OcclusionPass::Second]
+        } else {
+            &[OcclusionPass::Single]
+        };
+        // The GPU plans once per frame; both passes take its jobs.
+        let slots = pool.slots.clone();
+        let plan = gpu_scene.plan_gpu(
+            &QueryParams::new(&view).unwrap(),
+            &QueryOptions::default(),
+            |id| slots.get(&id).copied(),
+        );
         assert!(plan.skipped_tiles.is_empty());
-        assert_equal(frame, &gpu, &cpu_out);
-        for t in cpu_scene.tiles() {
-            for i in 0..t.instances().len() {
-                assert_eq!(
-                    pool.fade(t.id(), i),
-                    cpu_scene.fade_state(t.id(), i).unwrap(),
-                    "frame {frame}: fade state of tile {:?} instance {i}",
-                    t.id()
-                );
+        for &pass in passes {
+            view.occlusion_pass = pass;
+            let params = QueryParams::new(&view).unwrap();
+            cpu_scene
+                .query(
+                    &params,
+                    hiz.as_ref(),
+                    &QueryOptions::default(),
+                    &mut cpu_out,
+                )
+                .unwrap();
+            let gpu = run_query(&mut pool, &plan, &params, hiz.as_ref());
+            assert_equal(frame, &gpu, &cpu_out);
+            for t in cpu_scene.tiles() {
+                for i in 0..t.instances().len() {
+                    assert_eq!(
+                        pool.fade(t.id(), i),
+                        cpu_scene.camera_state(t.id(), i).unwrap(),
+                        "frame {frame} {pass:?}: camera state of tile {:?} instance {i}",
+                        t.id()
+                    );
+                }
             }
+            totals = totals.merge(&gpu.stats);
         }
-        totals = totals.merge(&gpu.stats);
     }
     // The walk exercises every test and the fade.
     eprintln!("{totals:?}");
@@ -304,6 +320,10 @@ fn gpu_query_equals_the_cpu_twin_over_frames() {
         totals.rejected_lod > 0 && totals.rejected_frustum > 0 && totals.rejected_occlusion > 0
     );
     assert!(totals.visible > 1000 && totals.batches > 0);
+    if two_pass {
+        // Frame-to-frame coherence (the walk moves 9 m and turns each frame).
+        assert!(totals.drawn_early > 500, "{totals:?}");
+    }
 }
 
 /// Corrupt records never read outside their tile: instances whose object, LOD bounds,

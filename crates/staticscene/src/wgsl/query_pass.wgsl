@@ -34,7 +34,8 @@ const STATICSCENE_STAT_FADED_OUT: u32 = 6u;
 const STATICSCENE_STAT_INVALID: u32 = 7u;
 const STATICSCENE_STAT_VISIBLE: u32 = 8u;
 const STATICSCENE_STAT_DROPPED: u32 = 9u;
-const STATICSCENE_STAT_COUNT: u32 = 10u;
+const STATICSCENE_STAT_DRAWN_EARLY: u32 = 10u;
+const STATICSCENE_STAT_COUNT: u32 = 11u;
 
 struct StaticsceneGpuJob {
     tile: u32,
@@ -66,7 +67,9 @@ struct StaticsceneJobList {
 struct StaticsceneQueryCounters {
     instances: atomic<u32>,
     batches: atomic<u32>,
-    pad: vec2<u32>,
+    // Two words (not a vec2, whose 8-byte alignment would pad the struct to 64 bytes).
+    pad0: u32,
+    pad1: u32,
     stats: array<atomic<u32>, STATICSCENE_STAT_COUNT>,
 }
 
@@ -328,21 +331,30 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
         lod_sel = staticscene_level_selected(staticscene_child_lod(q), staticscene_load_bounds(job, cbi), o2f, scale2);
     }
     let fading_view = (params.flags & STATICSCENE_QUERY_FLAG_FADE) != 0u && params.fade_frames > 0u;
+    let first_pass = (params.flags & STATICSCENE_QUERY_FLAG_FIRST_PASS) != 0u;
+    let second_pass = !first_pass && (params.flags & STATICSCENE_QUERY_FLAG_SECOND_PASS) != 0u;
+    // The camera state byte (fade state in the low 7 bits, CAMERA_STATE_VISIBLE on top):
+    // read when fading or in either occlusion pass, written except in the first pass.
+    let state_on = fading_view || first_pass || second_pass;
+    let writes = state_on && !first_pass;
     let fade_on = fading_view && (staticscene_flags(q) & STATICSCENE_INSTANCE_FLAG_NO_FADE) == 0u;
     let n = min(params.fade_frames, 127u);
     let fade_index = job.fade_base + tile_index;
     var stored = 0u;
+    if (state_on) {
+        stored = staticscene_fade_load(fade_index);
+    }
+    let was_visible = (stored & STATICSCENE_CAMERA_STATE_VISIBLE) != 0u;
     var prev = 0u;
     if (fade_on) {
-        stored = staticscene_fade_load(fade_index);
         if ((job.flags & STATICSCENE_JOB_SNAP_FADE) != 0u) {
             prev = select(0u, n, lod_sel);
         } else {
-            prev = min(stored, n);
+            prev = min(stored & ~STATICSCENE_CAMERA_STATE_VISIBLE, n);
         }
     }
     if (!lod_sel && prev == 0u) {
-        if (fade_on) {
+        if (writes) {
             staticscene_fade_store(fade_index, stored, 0u);
         }
         lane.outcome = STATICSCENE_STAT_LOD;
@@ -370,17 +382,22 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
         let w = dot(w_row.xyz, centre) + w_row.w - radius * length(w_row.xyz);
         big = staticscene_is_nan(w) || w <= 0.0 || 2.0 * radius * params.viewport.w >= params.viewport.z * w;
     }
-    // 6. Occlusion against the HiZ.
+    // 6. Occlusion: against the HiZ, or, in the first of two passes, last frame's
+    // visibility.
+    let never_occluded = (staticscene_flags(q) & STATICSCENE_INSTANCE_FLAG_NO_OCCLUSION) != 0u;
+    let testable = in_frustum && big && !never_occluded;
     var occluded = false;
-    if (in_frustum && big && (params.flags & STATICSCENE_QUERY_FLAG_OCCLUSION) != 0u && (staticscene_flags(q) & STATICSCENE_INSTANCE_FLAG_NO_OCCLUSION) == 0u) {
+    if (first_pass) {
+        occluded = testable && !was_visible;
+    } else if (testable && (params.flags & STATICSCENE_QUERY_FLAG_OCCLUSION) != 0u) {
         occluded = staticscene_occluded(bx.min, bx.max);
     }
     // 7. LOD fade state.
     var shown = lod_sel;
     var opacity = 1.0;
     var flags = 0u;
+    var next = 0u;
     if (fade_on) {
-        var next = 0u;
         if (!in_frustum) {
             next = select(0u, n, lod_sel);
         } else if (lod_sel) {
@@ -388,7 +405,6 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
         } else {
             next = select(prev - 1u, 0u, prev == 0u);
         }
-        staticscene_fade_store(fade_index, stored, next);
         lane.live = next > 0u;
         if (next < n) {
             flags |= STATICSCENE_STATE_FADING;
@@ -399,6 +415,10 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
         shown = next > 0u;
         opacity = f32(next) / f32(n);
     }
+    if (writes) {
+        let visible = in_frustum && big && !occluded && shown;
+        staticscene_fade_store(fade_index, stored, next | select(0u, STATICSCENE_CAMERA_STATE_VISIBLE, visible));
+    }
     if (!in_frustum) {
         lane.outcome = STATICSCENE_STAT_FRUSTUM;
     } else if (!big) {
@@ -407,6 +427,10 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
         lane.outcome = STATICSCENE_STAT_OCCLUSION;
     } else if (!shown) {
         lane.outcome = STATICSCENE_STAT_FADED_OUT;
+    } else if (second_pass && (was_visible || never_occluded)) {
+        // The first pass output it already (visible last frame or never tested, every
+        // other test as here).
+        lane.outcome = STATICSCENE_STAT_DRAWN_EARLY;
     }
     // 8. Output data.
     lane.l2f = l2f;
@@ -519,7 +543,9 @@ fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
         staticscene_wg_live_serial = serial;
     }
     let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
-    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run) {
+    // Live at its last run, or marked live by another workgroup of this run (which ran
+    // because it was live at its last run).
+    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run && live_serial != job.serial) {
         return;
     }
     let local = (wave - job.first_wave) * STATICSCENE_QUERY_WORKGROUP + li;
@@ -555,7 +581,7 @@ fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     if (dropped != 0u) {
         atomicAdd(&staticscene_wg_stats[STATICSCENE_STAT_DROPPED], dropped);
     }
-    if (lane.live && job.cluster < arrayLength(&state)) {
+    if (lane.live && (params.flags & STATICSCENE_QUERY_FLAG_FIRST_PASS) == 0u && job.cluster < arrayLength(&state)) {
         atomicStore(&state[job.cluster], job.serial);
     }
     workgroupBarrier();
