@@ -14,7 +14,7 @@ use crate::passes::classify::ClassificationVariant;
 use crate::passes::query::PreparedView;
 use crate::passes::static_place::{
     STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
-    STATIC_COUNTER_PLACED,
+    STATIC_COUNTER_PLACED, StaticBuffers,
 };
 use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
 use crate::resources::readback::read_buffer;
@@ -24,7 +24,7 @@ use crate::resources::rows::{FrameUniforms, GpuPointLight};
 use crate::resources::targets::Targets;
 use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::scene::Scene;
-use crate::statics::{StaticFrameStats, StaticView};
+use crate::statics::{StaticFrameStats, StaticOcclusion, StaticView};
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
 use crate::timing::{GpuTimer, Timing};
 
@@ -148,6 +148,16 @@ pub struct Renderer {
     timer: GpuTimer,
     frame_index: u32,
     previous: Option<(u64, PreviousCamera)>,
+    /// The camera of the static view the depth target was last rendered for (`None`
+    /// after a frame without a static query): [`StaticOcclusion::PreviousFrame`]'s HiZ.
+    depth_camera: Option<staticscene::Camera>,
+}
+
+/// A frame's static query as recorded: the prepared view, and whether its second pass
+/// (two-pass occlusion) is still to record after the first geometry pass.
+struct StaticFrame {
+    view: PreparedView,
+    two_pass: bool,
 }
 
 impl Renderer {
@@ -286,6 +296,7 @@ impl Renderer {
                 timer,
                 frame_index: 0,
                 previous: None,
+                depth_camera: None,
             })
         })
     }
@@ -417,19 +428,44 @@ impl Renderer {
                 Some(v) => Some(self.record_static(&mut encoder, scene, v)?),
                 None => None,
             };
-            let f = FrameContext {
-                scene,
-                targets: &self.targets,
-                groups: &self.groups,
-                static_query: view.is_some(),
-            };
+            let static_query = view.is_some();
+            // Field by field, so the timer can be borrowed beside it.
+            macro_rules! context {
+                () => {
+                    FrameContext {
+                        scene,
+                        targets: &self.targets,
+                        groups: &self.groups,
+                        static_query,
+                    }
+                };
+            }
             self.pipelines
-                .record(what, &mut encoder, &f, &mut self.timer);
+                .record_geometry(what, &mut encoder, &context!(), &mut self.timer);
+            if let (Some(sf), Some(v)) = (&view, statics.as_deref_mut())
+                && sf.two_pass
+            {
+                self.record_static_late(&mut encoder, scene, v, &sf.view)?;
+                self.pipelines.record_late_geometry(
+                    what,
+                    &mut encoder,
+                    &context!(),
+                    &mut self.timer,
+                );
+            }
+            self.pipelines
+                .record_after_geometry(what, &mut encoder, &context!(), &mut self.timer);
             self.timer.resolve(&mut encoder);
             self.queue.submit([encoder.finish()]);
             wait_idle(&device)?;
             Ok(view)
-        })?;
+        });
+        // The depth target now holds this frame (or, after an error, nothing known).
+        self.depth_camera = match (&view, statics.as_deref()) {
+            (Ok(Some(_)), Some(v)) => Some(v.view.camera),
+            _ => None,
+        };
+        let view = view?;
         let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         let gpu = self.timer.read(&self.device, &self.queue)?;
         let statics = match (view, statics) {
@@ -443,30 +479,80 @@ impl Renderer {
         })
     }
 
-    /// Records the static query of `v` and the placement of its output into `scene`'s
-    /// reserved slots and draw lists.
+    /// The scene's static buffers, or the error for a scene without static setups.
+    fn static_buffers(scene: &PreparedScene) -> Result<&StaticBuffers> {
+        scene.statics.as_ref().ok_or_else(|| {
+            Error::Scene(crate::error::SceneError::StaticSetup {
+                setup: 0,
+                problem: "the prepared scene has none; render_static draws static setups".into(),
+            })
+        })
+    }
+
+    /// Records the static query of `v` (with [`StaticOcclusion::PreviousFrame`], the HiZ
+    /// of the depth target first; with [`StaticOcclusion::TwoPass`], its first pass) and
+    /// the placement of its output into `scene`'s reserved slots and draw lists.
     fn record_static(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &PreparedScene,
         v: &mut StaticView<'_>,
-    ) -> Result<PreparedView> {
-        let Some(b) = &scene.statics else {
-            return Err(Error::Scene(crate::error::SceneError::StaticSetup {
-                setup: 0,
-                problem: "the prepared scene has none; render_static draws static setups".into(),
-            }));
+    ) -> Result<StaticFrame> {
+        let b = Self::static_buffers(scene)?;
+        let size = (self.config.width, self.config.height);
+        let mut first = v.view;
+        let mut second = None;
+        let depth_hiz = match v.occlusion {
+            StaticOcclusion::Given => false,
+            StaticOcclusion::PreviousFrame => {
+                first.occlusion_pass = staticscene::OcclusionPass::Single;
+                first.occlusion_camera = self.depth_camera;
+                self.depth_camera.is_some()
+            }
+            StaticOcclusion::TwoPass => {
+                first.occlusion_pass = staticscene::OcclusionPass::First;
+                first.occlusion_camera = None;
+                let mut s = v.view;
+                s.occlusion_pass = staticscene::OcclusionPass::Second;
+                s.occlusion_camera = Some(v.view.camera);
+                second = Some(staticscene::QueryParams::new(&s)?);
+                true
+            }
         };
-        let params = staticscene::QueryParams::new(&v.view)?;
-        let view = v
-            .query
-            .prepare_view(&self.device, &self.queue, v.scene, &params, &v.options)?;
+        if depth_hiz {
+            if !v.view.camera.reversed_depth {
+                return Err(Error::StaticScene(staticscene::Error::Config {
+                    what: "a HiZ of the depth target needs a reversed-depth camera (the renderer's depth is reversed Z)",
+                }));
+            }
+            // Before the query's bind groups: this may grow the HiZ buffer.
+            v.query
+                .prepare_depth_hiz(&self.device, &self.queue, size, true)?;
+        }
+        let params = staticscene::QueryParams::new(&first)?;
+        let view = v.query.prepare_view(
+            &self.device,
+            &self.queue,
+            v.scene,
+            &params,
+            second.as_ref(),
+            &v.options,
+        )?;
+        if depth_hiz && second.is_none() {
+            v.query.record_depth_hiz(
+                &self.device,
+                encoder,
+                &self.targets.depth_view,
+                &mut self.timer,
+                "hiz build",
+            )?;
+        }
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("static query"),
                 timestamp_writes: self.timer.compute("static query"),
             });
-            v.query.record_view(&mut pass, &view);
+            v.query.record_view(&mut pass, &view, false);
         }
         // Whole metres both: exact in f64, and in f32 below 2^24 m.
         let origin = glam::DVec3::new(
@@ -488,12 +574,51 @@ impl Renderer {
             &self.device,
             b,
             &scene.instances,
-            &v.query.outputs(),
+            &v.query.outputs(false),
         )?;
         self.pipelines
             .static_place
-            .record(encoder, b, &group, &mut self.timer);
-        Ok(view)
+            .record(encoder, b, &group, &mut self.timer, false);
+        Ok(StaticFrame {
+            view,
+            two_pass: second.is_some(),
+        })
+    }
+
+    /// Two-pass occlusion after the first geometry pass: the HiZ of its depth, the query's
+    /// second pass against it, and the placement of what it found (late draw lists).
+    fn record_static_late(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &PreparedScene,
+        v: &mut StaticView<'_>,
+        view: &PreparedView,
+    ) -> Result<()> {
+        let b = Self::static_buffers(scene)?;
+        v.query.record_depth_hiz(
+            &self.device,
+            encoder,
+            &self.targets.depth_view,
+            &mut self.timer,
+            "hiz build",
+        )?;
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("static query (second pass)"),
+                timestamp_writes: self.timer.compute("static query (second pass)"),
+            });
+            v.query.record_view(&mut pass, view, true);
+        }
+        let group = self.pipelines.static_place.group(
+            &self.device,
+            b,
+            &scene.instances,
+            &v.query.outputs(true),
+        )?;
+        self.pipelines
+            .static_place
+            .record(encoder, b, &group, &mut self.timer, true);
+        Ok(())
     }
 
     /// Reads the query's and the placement's counters after a frame with a static query.
@@ -501,9 +626,15 @@ impl Renderer {
         &self,
         scene: &PreparedScene,
         v: &StaticView<'_>,
-        view: PreparedView,
+        frame: StaticFrame,
     ) -> Result<StaticFrameStats> {
-        let counters = v.query.read_counters(&self.device, &self.queue)?;
+        let view = frame.view;
+        let counters = v.query.read_counters(&self.device, &self.queue, false)?;
+        let second = if frame.two_pass {
+            Some(v.query.read_counters(&self.device, &self.queue, true)?)
+        } else {
+            None
+        };
         let Some(b) = &scene.statics else {
             return Ok(StaticFrameStats::default());
         };
@@ -517,9 +648,10 @@ impl Renderer {
         let w = |i: u32| words[i as usize];
         Ok(StaticFrameStats {
             query: counters.stats(&view.plan.stats),
+            second_pass: second.map(|c| c.stats(&view.plan.stats)),
             threads: view.threads,
-            batches: counters.batches,
-            instances: counters.instances,
+            batches: counters.batches + second.map_or(0, |c| c.batches),
+            instances: counters.instances + second.map_or(0, |c| c.instances),
             placed: (0..b.setup_count)
                 .map(|s| {
                     let cap = scene.static_capacities[s as usize];

@@ -9,6 +9,24 @@ use staticscene::{QueryOptions, QueryStats, TileId, ViewDesc};
 use crate::frame::Camera;
 use crate::passes::query::StaticQuery;
 
+/// Where the static query's occlusion test gets its HiZ.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum StaticOcclusion {
+    /// As the view says: its `occlusion_camera` with the HiZ last given to
+    /// [`StaticQuery::set_hiz`] (no occlusion camera: no occlusion).
+    #[default]
+    Given,
+    /// HZD's: the depth of the previous frame rendered with a static query, reduced on the
+    /// GPU before the query and tested through that frame's camera. Off for the first such
+    /// frame and after any other frame overwrote the depth target. Conservative only for a
+    /// camera that holds still (what was hidden last frame may show now).
+    PreviousFrame,
+    /// Two-pass occlusion (beyond HZD): the query's first pass draws what was visible
+    /// last frame, a HiZ is built on the GPU from that depth, the second pass tests the
+    /// rest against it and the laydown draws what it found. Conservative for any camera.
+    TwoPass,
+}
+
 /// The static content of a frame: the GPU query (its tiles activated), the CPU scene that
 /// holds the same tiles (pre-cull, stale flags), and the view to query.
 pub struct StaticView<'a> {
@@ -21,6 +39,8 @@ pub struct StaticView<'a> {
     pub view: ViewDesc,
     /// Wave width and pre-cull switch.
     pub options: QueryOptions,
+    /// Where occlusion gets its HiZ.
+    pub occlusion: StaticOcclusion,
 }
 
 /// The camera view of `camera` for a `width` x `height` image, as the renderer draws it
@@ -44,13 +64,17 @@ pub fn static_view_desc(camera: &Camera, width: u32, height: u32) -> ViewDesc {
 /// What the static query and the placement did in one frame (read back after it).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StaticFrameStats {
-    /// The pre-cull's and the query pass's statistics (instances after each test).
+    /// The pre-cull's and the query pass's statistics (instances after each test); with
+    /// two-pass occlusion, the first pass's.
     pub query: QueryStats,
+    /// The second pass's statistics under two-pass occlusion (its `visible` are the
+    /// instances it added; `drawn_early` those the first pass drew).
+    pub second_pass: Option<QueryStats>,
     /// Threads the query dispatched (instances of the clusters left by the pre-cull).
     pub threads: u64,
-    /// Batches the query appended (HZD's render items).
+    /// Batches the query appended (HZD's render items), both passes.
     pub batches: u32,
-    /// Visible instances the query appended.
+    /// Visible instances the query appended, both passes.
     pub instances: u32,
     /// Instances placed into reserved slots and drawn.
     pub placed: u64,

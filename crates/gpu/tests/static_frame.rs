@@ -1,8 +1,10 @@
 //! HZD's static query in front of the frame (lavapipe in CI): the city drawn from the GPU
 //! query's output through reserved slots and indirect draws equals the CPU twin's visible
 //! set drawn as planned batches; the deferred image matches the depth-equal baseline on
-//! it; occlusion against a HiZ of the previous frame's depth leaves the image unchanged
-//! (conservative) while it culls; bad input to `render_static` is an error.
+//! it; occlusion against a HiZ of the previous frame's depth (read back, or reduced on the
+//! GPU, which equals `HiZ::build`) leaves the image unchanged (conservative) while it culls;
+//! two-pass occlusion leaves it unchanged while the camera moves; bad input to
+//! `render_static` is an error.
 
 use gpu::demo::city::{City, city};
 use gpu::glam::{self, Affine3A, Vec3};
@@ -11,7 +13,8 @@ use gpu::staticscene::ViewDesc;
 use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
 use gpu::{
     Batch, Camera, FrameInput, PreparedScene, RenderPath, Renderer, RendererConfig, Rgba8Image,
-    Scene, StaticFrameStats, StaticQuery, StaticView, diff_metrics, static_view_desc,
+    Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
+    static_view_desc,
 };
 use testkit::device::ctx;
 
@@ -69,11 +72,23 @@ impl Rig {
         camera: Camera,
         path: RenderPath,
     ) -> (Rgba8Image, StaticFrameStats) {
+        self.frame_with(view, camera, path, StaticOcclusion::Given)
+    }
+
+    /// [`Rig::frame`] with the HiZ from `occlusion`.
+    fn frame_with(
+        &mut self,
+        view: ViewDesc,
+        camera: Camera,
+        path: RenderPath,
+        occlusion: StaticOcclusion,
+    ) -> (Rgba8Image, StaticFrameStats) {
         let mut view = StaticView {
             query: &mut self.query,
             scene: &mut self.cpu,
             view,
             options: QueryOptions::default(),
+            occlusion,
         };
         let input = FrameInput {
             camera,
@@ -260,6 +275,119 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
     );
 }
 
+/// The view of `camera` with LODs switching at once (see the test above) and no
+/// occlusion camera (the modes that build their HiZ set it).
+fn still_lod_desc(camera: &Camera) -> ViewDesc {
+    let mut d = static_view_desc(camera, W, H);
+    d.fade_frames = 0;
+    d
+}
+
+/// HZD's mode with the pyramid reduced on the GPU: the HiZ the second of two frames from
+/// one camera tests against equals `HiZ::build` of the first frame's depth texel for
+/// texel, the GPU's visible set has the twin's size on it, and the image equals the one
+/// without occlusion.
+#[test]
+fn the_gpu_hiz_of_the_previous_frame_equals_hiz_build() {
+    let c = ctx();
+    let mut rig = Rig::new();
+    let deferred = RenderPath::Deferred;
+    let mut culled = 0;
+    for camera in cameras(&rig.city).into_iter().take(3) {
+        let previous = StaticOcclusion::PreviousFrame;
+        let (off, _) = rig.frame(still_lod_desc(&camera), camera, deferred);
+        // The frame before has no static view of this renderer's depth: no occlusion.
+        let depth = rig.r.read_depth().unwrap();
+        let want = HiZ::build(&depth, W, H, true).unwrap();
+        let mut twin = rig.cpu.clone();
+        let (on, stats) = rig.frame_with(still_lod_desc(&camera), camera, deferred, previous);
+        let (texels, size) = rig.query.read_hiz(&c.device, &c.queue).unwrap();
+        assert_eq!(size, (W, H));
+        assert_eq!(texels.len(), want.texels().len());
+        let differ = texels
+            .iter()
+            .zip(want.texels())
+            .filter(|(a, b)| a.to_bits() != b.to_bits())
+            .count();
+        assert_eq!(differ, 0, "GPU HiZ texels differing from HiZ::build");
+        let mut d = still_lod_desc(&camera);
+        d.occlusion_camera = Some(d.camera);
+        let mut out = QueryOutput::<DrawableSetupInstance>::new();
+        twin.query(
+            &QueryParams::new(&d).unwrap(),
+            Some(&want),
+            &QueryOptions::default(),
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(stats.instances as usize, out.instances.len());
+        culled += stats.query.rejected_occlusion;
+        let (_, max) = diff_metrics(&on, &off, 1.0).unwrap();
+        assert_eq!(max, 0, "occlusion changed the image");
+    }
+    assert!(culled > 1000, "{culled} culled");
+}
+
+/// Two-pass occlusion while the camera moves (walks, turns, rises and jumps between
+/// frames): every frame's image equals the image without occlusion (same camera), for the
+/// deferred path and the baseline, while the second pass hides instances and the first
+/// draws last frame's visible set.
+#[test]
+fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
+    let mut rig = Rig::new();
+    let base = cameras(&rig.city);
+    // Small steps between the test cameras, then the jumps between them.
+    let mut path = Vec::new();
+    for pair in base.windows(2) {
+        for k in 0..3 {
+            let t = k as f32 / 3.0;
+            path.push(Camera {
+                position: pair[0].position.lerp(pair[1].position, t),
+                target: pair[0].target.lerp(pair[1].target, t),
+                ..pair[0]
+            });
+        }
+    }
+    let (mut hidden, mut early, mut added) = (0, 0, 0);
+    for (frame, camera) in path.into_iter().enumerate() {
+        let paths: &[RenderPath] = if frame % 4 == 3 {
+            &[RenderPath::Deferred, RenderPath::Baseline]
+        } else {
+            &[RenderPath::Deferred]
+        };
+        for &path in paths {
+            let (on, stats) = rig.frame_with(
+                still_lod_desc(&camera),
+                camera,
+                path,
+                StaticOcclusion::TwoPass,
+            );
+            let (off, _) = rig.frame(still_lod_desc(&camera), camera, path);
+            let second = stats.second_pass.expect("two passes report the second");
+            assert_eq!((stats.over_capacity, stats.bad_batches), (0, 0));
+            assert_eq!(stats.placed, u64::from(stats.instances));
+            hidden += second.rejected_occlusion;
+            early += second.drawn_early;
+            added += second.visible;
+            let (mean, _) = diff_metrics(&on, &off, 0.5).unwrap();
+            let (_, max) = diff_metrics(&on, &off, 1.0).unwrap();
+            if max != 0 {
+                save("two_pass_on", &on);
+                save("two_pass_off", &off);
+            }
+            assert_eq!(
+                max, 0,
+                "frame {frame} {path:?}: two-pass occlusion changed the image (mean {mean}; images in CARGO_TARGET_TMPDIR)"
+            );
+        }
+    }
+    eprintln!("two-pass: {early} drawn early, {added} added late, {hidden} hidden");
+    assert!(
+        hidden > 1000 && early > 1000 && added > 100,
+        "{hidden} {early} {added}"
+    );
+}
+
 #[test]
 fn render_static_refuses_a_scene_without_static_setups() {
     let c = ctx();
@@ -275,6 +403,7 @@ fn render_static_refuses_a_scene_without_static_setups() {
         scene: &mut cpu,
         view: static_view_desc(&city.frame.camera, W, H),
         options: QueryOptions::default(),
+        occlusion: StaticOcclusion::Given,
     };
     let e = r
         .render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)

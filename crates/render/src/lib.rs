@@ -49,6 +49,20 @@ pub enum PathArg {
     Both,
 }
 
+/// `--occlusion`: where the city's static query gets its HiZ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OcclusionArg {
+    /// No occlusion test.
+    Off,
+    /// HZD's: the previous frame's depth, reduced on the GPU (the camera holds still).
+    Previous,
+    /// Two-pass: last frame's visible set drawn first, its depth reduced on the GPU, the
+    /// rest tested against it.
+    TwoPass,
+    /// The previous frame's depth read back and reduced on the CPU (`HiZ::build`).
+    Readback,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -96,9 +110,9 @@ pub struct Args {
     /// Static instances of the city scene (about; 1000 to 4000000).
     #[arg(long, default_value_t = 500_000, value_parser = clap::value_parser!(u64).range(1000..=4_000_000))]
     pub instances: u64,
-    /// Test the city's static instances against a HiZ of the previous frame's depth.
-    #[arg(long)]
-    pub occlusion: bool,
+    /// Where the city's occlusion test gets its HiZ.
+    #[arg(long, value_enum, default_value = "off")]
+    pub occlusion: OcclusionArg,
     /// How the laydown gets primitive IDs.
     #[arg(long, value_enum, default_value = "auto")]
     pub primitive_id: PrimitiveIdArg,
@@ -205,8 +219,8 @@ pub fn run(args: &Args) -> Result<()> {
 }
 
 /// The city: streamed into the GPU static query, prepared with its static setups, rendered
-/// with the query in front of the frame (optionally with occlusion against the previous
-/// frame's depth); images and the query's statistics.
+/// with the query in front of the frame (optionally with occlusion: `--occlusion`); images
+/// and the query's statistics.
 fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> Result<()> {
     use gpu::staticscene::{HiZ, QueryOptions};
     let t0 = std::time::Instant::now();
@@ -227,14 +241,20 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     };
     let (w, h) = (args.width, args.height);
     let mut desc = gpu::static_view_desc(&city.frame.camera, w, h);
-    if args.occlusion {
+    let occlusion = match args.occlusion {
+        OcclusionArg::Off | OcclusionArg::Readback => gpu::StaticOcclusion::Given,
+        OcclusionArg::Previous => gpu::StaticOcclusion::PreviousFrame,
+        OcclusionArg::TwoPass => gpu::StaticOcclusion::TwoPass,
+    };
+    if args.occlusion == OcclusionArg::Readback {
         // The previous frame's depth (the camera holds still): one frame without, then
-        // its depth reduced into the HiZ the measured frames test against.
+        // its depth read back and reduced into the HiZ the measured frames test against.
         let mut view = gpu::StaticView {
             query: &mut query,
             scene: &mut cpu,
             view: desc,
             options: QueryOptions::default(),
+            occlusion,
         };
         renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
         let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
@@ -248,6 +268,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             scene: &mut cpu,
             view: desc,
             options: QueryOptions::default(),
+            occlusion,
         };
         let frames =
             renderer.render_static_frames(&prepared, &city.frame, path, &mut view, args.frames)?;

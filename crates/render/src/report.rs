@@ -91,17 +91,35 @@ impl Report {
             ),
         );
         let mut left = q.instances;
+        // Two-pass: the first pass's "occlusion" is last frame's visibility; the second
+        // tests the rest against this frame's HiZ.
+        let occlusion = if s.second_pass.is_some() {
+            "occlusion pass 1 (not visible last frame)"
+        } else {
+            "occlusion"
+        };
         for (what, n) in [
             ("filter and LOD", q.rejected_filter + q.rejected_lod),
             ("frustum", q.rejected_frustum),
             ("size", q.rejected_size),
-            ("occlusion", q.rejected_occlusion),
+            (occlusion, q.rejected_occlusion),
             ("LOD fade (faded out)", q.faded_out),
         ] {
             left = left.saturating_sub(n);
             self.row(
                 &format!("static: after the {what} test"),
                 format!("{} ({} rejected)", group_digits(left), group_digits(n)),
+            );
+        }
+        if let Some(p2) = &s.second_pass {
+            self.row(
+                "static: occlusion pass 2 (this frame's HiZ): drawn early / added / hidden",
+                format!(
+                    "{} / {} / {}",
+                    group_digits(p2.drawn_early),
+                    group_digits(p2.visible),
+                    group_digits(p2.rejected_occlusion)
+                ),
             );
         }
         self.row(

@@ -203,28 +203,55 @@ impl Laydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
+        self.record_vis(encoder, f, timer, false);
+    }
+
+    /// Records the laydown's second geometry pass of two-pass occlusion: the late static
+    /// lists over the depth and vis buffer the first pass left.
+    pub(crate) fn record_late_laydown(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        self.record_vis(encoder, f, timer, true);
+    }
+
+    fn record_vis(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+        late: bool,
+    ) {
+        let load = if late {
+            wgpu::LoadOp::Load
+        } else {
+            wgpu::LoadOp::Clear(wgpu::Color {
+                r: f64::from(visbuf::VIS_NONE),
+                g: 0.0,
+                b: 0.0,
+                a: 0.0,
+            })
+        };
+        let label = if late { "late laydown" } else { "laydown" };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("depth + visibility laydown"),
+            label: Some(label),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &f.targets.vis_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: f64::from(visbuf::VIS_NONE),
-                        g: 0.0,
-                        b: 0.0,
-                        a: 0.0,
-                    }),
+                    load,
                     store: wgpu::StoreOp::Store,
                 },
             })],
-            depth_stencil_attachment: Some(clear_depth(&f.targets.depth_view)),
-            timestamp_writes: timer.render("laydown"),
+            depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, late)),
+            timestamp_writes: timer.render(label),
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.draw(&mut pass, f, &self.vis_opaque, &self.vis_alpha);
+        self.draw(&mut pass, f, &self.vis_opaque, &self.vis_alpha, late);
     }
 
     /// Records the baseline's depth prepass (alpha-tested, no colour).
@@ -234,15 +261,41 @@ impl Laydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
+        self.record_depth(encoder, f, timer, false);
+    }
+
+    /// Records the depth prepass's second geometry pass of two-pass occlusion: the late
+    /// static lists over the depth the first pass left.
+    pub(crate) fn record_late_depth_prepass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        self.record_depth(encoder, f, timer, true);
+    }
+
+    fn record_depth(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+        late: bool,
+    ) {
+        let label = if late {
+            "late depth prepass"
+        } else {
+            "depth prepass"
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("baseline depth prepass"),
+            label: Some(label),
             color_attachments: &[],
-            depth_stencil_attachment: Some(clear_depth(&f.targets.depth_view)),
-            timestamp_writes: timer.render("depth prepass"),
+            depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, late)),
+            timestamp_writes: timer.render(label),
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.draw(&mut pass, f, &self.depth_opaque, &self.depth_alpha);
+        self.draw(&mut pass, f, &self.depth_opaque, &self.depth_alpha, late);
     }
 
     fn draw(
@@ -251,19 +304,35 @@ impl Laydown {
         f: &FrameContext<'_>,
         opaque: &wgpu::RenderPipeline,
         alpha: &wgpu::RenderPipeline,
+        late: bool,
     ) {
         let groups = &f.scene.laydown;
         pass.set_bind_group(0, &groups.scene, &[]);
         pass.set_bind_group(1, &groups.payloads, &[]);
-        record_draws(pass, f, opaque, alpha);
+        if late {
+            if let Some(b) = &f.scene.statics {
+                pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+                super::static_place::record_static_draws(pass, b, opaque, alpha, true);
+            }
+        } else {
+            record_draws(pass, f, opaque, alpha);
+        }
     }
 }
 
-fn clear_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+/// The depth target cleared to the far plane (reversed Z: 0), or loaded (`load`).
+fn depth_attachment(
+    view: &wgpu::TextureView,
+    load: bool,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
     wgpu::RenderPassDepthStencilAttachment {
         view,
         depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(0.0),
+            load: if load {
+                wgpu::LoadOp::Load
+            } else {
+                wgpu::LoadOp::Clear(0.0)
+            },
             store: wgpu::StoreOp::Store,
         }),
         stencil_ops: None,
@@ -298,7 +367,7 @@ pub(crate) fn record_draws(
     if f.static_query
         && let Some(b) = &f.scene.statics
     {
-        super::static_place::record_static_draws(pass, b, opaque, alpha);
+        super::static_place::record_static_draws(pass, b, opaque, alpha, false);
     }
 }
 

@@ -17,6 +17,7 @@
 //! | lighting | [`lighting`] | sun, ambient, point lights, tone mapping -> output |
 //! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
 //! | static placement | [`static_place`] | the query's batches -> instance rows and indirect draws |
+//! | HiZ build | [`query`] | the depth target -> HZD's HiZ pyramid (`gpu::hiz_depth`, then `staticscene`'s reduction) |
 
 use shader::{Module, StageCounts};
 
@@ -66,6 +67,7 @@ gpu_modules!(
     VIS_COPY = "vis_copy",
     ZERO = "zero",
     STATIC_PLACE = "static_place",
+    HIZ_DEPTH = "hiz_depth",
 );
 
 /// Every module list the renderer's passes import from.
@@ -176,23 +178,63 @@ impl Pipelines {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let e = encoder;
+        self.record_geometry(what, encoder, f, timer);
+        self.record_after_geometry(what, encoder, f, timer);
+    }
+
+    /// The frame's geometry pass: the laydown, or the baseline's depth prepass.
+    pub(crate) fn record_geometry(
+        &self,
+        what: Recording,
+        e: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        match what {
+            Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
+                self.laydown.record_laydown(e, f, timer);
+            }
+            Recording::Baseline => self.laydown.record_depth_prepass(e, f, timer),
+            Recording::Classification => {}
+        }
+    }
+
+    /// The geometry pass's second half under two-pass occlusion: the late static draws
+    /// over what [`Pipelines::record_geometry`] left.
+    pub(crate) fn record_late_geometry(
+        &self,
+        what: Recording,
+        e: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        match what {
+            Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
+                self.laydown.record_late_laydown(e, f, timer);
+            }
+            Recording::Baseline => self.laydown.record_late_depth_prepass(e, f, timer),
+            Recording::Classification => {}
+        }
+    }
+
+    /// Everything after the geometry pass: classification, resolve or the baseline's
+    /// geometry pass, lighting.
+    pub(crate) fn record_after_geometry(
+        &self,
+        what: Recording,
+        e: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
         match what {
             Recording::Deferred => {
-                self.laydown.record_laydown(e, f, timer);
                 self.vis_copy.record(e, f, timer);
                 self.classify.record(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }
-            Recording::DeferredFullScreen => {
-                self.laydown.record_laydown(e, f, timer);
-                self.resolve.record_full_screen(e, f, timer);
-            }
-            Recording::Baseline => {
-                self.laydown.record_depth_prepass(e, f, timer);
-                self.baseline.record(e, f, timer);
-            }
-            Recording::Laydown => return self.laydown.record_laydown(e, f, timer),
+            Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),
+            Recording::Baseline => self.baseline.record(e, f, timer),
+            Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),
         }
         self.lighting.record(e, f, timer);

@@ -4,9 +4,18 @@
 //!
 //! [`StaticQuery::run`] is HZD's mode: the CPU waits for the query and reads its batches
 //! back (what a CPU renderer, or `tiling::build_plan`, then consumes).
+//!
+//! The HiZ the query tests against is either given ([`StaticQuery::set_hiz`], a pyramid
+//! built on the CPU) or built here from the frame's depth target: `gpu::hiz_depth` copies
+//! the depth into level 0 of `staticscene`'s HiZ buffer layout, then `staticscene`'s
+//! [`HIZ_PASS`] reduces it level after level (one dispatch per level).
 
 use shader::pipeline::ComputePass;
-use staticscene::pass::{GpuPlan, QUERY_PASS, QueryCounters, QueryDispatch, hiz_words};
+use shader::{Binding, Group, Kind, Pass, Sample};
+use staticscene::pass::{
+    GpuPlan, HIZ_PASS, HizGrid, HizStep, QUERY_PASS, QueryCounters, QueryDispatch, hiz_header,
+    hiz_words,
+};
 use staticscene::{
     DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryParams, QueryStats,
     StaticTile, TileId,
@@ -44,9 +53,39 @@ pub struct StaticQueryOutput {
     pub skipped_tiles: Vec<TileId>,
 }
 
+/// Level 0 of the HiZ buffer from the depth target (`gpu::hiz_depth`).
+pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
+    name: "hiz from depth",
+    module: "gpu::hiz_depth",
+    library: super::LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "depth",
+        bindings: &[
+            Binding::new("depth", Kind::texture_2d(Sample::Depth)),
+            Binding::new("hiz", Kind::read_write(4)),
+        ],
+    }],
+    entries: &[shader::Entry::grid("depth_to_hiz", 8, 8, |g| {
+        [g.width, g.height]
+    })],
+    zeroed: &[],
+};
+
+/// The HiZ buffer laid out for a depth target of one size: the level uniforms of the
+/// reduction.
+struct DepthHiz {
+    size: (u32, u32),
+    reversed: bool,
+    /// Per reduction step: its `HizStep` uniform and the size of the level it writes.
+    steps: Vec<(wgpu::Buffer, HizGrid)>,
+}
+
 /// One view's pre-cull and dispatch, ready to record.
 pub(crate) struct PreparedView {
     group: wgpu::BindGroup,
+    /// The second pass's group (two-pass occlusion): its params and counters.
+    second: Option<wgpu::BindGroup>,
     /// The pre-cull's jobs and statistics.
     pub plan: GpuPlan,
     /// Threads dispatched.
@@ -58,11 +97,19 @@ pub(crate) struct PreparedView {
 /// The GPU static query: the pass, the tile pool and the per-view buffers.
 pub struct StaticQuery {
     pass: ComputePass<QueryDispatch>,
+    hiz_depth: ComputePass<HizGrid>,
+    hiz_reduce: ComputePass<HizGrid>,
     pool: StaticPool,
     params: wgpu::Buffer,
+    /// The second pass's params (two-pass occlusion).
+    params_second: wgpu::Buffer,
     job_list: wgpu::Buffer,
     hiz: wgpu::Buffer,
+    /// Set while `hiz` is laid out for a depth target (cleared by `set_hiz`).
+    depth_hiz: Option<DepthHiz>,
     counters: wgpu::Buffer,
+    /// The second pass's counters.
+    counters_second: wgpu::Buffer,
     out_instances: wgpu::Buffer,
     out_batches: wgpu::Buffer,
     timer: GpuTimer,
@@ -74,18 +121,26 @@ impl StaticQuery {
     /// # Errors
     /// A composition error (a bug).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self> {
-        let mut q = Self {
-            pass: ComputePass::new(device, &QUERY_PASS, &[], &[])?,
-            pool: StaticPool::new(device),
-            params: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("static query params"),
+        let uniform = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
                 size: size_of::<QueryParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
-            }),
+            })
+        };
+        let mut q = Self {
+            pass: ComputePass::new(device, &QUERY_PASS, &[], &[])?,
+            hiz_depth: ComputePass::new(device, &HIZ_DEPTH, &[], &[])?,
+            hiz_reduce: ComputePass::new(device, &HIZ_PASS, &[], &[])?,
+            pool: StaticPool::new(device),
+            params: uniform("static query params"),
+            params_second: uniform("static query params (second pass)"),
             job_list: empty_storage(device, "static query jobs", 4096)?,
             hiz: empty_storage(device, "static query hiz", 256)?,
+            depth_hiz: None,
             counters: empty_storage(device, "static query counters", 256)?,
+            counters_second: empty_storage(device, "static query counters (second pass)", 256)?,
             out_instances: empty_storage(device, "static query instances", 256)?,
             out_batches: empty_storage(device, "static query batches", 256)?,
             timer: GpuTimer::new(device, queue, 1),
@@ -139,7 +194,149 @@ impl StaticQuery {
             self.hiz = empty_storage(device, "static query hiz", bytes)?;
         }
         queue.write_buffer(&self.hiz, 0, bytemuck::cast_slice(&words));
+        self.depth_hiz = None;
         Ok(())
+    }
+
+    /// Lays the HiZ buffer out for a `width` x `height` depth target (header and level
+    /// uniforms; nothing when it already is), for [`StaticQuery::record_depth_hiz`].
+    pub(crate) fn prepare_depth_hiz(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (width, height): (u32, u32),
+        reversed: bool,
+    ) -> Result<()> {
+        if self
+            .depth_hiz
+            .as_ref()
+            .is_some_and(|d| d.size == (width, height) && d.reversed == reversed)
+        {
+            return Ok(());
+        }
+        let (header, len) = hiz_header(width, height)?;
+        let bytes = len as u64 * 4;
+        if self.hiz.size() < bytes {
+            self.hiz = empty_storage(device, "static query hiz", bytes)?;
+        }
+        queue.write_buffer(&self.hiz, 0, bytemuck::cast_slice(&header));
+        let levels = header[0] as usize;
+        let steps = (0..levels.saturating_sub(1))
+            .map(|level| {
+                let step = HizStep {
+                    level: level as u32,
+                    reversed: u32::from(reversed),
+                    pad: [0; 2],
+                };
+                let buffer = crate::resources::buffer_init(
+                    device,
+                    "hiz step",
+                    bytemuck::bytes_of(&step),
+                    size_of::<HizStep>() as u64,
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                let grid = HizGrid {
+                    width: header[8 + 4 * level],
+                    height: header[9 + 4 * level],
+                };
+                (buffer, grid)
+            })
+            .collect();
+        self.depth_hiz = Some(DepthHiz {
+            size: (width, height),
+            reversed,
+            steps,
+        });
+        Ok(())
+    }
+
+    /// Records the HiZ pyramid of `depth` (a depth target of the size last prepared with
+    /// [`StaticQuery::prepare_depth_hiz`]): level 0 copied, then each level reduced.
+    pub(crate) fn record_depth_hiz(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        depth: &wgpu::TextureView,
+        timer: &mut GpuTimer,
+        label: &'static str,
+    ) -> Result<()> {
+        let Some(d) = &self.depth_hiz else {
+            return Ok(());
+        };
+        let copy = self.hiz_depth.bind_group(
+            device,
+            "depth",
+            &[
+                ("depth", wgpu::BindingResource::TextureView(depth)),
+                ("hiz", self.hiz.as_entire_binding()),
+            ],
+        )?;
+        let steps = d
+            .steps
+            .iter()
+            .map(|(step, grid)| {
+                Ok((
+                    self.hiz_reduce.bind_group(
+                        device,
+                        "hiz",
+                        &[
+                            ("step", step.as_entire_binding()),
+                            ("hiz", self.hiz.as_entire_binding()),
+                        ],
+                    )?,
+                    *grid,
+                ))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: timer.compute(label),
+        });
+        let (width, height) = d.size;
+        self.hiz_depth
+            .record(&mut pass, &[&copy], &HizGrid { width, height });
+        for (group, grid) in &steps {
+            self.hiz_reduce.record(&mut pass, &[group], grid);
+        }
+        Ok(())
+    }
+
+    /// The HiZ pyramid's texels as the query last read them (every level after the
+    /// other, finest first: the layout of `staticscene::HiZ::texels`), and level 0's size.
+    /// A diagnostic: what the occlusion test saw.
+    ///
+    /// # Errors
+    /// No HiZ (none set, or occlusion off), or a device or mapping error.
+    pub fn read_hiz(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(Vec<f32>, (u32, u32))> {
+        let header: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(
+            device,
+            queue,
+            &self.hiz,
+            0,
+            staticscene::pass::HIZ_HEADER_WORDS as u64 * 4,
+        )?);
+        if header[0] == 0 {
+            return Err(crate::Error::Length {
+                what: "HiZ levels (none was set or built)",
+                got: 0,
+                expected: 1,
+            });
+        }
+        let (w, h) = (header[4], header[5]);
+        let (_, len) = hiz_header(w, h)?;
+        let start = staticscene::pass::HIZ_HEADER_WORDS as u64;
+        let texels: Vec<f32> = bytemuck::pod_collect_to_vec(&read_buffer(
+            device,
+            queue,
+            &self.hiz,
+            start * 4,
+            (len as u64 - start) * 4,
+        )?);
+        Ok((texels, (w, h)))
     }
 
     /// The pre-cull of one view on `scene`, and the uploads and bind group of its
@@ -150,6 +347,7 @@ impl StaticQuery {
         queue: &wgpu::Queue,
         scene: &mut staticscene::Scene,
         params: &QueryParams,
+        second: Option<&QueryParams>,
         options: &QueryOptions,
     ) -> Result<PreparedView> {
         let pool = &self.pool;
@@ -173,59 +371,83 @@ impl StaticQuery {
         }
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         queue.write_buffer(&self.job_list, 0, bytemuck::cast_slice(&jobs));
-        queue.write_buffer(
-            &self.counters,
-            0,
-            bytemuck::bytes_of(&QueryCounters::default()),
-        );
-        let group = self.pass.bind_group(
-            device,
-            "query",
-            &[
-                ("params", self.params.as_entire_binding()),
-                ("job_list", self.job_list.as_entire_binding()),
-                ("instances", pool.instances.buffer.as_entire_binding()),
-                ("records", pool.records.buffer.as_entire_binding()),
-                ("hiz", self.hiz.as_entire_binding()),
-                ("state", pool.state.buffer.as_entire_binding()),
-                ("counters", self.counters.as_entire_binding()),
-                ("out_instances", self.out_instances.as_entire_binding()),
-                ("out_batches", self.out_batches.as_entire_binding()),
-            ],
-        )?;
+        let group = |params: &wgpu::Buffer, counters: &wgpu::Buffer| {
+            queue.write_buffer(counters, 0, bytemuck::bytes_of(&QueryCounters::default()));
+            self.pass.bind_group(
+                device,
+                "query",
+                &[
+                    ("params", params.as_entire_binding()),
+                    ("job_list", self.job_list.as_entire_binding()),
+                    ("instances", pool.instances.buffer.as_entire_binding()),
+                    ("records", pool.records.buffer.as_entire_binding()),
+                    ("hiz", self.hiz.as_entire_binding()),
+                    ("state", pool.state.buffer.as_entire_binding()),
+                    ("counters", counters.as_entire_binding()),
+                    ("out_instances", self.out_instances.as_entire_binding()),
+                    ("out_batches", self.out_batches.as_entire_binding()),
+                ],
+            )
+        };
+        let first = group(&self.params, &self.counters)?;
+        let second = match second {
+            Some(p) => {
+                queue.write_buffer(&self.params_second, 0, bytemuck::bytes_of(p));
+                Some(group(&self.params_second, &self.counters_second)?)
+            }
+            None => None,
+        };
         Ok(PreparedView {
-            group,
+            group: first,
+            second,
             plan,
             threads,
             cap,
         })
     }
 
-    /// Records a prepared view's dispatch.
-    pub(crate) fn record_view(&self, pass: &mut wgpu::ComputePass<'_>, view: &PreparedView) {
-        self.pass
-            .record(pass, &[&view.group], &view.plan.dispatch());
+    /// Records a prepared view's dispatch: its first (or only) pass, or with `second`
+    /// the second pass of two-pass occlusion (nothing if it was prepared without one).
+    pub(crate) fn record_view(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        view: &PreparedView,
+        second: bool,
+    ) {
+        let group = if second {
+            view.second.as_ref()
+        } else {
+            Some(&view.group)
+        };
+        if let Some(g) = group {
+            self.pass.record(pass, &[g], &view.plan.dispatch());
+        }
     }
 
-    /// The buffers the query writes (the static placement reads them).
-    pub(crate) fn outputs(&self) -> QueryOutputs<'_> {
+    /// The buffers a pass of the query writes (the static placement reads them).
+    pub(crate) fn outputs(&self, second: bool) -> QueryOutputs<'_> {
         QueryOutputs {
-            counters: &self.counters,
+            counters: if second {
+                &self.counters_second
+            } else {
+                &self.counters
+            },
             instances: &self.out_instances,
             batches: &self.out_batches,
         }
     }
 
-    /// Reads the counters of the last recorded view back (after its submission).
+    /// Reads the counters of a pass of the last recorded view back (after its submission).
     pub(crate) fn read_counters(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        second: bool,
     ) -> Result<QueryCounters> {
         Ok(bytemuck::pod_read_unaligned(&read_buffer(
             device,
             queue,
-            &self.counters,
+            self.outputs(second).counters,
             0,
             size_of::<QueryCounters>() as u64,
         )?))
@@ -248,7 +470,7 @@ impl StaticQuery {
         options: &QueryOptions,
         readback: QueryReadback,
     ) -> Result<StaticQueryOutput> {
-        let view = self.prepare_view(device, queue, scene, params, options)?;
+        let view = self.prepare_view(device, queue, scene, params, None, options)?;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("static query"),
         });
@@ -257,12 +479,12 @@ impl StaticQuery {
                 label: Some("static query"),
                 timestamp_writes: self.timer.compute("static query"),
             });
-            self.record_view(&mut pass, &view);
+            self.record_view(&mut pass, &view, false);
         }
         self.timer.resolve(&mut encoder);
         queue.submit([encoder.finish()]);
         let gpu_ms = self.timer.read(device, queue)?.first().map(|t| t.ms);
-        let counters = self.read_counters(device, queue)?;
+        let counters = self.read_counters(device, queue, false)?;
         let cap = view.cap;
         let mut out = StaticQueryOutput {
             stats: counters.stats(&view.plan.stats),

@@ -6,6 +6,10 @@
 //! (`multi_draw_indexed_indirect_count`, or `multi_draw_indexed_indirect` over zeroed
 //! lists).
 //!
+//! With two-pass occlusion the placement runs again after the query's second pass: its
+//! instances take the next slots, the full lists are rewritten to cover the whole frame,
+//! and late lists hold only the new instances, for the laydown's second geometry pass.
+//!
 //! Slots and IDs come from `tiling::Plan::reserve` at prepare (one reserved range per
 //! setup), so the classification and the resolve find a static instance exactly as a
 //! planned one: vis ID -> micro batch row -> instance slot.
@@ -19,14 +23,18 @@ use crate::error::Result;
 use crate::resources::rows::{GpuInstance, GpuStaticParams, GpuStaticSetup};
 use crate::timing::GpuTimer;
 
-/// `counters` word: draws appended to the opaque list (the alpha-tested list's is next).
+/// `counters` word: draws appended to the full opaque list (the alpha-tested list's is
+/// next).
 pub(crate) const STATIC_COUNTER_DRAWS: u32 = 0;
+/// `counters` word: draws appended to the late opaque list (the alpha-tested one's is next).
+pub(crate) const STATIC_COUNTER_LATE_DRAWS: u32 = 2;
 /// `counters` word: instances dropped past their setup's capacity.
-pub(crate) const STATIC_COUNTER_OVER_CAPACITY: u32 = 2;
+pub(crate) const STATIC_COUNTER_OVER_CAPACITY: u32 = 4;
 /// `counters` word: batches dropped (no such setup, or a source past the query's buffers).
-pub(crate) const STATIC_COUNTER_BAD_BATCHES: u32 = 3;
-/// `counters` word of setup 0's placed instances (setup `s` at `+ s`).
-pub(crate) const STATIC_COUNTER_PLACED: u32 = 4;
+pub(crate) const STATIC_COUNTER_BAD_BATCHES: u32 = 5;
+/// `counters` word of setup 0's placed instances (setup `s` at `+ s`); then, per setup,
+/// those placed by the frame's first run.
+pub(crate) const STATIC_COUNTER_PLACED: u32 = 6;
 /// Bytes of one `DrawIndexedIndirect`.
 pub(crate) const DRAW_BYTES: u64 = 20;
 
@@ -62,6 +70,7 @@ pub(crate) const STATIC_PLACE: Pass<u32> = Pass {
             dispatch: Dispatch::Indirect("place_dispatch"),
         },
         Entry::items("emit_draws", 64, |setups| *setups),
+        Entry::items("emit_late_draws", 64, |setups| *setups),
     ],
     zeroed: &["counters"],
 };
@@ -72,6 +81,7 @@ pub(crate) struct StaticPlace {
     place_args: usize,
     place: usize,
     emit: usize,
+    emit_late: usize,
 }
 
 /// A prepared scene's static buffers: the setup table, the per-frame constants and
@@ -79,13 +89,14 @@ pub(crate) struct StaticPlace {
 pub(crate) struct StaticBuffers {
     pub setups: wgpu::Buffer,
     pub params: wgpu::Buffer,
-    /// `STATIC_COUNTER_*` words; the first two are the draw lists' count buffer.
+    /// `STATIC_COUNTER_*` words; the first four are the draw lists' count buffer.
     pub counters: wgpu::Buffer,
     pub place_dispatch: wgpu::Buffer,
     /// What `place` is dispatched from: `place_dispatch` copied (a buffer bound as storage
     /// in a dispatch cannot also be its indirect argument).
     pub place_indirect: wgpu::Buffer,
-    /// Opaque draws (`opaque` of them), then alpha-tested draws (`alpha`).
+    /// The full lists: opaque draws (`opaque` of them), then alpha-tested draws
+    /// (`alpha`); then the late lists, laid out alike.
     pub draws: wgpu::Buffer,
     pub setup_count: u32,
     pub opaque: u32,
@@ -130,14 +141,14 @@ impl StaticBuffers {
             ),
             counters: make(
                 "static counters",
-                4 * (u64::from(STATIC_COUNTER_PLACED) + setups.len() as u64),
+                4 * (u64::from(STATIC_COUNTER_PLACED) + 2 * setups.len() as u64),
                 U::STORAGE | U::INDIRECT,
             ),
             place_dispatch: make("static place dispatch", 12, U::STORAGE),
             place_indirect: make("static place indirect", 12, U::INDIRECT),
             draws: make(
                 "static draws",
-                DRAW_BYTES * setups.len() as u64,
+                2 * DRAW_BYTES * setups.len() as u64,
                 U::STORAGE | U::INDIRECT,
             ),
             setup_count: setups.len() as u32,
@@ -155,6 +166,7 @@ impl StaticPlace {
             place_args: pass.step_index("place_args")?,
             place: pass.step_index("place")?,
             emit: pass.step_index("emit_draws")?,
+            emit_late: pass.step_index("emit_late_draws")?,
             pass,
         })
     }
@@ -186,15 +198,26 @@ impl StaticPlace {
     }
 
     /// Records the placement after the query: counters (and, without a count buffer, the
-    /// draw lists) zeroed, the dispatch arguments, the placement, the draws.
+    /// draw lists) zeroed, the dispatch arguments, the placement, the draws. `late`: the
+    /// frame's second run (two-pass occlusion): placed counts kept, the lists' counts
+    /// zeroed, full and late lists written.
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         b: &StaticBuffers,
         group: &wgpu::BindGroup,
         timer: &mut GpuTimer,
+        late: bool,
     ) {
-        encoder.clear_buffer(&b.counters, 0, None);
+        if late {
+            encoder.clear_buffer(
+                &b.counters,
+                0,
+                Some(4 * u64::from(STATIC_COUNTER_OVER_CAPACITY)),
+            );
+        } else {
+            encoder.clear_buffer(&b.counters, 0, None);
+        }
         if !b.with_count {
             encoder.clear_buffer(&b.draws, 0, None);
         }
@@ -211,14 +234,19 @@ impl StaticPlace {
             }
         }
         encoder.copy_buffer_to_buffer(&b.place_dispatch, 0, &b.place_indirect, 0, 12);
+        let label = if late {
+            "static placement (late)"
+        } else {
+            "static placement"
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("static placement"),
-            timestamp_writes: timer.compute("static placement"),
+            label: Some(label),
+            timestamp_writes: timer.compute(label),
         });
         pass.set_bind_group(0, group, &[]);
         pass.set_pipeline(&self.pass.steps[self.place].pipeline);
         pass.dispatch_workgroups_indirect(&b.place_indirect, 0);
-        let emit = &self.pass.steps[self.emit];
+        let emit = &self.pass.steps[if late { self.emit_late } else { self.emit }];
         if let Some([x, y, z]) = self.pass.workgroups(emit, &b.setup_count) {
             pass.set_pipeline(&emit.pipeline);
             pass.dispatch_workgroups(x, y, z);
@@ -226,14 +254,21 @@ impl StaticPlace {
     }
 }
 
-/// Records the static draw lists into a geometry pass: the opaque list with `opaque`, the
-/// alpha-tested list with `alpha` (index buffer and bind groups are the caller's).
+/// Records static draw lists into a geometry pass: the opaque list with `opaque`, the
+/// alpha-tested list with `alpha` (index buffer and bind groups are the caller's); the full
+/// lists, or with `late` the late ones.
 pub(crate) fn record_static_draws(
     pass: &mut wgpu::RenderPass<'_>,
     b: &StaticBuffers,
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
+    late: bool,
 ) {
+    let (block, count_word) = if late {
+        (b.setup_count, STATIC_COUNTER_LATE_DRAWS)
+    } else {
+        (0, STATIC_COUNTER_DRAWS)
+    };
     for (list, pipeline, first, count) in [
         (0u64, opaque, 0u32, b.opaque),
         (1, alpha, b.opaque, b.alpha),
@@ -242,13 +277,13 @@ pub(crate) fn record_static_draws(
             continue;
         }
         pass.set_pipeline(pipeline);
-        let offset = u64::from(first) * DRAW_BYTES;
+        let offset = u64::from(block + first) * DRAW_BYTES;
         if b.with_count {
             pass.multi_draw_indexed_indirect_count(
                 &b.draws,
                 offset,
                 &b.counters,
-                4 * (u64::from(STATIC_COUNTER_DRAWS) + list),
+                4 * (u64::from(count_word) + list),
                 count,
             );
         } else {
@@ -274,6 +309,10 @@ mod tests {
         );
         for (name, value) in [
             ("GPU_STATIC_COUNTER_DRAWS", super::STATIC_COUNTER_DRAWS),
+            (
+                "GPU_STATIC_COUNTER_LATE_DRAWS",
+                super::STATIC_COUNTER_LATE_DRAWS,
+            ),
             (
                 "GPU_STATIC_COUNTER_OVER_CAPACITY",
                 super::STATIC_COUNTER_OVER_CAPACITY,

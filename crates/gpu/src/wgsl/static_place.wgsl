@@ -4,7 +4,11 @@
 // atomic per batch, by its first lane), its lanes write the instances' GpuInstance rows with
 // the vis-word fields of their rank (tiling's reserved range: rank r -> ID first_id +
 // r >> (16 - p)), then one invocation per setup with placed instances appends its indexed
-// indirect draw (opaque or alpha-tested list) and bumps that list's count. Every index is
+// indirect draw (opaque or alpha-tested list) and bumps that list's count. With two-pass
+// occlusion the placement runs twice a frame: the second run's instances take the slots
+// after the first's, `emit_late_draws` rewrites the full list (every placed instance, for
+// passes that draw the whole frame, like the baseline's) and writes the late list (only
+// the instances placed since the first run, for the laydown's second geometry pass). Every index is
 // checked: a batch naming no setup, a source past the query's buffers, or a rank past
 // the setup's capacity is dropped and counted, never written.
 //
@@ -47,12 +51,15 @@ struct GpuStaticParams {
 
 // counters[GPU_STATIC_COUNTER_DRAWS + list]: draws appended per list (the count buffer).
 const GPU_STATIC_COUNTER_DRAWS: u32 = 0u;
+// counters[GPU_STATIC_COUNTER_LATE_DRAWS + list]: the late lists' counts.
+const GPU_STATIC_COUNTER_LATE_DRAWS: u32 = 2u;
 // Instances dropped past their setup's capacity.
-const GPU_STATIC_COUNTER_OVER_CAPACITY: u32 = 2u;
+const GPU_STATIC_COUNTER_OVER_CAPACITY: u32 = 4u;
 // Batches dropped: no such setup, or a source past the query's buffers.
-const GPU_STATIC_COUNTER_BAD_BATCHES: u32 = 3u;
-// counters[GPU_STATIC_COUNTER_PLACED + s]: instances of setup s (before the capacity clamp).
-const GPU_STATIC_COUNTER_PLACED: u32 = 4u;
+const GPU_STATIC_COUNTER_BAD_BATCHES: u32 = 5u;
+// counters[GPU_STATIC_COUNTER_PLACED + s]: instances of setup s (before the capacity clamp);
+// counters[GPU_STATIC_COUNTER_PLACED + setup_count + s]: those placed by the first run.
+const GPU_STATIC_COUNTER_PLACED: u32 = 6u;
 // The query's counter words: visible instances, batches.
 const GPU_STATIC_QUERY_BATCHES: u32 = 1u;
 // Words per DrawIndexedIndirect.
@@ -139,26 +146,55 @@ fn place(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     instances[slot] = out;
 }
 
-// One invocation per setup: the draw of its placed instances, appended to its list.
-@compute @workgroup_size(64)
-fn emit_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let i = gid.x;
-    if i >= params.setup_count || i >= arrayLength(&setups) {
+// Appends setup i's draw of its instances [first, end) to list `list` of draw block
+// `block` (0: full lists, 1: late lists).
+fn gpu_static_append_draw(s: GpuStaticSetup, block: u32, first: u32, end: u32) {
+    if first >= end || s.list > 1u {
         return;
     }
-    let s = setups[i];
-    let n = min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + i]), s.capacity);
-    if n == 0u || s.list > 1u {
-        return;
-    }
-    let d = atomicAdd(&counters[GPU_STATIC_COUNTER_DRAWS + s.list], 1u);
-    let at = (select(0u, params.alpha_base, s.list == 1u) + d) * GPU_STATIC_DRAW_WORDS;
+    let d = atomicAdd(&counters[select(GPU_STATIC_COUNTER_DRAWS, GPU_STATIC_COUNTER_LATE_DRAWS, block == 1u) + s.list], 1u);
+    let at = (block * params.setup_count + select(0u, params.alpha_base, s.list == 1u) + d) * GPU_STATIC_DRAW_WORDS;
     if at + GPU_STATIC_DRAW_WORDS > arrayLength(&draws) {
         return;
     }
     draws[at] = s.index_count;
-    draws[at + 1u] = n;
+    draws[at + 1u] = end - first;
     draws[at + 2u] = s.first_index;
     draws[at + 3u] = s.base_vertex;
-    draws[at + 4u] = s.first_slot;
+    draws[at + 4u] = s.first_slot + first;
+}
+
+// Setup i and its placed instances (clamped to its capacity), or none past the table.
+fn gpu_static_placed(i: u32) -> u32 {
+    if i >= params.setup_count || i >= arrayLength(&setups) {
+        return 0u;
+    }
+    return min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + i]), setups[i].capacity);
+}
+
+// One invocation per setup: the draw of its placed instances, appended to its full list;
+// remembers how many that is for a later run's late list.
+@compute @workgroup_size(64)
+fn emit_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let n = gpu_static_placed(i);
+    if i >= params.setup_count || i >= arrayLength(&setups) {
+        return;
+    }
+    atomicStore(&counters[GPU_STATIC_COUNTER_PLACED + params.setup_count + i], n);
+    gpu_static_append_draw(setups[i], 0u, 0u, n);
+}
+
+// After a second run: the full list again (every instance of the frame), and the late
+// list (the instances placed since `emit_draws`).
+@compute @workgroup_size(64)
+fn emit_late_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    let n = gpu_static_placed(i);
+    if i >= params.setup_count || i >= arrayLength(&setups) {
+        return;
+    }
+    let early = min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + params.setup_count + i]), n);
+    gpu_static_append_draw(setups[i], 0u, 0u, n);
+    gpu_static_append_draw(setups[i], 1u, early, n);
 }
