@@ -6,9 +6,10 @@
 //! back (what a CPU renderer, or `tiling::build_plan`, then consumes).
 //!
 //! The HiZ the query tests against is either given ([`StaticQuery::set_hiz`], a pyramid
-//! built on the CPU) or built here from the frame's depth target: `gpu::hiz_depth` copies
-//! the depth into level 0 of `staticscene`'s HiZ buffer layout, then `staticscene`'s
-//! [`HIZ_PASS`] reduces it level after level (one dispatch per level).
+//! built on the CPU) or built here from the frame's depth target: `gpu::hiz_depth` writes
+//! levels 0-4 of `staticscene`'s HiZ buffer layout in one dispatch (16x16 depth texels per
+//! workgroup, reduced through workgroup memory), then `staticscene`'s [`HIZ_PASS`] reduces
+//! the coarser levels one dispatch each.
 
 use shader::pipeline::ComputePass;
 use shader::{Binding, Group, Kind, Pass, Sample};
@@ -53,7 +54,11 @@ pub struct StaticQueryOutput {
     pub skipped_tiles: Vec<TileId>,
 }
 
-/// Level 0 of the HiZ buffer from the depth target (`gpu::hiz_depth`).
+/// Levels `gpu::hiz_depth` writes (0 to 4: a 16x16 block per workgroup).
+pub(crate) const HIZ_DEPTH_LEVELS: usize = 5;
+
+/// The finest HiZ levels from the depth target (`gpu::hiz_depth`); the grid is one
+/// invocation per 2x2 depth texels (level 1's size).
 pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
     name: "hiz from depth",
     module: "gpu::hiz_depth",
@@ -62,6 +67,7 @@ pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
     groups: &[Group {
         name: "depth",
         bindings: &[
+            Binding::new("step", Kind::uniform(size_of::<HizStep>())),
             Binding::new("depth", Kind::texture_2d(Sample::Depth)),
             Binding::new("hiz", Kind::read_write(4)),
         ],
@@ -72,11 +78,13 @@ pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
     zeroed: &[],
 };
 
-/// The HiZ buffer laid out for a depth target of one size: the level uniforms of the
-/// reduction.
+/// The HiZ buffer laid out for a depth target of one size: the uniforms of the depth
+/// pass and of the reduction steps after it.
 struct DepthHiz {
     size: (u32, u32),
     reversed: bool,
+    /// The depth pass's `HizStep` uniform (level 0).
+    first: wgpu::Buffer,
     /// Per reduction step: its `HizStep` uniform and the size of the level it writes.
     steps: Vec<(wgpu::Buffer, HizGrid)>,
 }
@@ -221,30 +229,34 @@ impl StaticQuery {
         }
         queue.write_buffer(&self.hiz, 0, bytemuck::cast_slice(&header));
         let levels = header[0] as usize;
-        let steps = (0..levels.saturating_sub(1))
+        let step = |level: usize| {
+            let step = HizStep {
+                level: level as u32,
+                reversed: u32::from(reversed),
+                pad: [0; 2],
+            };
+            crate::resources::buffer_init(
+                device,
+                "hiz step",
+                bytemuck::bytes_of(&step),
+                size_of::<HizStep>() as u64,
+                wgpu::BufferUsages::UNIFORM,
+            )
+        };
+        // The depth pass writes levels 0..HIZ_DEPTH_LEVELS; each step then writes one more.
+        let steps = (HIZ_DEPTH_LEVELS - 1..levels.saturating_sub(1))
             .map(|level| {
-                let step = HizStep {
-                    level: level as u32,
-                    reversed: u32::from(reversed),
-                    pad: [0; 2],
-                };
-                let buffer = crate::resources::buffer_init(
-                    device,
-                    "hiz step",
-                    bytemuck::bytes_of(&step),
-                    size_of::<HizStep>() as u64,
-                    wgpu::BufferUsages::UNIFORM,
-                );
                 let grid = HizGrid {
                     width: header[8 + 4 * level],
                     height: header[9 + 4 * level],
                 };
-                (buffer, grid)
+                (step(level), grid)
             })
             .collect();
         self.depth_hiz = Some(DepthHiz {
             size: (width, height),
             reversed,
+            first: step(0),
             steps,
         });
         Ok(())
@@ -267,6 +279,7 @@ impl StaticQuery {
             device,
             "depth",
             &[
+                ("step", d.first.as_entire_binding()),
                 ("depth", wgpu::BindingResource::TextureView(depth)),
                 ("hiz", self.hiz.as_entire_binding()),
             ],
@@ -293,8 +306,11 @@ impl StaticQuery {
             timestamp_writes: timer.compute(label),
         });
         let (width, height) = d.size;
-        self.hiz_depth
-            .record(&mut pass, &[&copy], &HizGrid { width, height });
+        let quads = HizGrid {
+            width: width.div_ceil(2),
+            height: height.div_ceil(2),
+        };
+        self.hiz_depth.record(&mut pass, &[&copy], &quads);
         for (group, grid) in &steps {
             self.hiz_reduce.record(&mut pass, &[group], grid);
         }
@@ -512,5 +528,35 @@ impl StaticQuery {
             )?);
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use staticscene::pass::HizStep;
+
+    #[test]
+    fn hiz_depth_matches_its_description_and_the_reduction_uniform() {
+        shadercheck::check_pass(&super::HIZ_DEPTH, |_| shadercheck::Caps::CORE);
+        let m = shadercheck::assert_composed(
+            super::super::LIBRARY,
+            "gpu::hiz_depth",
+            &[],
+            shadercheck::Caps::CORE,
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_HIZ_DEPTH_LEVELS"),
+            Some(super::HIZ_DEPTH_LEVELS as u32)
+        );
+        shadercheck::assert_struct_layout(
+            &m,
+            "GpuHizDepthStep",
+            size_of::<HizStep>(),
+            &shadercheck::members!(HizStep {
+                level,
+                reversed,
+                pad
+            }),
+        );
     }
 }
