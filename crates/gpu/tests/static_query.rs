@@ -1,14 +1,15 @@
 //! HZD's static query through the renderer's `StaticQuery` (testkit's device; lavapipe in
 //! CI) against `staticscene`'s CPU twin, while tiles stream in and out: the pooled
-//! buffers are allocated on activation, released on removal and reused.
+//! buffers are allocated on activation, released on removal and reused; sun shadow views
+//! (the pass's shadow variant) between camera frames.
 
 use std::collections::BTreeMap;
 
 use gpu::staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
-use gpu::staticscene::glam::DQuat;
+use gpu::staticscene::glam::{DQuat, DVec3, Mat4};
 use gpu::staticscene::{
-    BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
-    ResourceLibrary, Scene, TileStreamer, ViewDesc, canonical_batches, snap_origin,
+    BuildConfig, Camera, DrawableSetupInstance, FILTER_SUN_SHADOW, HiZ, QueryOptions, QueryOutput,
+    QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, canonical_batches, snap_origin,
 };
 use gpu::{QueryReadback, StaticQuery};
 use testkit::device::ctx;
@@ -39,6 +40,7 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
     let mut loaded: std::collections::BTreeSet<u64> = std::collections::BTreeSet::new();
     let mut prev_cam = street_camera(&cfg);
     let mut max_tiles = 0;
+    let mut shadow_views = 0;
     for frame in 0..10usize {
         let lo = frame / 2;
         let want: Vec<usize> = (lo..(lo + n / 2).min(n))
@@ -127,8 +129,41 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
         }
         assert_eq!(g, p, "frame {frame}: statistics");
         assert!(gpu.stats.visible > 0, "frame {frame}: nothing visible");
+
+        // A sun shadow view between camera frames (the pass's shadow variant): equal to the
+        // twin, and the next frame's camera query still equals it (no camera state moved).
+        if frame % 3 == 1 {
+            let ahead = cam.rotation * DVec3::NEG_Z;
+            let target = cam.position + ahead * 50.0;
+            let sun_dir = DVec3::new(-0.3, -0.85, 0.4).normalize();
+            let ortho = Mat4::orthographic_rh(-100.0, 100.0, -100.0, 100.0, 1.0, 1200.0);
+            let sun = Camera::look_at(target - sun_dir * 600.0, target, DVec3::Y, ortho, false);
+            let shadow = ViewDesc::shadow(sun, [512, 512], FILTER_SUN_SHADOW, cam.position);
+            let sp = QueryParams::new(&shadow).unwrap();
+            cpu_scene
+                .query(&sp, None, &QueryOptions::default(), &mut cpu_out)
+                .unwrap();
+            let gpu = query
+                .run(
+                    &c.device,
+                    &c.queue,
+                    &mut gpu_scene,
+                    &sp,
+                    &QueryOptions::default(),
+                    QueryReadback::Full,
+                )
+                .unwrap();
+            assert_eq!(
+                canonical_batches(&gpu.instances, &gpu.batches),
+                canonical_batches(&cpu_out.instances, &cpu_out.batches),
+                "frame {frame}: sun view"
+            );
+            assert!(gpu.stats.visible > 0, "frame {frame}: the sun sees nothing");
+            shadow_views += 1;
+        }
     }
     assert!(max_tiles >= 3);
+    assert!(shadow_views >= 3);
 }
 
 /// What the query refuses or skips, as errors or reports, never a panic: a tile activated

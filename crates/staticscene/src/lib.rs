@@ -148,7 +148,8 @@ pub use tile::{
 pub use view::{
     CAMERA_STATE_VISIBLE, Camera, FRUSTUM_TOLERANCE, OcclusionPass, QUERY_FLAG_FADE,
     QUERY_FLAG_FIRST_PASS, QUERY_FLAG_OCCLUSION, QUERY_FLAG_REVERSED_DEPTH, QUERY_FLAG_SECOND_PASS,
-    QUERY_FLAG_SIZE, QueryParams, ViewDesc, ViewKind, box_outside_frustum, snap_origin,
+    QUERY_FLAG_SHADOW, QUERY_FLAG_SIZE, QueryParams, ViewDesc, ViewKind, box_outside_frustum,
+    snap_origin,
 };
 pub use wave::WaveWidth;
 

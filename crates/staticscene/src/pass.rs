@@ -419,12 +419,15 @@ const JOB_LIST_MIN: usize = 16 + size_of::<GpuJob>();
 
 /// The query pass: one bind group `query` (the view's [`QueryParams`], the job list, the
 /// pooled records, the HiZ, the fade and live state, the counters and the two outputs)
-/// and one entry point `query` of [`QUERY_WORKGROUP`] invocations per wave.
+/// and one entry point `query` of [`QUERY_WORKGROUP`] invocations per wave. Feature
+/// `shadow_view` compiles the shadow variant: views with
+/// [`QUERY_FLAG_SHADOW`](crate::QUERY_FLAG_SHADOW) only (fade, occlusion and the camera
+/// state compiled out).
 pub const QUERY_PASS: Pass<QueryDispatch> = Pass {
     name: "staticscene query",
     module: "staticscene::query_pass",
     library: crate::wgsl::LIBRARY,
-    features: &[],
+    features: &["shadow_view"],
     groups: &[Group {
         name: "query",
         bindings: &[

@@ -28,6 +28,9 @@ pub const QUERY_FLAG_SIZE: u32 = 8;
 pub const QUERY_FLAG_FIRST_PASS: u32 = 16;
 /// Query flag: the second pass of two-pass occlusion ([`OcclusionPass::Second`]).
 pub const QUERY_FLAG_SECOND_PASS: u32 = 32;
+/// Query flag: a shadow view ([`ViewKind::Shadow`]: no fade, no occlusion, no camera
+/// state); GPU queries run it through the pass's shadow variant (feature `shadow_view`).
+pub const QUERY_FLAG_SHADOW: u32 = 64;
 
 /// Bit of an instance's camera state byte (beside its fade state, `0..=MAX_FADE_FRAMES`):
 /// the instance passed every test, occlusion included, in the last camera query that
@@ -324,6 +327,9 @@ impl QueryParams {
         }
         if view.size_threshold_px > 0.0 {
             flags |= QUERY_FLAG_SIZE;
+        }
+        if !camera {
+            flags |= QUERY_FLAG_SHADOW;
         }
         match (camera, view.occlusion_pass) {
             (true, OcclusionPass::First) => flags |= QUERY_FLAG_FIRST_PASS,

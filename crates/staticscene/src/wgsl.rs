@@ -190,6 +190,7 @@ mod tests {
             ("STATICSCENE_QUERY_FLAG_SIZE", QUERY_FLAG_SIZE),
             ("STATICSCENE_QUERY_FLAG_FIRST_PASS", QUERY_FLAG_FIRST_PASS),
             ("STATICSCENE_QUERY_FLAG_SECOND_PASS", QUERY_FLAG_SECOND_PASS),
+            ("STATICSCENE_QUERY_FLAG_SHADOW", QUERY_FLAG_SHADOW),
             (
                 "STATICSCENE_CAMERA_STATE_VISIBLE",
                 u32::from(CAMERA_STATE_VISIBLE),
@@ -217,7 +218,7 @@ mod tests {
             const_u32(&m, "STATICSCENE_HIZ_HEADER_WORDS"),
             Some(pass::HIZ_HEADER_WORDS as u32)
         );
-        assert_eq!(names.len(), 29, "{names:?}");
+        assert_eq!(names.len(), 30, "{names:?}");
         assert!(names.iter().all(|n| n.starts_with("STATICSCENE_")));
     }
 

@@ -104,12 +104,23 @@ struct GpuOut {
 
 /// One run of the query pass over `pool` with `plan`; keeps the state buffer in `pool`.
 fn run_query(pool: &mut Pool, plan: &GpuPlan, params: &QueryParams, hiz: Option<&HiZ>) -> GpuOut {
+    run_variant(pool, plan, params, hiz, &[])
+}
+
+/// [`run_query`] with the pass composed with `features`.
+fn run_variant(
+    pool: &mut Pool,
+    plan: &GpuPlan,
+    params: &QueryParams,
+    hiz: Option<&HiZ>,
+    features: &[&str],
+) -> GpuOut {
     let cap = plan.instances() as usize + 1;
     let hiz = hiz_words(hiz).unwrap();
     let jobs = plan.job_list();
     let out = run_pass(
         &QUERY_PASS,
-        &[],
+        features,
         &[],
         &plan.dispatch(),
         &[
@@ -324,6 +335,58 @@ fn twin_over_frames(two_pass: bool) {
         // Frame-to-frame coherence (the walk moves 9 m and turns each frame).
         assert!(totals.drawn_early > 500, "{totals:?}");
     }
+}
+
+/// A sun shadow view (orthographic, the sun-shadow filter, LODs from the player camera)
+/// through the pass's shadow variant and through the general pass: both equal the CPU
+/// twin, and neither touches the camera state.
+#[test]
+fn a_shadow_view_through_the_shadow_variant_equals_the_twin() {
+    let cfg = CityConfig::with_instances(20_000);
+    let c = city(&cfg);
+    let mut cpu_scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
+    let mut gpu_scene = cpu_scene.clone();
+    let mut pool = Pool::new(&gpu_scene);
+    let street = street_camera(&cfg);
+    let ahead = street.rotation * DVec3::NEG_Z;
+    let target = street.position + ahead * 60.0;
+    let sun_dir = DVec3::new(0.4, -0.8, 0.3).normalize();
+    let projection = glam::Mat4::orthographic_rh(-120.0, 120.0, -120.0, 120.0, 1.0, 1500.0);
+    let sun = Camera::look_at(
+        target - sun_dir * 700.0,
+        target,
+        DVec3::Y,
+        projection,
+        false,
+    );
+    let mut view = ViewDesc::shadow(
+        sun,
+        [1024, 1024],
+        staticscene::FILTER_SUN_SHADOW,
+        street.position,
+    );
+    view.lod_scale = 0.35;
+    let params = QueryParams::new(&view).unwrap();
+    assert_ne!(params.flags & staticscene::QUERY_FLAG_SHADOW, 0);
+    let mut cpu_out = QueryOutput::<DrawableSetupInstance>::new();
+    cpu_scene
+        .query(&params, None, &QueryOptions::default(), &mut cpu_out)
+        .unwrap();
+    let slots = pool.slots.clone();
+    let plan = gpu_scene.plan_gpu(&params, &QueryOptions::default(), |id| {
+        slots.get(&id).copied()
+    });
+    let state = pool.state.clone();
+    for features in [&["shadow_view"][..], &[]] {
+        let gpu = run_variant(&mut pool, &plan, &params, None, features);
+        assert_equal(0, &gpu, &cpu_out);
+        assert!(
+            pool.state == state,
+            "{features:?}: a shadow view wrote camera state"
+        );
+    }
+    eprintln!("sun view: {:?}", cpu_out.stats);
+    assert!(cpu_out.stats.visible > 1000 && cpu_out.stats.rejected_frustum > 0);
 }
 
 /// Corrupt records never read outside their tile: instances whose object, LOD bounds,

@@ -100,11 +100,15 @@ pub(crate) struct PreparedView {
     pub threads: u64,
     /// Records the output buffers hold.
     pub cap: u64,
+    /// A shadow view: recorded with the shadow variant.
+    shadow: bool,
 }
 
 /// The GPU static query: the pass, the tile pool and the per-view buffers.
 pub struct StaticQuery {
     pass: ComputePass<QueryDispatch>,
+    /// The shadow variant (feature `shadow_view`), for views with `QUERY_FLAG_SHADOW`.
+    shadow_pass: ComputePass<QueryDispatch>,
     hiz_depth: ComputePass<HizGrid>,
     hiz_reduce: ComputePass<HizGrid>,
     pool: StaticPool,
@@ -139,6 +143,7 @@ impl StaticQuery {
         };
         let mut q = Self {
             pass: ComputePass::new(device, &QUERY_PASS, &[], &[])?,
+            shadow_pass: ComputePass::new(device, &QUERY_PASS, &["shadow_view"], &[])?,
             hiz_depth: ComputePass::new(device, &HIZ_DEPTH, &[], &[])?,
             hiz_reduce: ComputePass::new(device, &HIZ_PASS, &[], &[])?,
             pool: StaticPool::new(device),
@@ -387,9 +392,15 @@ impl StaticQuery {
         }
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         queue.write_buffer(&self.job_list, 0, bytemuck::cast_slice(&jobs));
+        let shadow = params.has(staticscene::QUERY_FLAG_SHADOW);
+        let pass = if shadow {
+            &self.shadow_pass
+        } else {
+            &self.pass
+        };
         let group = |params: &wgpu::Buffer, counters: &wgpu::Buffer| {
             queue.write_buffer(counters, 0, bytemuck::bytes_of(&QueryCounters::default()));
-            self.pass.bind_group(
+            pass.bind_group(
                 device,
                 "query",
                 &[
@@ -419,6 +430,7 @@ impl StaticQuery {
             plan,
             threads,
             cap,
+            shadow,
         })
     }
 
@@ -435,8 +447,13 @@ impl StaticQuery {
         } else {
             Some(&view.group)
         };
+        let variant = if view.shadow {
+            &self.shadow_pass
+        } else {
+            &self.pass
+        };
         if let Some(g) = group {
-            self.pass.record(pass, &[g], &view.plan.dispatch());
+            variant.record(pass, &[g], &view.plan.dispatch());
         }
     }
 
@@ -471,7 +488,8 @@ impl StaticQuery {
 
     /// Runs one view's query: the pre-cull on `scene` (which must hold the tiles
     /// activated here; it keeps the clusters' stale flags and last runs), the pass, and
-    /// the read-back of `readback`. Blocks until the GPU is done (HZD's mode).
+    /// the read-back of `readback`. Blocks until the GPU is done (HZD's mode). Shadow views
+    /// (`QUERY_FLAG_SHADOW`, from `ViewDesc::shadow`) run the pass's shadow variant.
     ///
     /// # Errors
     /// [`Error::DeviceLimit`](crate::Error::DeviceLimit) when the output for every

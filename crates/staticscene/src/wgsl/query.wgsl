@@ -26,6 +26,7 @@ const STATICSCENE_QUERY_FLAG_REVERSED_DEPTH: u32 = 4u;
 const STATICSCENE_QUERY_FLAG_SIZE: u32 = 8u;
 const STATICSCENE_QUERY_FLAG_FIRST_PASS: u32 = 16u;
 const STATICSCENE_QUERY_FLAG_SECOND_PASS: u32 = 32u;
+const STATICSCENE_QUERY_FLAG_SHADOW: u32 = 64u;
 // Bit of an instance's camera state byte: visible in the last query that wrote it.
 const STATICSCENE_CAMERA_STATE_VISIBLE: u32 = 0x80u;
 const STATICSCENE_STATE_FADING: u32 = 1u;

@@ -330,9 +330,19 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
     if (p_sel) {
         lod_sel = staticscene_level_selected(staticscene_child_lod(q), staticscene_load_bounds(job, cbi), o2f, scale2);
     }
+#if shadow_view
+    // The shadow variant (the talk's fast path for shadow views, compiled separately): no
+    // fade, no occlusion, no camera state; what reads or writes them compiles away.
+    let fading_view = false;
+    let first_pass = false;
+    let second_pass = false;
+    let occlusion_on = false;
+#else
     let fading_view = (params.flags & STATICSCENE_QUERY_FLAG_FADE) != 0u && params.fade_frames > 0u;
     let first_pass = (params.flags & STATICSCENE_QUERY_FLAG_FIRST_PASS) != 0u;
     let second_pass = !first_pass && (params.flags & STATICSCENE_QUERY_FLAG_SECOND_PASS) != 0u;
+    let occlusion_on = (params.flags & STATICSCENE_QUERY_FLAG_OCCLUSION) != 0u;
+#endif
     // The camera state byte (fade state in the low 7 bits, CAMERA_STATE_VISIBLE on top):
     // read when fading or in either occlusion pass, written except in the first pass.
     let state_on = fading_view || first_pass || second_pass;
@@ -389,7 +399,7 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
     var occluded = false;
     if (first_pass) {
         occluded = testable && !was_visible;
-    } else if (testable && (params.flags & STATICSCENE_QUERY_FLAG_OCCLUSION) != 0u) {
+    } else if (testable && occlusion_on) {
         occluded = staticscene_occluded(bx.min, bx.max);
     }
     // 7. LOD fade state.
