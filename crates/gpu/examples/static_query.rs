@@ -23,6 +23,10 @@ use gpu::{HeadlessOptions, QueryReadback, StaticQuery};
 enum CameraArg {
     Street,
     Aerial,
+    /// A sun shadow view: orthographic, 300 m across, centred 100 m ahead of the street
+    /// camera, the sun-shadow filter, LODs from the street camera. Timed through the
+    /// pass's shadow variant and, for comparison, through the general pass.
+    Sun,
 }
 
 /// Time the GPU static query on the demo city.
@@ -87,7 +91,7 @@ fn main() -> anyhow::Result<()> {
     );
 
     let cam = match args.camera {
-        CameraArg::Street => street_camera(&cfg),
+        CameraArg::Street | CameraArg::Sun => street_camera(&cfg),
         CameraArg::Aerial => aerial_camera(&cfg),
     };
     let (w, h) = (args.width, args.height);
@@ -102,12 +106,37 @@ fn main() -> anyhow::Result<()> {
     );
     let hiz = HiZ::build(&depth, w, h, false)?;
 
-    for occlusion in [false, true] {
-        let mut view = ViewDesc::camera(cam, [w, h]);
-        if occlusion {
-            view.occlusion_camera = Some(cam);
+    // (occlusion, shadow variant): the sun view has no occlusion; it runs through the
+    // shadow variant and, with its flag cleared, the general pass (same tests, same output).
+    let modes: &[(bool, bool)] = match args.camera {
+        CameraArg::Sun => &[(false, true), (false, false)],
+        _ => &[(false, false), (true, false)],
+    };
+    for &(occlusion, variant) in modes {
+        let mut params = if matches!(args.camera, CameraArg::Sun) {
+            let ahead = cam.rotation * glam::DVec3::NEG_Z;
+            let target = cam.position + ahead * 100.0;
+            let sun_dir = glam::DVec3::new(0.4, -0.8, 0.3).normalize();
+            let ortho = glam::Mat4::orthographic_rh(-150.0, 150.0, -150.0, 150.0, 1.0, 2000.0);
+            let sun = staticscene::Camera::look_at(
+                target - sun_dir * 900.0,
+                target,
+                glam::DVec3::Y,
+                ortho,
+                false,
+            );
+            let view = ViewDesc::shadow(sun, [w, h], staticscene::FILTER_SUN_SHADOW, cam.position);
+            QueryParams::new(&view)?
+        } else {
+            let mut view = ViewDesc::camera(cam, [w, h]);
+            if occlusion {
+                view.occlusion_camera = Some(cam);
+            }
+            QueryParams::new(&view)?
+        };
+        if matches!(args.camera, CameraArg::Sun) && !variant {
+            params.flags &= !staticscene::QUERY_FLAG_SHADOW;
         }
-        let params = QueryParams::new(&view)?;
         query.set_hiz(device, queue, occlusion.then_some(&hiz))?;
         let options = QueryOptions::default();
         // Warm-up: the SM clock drops when idle.
@@ -159,11 +188,16 @@ fn main() -> anyhow::Result<()> {
         }
         let s: QueryStats = out.stats;
         println!(
-            "\nocclusion {}: {}x{}, {:?} camera",
+            "\nocclusion {}: {}x{}, {:?} camera{}",
             if occlusion { "on" } else { "off" },
             w,
             h,
-            args.camera
+            args.camera,
+            match (args.camera, variant) {
+                (CameraArg::Sun, true) => ", shadow variant",
+                (CameraArg::Sun, false) => ", general pass",
+                _ => "",
+            }
         );
         println!(
             "  pre-cull: tiles {} (culled {}), clusters {} (culled {}), threads {}; CPU {:.3} ms (median)",

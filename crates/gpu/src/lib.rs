@@ -94,7 +94,9 @@ pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
     MeshId, Scene, ShaderKind, StaticSetup,
 };
-pub use statics::{StaticFrameStats, StaticOcclusion, StaticView, static_view_desc};
+pub use statics::{
+    StaticFrameStats, StaticOcclusion, StaticView, scene_from_query, static_view_desc,
+};
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;
 pub use stats::{ClassificationStats, GpuClassification};

@@ -4,10 +4,13 @@
 //!
 //! [`Renderer::render_static`]: crate::Renderer::render_static
 
-use staticscene::{QueryOptions, QueryStats, TileId, ViewDesc};
+use glam::{Affine3A, Vec3};
+use staticscene::{QueryOptions, QueryParams, QueryStats, TileId, ViewDesc};
 
+use crate::error::SceneError;
 use crate::frame::Camera;
-use crate::passes::query::StaticQuery;
+use crate::passes::query::{StaticQuery, StaticQueryOutput};
+use crate::scene::{Batch, Scene};
 
 /// Where the static query's occlusion test gets its HiZ.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -87,4 +90,61 @@ pub struct StaticFrameStats {
     pub draws: [u32; 2],
     /// Active tiles of the CPU scene not activated on the GPU (skipped).
     pub skipped_tiles: Vec<TileId>,
+}
+
+/// HZD's mode, where the CPU consumes the query: `scene` with its static setups replaced
+/// by planned batches of what `out` (a [`StaticQuery::run`] with
+/// [`QueryReadback::Full`](crate::QueryReadback::Full) of `params`) found visible, one batch
+/// per query batch (its setup's mesh and material, its instances' transforms from the
+/// query's floating space back to world space). [`Renderer::prepare`](crate::Renderer::prepare)
+/// then plans them with `tiling::build_plan` as any batch.
+///
+/// # Errors
+/// [`SceneError::StaticSetup`] for a batch whose setup handle names no setup of `scene`,
+/// or whose instances lie outside `out.instances` (the batch is named; nothing is kept).
+pub fn scene_from_query(
+    scene: &Scene,
+    out: &StaticQueryOutput,
+    params: &QueryParams,
+) -> Result<Scene, SceneError> {
+    let o = params.origin;
+    // Whole metres: exact in f32 below 2^24 m.
+    let origin = Affine3A::from_translation(Vec3::new(o[0] as f32, o[1] as f32, o[2] as f32));
+    let mut planned = Scene {
+        static_setups: Vec::new(),
+        ..scene.clone()
+    };
+    for (i, b) in out.batches.iter().enumerate() {
+        let setup = usize::try_from(b.setup)
+            .ok()
+            .and_then(|h| scene.static_setups.get(h))
+            .ok_or_else(|| SceneError::StaticSetup {
+                setup: b.setup.min(usize::MAX as u64) as usize,
+                problem: format!(
+                    "query batch {i} names it; the scene has {}",
+                    scene.static_setups.len()
+                ),
+            })?;
+        let first = b.first_instance as usize;
+        let instances = out
+            .instances
+            .get(first..first + b.count as usize)
+            .ok_or_else(|| SceneError::StaticSetup {
+                setup: b.setup as usize,
+                problem: format!(
+                    "query batch {i}: instances {first}..{} past the {} read back",
+                    first + b.count as usize,
+                    out.instances.len()
+                ),
+            })?;
+        planned.batches.push(Batch {
+            mesh: setup.mesh,
+            material: setup.material,
+            instances: instances
+                .iter()
+                .map(|d| origin * d.local_to_floating.to_affine())
+                .collect(),
+        });
+    }
+    Ok(planned)
 }

@@ -12,9 +12,9 @@ use gpu::staticscene;
 use gpu::staticscene::ViewDesc;
 use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
 use gpu::{
-    Batch, Camera, FrameInput, PreparedScene, RenderPath, Renderer, RendererConfig, Rgba8Image,
-    Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
-    static_view_desc,
+    Batch, Camera, FrameInput, PreparedScene, QueryReadback, RenderPath, Renderer, RendererConfig,
+    Rgba8Image, Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
+    scene_from_query, static_view_desc,
 };
 use testkit::device::ctx;
 
@@ -386,6 +386,55 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
         hidden > 1000 && early > 1000 && added > 100,
         "{hidden} {early} {added}"
     );
+}
+
+/// HZD's mode: the query read back (`StaticQuery::run`), its batches planned with
+/// `tiling::build_plan` at prepare (`scene_from_query`), rendered as any scene: the image
+/// equals the GPU-driven frame's; a batch naming no setup is an error naming it.
+#[test]
+fn hzds_read_back_mode_draws_what_the_gpu_driven_frame_draws() {
+    let c = ctx();
+    let mut rig = Rig::new();
+    let camera = rig.city.frame.camera;
+    let desc = static_view_desc(&camera, W, H);
+    let mut readback_scene = rig.cpu.clone();
+    let params = QueryParams::new(&desc).unwrap();
+    let out = rig
+        .query
+        .run(
+            &c.device,
+            &c.queue,
+            &mut readback_scene,
+            &params,
+            &QueryOptions::default(),
+            QueryReadback::Full,
+        )
+        .unwrap();
+    let planned = scene_from_query(&rig.city.scene, &out, &params).unwrap();
+    assert_eq!(
+        planned.instance_count() - rig.city.scene.instance_count(),
+        out.instances.len()
+    );
+    let (driven, _) = rig.frame(desc, camera, RenderPath::Deferred);
+    let prepared = rig.r.prepare(&planned).unwrap();
+    rig.r
+        .render(&prepared, &rig.city.frame, RenderPath::Deferred)
+        .unwrap();
+    let hzd = rig.r.read_output().unwrap();
+    let (mean, _) = diff_metrics(&driven, &hzd, 0.5).unwrap();
+    let (_, p99) = diff_metrics(&driven, &hzd, 0.99).unwrap();
+    eprintln!("GPU-driven vs HZD's read-back mode: mean {mean:.4}, p99 {p99}");
+    assert!(mean < 0.05 && p99 <= 2, "mean {mean}, p99 {p99}");
+    let mut bad = out.clone();
+    bad.batches[2].setup = 9_999;
+    let e = scene_from_query(&rig.city.scene, &bad, &params).unwrap_err();
+    assert!(
+        e.to_string().contains("9999") && e.to_string().contains("batch 2"),
+        "{e}"
+    );
+    let mut short = out;
+    short.instances.truncate(1);
+    assert!(scene_from_query(&rig.city.scene, &short, &params).is_err());
 }
 
 #[test]

@@ -65,6 +65,12 @@ impl Report {
         self.row(what, format!("{ms:.1} ms"));
     }
 
+    /// The GPU time of a whole frame (the sum of its timed passes).
+    pub fn gpu_frame_ms(&mut self, what: &str, frame: &FrameOutput) {
+        let ms: f64 = frame.gpu.iter().map(|t| t.ms).sum();
+        self.row(what, format!("{ms:.3} ms"));
+    }
+
     /// The static query's counts (seed 001's funnel) and the placement into the frame.
     pub fn static_query(&mut self, s: &gpu::StaticFrameStats, scene_instances: u64) {
         let q = &s.query;
