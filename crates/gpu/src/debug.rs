@@ -105,6 +105,51 @@ pub fn quad_overdraw(width: u32, height: u32, vis: &[u32]) -> (Rgba8Image, f64) 
     (img, shaded as f64 / quads.max(1) as f64)
 }
 
+/// The HiZ pyramid the static query tested against (`StaticQuery::read_hiz`: texels level
+/// after level, ceil-halved from `size`) as a mip atlas: level 0 on the left, level 1 to
+/// its right, each further level below the one before. Reversed depth in grey on a log
+/// scale (1, the near plane, white; 10^-4 black); texels at 0 (nothing drawn: the far
+/// plane) in the empty colour.
+pub fn hiz_mips(texels: &[f32], size: (u32, u32)) -> Rgba8Image {
+    let (w0, h0) = size;
+    let w1 = w0.div_ceil(2);
+    let mut img = Rgba8Image::new(w0 + w1, h0, [0, 0, 0, 255]);
+    let grey = |d: f32| -> [u8; 4] {
+        if d <= 0.0 {
+            return EMPTY;
+        }
+        let v = (1.0 + d.log10() / 4.0).clamp(0.0, 1.0);
+        let g = (v * 255.0).round() as u8;
+        [g, g, g, 255]
+    };
+    let (mut w, mut h) = (w0, h0);
+    let (mut ox, mut oy) = (0u32, 0u32);
+    let mut at = 0usize;
+    let mut level = 0;
+    loop {
+        for y in 0..h {
+            for x in 0..w {
+                let (px, py) = (ox + x, oy + y);
+                if let (Some(&t), true) = (texels.get(at + (y * w + x) as usize), py < h0) {
+                    img.pixels[(py * img.width + px) as usize] = grey(t);
+                }
+            }
+        }
+        at += (w * h) as usize;
+        if w == 1 && h == 1 {
+            break;
+        }
+        if level == 0 {
+            ox = w0;
+        } else {
+            oy += h;
+        }
+        level += 1;
+        (w, h) = (w.div_ceil(2), h.div_ceil(2));
+    }
+    img
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,5 +167,26 @@ mod tests {
         assert!((mean - 2.0).abs() < 1e-12, "{mean}");
         let (_, mean) = quad_overdraw(4, 2, &vis[..3]);
         assert!((mean - 1.5).abs() < 1e-12, "{mean}");
+    }
+
+    /// Each level lands where the atlas puts it: level 0 texel for texel at the left, the
+    /// last (1x1) level below the others on the right.
+    #[test]
+    fn hiz_mips_lays_the_levels_out() {
+        let (w, h) = (6u32, 4u32);
+        // Levels 6x4, 3x2, 2x1, 1x1.
+        let mut texels = vec![1.0f32; 24];
+        texels[5] = 0.0; // level 0 (5, 0): nothing drawn
+        texels.extend([1e-2; 6]);
+        texels.extend([1e-4; 2]);
+        texels.push(0.0);
+        let img = super::hiz_mips(&texels, (w, h));
+        assert_eq!((img.width, img.height), (9, 4));
+        let px = |x: u32, y: u32| img.pixels[(y * img.width + x) as usize];
+        assert_eq!(px(0, 0), [255, 255, 255, 255]);
+        assert_eq!(px(5, 0), super::EMPTY);
+        assert_eq!(px(6, 0), [128, 128, 128, 255]);
+        assert_eq!(px(6, 2), [0, 0, 0, 255]);
+        assert_eq!(px(6, 3), super::EMPTY);
     }
 }

@@ -299,6 +299,12 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     if let [deferred, baseline] = images.as_slice() {
         report.compare(deferred, baseline);
     }
+    if args.occlusion != OcclusionArg::Off && !args.no_debug_views {
+        let (texels, size) = query.read_hiz(&ctx.device, &ctx.queue)?;
+        let file = args.out.join("city_debug_hiz.png");
+        gpu::debug::hiz_mips(&texels, size).write_png(&file)?;
+        report.image_named("HiZ mips the query tested against", &file);
+    }
     // HZD's mode on the same view: the CPU waits for the query, reads its batches back
     // and plans them (tiling::build_plan at prepare), then renders them as any scene.
     let params = gpu::staticscene::QueryParams::new(&desc)?;
