@@ -180,13 +180,13 @@ mod tests {
         texels.extend([1e-2; 6]);
         texels.extend([1e-4; 2]);
         texels.push(0.0);
-        let img = super::hiz_mips(&texels, (w, h));
+        let img = hiz_mips(&texels, (w, h));
         assert_eq!((img.width, img.height), (9, 4));
         let px = |x: u32, y: u32| img.pixels[(y * img.width + x) as usize];
         assert_eq!(px(0, 0), [255, 255, 255, 255]);
-        assert_eq!(px(5, 0), super::EMPTY);
+        assert_eq!(px(5, 0), EMPTY);
         assert_eq!(px(6, 0), [128, 128, 128, 255]);
         assert_eq!(px(6, 2), [0, 0, 0, 255]);
-        assert_eq!(px(6, 3), super::EMPTY);
+        assert_eq!(px(6, 3), EMPTY);
     }
 }
