@@ -22,13 +22,17 @@ const W: u32 = 320;
 const H: u32 = 180;
 
 fn renderer() -> Renderer {
+    renderer_sized(W, H)
+}
+
+fn renderer_sized(width: u32, height: u32) -> Renderer {
     let c = ctx();
     Renderer::new(
         &c.device,
         &c.queue,
         RendererConfig {
-            width: W,
-            height: H,
+            width,
+            height,
             ..RendererConfig::default()
         },
     )
@@ -50,11 +54,15 @@ struct Rig {
 
 impl Rig {
     fn new() -> Rig {
+        Rig::sized(W, H)
+    }
+
+    fn sized(width: u32, height: u32) -> Rig {
         let c = ctx();
         let city = small_city();
         let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
         let cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
-        let r = renderer();
+        let r = renderer_sized(width, height);
         let prepared = r.prepare(&city.scene).unwrap();
         Rig {
             city,
@@ -289,20 +297,36 @@ fn still_lod_desc(camera: &Camera) -> ViewDesc {
 /// without occlusion.
 #[test]
 fn the_gpu_hiz_of_the_previous_frame_equals_hiz_build() {
+    hiz_of_the_previous_frame(W, H);
+}
+
+/// The same at an odd size with more levels: 301x163 has 10 (three dispatches of up to
+/// four levels, odd edges at every level).
+#[test]
+fn the_gpu_hiz_at_an_odd_size_equals_hiz_build() {
+    hiz_of_the_previous_frame(301, 163);
+}
+
+fn hiz_of_the_previous_frame(w: u32, h: u32) {
     let c = ctx();
-    let mut rig = Rig::new();
+    let mut rig = Rig::sized(w, h);
     let deferred = RenderPath::Deferred;
     let mut culled = 0;
+    let desc = |camera: &Camera| {
+        let mut d = static_view_desc(camera, w, h);
+        d.fade_frames = 0;
+        d
+    };
     for camera in cameras(&rig.city).into_iter().take(3) {
         let previous = StaticOcclusion::PreviousFrame;
-        let (off, _) = rig.frame(still_lod_desc(&camera), camera, deferred);
+        let (off, _) = rig.frame(desc(&camera), camera, deferred);
         // The frame before has no static view of this renderer's depth: no occlusion.
         let depth = rig.r.read_depth().unwrap();
-        let want = HiZ::build(&depth, W, H, true).unwrap();
+        let want = HiZ::build(&depth, w, h, true).unwrap();
         let mut twin = rig.cpu.clone();
-        let (on, stats) = rig.frame_with(still_lod_desc(&camera), camera, deferred, previous);
+        let (on, stats) = rig.frame_with(desc(&camera), camera, deferred, previous);
         let (texels, size) = rig.query.read_hiz(&c.device, &c.queue).unwrap();
-        assert_eq!(size, (W, H));
+        assert_eq!(size, (w, h));
         assert_eq!(texels.len(), want.texels().len());
         let differ = texels
             .iter()
@@ -310,7 +334,7 @@ fn the_gpu_hiz_of_the_previous_frame_equals_hiz_build() {
             .filter(|(a, b)| a.to_bits() != b.to_bits())
             .count();
         assert_eq!(differ, 0, "GPU HiZ texels differing from HiZ::build");
-        let mut d = still_lod_desc(&camera);
+        let mut d = desc(&camera);
         d.occlusion_camera = Some(d.camera);
         let mut out = QueryOutput::<DrawableSetupInstance>::new();
         twin.query(
@@ -325,7 +349,7 @@ fn the_gpu_hiz_of_the_previous_frame_equals_hiz_build() {
         let (_, max) = diff_metrics(&on, &off, 1.0).unwrap();
         assert_eq!(max, 0, "occlusion changed the image");
     }
-    assert!(culled > 1000, "{culled} culled");
+    assert!(culled > 500, "{culled} culled");
 }
 
 /// Two-pass occlusion while the camera moves (walks, turns, rises and jumps between

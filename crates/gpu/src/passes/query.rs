@@ -6,16 +6,16 @@
 //! back (what a CPU renderer, or `tiling::build_plan`, then consumes).
 //!
 //! The HiZ the query tests against is either given ([`StaticQuery::set_hiz`], a pyramid
-//! built on the CPU) or built here from the frame's depth target: `gpu::hiz_depth` writes
-//! levels 0-4 of `staticscene`'s HiZ buffer layout in one dispatch (16x16 depth texels per
-//! workgroup, reduced through workgroup memory), then `staticscene`'s [`HIZ_PASS`] reduces
-//! the coarser levels one dispatch each.
+//! built on the CPU) or built here from the frame's depth target into `staticscene`'s HiZ
+//! buffer layout by `gpu::hiz_depth`, four levels per dispatch (16x16 source texels per
+//! workgroup, reduced through workgroup memory): from the depth target into levels 0-4,
+//! then from level 4 into 5-8, and so on (3 dispatches at 3840x2160). Texel for texel
+//! `staticscene::HiZ::build`, as `staticscene`'s one-level-per-dispatch `HIZ_PASS`.
 
 use shader::pipeline::ComputePass;
 use shader::{Binding, Group, Kind, Pass, Sample};
 use staticscene::pass::{
-    GpuPlan, HIZ_PASS, HizGrid, HizStep, QUERY_PASS, QueryCounters, QueryDispatch, hiz_header,
-    hiz_words,
+    GpuPlan, HizGrid, HizStep, QUERY_PASS, QueryCounters, QueryDispatch, hiz_header, hiz_words,
 };
 use staticscene::{
     DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryParams, QueryStats,
@@ -54,16 +54,19 @@ pub struct StaticQueryOutput {
     pub skipped_tiles: Vec<TileId>,
 }
 
-/// Levels `gpu::hiz_depth` writes (0 to 4: a 16x16 block per workgroup).
-pub(crate) const HIZ_DEPTH_LEVELS: usize = 5;
+/// Levels one `gpu::hiz_depth` dispatch reduces (a 16x16 block of its source level per
+/// workgroup).
+pub(crate) const HIZ_LEVELS_PER_DISPATCH: usize = 4;
 
-/// The finest HiZ levels from the depth target (`gpu::hiz_depth`); the grid is one
-/// invocation per 2x2 depth texels (level 1's size).
+/// The HiZ pyramid from the depth target (`gpu::hiz_depth`), four levels per dispatch:
+/// from the depth target (which it also copies into level 0) or, with feature
+/// `from_buffer`, from level `step.level`. The grid is one invocation per 2x2 source texels
+/// (the size of the first level written).
 pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
     name: "hiz from depth",
     module: "gpu::hiz_depth",
     library: super::LIBRARY,
-    features: &[],
+    features: &["from_buffer"],
     groups: &[Group {
         name: "depth",
         bindings: &[
@@ -72,7 +75,7 @@ pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
             Binding::new("hiz", Kind::read_write(4)),
         ],
     }],
-    entries: &[shader::Entry::grid("depth_to_hiz", 8, 8, |g| {
+    entries: &[shader::Entry::grid("reduce_hiz", 8, 8, |g| {
         [g.width, g.height]
     })],
     zeroed: &[],
@@ -83,9 +86,8 @@ pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
 struct DepthHiz {
     size: (u32, u32),
     reversed: bool,
-    /// The depth pass's `HizStep` uniform (level 0).
-    first: wgpu::Buffer,
-    /// Per reduction step: its `HizStep` uniform and the size of the level it writes.
+    /// Per dispatch: its `HizStep` uniform (the source level: 0, the depth target, first)
+    /// and the size of the first level it writes.
     steps: Vec<(wgpu::Buffer, HizGrid)>,
 }
 
@@ -110,7 +112,7 @@ pub struct StaticQuery {
     /// The shadow variant (feature `shadow_view`), for views with `QUERY_FLAG_SHADOW`.
     shadow_pass: ComputePass<QueryDispatch>,
     hiz_depth: ComputePass<HizGrid>,
-    hiz_reduce: ComputePass<HizGrid>,
+    hiz_from_buffer: ComputePass<HizGrid>,
     pool: StaticPool,
     params: wgpu::Buffer,
     /// The second pass's params (two-pass occlusion).
@@ -145,7 +147,7 @@ impl StaticQuery {
             pass: ComputePass::new(device, &QUERY_PASS, &[], &[])?,
             shadow_pass: ComputePass::new(device, &QUERY_PASS, &["shadow_view"], &[])?,
             hiz_depth: ComputePass::new(device, &HIZ_DEPTH, &[], &[])?,
-            hiz_reduce: ComputePass::new(device, &HIZ_PASS, &[], &[])?,
+            hiz_from_buffer: ComputePass::new(device, &HIZ_DEPTH, &["from_buffer"], &[])?,
             pool: StaticPool::new(device),
             params: uniform("static query params"),
             params_second: uniform("static query params (second pass)"),
@@ -248,12 +250,14 @@ impl StaticQuery {
                 wgpu::BufferUsages::UNIFORM,
             )
         };
-        // The depth pass writes levels 0..HIZ_DEPTH_LEVELS; each step then writes one more.
-        let steps = (HIZ_DEPTH_LEVELS - 1..levels.saturating_sub(1))
+        // Source levels 0 (the depth target: always, it fills level 0), 4, 8, ... while a
+        // coarser level is left to write. A dispatch's grid: its source's quads.
+        let steps = (0..levels.max(2) - 1)
+            .step_by(HIZ_LEVELS_PER_DISPATCH)
             .map(|level| {
                 let grid = HizGrid {
-                    width: header[8 + 4 * level],
-                    height: header[9 + 4 * level],
+                    width: header[4 + 4 * level].div_ceil(2),
+                    height: header[5 + 4 * level].div_ceil(2),
                 };
                 (step(level), grid)
             })
@@ -261,7 +265,6 @@ impl StaticQuery {
         self.depth_hiz = Some(DepthHiz {
             size: (width, height),
             reversed,
-            first: step(0),
             steps,
         });
         Ok(())
@@ -280,44 +283,34 @@ impl StaticQuery {
         let Some(d) = &self.depth_hiz else {
             return Ok(());
         };
-        let copy = self.hiz_depth.bind_group(
-            device,
-            "depth",
-            &[
-                ("step", d.first.as_entire_binding()),
-                ("depth", wgpu::BindingResource::TextureView(depth)),
-                ("hiz", self.hiz.as_entire_binding()),
-            ],
-        )?;
-        let steps = d
+        let groups = d
             .steps
             .iter()
-            .map(|(step, grid)| {
-                Ok((
-                    self.hiz_reduce.bind_group(
-                        device,
-                        "hiz",
-                        &[
-                            ("step", step.as_entire_binding()),
-                            ("hiz", self.hiz.as_entire_binding()),
-                        ],
-                    )?,
-                    *grid,
-                ))
+            .enumerate()
+            .map(|(i, (step, grid))| {
+                let pass = if i == 0 {
+                    &self.hiz_depth
+                } else {
+                    &self.hiz_from_buffer
+                };
+                let group = pass.bind_group(
+                    device,
+                    "depth",
+                    &[
+                        ("step", step.as_entire_binding()),
+                        ("depth", wgpu::BindingResource::TextureView(depth)),
+                        ("hiz", self.hiz.as_entire_binding()),
+                    ],
+                )?;
+                Ok((pass, group, *grid))
             })
             .collect::<Result<Vec<_>>>()?;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(label),
             timestamp_writes: timer.compute(label),
         });
-        let (width, height) = d.size;
-        let quads = HizGrid {
-            width: width.div_ceil(2),
-            height: height.div_ceil(2),
-        };
-        self.hiz_depth.record(&mut pass, &[&copy], &quads);
-        for (group, grid) in &steps {
-            self.hiz_reduce.record(&mut pass, &[group], grid);
+        for (variant, group, grid) in &groups {
+            variant.record(&mut pass, &[group], grid);
         }
         Ok(())
     }
@@ -563,8 +556,8 @@ mod tests {
             shadercheck::Caps::CORE,
         );
         assert_eq!(
-            shadercheck::const_u32(&m, "GPU_HIZ_DEPTH_LEVELS"),
-            Some(super::HIZ_DEPTH_LEVELS as u32)
+            shadercheck::const_u32(&m, "GPU_HIZ_DEPTH_LEVELS_PER_DISPATCH"),
+            Some(super::HIZ_LEVELS_PER_DISPATCH as u32)
         );
         shadercheck::assert_struct_layout(
             &m,
