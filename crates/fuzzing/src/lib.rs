@@ -50,6 +50,7 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("staticscene_instance_decode", staticscene_instance_decode),
     ("staticscene_build", staticscene_build),
     ("staticscene_query", staticscene_query),
+    ("staticscene_tile_parts", staticscene_tile_parts),
     ("tiling_classify", tiling_classify),
     ("tiling_plan", tiling_plan),
     ("visbuf_id_decode", visbuf_id_decode),

@@ -367,3 +367,94 @@ pub fn staticscene_query(data: &[u8]) {
         Err(e) => assert!(matches!(e, Error::Config { .. }), "{e}"),
     }
 }
+
+/// A tile streamed in as arbitrary parts: small record tables, arbitrary instance words and
+/// clusters. `StaticTile::from_parts` never panics; a tile it accepts has every index inside
+/// its tables and clusters covering its instances in order, and the CPU query runs over
+/// it; a refused one names an instance whose field really is out of range.
+pub fn staticscene_tile_parts(data: &[u8]) {
+    let mut input = Input::new(data);
+    let mut parts = staticscene::TileParts {
+        setups: vec![
+            QuerySetup::new(Vec3::ZERO, Vec3::ONE, 1).expect("a unit box");
+            usize::from(input.u8() % 4)
+        ],
+        objects: vec![bytemuck::Zeroable::zeroed(); usize::from(input.u8() % 4)],
+        transforms: vec![Transform4x3::IDENTITY; usize::from(input.u8() % 4)],
+        bounds: vec![bytemuck::Zeroable::zeroed(); usize::from(input.u8() % 4)],
+        ..Default::default()
+    };
+    let n = usize::from(input.u8() % 48);
+    for _ in 0..n {
+        parts
+            .instances
+            .push(QueryInstance::from_bytes(input.bytes()));
+    }
+    let mut at = 0u32;
+    while at < n as u32 && input.remaining() > 0 {
+        let count = u32::from(input.u8() % 20) + u32::from(input.u8() % 2);
+        parts.clusters.push(staticscene::Cluster {
+            first: at,
+            count,
+            cull: staticscene::CullInfo::EMPTY,
+        });
+        at += count;
+    }
+    let tables = [
+        parts.setups.len(),
+        parts.objects.len(),
+        parts.bounds.len(),
+        parts.bounds.len(),
+        parts.transforms.len(),
+    ];
+    let fields = |q: &QueryInstance| {
+        [
+            q.setup(),
+            q.object(),
+            q.parent_bounds(),
+            q.child_bounds(),
+            q.matrix(),
+        ]
+    };
+    let instances = parts.instances.clone();
+    match staticscene::StaticTile::from_parts(parts) {
+        Ok(tile) => {
+            for q in &instances {
+                for (v, len) in fields(q).into_iter().zip(tables) {
+                    assert!((v as usize) < len, "accepted an index past its table");
+                }
+            }
+            let covered: u32 = tile.clusters().iter().map(|c| c.count).sum();
+            assert_eq!(covered as usize, instances.len());
+            let mut scene = Scene::new();
+            scene.activate(staticscene::BuiltTile::new(tile));
+            let cam = Camera::look_at(
+                DVec3::new(0.0, 2.0, 5.0),
+                DVec3::ZERO,
+                DVec3::Y,
+                Mat4::perspective_rh(1.0, 1.0, 0.1, 100.0),
+                false,
+            );
+            let params = QueryParams::new(&ViewDesc::camera(cam, [64, 64])).expect("a valid view");
+            let mut out = QueryOutput::<DrawableSetupInstance>::new();
+            let options = QueryOptions {
+                precull: false,
+                ..QueryOptions::default()
+            };
+            scene
+                .query(&params, None, &options, &mut out)
+                .expect("an accepted tile queries");
+        }
+        Err(Error::TileRecord {
+            instance,
+            value,
+            len,
+            ..
+        }) => {
+            assert!(value as usize >= len);
+            assert!(fields(&instances[instance]).contains(&value));
+        }
+        Err(Error::TileClusters { .. } | Error::SpareBitSet) => {}
+        Err(e) => panic!("unexpected error {e}"),
+    }
+}

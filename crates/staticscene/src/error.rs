@@ -134,6 +134,28 @@ pub enum Error {
         /// Resources available.
         resources: usize,
     },
+    /// A tile's instance whose record index points outside the tile's table
+    /// ([`StaticTile::from_parts`](crate::StaticTile::from_parts)).
+    TileRecord {
+        /// The tile.
+        tile: u32,
+        /// The instance's index in the tile.
+        instance: usize,
+        /// The index field.
+        field: Field,
+        /// The index given.
+        value: u32,
+        /// Entries in the table it indexes.
+        len: usize,
+    },
+    /// A tile's clusters that do not cover its instances in order (`cluster`: the first
+    /// that does not follow on, or the cluster count when they stop short).
+    TileClusters {
+        /// The tile.
+        tile: u32,
+        /// The cluster.
+        cluster: usize,
+    },
     /// A streaming group id that is already loaded (adds and removes must match).
     DuplicateGroup {
         /// The group id.
@@ -188,6 +210,20 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "object {object} names resource {resource} of {resources}"
+            ),
+            Error::TileRecord {
+                tile,
+                instance,
+                field,
+                value,
+                len,
+            } => write!(
+                f,
+                "tile {tile}, instance {instance}: {field} {value} outside the tile's {len}"
+            ),
+            Error::TileClusters { tile, cluster } => write!(
+                f,
+                "tile {tile}: cluster {cluster} does not follow on (clusters must cover the instances in order)"
             ),
             Error::DuplicateGroup { group } => write!(f, "streaming group {group} already loaded"),
             Error::UnknownGroup { group } => write!(f, "streaming group {group} is not loaded"),

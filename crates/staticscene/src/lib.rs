@@ -143,7 +143,8 @@ pub use scene::{BuiltTile, QueryOptions, QueryOutput, Scene, TileStreamer, TileU
 pub use tile::{
     BuildConfig, Cluster, CullInfo, DynamicObject, LodLimits, MIN_CLUSTER_INSTANCES,
     OBJECT_EXTENT_MAX, ORPHAN_INSTANCES, Partition, PlacedObject, PreparedGroup, PreparedObject,
-    StaticTile, StreamingGroup, TILE_SPLIT_INSTANCES, TileId, build_tiles, prepare_group,
+    StaticTile, StreamingGroup, TILE_SPLIT_INSTANCES, TileId, TileParts, build_tiles,
+    prepare_group,
 };
 pub use view::{
     CAMERA_STATE_VISIBLE, Camera, FRUSTUM_TOLERANCE, OcclusionPass, QUERY_FLAG_FADE,

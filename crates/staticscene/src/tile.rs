@@ -201,8 +201,16 @@ pub struct CullInfo {
     pub lod: [LodLimits; 2],
 }
 
+impl Default for CullInfo {
+    fn default() -> Self {
+        CullInfo::EMPTY
+    }
+}
+
 impl CullInfo {
-    const EMPTY: CullInfo = CullInfo {
+    /// Nothing: empty boxes, no filter, no LOD range (the pre-cull rejects it; merging
+    /// starts from it).
+    pub const EMPTY: CullInfo = CullInfo {
         bounds: Aabb::EMPTY,
         lod_bounds: Aabb::EMPTY,
         filter: 0,
@@ -226,6 +234,33 @@ pub struct Cluster {
     /// Instance count.
     pub count: u32,
     /// Pre-cull data.
+    pub cull: CullInfo,
+}
+
+/// A static tile's records and clusters as plain data: what a tile streamed from disk
+/// arrives as. [`StaticTile::from_parts`] checks every index before the tile can reach a
+/// query; [`StaticTile::into_parts`] gives them back.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TileParts {
+    /// The tile's id.
+    pub id: TileId,
+    /// The integer anchor cluster bounds are relative to (world metres).
+    pub anchor: IVec3,
+    /// The streaming groups in the tile.
+    pub groups: Vec<u64>,
+    /// QueryInstances.
+    pub instances: Vec<QueryInstance>,
+    /// QueryObjects.
+    pub objects: Vec<QueryObject>,
+    /// QuerySetups.
+    pub setups: Vec<QuerySetup>,
+    /// Local-to-object matrices.
+    pub transforms: Vec<Transform4x3>,
+    /// LOD bounds.
+    pub bounds: Vec<HalfAabb>,
+    /// Clusters, covering the instances in order.
+    pub clusters: Vec<Cluster>,
+    /// Pre-cull data of the whole tile.
     pub cull: CullInfo,
 }
 
@@ -309,6 +344,89 @@ impl StaticTile {
     pub fn cpu_bytes(&self) -> usize {
         self.clusters.len() * size_of::<Cluster>() + size_of::<StaticTile>() + self.groups.len() * 8
     }
+    /// A tile from its parts, every record index checked: each instance's setup, object,
+    /// parent and child bounds and matrix index inside its tile's tables and its spare bit
+    /// clear, and the clusters covering the instances in order. A corrupt tile is
+    /// [`Error::TileRecord`] naming the instance and the field, or [`Error::TileClusters`];
+    /// nothing of it is kept (other tiles are unaffected).
+    pub fn from_parts(parts: TileParts) -> Result<StaticTile, Error> {
+        let limits = [
+            (Field::Setup, parts.setups.len()),
+            (Field::Object, parts.objects.len()),
+            (Field::ParentBounds, parts.bounds.len()),
+            (Field::ChildBounds, parts.bounds.len()),
+            (Field::Matrix, parts.transforms.len()),
+        ];
+        for (i, q) in parts.instances.iter().enumerate() {
+            if q.to_u128() >> crate::records::SPARE_SHIFT != 0 {
+                return Err(Error::SpareBitSet);
+            }
+            let values = [
+                q.setup(),
+                q.object(),
+                q.parent_bounds(),
+                q.child_bounds(),
+                q.matrix(),
+            ];
+            for ((field, len), value) in limits.iter().zip(values) {
+                if value as usize >= *len {
+                    return Err(Error::TileRecord {
+                        tile: parts.id.0,
+                        instance: i,
+                        field: *field,
+                        value,
+                        len: *len,
+                    });
+                }
+            }
+        }
+        let mut next = 0u64;
+        for (c, cl) in parts.clusters.iter().enumerate() {
+            if u64::from(cl.first) != next || cl.count == 0 {
+                return Err(Error::TileClusters {
+                    tile: parts.id.0,
+                    cluster: c,
+                });
+            }
+            next += u64::from(cl.count);
+        }
+        if next != parts.instances.len() as u64 {
+            return Err(Error::TileClusters {
+                tile: parts.id.0,
+                cluster: parts.clusters.len(),
+            });
+        }
+        Ok(StaticTile {
+            id: parts.id,
+            anchor: parts.anchor,
+            groups: parts.groups,
+            instances: parts.instances,
+            objects: parts.objects,
+            setups: parts.setups,
+            transforms: parts.transforms,
+            bounds: parts.bounds,
+            clusters: parts.clusters,
+            cull: parts.cull,
+        })
+    }
+
+    /// The tile's parts ([`StaticTile::from_parts`] takes them back).
+    #[must_use]
+    pub fn into_parts(self) -> TileParts {
+        TileParts {
+            id: self.id,
+            anchor: self.anchor,
+            groups: self.groups,
+            instances: self.instances,
+            objects: self.objects,
+            setups: self.setups,
+            transforms: self.transforms,
+            bounds: self.bounds,
+            clusters: self.clusters,
+            cull: self.cull,
+        }
+    }
+
     /// The tile's buffers as the query pass takes them.
     #[must_use]
     pub fn buffers(&self) -> crate::TileBuffers<'_> {

@@ -370,3 +370,63 @@ fn index_spaces_split_tiles() {
         5000
     );
 }
+
+/// Moves one index field of an instance past its table.
+type Corrupt = fn(&mut staticscene::InstanceFields, &staticscene::TileParts);
+
+/// A tile streamed in as plain parts: the builder's tiles round-trip; an instance whose
+/// setup, object, bounds or matrix index points past its tile's table is refused naming
+/// the tile, the instance and the field; clusters that skip or stop short are refused; the
+/// spare bit is refused.
+#[test]
+fn tiles_from_parts_check_every_record_index() {
+    let (scene, _) = city_scene(4_000, 3);
+    let tile = scene.tiles()[0].clone();
+    let parts = tile.clone().into_parts();
+    assert_eq!(StaticTile::from_parts(parts.clone()).unwrap(), tile);
+    let n = parts.instances.len();
+    let at = n / 2;
+    let fields = parts.instances[at].try_unpack().unwrap();
+    let corrupt: [(&str, Corrupt); 5] = [
+        ("setup index", |f, p| f.setup = p.setups.len() as u16),
+        ("object index", |f, p| f.object = p.objects.len() as u32),
+        ("parent bounds index", |f, p| {
+            f.parent_bounds = p.bounds.len() as u16
+        }),
+        ("child bounds index", |f, p| {
+            f.child_bounds = p.bounds.len() as u16 + 3
+        }),
+        ("matrix index", |f, p| f.matrix = p.transforms.len() as u16),
+    ];
+    for (name, change) in corrupt {
+        let mut bad = parts.clone();
+        let mut f = fields;
+        change(&mut f, &parts);
+        bad.instances[at] = staticscene::QueryInstance::pack(&f).unwrap();
+        let e = StaticTile::from_parts(bad).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.contains(name) && msg.contains(&format!("instance {at}")),
+            "{name}: {msg}"
+        );
+    }
+    let mut gap = parts.clone();
+    if gap.clusters.len() > 1 {
+        gap.clusters[1].first += 1;
+    } else {
+        gap.clusters[0].count -= 1;
+    }
+    assert!(matches!(
+        StaticTile::from_parts(gap),
+        Err(staticscene::Error::TileClusters { .. })
+    ));
+    let mut short = parts.clone();
+    short.clusters.pop();
+    assert!(StaticTile::from_parts(short).is_err());
+    let mut spare = parts;
+    spare.instances[0].words[3] |= 1 << 31;
+    assert_eq!(
+        StaticTile::from_parts(spare),
+        Err(staticscene::Error::SpareBitSet)
+    );
+}
