@@ -4,6 +4,7 @@
 //! what the GPU wrote.
 
 use crate::image::{Rgba8Image, heat_color, id_color};
+use crate::statics::{StaticDebug, StaticPixel};
 use crate::stats::GpuClassification;
 
 /// Colour of pixels without vis-buffer geometry (sky) in the views.
@@ -148,6 +149,64 @@ pub fn hiz_mips(texels: &[f32], size: (u32, u32)) -> Rgba8Image {
         (w, h) = (w.div_ceil(2), h.div_ceil(2));
     }
     img
+}
+
+/// Static instances coloured by setup (each LOD level's mesh is a setup of its own, so a
+/// LOD switch shows as a change of colour) and LOD fade state: steady instances in a pale
+/// version of their setup's colour, instances fading in green and fading out red, darker
+/// the more transparent they are; planned instances grey, the sky in the empty colour.
+pub fn static_lod_fade(width: u32, height: u32, vis: &[u32], statics: &StaticDebug) -> Rgba8Image {
+    static_view(width, height, vis, statics, |p| {
+        let target = if p.flags & staticscene::STATE_FADING_OUT != 0 {
+            [220, 40, 40]
+        } else if p.flags & staticscene::STATE_FADING != 0 {
+            [40, 200, 60]
+        } else {
+            return blend(
+                id_color(p.setup.wrapping_mul(0x9e37_79b9)),
+                [255, 255, 255],
+                0.55,
+            );
+        };
+        blend([0, 0, 0, 255], target, 0.3 + 0.7 * p.fade)
+    })
+}
+
+/// Two-pass occlusion's split: static instances the first pass drew (visible last frame)
+/// in blue, those the second pass found in orange; planned instances grey.
+pub fn static_two_pass(width: u32, height: u32, vis: &[u32], statics: &StaticDebug) -> Rgba8Image {
+    static_view(width, height, vis, statics, |p| {
+        if p.late {
+            [250, 150, 30, 255]
+        } else {
+            [50, 110, 230, 255]
+        }
+    })
+}
+
+fn static_view(
+    width: u32,
+    height: u32,
+    vis: &[u32],
+    statics: &StaticDebug,
+    colour: impl Fn(StaticPixel) -> [u8; 4],
+) -> Rgba8Image {
+    let mut img = Rgba8Image::new(width, height, EMPTY);
+    for (p, &w) in img.pixels.iter_mut().zip(vis) {
+        if w == visbuf::VIS_NONE {
+            continue;
+        }
+        *p = match statics.lookup(w) {
+            Some(s) => colour(s),
+            None => [120, 120, 120, 255],
+        };
+    }
+    img
+}
+
+fn blend(a: [u8; 4], b: [u8; 3], t: f32) -> [u8; 4] {
+    let mix = |x: u8, y: u8| (f32::from(x) + (f32::from(y) - f32::from(x)) * t).round() as u8;
+    [mix(a[0], b[0]), mix(a[1], b[1]), mix(a[2], b[2]), 255]
 }
 
 #[cfg(test)]

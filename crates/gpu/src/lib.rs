@@ -95,7 +95,8 @@ pub use scene::{
     MeshId, Scene, ShaderKind, StaticSetup,
 };
 pub use statics::{
-    StaticFrameStats, StaticOcclusion, StaticView, scene_from_query, static_view_desc,
+    StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticView, scene_from_query,
+    static_view_desc,
 };
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;

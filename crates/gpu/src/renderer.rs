@@ -566,7 +566,7 @@ impl Renderer {
             setup_count: b.setup_count,
             row_width: shader::MAX_WORKGROUPS_X,
             alpha_base: b.opaque,
-            pad: 0,
+            debug_base: b.debug_base,
         };
         self.queue
             .write_buffer(&b.params, 0, bytemuck::bytes_of(&constants));
@@ -846,6 +846,37 @@ impl Renderer {
             4,
         )?;
         Ok(bytemuck::pod_collect_to_vec(&depth))
+    }
+
+    /// Reads the static placement's debug words of the last frame with a static query of
+    /// `scene` (what [`debug::static_lod_fade`](crate::debug::static_lod_fade) and
+    /// [`debug::static_two_pass`](crate::debug::static_two_pass) colour the vis buffer by).
+    ///
+    /// # Errors
+    /// A scene without static setups, a scene prepared by another renderer, or a device
+    /// or mapping error.
+    pub fn read_static_debug(&self, scene: &PreparedScene) -> Result<crate::StaticDebug> {
+        self.check_scene(scene)?;
+        let b = Self::static_buffers(scene)?;
+        let words = bytemuck::pod_collect_to_vec(&read_buffer(
+            &self.device,
+            &self.queue,
+            &b.debug,
+            0,
+            b.debug.size(),
+        )?);
+        let mut ranges: Vec<_> = scene
+            .static_table
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (i as u32, *s))
+            .collect();
+        ranges.sort_by_key(|(_, s)| s.first_id);
+        Ok(crate::StaticDebug {
+            ranges,
+            words,
+            base: b.debug_base,
+        })
     }
 
     /// Reads the vis buffer of the last frame back (row-major words, `visbuf`'s layout;

@@ -148,3 +148,58 @@ pub fn scene_from_query(
     }
     Ok(planned)
 }
+
+/// What one pixel of a static instance shows, from the placement's debug words.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticPixel {
+    /// The static setup (its handle: each LOD level's mesh is a setup of its own).
+    pub setup: u32,
+    /// LOD fade opacity, 0-1 (1 when not fading).
+    pub fade: f32,
+    /// The query's state flags (`staticscene::STATE_FADING`, `STATE_FADING_OUT`).
+    pub flags: u32,
+    /// Placed by the second placement of two-pass occlusion (found by the second pass).
+    pub late: bool,
+}
+
+/// The static instances' debug words of the last frame with a static query, and how vis
+/// words map to them ([`Renderer::read_static_debug`](crate::Renderer::read_static_debug)).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StaticDebug {
+    /// Per setup handle: first micro-batch ID, IDs, first slot, capacity, primitive bits;
+    /// sorted by first ID.
+    pub(crate) ranges: Vec<(u32, crate::resources::rows::GpuStaticSetup)>,
+    pub(crate) words: Vec<u32>,
+    pub(crate) base: u32,
+}
+
+impl StaticDebug {
+    /// The static instance a vis word shows, or `None` (the sky, a planned instance, a
+    /// word past every reserved range).
+    #[must_use]
+    pub fn lookup(&self, vis: u32) -> Option<StaticPixel> {
+        let word = visbuf::VisId(vis);
+        if word.is_none() {
+            return None;
+        }
+        let id = word.micro_batch(visbuf::VisLayout::Standard);
+        let at = self.ranges.partition_point(|(_, s)| s.first_id <= id);
+        let (setup, s) = self.ranges.get(at.checked_sub(1)?)?;
+        let bits = visbuf::PrimitiveBits::new(s.primitive_bits).ok()?;
+        let rank = u64::from(id - s.first_id) << bits.instance_bits()
+            | u64::from(word.instance_field(bits));
+        if rank >= u64::from(s.capacity) {
+            return None;
+        }
+        let slot = u64::from(s.first_slot) + rank;
+        let w = *self
+            .words
+            .get(usize::try_from(slot - u64::from(self.base)).ok()?)?;
+        Some(StaticPixel {
+            setup: *setup,
+            fade: (w & 0xff) as f32 / 255.0,
+            flags: (w >> 8) & 0xff,
+            late: w & crate::passes::static_place::STATIC_DEBUG_LATE != 0,
+        })
+    }
+}

@@ -373,6 +373,7 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
         }
     }
     let (mut hidden, mut early, mut added) = (0, 0, 0);
+    let mut late_pixels = 0;
     for (frame, camera) in path.into_iter().enumerate() {
         let paths: &[RenderPath] = if frame % 4 == 3 {
             &[RenderPath::Deferred, RenderPath::Baseline]
@@ -386,8 +387,36 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
                 path,
                 StaticOcclusion::TwoPass,
             );
-            let (off, _) = rig.frame(still_lod_desc(&camera), camera, path);
             let second = stats.second_pass.expect("two passes report the second");
+            if path == RenderPath::Deferred {
+                // The debug words: every static pixel resolves to a placed instance, late
+                // pixels exactly when the second pass drew something, no fade (0 frames).
+                let vis = rig.r.read_vis().unwrap();
+                let debug = rig.r.read_static_debug(&rig.prepared).unwrap();
+                let (mut statics, mut late) = (0, 0);
+                for &w in &vis {
+                    if let Some(p) = debug.lookup(w) {
+                        statics += 1;
+                        late += usize::from(p.late);
+                        assert_eq!((p.fade, p.flags), (1.0, 0));
+                        assert!((p.setup as usize) < rig.city.scene.static_setups.len());
+                    }
+                }
+                assert!(statics > 0, "frame {frame}: no static pixel");
+                assert_eq!(
+                    late > 0,
+                    second.visible > 0,
+                    "frame {frame}: {late} late pixels"
+                );
+                late_pixels += late;
+                if frame == 5 {
+                    save(
+                        "two_pass_split",
+                        &gpu::debug::static_two_pass(W, H, &vis, &debug),
+                    );
+                }
+            }
+            let (off, _) = rig.frame(still_lod_desc(&camera), camera, path);
             assert_eq!((stats.over_capacity, stats.bad_batches), (0, 0));
             assert_eq!(stats.placed, u64::from(stats.instances));
             hidden += second.rejected_occlusion;
@@ -405,7 +434,9 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
             );
         }
     }
-    eprintln!("two-pass: {early} drawn early, {added} added late, {hidden} hidden");
+    eprintln!(
+        "two-pass: {early} drawn early, {added} added late ({late_pixels} pixels), {hidden} hidden"
+    );
     assert!(
         hidden > 1000 && early > 1000 && added > 100,
         "{hidden} {early} {added}"
@@ -459,6 +490,48 @@ fn hzds_read_back_mode_draws_what_the_gpu_driven_frame_draws() {
     let mut short = out;
     short.instances.truncate(1);
     assert!(scene_from_query(&rig.city.scene, &short, &params).is_err());
+}
+
+/// The LOD / fade debug view's data over a walk with fading on: the placement's debug
+/// words give each static pixel its setup and fade state; as LODs switch, some pixels show
+/// instances fading in and out with opacities between 0 and 1, and pairs complement.
+#[test]
+fn the_lod_fade_view_shows_instances_fading() {
+    let mut rig = Rig::new();
+    let base = rig.city.frame.camera;
+    let fwd = (base.target - base.position).normalize();
+    let (mut fading_in, mut fading_out) = (0usize, 0usize);
+    for frame in 0..12 {
+        let d = 6.0 * frame as f32;
+        let camera = Camera {
+            position: base.position + fwd * d,
+            target: base.target + fwd * d,
+            ..base
+        };
+        let mut desc = static_view_desc(&camera, W, H);
+        desc.fade_frames = 4;
+        rig.frame(desc, camera, RenderPath::Deferred);
+        let vis = rig.r.read_vis().unwrap();
+        let debug = rig.r.read_static_debug(&rig.prepared).unwrap();
+        for p in vis.iter().filter_map(|&w| debug.lookup(w)) {
+            let out = p.flags & staticscene::STATE_FADING_OUT != 0;
+            if p.flags & staticscene::STATE_FADING != 0 {
+                assert!(p.fade > 0.0 && p.fade < 1.0, "{p:?}");
+                if out {
+                    fading_out += 1;
+                } else {
+                    fading_in += 1;
+                }
+            } else {
+                assert_eq!((p.fade, out), (1.0, false), "{p:?}");
+            }
+        }
+        if frame == 6 {
+            save("lod_fade", &gpu::debug::static_lod_fade(W, H, &vis, &debug));
+        }
+    }
+    eprintln!("fading pixels: {fading_in} in, {fading_out} out");
+    assert!(fading_in > 0 && fading_out > 0, "{fading_in} {fading_out}");
 }
 
 #[test]

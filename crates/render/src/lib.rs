@@ -288,6 +288,16 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
                 let file = args.out.join("city_debug_vis_ids.png");
                 gpu::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
                 report.image_named("vis IDs", &file);
+                let statics = renderer.read_static_debug(&prepared)?;
+                let file = args.out.join("city_debug_lod_fade.png");
+                gpu::debug::static_lod_fade(w, h, &classified.vis, &statics).write_png(&file)?;
+                report.image_named("static setups and LOD fade", &file);
+                if args.occlusion == OcclusionArg::TwoPass {
+                    let file = args.out.join("city_debug_two_pass.png");
+                    gpu::debug::static_two_pass(w, h, &classified.vis, &statics)
+                        .write_png(&file)?;
+                    report.image_named("two-pass: drawn early / found late", &file);
+                }
             }
             if let Some(m) = &mismatch {
                 print!("{report}");

@@ -35,6 +35,8 @@ pub(crate) const STATIC_COUNTER_BAD_BATCHES: u32 = 5;
 /// `counters` word of setup 0's placed instances (setup `s` at `+ s`); then, per setup,
 /// those placed by the frame's first run.
 pub(crate) const STATIC_COUNTER_PLACED: u32 = 6;
+/// Debug word bit: placed by the frame's second placement (two-pass occlusion).
+pub(crate) const STATIC_DEBUG_LATE: u32 = 0x1_0000;
 /// Bytes of one `DrawIndexedIndirect`.
 pub(crate) const DRAW_BYTES: u64 = 20;
 
@@ -59,6 +61,7 @@ pub(crate) const STATIC_PLACE: Pass<u32> = Pass {
             Binding::new("instances", Kind::read_write(size_of::<GpuInstance>())),
             Binding::new("place_dispatch", Kind::read_write(4)),
             Binding::new("draws", Kind::read_write(4)),
+            Binding::new("debug", Kind::read_write(4)),
         ],
     }],
     entries: &[
@@ -66,6 +69,11 @@ pub(crate) const STATIC_PLACE: Pass<u32> = Pass {
         Entry {
             name: "place",
             // One workgroup per batch: a batch is at most one query workgroup long.
+            stage: Stage::compute(staticscene::pass::QUERY_WORKGROUP, 1, 1),
+            dispatch: Dispatch::Indirect("place_dispatch"),
+        },
+        Entry {
+            name: "place_late",
             stage: Stage::compute(staticscene::pass::QUERY_WORKGROUP, 1, 1),
             dispatch: Dispatch::Indirect("place_dispatch"),
         },
@@ -80,6 +88,7 @@ pub(crate) struct StaticPlace {
     pass: ComputePass<u32>,
     place_args: usize,
     place: usize,
+    place_late: usize,
     emit: usize,
     emit_late: usize,
 }
@@ -98,6 +107,10 @@ pub(crate) struct StaticBuffers {
     /// The full lists: opaque draws (`opaque` of them), then alpha-tested draws
     /// (`alpha`); then the late lists, laid out alike.
     pub draws: wgpu::Buffer,
+    /// One word per reserved slot (`debug_base` first): what placed it this frame.
+    pub debug: wgpu::Buffer,
+    /// The first reserved slot.
+    pub debug_base: u32,
     pub setup_count: u32,
     pub opaque: u32,
     pub alpha: u32,
@@ -117,6 +130,12 @@ impl StaticBuffers {
     pub(crate) fn new(device: &wgpu::Device, setups: &[GpuStaticSetup], with_count: bool) -> Self {
         use wgpu::BufferUsages as U;
         let opaque = setups.iter().filter(|s| s.list == 0).count() as u32;
+        let debug_base = setups.iter().map(|s| s.first_slot).min().unwrap_or(0);
+        let debug_end = setups
+            .iter()
+            .map(|s| u64::from(s.first_slot) + u64::from(s.capacity))
+            .max()
+            .unwrap_or(0);
         let alpha = setups.len() as u32 - opaque;
         let make = |label: &str, size: u64, usage: U| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -151,6 +170,12 @@ impl StaticBuffers {
                 2 * DRAW_BYTES * setups.len() as u64,
                 U::STORAGE | U::INDIRECT,
             ),
+            debug: make(
+                "static debug words",
+                4 * (debug_end - u64::from(debug_base)),
+                U::STORAGE,
+            ),
+            debug_base,
             setup_count: setups.len() as u32,
             opaque,
             alpha,
@@ -165,6 +190,7 @@ impl StaticPlace {
         Ok(Self {
             place_args: pass.step_index("place_args")?,
             place: pass.step_index("place")?,
+            place_late: pass.step_index("place_late")?,
             emit: pass.step_index("emit_draws")?,
             emit_late: pass.step_index("emit_late_draws")?,
             pass,
@@ -193,6 +219,7 @@ impl StaticPlace {
                 ("instances", instances.as_entire_binding()),
                 ("place_dispatch", b.place_dispatch.as_entire_binding()),
                 ("draws", b.draws.as_entire_binding()),
+                ("debug", b.debug.as_entire_binding()),
             ],
         )?)
     }
@@ -244,7 +271,8 @@ impl StaticPlace {
             timestamp_writes: timer.compute(label),
         });
         pass.set_bind_group(0, group, &[]);
-        pass.set_pipeline(&self.pass.steps[self.place].pipeline);
+        let place = if late { self.place_late } else { self.place };
+        pass.set_pipeline(&self.pass.steps[place].pipeline);
         pass.dispatch_workgroups_indirect(&b.place_indirect, 0);
         let emit = &self.pass.steps[if late { self.emit_late } else { self.emit }];
         if let Some([x, y, z]) = self.pass.workgroups(emit, &b.setup_count) {
@@ -323,6 +351,7 @@ mod tests {
             ),
             ("GPU_STATIC_COUNTER_PLACED", super::STATIC_COUNTER_PLACED),
             ("GPU_STATIC_DRAW_WORDS", (super::DRAW_BYTES / 4) as u32),
+            ("GPU_STATIC_DEBUG_LATE", super::STATIC_DEBUG_LATE),
             // The query's counter words and longest batch, as staticscene lays them out.
             (
                 "GPU_STATIC_QUERY_BATCHES",

@@ -115,6 +115,8 @@ pub struct PreparedScene {
     pub(crate) statics: Option<StaticBuffers>,
     /// Each static setup's capacity (index = handle).
     pub(crate) static_capacities: Vec<u32>,
+    /// The static setups' GPU table (index = handle): slots, IDs, primitive bits.
+    pub(crate) static_table: Vec<GpuStaticSetup>,
     _kept: Vec<wgpu::Buffer>,
     _albedo: wgpu::Texture,
 }
@@ -414,6 +416,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 .then(|| StaticBuffers::new(device, &static_setups, c.multi_draw_count)),
             instances: instances.clone(),
             static_capacities: scene.static_setups.iter().map(|s| s.capacity).collect(),
+            static_table: static_setups.clone(),
             index_buffer,
             geometry,
             tiling: tiling_plan,

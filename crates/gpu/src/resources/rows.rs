@@ -182,8 +182,8 @@ pub(crate) struct GpuStaticParams {
     pub row_width: u32,
     /// First draw of the alpha-tested list (the opaque setups' count).
     pub alpha_base: u32,
-    /// Zero.
-    pub pad: u32,
+    /// The first reserved slot: slot `s`'s debug word is `debug[s - debug_base]`.
+    pub debug_base: u32,
 }
 const _: () = assert!(size_of::<GpuStaticParams>() == 32);
 
@@ -323,7 +323,7 @@ mod tests {
                 setup_count,
                 row_width,
                 alpha_base,
-                pad
+                debug_base
             }),
         );
     }

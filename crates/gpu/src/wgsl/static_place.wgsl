@@ -46,7 +46,8 @@ struct GpuStaticParams {
     row_width: u32,
     // First draw of the alpha-tested list in `draws` (the opaque setups' count).
     alpha_base: u32,
-    pad: u32,
+    // The first reserved slot: slot s's debug word is debug[s - debug_base].
+    debug_base: u32,
 }
 
 // counters[GPU_STATIC_COUNTER_DRAWS + list]: draws appended per list (the count buffer).
@@ -75,6 +76,12 @@ const GPU_STATIC_BATCH_LANES: u32 = 64u;
 @group(0) @binding(6) var<storage, read_write> instances: array<GpuInstance>;
 @group(0) @binding(7) var<storage, read_write> place_dispatch: array<u32>;
 @group(0) @binding(8) var<storage, read_write> draws: array<u32>;
+// Per reserved slot, what placed it this frame (for debug views; slots not placed this
+// frame keep older words, and no pixel shows them): fade opacity in bits 0-7 (0-255),
+// the query's state flags in 8-15, GPU_STATIC_DEBUG_LATE for the second placement.
+@group(0) @binding(9) var<storage, read_write> debug: array<u32>;
+
+const GPU_STATIC_DEBUG_LATE: u32 = 0x10000u;
 
 // Batches the query wrote that its buffer holds.
 fn gpu_static_batch_count() -> u32 {
@@ -96,9 +103,9 @@ var<workgroup> gpu_static_wg_count: u32;
 var<workgroup> gpu_static_wg_base: u32;
 var<workgroup> gpu_static_wg_source: u32;
 
-// One workgroup per batch (a batch holds at most 64 instances).
-@compute @workgroup_size(64)
-fn place(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+// One workgroup per batch (a batch holds at most 64 instances); `late`: the frame's second
+// placement (two-pass occlusion), recorded in the debug words.
+fn gpu_static_place(wid: vec3<u32>, li: u32, late: bool) {
     let b = wid.y * params.row_width + wid.x;
     if li == 0u {
         gpu_static_wg_count = 0u;
@@ -144,7 +151,24 @@ fn place(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     out.primitive_bits = s.primitive_bits;
     out.material = s.material;
     instances[slot] = out;
+    let d = slot - min(params.debug_base, slot);
+    if slot >= params.debug_base && d < arrayLength(&debug) {
+        let st = query_instances[gpu_static_wg_source + li].state;
+        let fade = u32(round(clamp(st.fade, 0.0, 1.0) * 255.0));
+        debug[d] = fade | ((st.flags & 0xffu) << 8u) | select(0u, GPU_STATIC_DEBUG_LATE, late);
+    }
 }
+
+@compute @workgroup_size(64)
+fn place(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    gpu_static_place(wid, li, false);
+}
+
+@compute @workgroup_size(64)
+fn place_late(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    gpu_static_place(wid, li, true);
+}
+
 
 // Appends setup i's draw of its instances [first, end) to list `list` of draw block
 // `block` (0: full lists, 1: late lists).
