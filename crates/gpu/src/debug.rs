@@ -172,6 +172,81 @@ pub fn static_lod_fade(width: u32, height: u32, vis: &[u32], statics: &StaticDeb
     })
 }
 
+/// Occlusion's work over `image` (the frame of `params`' view): the screen rectangle of
+/// every static instance the query would draw without occlusion (`unoccluded`, e.g. the
+/// CPU twin's output with occlusion off) outlined in green if it is also in `visible` (the
+/// output with occlusion on) and in red if occlusion culled it; the red ones on top, so the
+/// culled instances behind the drawn ones show through. Boxes are the instances' setup
+/// bounds through their floating-space transforms; one crossing the near plane is skipped.
+pub fn occlusion_overlay(
+    image: &Rgba8Image,
+    scene: &staticscene::Scene,
+    params: &staticscene::QueryParams,
+    unoccluded: &[staticscene::DrawableSetupInstance],
+    visible: &[staticscene::DrawableSetupInstance],
+) -> Rgba8Image {
+    let key = |d: &staticscene::DrawableSetupInstance| (d.state.tile, d.state.instance);
+    let drawn: std::collections::HashSet<_> = visible.iter().map(key).collect();
+    let m = params.clip_from_floating();
+    let (w, h) = (image.width as f32, image.height as f32);
+    let rect = |d: &staticscene::DrawableSetupInstance| -> Option<[u32; 4]> {
+        let tile = scene.tiles().iter().find(|t| t.id().0 == d.state.tile)?;
+        let q = tile.instances().get(d.state.instance as usize)?;
+        let setup = tile.setups().get(q.setup() as usize)?;
+        let (lo, hi) = (setup.min(), setup.max());
+        let to_floating = d.local_to_floating.to_affine();
+        let (mut min, mut max) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
+        for i in 0..8 {
+            let c = glam::Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = m * to_floating.transform_point3(c).extend(1.0);
+            if p.w <= 0.0 {
+                return None;
+            }
+            let s = glam::Vec2::new((p.x / p.w * 0.5 + 0.5) * w, (0.5 - p.y / p.w * 0.5) * h);
+            min = min.min(s);
+            max = max.max(s);
+        }
+        if max.x < 0.0 || max.y < 0.0 || min.x >= w || min.y >= h {
+            return None;
+        }
+        let clamp = |v: f32, hi: f32| v.clamp(0.0, hi - 1.0) as u32;
+        Some([
+            clamp(min.x, w),
+            clamp(min.y, h),
+            clamp(max.x, w),
+            clamp(max.y, h),
+        ])
+    };
+    let mut out = image.clone();
+    for occluded in [false, true] {
+        let colour = if occluded {
+            [230, 30, 30, 255]
+        } else {
+            [40, 220, 60, 255]
+        };
+        for d in unoccluded
+            .iter()
+            .filter(|d| drawn.contains(&key(d)) != occluded)
+        {
+            if let Some([x0, y0, x1, y1]) = rect(d) {
+                for x in x0..=x1 {
+                    out.pixels[(y0 * out.width + x) as usize] = colour;
+                    out.pixels[(y1 * out.width + x) as usize] = colour;
+                }
+                for y in y0..=y1 {
+                    out.pixels[(y * out.width + x0) as usize] = colour;
+                    out.pixels[(y * out.width + x1) as usize] = colour;
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Two-pass occlusion's split: static instances the first pass drew (visible last frame)
 /// in blue, those the second pass found in orange; planned instances grey.
 pub fn static_two_pass(width: u32, height: u32, vis: &[u32], statics: &StaticDebug) -> Rgba8Image {

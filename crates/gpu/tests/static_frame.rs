@@ -251,6 +251,7 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
         d
     };
     let mut culled = 0;
+    let mut overlaid = false;
     for camera in cameras(&rig.city) {
         let deferred = RenderPath::Deferred;
         rig.query.set_hiz(&c.device, &c.queue, None).unwrap();
@@ -265,6 +266,30 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
             .unwrap();
         assert_eq!(stats.instances as usize, out.instances.len());
         culled += stats.query.rejected_occlusion;
+        if culled > 0 && !overlaid {
+            // The overlay: culled instances outlined in red, drawn ones in green.
+            let mut unoccluded = QueryOutput::<DrawableSetupInstance>::new();
+            rig.cpu
+                .clone()
+                .query(
+                    &QueryParams::new(&desc(&camera, false)).unwrap(),
+                    None,
+                    &QueryOptions::default(),
+                    &mut unoccluded,
+                )
+                .unwrap();
+            let overlay = gpu::debug::occlusion_overlay(
+                &on,
+                &rig.cpu,
+                &params,
+                &unoccluded.instances,
+                &out.instances,
+            );
+            let count = |c: [u8; 4]| overlay.pixels.iter().filter(|&&p| p == c).count();
+            assert!(count([230, 30, 30, 255]) > 0 && count([40, 220, 60, 255]) > 0);
+            save("occlusion_overlay", &overlay);
+            overlaid = true;
+        }
         let (mean, _) = diff_metrics(&on, &off, 0.5).unwrap();
         let (_, max) = diff_metrics(&on, &off, 1.0).unwrap();
         if max != 0 {

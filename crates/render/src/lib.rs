@@ -314,6 +314,34 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         let file = args.out.join("city_debug_hiz.png");
         gpu::debug::hiz_mips(&texels, size).write_png(&file)?;
         report.image_named("HiZ mips the query tested against", &file);
+        // What occlusion culls, from the CPU twin on this view: without occlusion, and
+        // against the last frame's depth (the camera holds still).
+        let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
+        let mut off_view = desc;
+        off_view.occlusion_camera = None;
+        let mut on_view = desc;
+        on_view.occlusion_camera = Some(desc.camera);
+        let mut outputs = Vec::new();
+        for (view, hiz) in [(off_view, None), (on_view, Some(&hiz))] {
+            let mut out = gpu::staticscene::QueryOutput::new();
+            cpu.clone().query(
+                &gpu::staticscene::QueryParams::new(&view)?,
+                hiz,
+                &QueryOptions::default(),
+                &mut out,
+            )?;
+            outputs.push(out);
+        }
+        let overlay = gpu::debug::occlusion_overlay(
+            &images[0],
+            &cpu,
+            &gpu::staticscene::QueryParams::new(&desc)?,
+            &outputs[0].instances,
+            &outputs[1].instances,
+        );
+        let file = args.out.join("city_debug_occlusion.png");
+        overlay.write_png(&file)?;
+        report.image_named("occlusion: drawn (green) / culled (red)", &file);
     }
     // HZD's mode on the same view: the CPU waits for the query, reads its batches back
     // and plans them (tiling::build_plan at prepare), then renders them as any scene.
