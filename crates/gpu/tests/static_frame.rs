@@ -559,6 +559,96 @@ fn the_lod_fade_view_shows_instances_fading() {
     assert!(fading_in > 0 && fading_out > 0, "{fading_in} {fading_out}");
 }
 
+/// Streaming while frames render: streaming groups come and go between frames (a sliding
+/// window, one group coming back into freed pool space); each frame's GPU-driven static
+/// draws equal the CPU twin's visible set on the same tiles, and every placed instance is
+/// drawn.
+#[test]
+fn tiles_streamed_between_frames_keep_the_frame_equal_to_the_twin() {
+    use gpu::staticscene::{BuildConfig, ResourceLibrary, TileStreamer};
+    let c = ctx();
+    let mut config = staticscene::demo::CityConfig::with_instances(30_000);
+    // Small sectors: many streaming groups.
+    config.sector_lots = 2;
+    let city = gpu::demo::city::city_with(config);
+    let mut r = renderer();
+    let prepared = r.prepare(&city.scene).unwrap();
+    let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut streamer = TileStreamer::new(
+        ResourceLibrary::new(&city.world.resources),
+        BuildConfig::default(),
+    );
+    let mut cpu = staticscene::Scene::new();
+    let groups = &city.world.groups;
+    let n = groups.len();
+    assert!(n >= 4, "{n} groups");
+    let mut loaded: Vec<usize> = Vec::new();
+    // An update can remove and add (the orphan tile is rebuilt): both sides, both lists.
+    let apply =
+        |query: &mut StaticQuery, cpu: &mut staticscene::Scene, u: staticscene::TileUpdate| {
+            for id in &u.remove {
+                assert!(query.deactivate(*id));
+            }
+            for t in &u.add {
+                query.activate(&c.device, &c.queue, t.tile()).unwrap();
+            }
+            cpu.apply(u);
+        };
+    let camera = city.frame.camera;
+    let mut desc = static_view_desc(&camera, W, H);
+    desc.fade_frames = 0;
+    let mut seen = 0;
+    for frame in 0..8usize {
+        let lo = frame * n / 12;
+        let mut want: Vec<usize> = (lo..(lo + n / 2).min(n)).collect();
+        if frame >= 6 {
+            want.push(0);
+        }
+        for g in loaded.clone() {
+            if !want.contains(&g) {
+                let u = streamer.remove_group(groups[g].id).unwrap();
+                apply(&mut query, &mut cpu, u);
+                loaded.retain(|&x| x != g);
+            }
+        }
+        for &g in &want {
+            if !loaded.contains(&g) {
+                let u = streamer.add_group(&groups[g]).unwrap();
+                apply(&mut query, &mut cpu, u);
+                loaded.push(g);
+            }
+        }
+        assert_eq!(query.tile_count(), cpu.tiles().len());
+        let params = QueryParams::new(&desc).unwrap();
+        let mut twin = cpu.clone();
+        let mut out = QueryOutput::<DrawableSetupInstance>::new();
+        twin.query(&params, None, &QueryOptions::default(), &mut out)
+            .unwrap();
+        let mut view = StaticView {
+            query: &mut query,
+            scene: &mut cpu,
+            view: desc,
+            options: QueryOptions::default(),
+            occlusion: StaticOcclusion::Given,
+        };
+        let stats = r
+            .render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)
+            .unwrap()
+            .statics
+            .unwrap();
+        assert!(stats.skipped_tiles.is_empty());
+        assert_eq!(
+            stats.instances as usize,
+            out.instances.len(),
+            "frame {frame}"
+        );
+        assert_eq!(stats.placed, u64::from(stats.instances), "frame {frame}");
+        assert_eq!(stats.batches as usize, out.batches.len(), "frame {frame}");
+        seen += out.instances.len();
+    }
+    assert!(seen > 1000, "{seen}");
+}
+
 #[test]
 fn render_static_refuses_a_scene_without_static_setups() {
     let c = ctx();

@@ -160,7 +160,12 @@ fn count_leaves(node: &MeshNode, counts: &mut [u32]) {
 /// The city for about `instances` static instances (`CityConfig::with_instances`).
 #[must_use]
 pub fn city(instances: usize) -> City {
-    let config = CityConfig::with_instances(instances);
+    city_with(CityConfig::with_instances(instances))
+}
+
+/// [`city`] with `staticscene`'s layout given in full (sector size, seed, ...).
+#[must_use]
+pub fn city_with(config: CityConfig) -> City {
     let mut world = staticscene::demo::city(&config);
     let mut handles = BTreeMap::new();
     let mut setups = Vec::new();
