@@ -44,6 +44,9 @@ struct Args {
     /// Camera.
     #[arg(long, value_enum, default_value = "aerial")]
     camera: CameraArg,
+    /// Leave subgroups off (the query's workgroup-wide batch output, W64 batches).
+    #[arg(long)]
+    no_subgroups: bool,
     /// Queries measured per mode (after a 0.5 s warm-up).
     #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
@@ -60,8 +63,16 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn main() -> anyhow::Result<()> {
     let args = Args::parse();
-    let ctx = gpu::headless(&HeadlessOptions::default())?;
+    let mut disable = wgpu::Features::empty();
+    if args.no_subgroups {
+        disable |= wgpu::Features::SUBGROUP;
+    }
+    let ctx = gpu::headless(&HeadlessOptions {
+        disable_features: disable,
+        ..HeadlessOptions::default()
+    })?;
     println!("{}", ctx.adapter_line());
+    let subgroups = ctx.device.features().contains(wgpu::Features::SUBGROUP);
     let (device, queue) = (&ctx.device, &ctx.queue);
 
     let t = Instant::now();
@@ -138,7 +149,11 @@ fn main() -> anyhow::Result<()> {
             params.flags &= !staticscene::QUERY_FLAG_SHADOW;
         }
         query.set_hiz(device, queue, occlusion.then_some(&hiz))?;
-        let options = QueryOptions::default();
+        // The GPU's batch width (its subgroup size, or 64): the twin batches alike.
+        let options = QueryOptions {
+            wave_width: query.wave_width().unwrap_or(staticscene::WaveWidth::W64),
+            ..QueryOptions::default()
+        };
         // Warm-up: the SM clock drops when idle.
         let start = Instant::now();
         while start.elapsed() < Duration::from_millis(500) {
@@ -188,7 +203,7 @@ fn main() -> anyhow::Result<()> {
         }
         let s: QueryStats = out.stats;
         println!(
-            "\nocclusion {}: {}x{}, {:?} camera{}",
+            "\nocclusion {}: {}x{}, {:?} camera{}, batch output {}",
             if occlusion { "on" } else { "off" },
             w,
             h,
@@ -197,6 +212,11 @@ fn main() -> anyhow::Result<()> {
                 (CameraArg::Sun, true) => ", shadow variant",
                 (CameraArg::Sun, false) => ", general pass",
                 _ => "",
+            },
+            if subgroups {
+                format!("per subgroup ({:?})", options.wave_width)
+            } else {
+                "workgroup-wide (W64)".to_string()
             }
         );
         println!(

@@ -622,8 +622,12 @@ fn tiles_streamed_between_frames_keep_the_frame_equal_to_the_twin() {
         let params = QueryParams::new(&desc).unwrap();
         let mut twin = cpu.clone();
         let mut out = QueryOutput::<DrawableSetupInstance>::new();
-        twin.query(&params, None, &QueryOptions::default(), &mut out)
-            .unwrap();
+        // The twin batches at the query's width (the subgroup size, or 64).
+        let twin_options = QueryOptions {
+            wave_width: query.wave_width().expect("a fixed subgroup size"),
+            ..QueryOptions::default()
+        };
+        twin.query(&params, None, &twin_options, &mut out).unwrap();
         let mut view = StaticView {
             query: &mut query,
             scene: &mut cpu,

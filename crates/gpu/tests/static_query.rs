@@ -41,6 +41,11 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
     let mut prev_cam = street_camera(&cfg);
     let mut max_tiles = 0;
     let mut shadow_views = 0;
+    // The twin batches at the GPU query's width (its subgroup size, or 64).
+    let twin_options = QueryOptions {
+        wave_width: query.wave_width().expect("a fixed subgroup size"),
+        ..QueryOptions::default()
+    };
     for frame in 0..10usize {
         let lo = frame / 2;
         let want: Vec<usize> = (lo..(lo + n / 2).min(n))
@@ -92,7 +97,7 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
         prev_cam = cam;
         let params = QueryParams::new(&view).unwrap();
         cpu_scene
-            .query(&params, Some(&hiz), &QueryOptions::default(), &mut cpu_out)
+            .query(&params, Some(&hiz), &twin_options, &mut cpu_out)
             .unwrap();
         query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
         let gpu = query
@@ -141,7 +146,7 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
             let shadow = ViewDesc::shadow(sun, [512, 512], FILTER_SUN_SHADOW, cam.position);
             let sp = QueryParams::new(&shadow).unwrap();
             cpu_scene
-                .query(&sp, None, &QueryOptions::default(), &mut cpu_out)
+                .query(&sp, None, &twin_options, &mut cpu_out)
                 .unwrap();
             let gpu = query
                 .run(

@@ -422,12 +422,16 @@ const JOB_LIST_MIN: usize = 16 + size_of::<GpuJob>();
 /// and one entry point `query` of [`QUERY_WORKGROUP`] invocations per wave. Feature
 /// `shadow_view` compiles the shadow variant: views with
 /// [`QUERY_FLAG_SHADOW`](crate::QUERY_FLAG_SHADOW) only (fade, occlusion and the camera
-/// state compiled out).
+/// state compiled out). Feature `subgroups` (wgpu `Features::SUBGROUP`) makes the batch
+/// output per subgroup, as HZD's per hardware wave: batches never span a subgroup, so the
+/// output equals the CPU twin's with the subgroup size as its
+/// [`WaveWidth`](crate::WaveWidth) (subgroups tiling the workgroup in local-index order,
+/// as drivers lay them out); without it, batches span the 64-invocation workgroup (W64).
 pub const QUERY_PASS: Pass<QueryDispatch> = Pass {
     name: "staticscene query",
     module: "staticscene::query_pass",
     library: crate::wgsl::LIBRARY,
-    features: &["shadow_view"],
+    features: &["shadow_view", "subgroups"],
     groups: &[Group {
         name: "query",
         bindings: &[

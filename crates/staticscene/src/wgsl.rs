@@ -59,7 +59,13 @@ mod tests {
     #[test]
     fn query_pass_description_matches_its_module() {
         use crate::pass::*;
-        shadercheck::check_pass(&QUERY_PASS, |_| Caps::CORE);
+        shadercheck::check_pass(&QUERY_PASS, |f| {
+            if f.contains(&"subgroups") {
+                Caps::SUBGROUP
+            } else {
+                Caps::CORE
+            }
+        });
         let m = shadercheck::assert_composed(LIBRARY, QUERY_PASS_MODULE.name, &[], Caps::CORE);
         shadercheck::assert_prefixed(QUERY_PASS_MODULE.name, &m, "staticscene", &["wave"], false);
         for (name, v) in [

@@ -244,7 +244,25 @@ fn walk(frames: usize) -> Vec<(Camera, Camera)> {
 /// canonical sort), each instance's fade and transform, and the fade states left behind.
 #[test]
 fn gpu_query_equals_the_cpu_twin_over_frames() {
-    twin_over_frames(false);
+    twin_over_frames(false, &[]);
+}
+
+/// The subgroup batch output: batches per subgroup, equal to the twin with the subgroup's
+/// width, over the same frames (single pass and two-pass).
+#[test]
+fn gpu_query_with_subgroups_equals_the_twin_at_the_subgroup_width() {
+    let info = &testkit::device::ctx().info;
+    assert!(
+        testkit::device::has_subgroups(),
+        "{} has no subgroups (lavapipe has them: see README)",
+        info.name
+    );
+    assert_eq!(
+        info.subgroup_min_size, info.subgroup_max_size,
+        "a varying subgroup size has no fixed twin width"
+    );
+    twin_over_frames(false, &["subgroups"]);
+    twin_over_frames(true, &["subgroups"]);
 }
 
 /// Two-pass occlusion on the GPU equals the twin frame after frame: the first pass (last
@@ -252,10 +270,22 @@ fn gpu_query_equals_the_cpu_twin_over_frames() {
 /// visibility written, the first pass's instances left out), each compared as above.
 #[test]
 fn gpu_two_pass_occlusion_equals_the_cpu_twin_over_frames() {
-    twin_over_frames(true);
+    twin_over_frames(true, &[]);
 }
 
-fn twin_over_frames(two_pass: bool) {
+/// The query over a walk, compared frame by frame with the twin; `features` compose the
+/// pass (with `subgroups`, the twin runs at the device's subgroup width).
+fn twin_over_frames(two_pass: bool, features: &[&str]) {
+    let options = if features.contains(&"subgroups") {
+        let lanes = testkit::device::ctx().info.subgroup_min_size;
+        QueryOptions {
+            wave_width: staticscene::WaveWidth::from_lanes(lanes)
+                .expect("a subgroup size of 8 to 64"),
+            ..QueryOptions::default()
+        }
+    } else {
+        QueryOptions::default()
+    };
     let cfg = CityConfig::with_instances(20_000);
     let c = city(&cfg);
     let mut cpu_scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
@@ -303,14 +333,9 @@ fn twin_over_frames(two_pass: bool) {
             view.occlusion_pass = pass;
             let params = QueryParams::new(&view).unwrap();
             cpu_scene
-                .query(
-                    &params,
-                    hiz.as_ref(),
-                    &QueryOptions::default(),
-                    &mut cpu_out,
-                )
+                .query(&params, hiz.as_ref(), &options, &mut cpu_out)
                 .unwrap();
-            let gpu = run_query(&mut pool, &plan, &params, hiz.as_ref());
+            let gpu = run_variant(&mut pool, &plan, &params, hiz.as_ref(), features);
             assert_equal(frame, &gpu, &cpu_out);
             for t in cpu_scene.tiles() {
                 for i in 0..t.instances().len() {

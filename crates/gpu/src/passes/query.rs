@@ -111,6 +111,10 @@ pub struct StaticQuery {
     pass: ComputePass<QueryDispatch>,
     /// The shadow variant (feature `shadow_view`), for views with `QUERY_FLAG_SHADOW`.
     shadow_pass: ComputePass<QueryDispatch>,
+    /// Whether the passes output batches per subgroup (feature `subgroups`).
+    subgroups: bool,
+    /// The device's subgroup sizes (min, max).
+    subgroup_sizes: (u32, u32),
     hiz_depth: ComputePass<HizGrid>,
     hiz_from_buffer: ComputePass<HizGrid>,
     pool: StaticPool,
@@ -143,9 +147,21 @@ impl StaticQuery {
                 mapped_at_creation: false,
             })
         };
+        // Batches per subgroup where the device has subgroups (HZD's per hardware wave).
+        let subgroups = device.features().contains(wgpu::Features::SUBGROUP);
+        let (camera, shadow): (&[&str], &[&str]) = if subgroups {
+            (&["subgroups"], &["shadow_view", "subgroups"])
+        } else {
+            (&[], &["shadow_view"])
+        };
         let mut q = Self {
-            pass: ComputePass::new(device, &QUERY_PASS, &[], &[])?,
-            shadow_pass: ComputePass::new(device, &QUERY_PASS, &["shadow_view"], &[])?,
+            pass: ComputePass::new(device, &QUERY_PASS, camera, &[])?,
+            shadow_pass: ComputePass::new(device, &QUERY_PASS, shadow, &[])?,
+            subgroups,
+            subgroup_sizes: {
+                let info = device.adapter_info();
+                (info.subgroup_min_size, info.subgroup_max_size)
+            },
             hiz_depth: ComputePass::new(device, &HIZ_DEPTH, &[], &[])?,
             hiz_from_buffer: ComputePass::new(device, &HIZ_DEPTH, &["from_buffer"], &[])?,
             pool: StaticPool::new(device),
@@ -184,6 +200,21 @@ impl StaticQuery {
     /// Releases a removed tile's records; false if it was not active.
     pub fn deactivate(&mut self, id: TileId) -> bool {
         self.pool.deactivate(id)
+    }
+
+    /// The lanes a batch may span, as the CPU twin's [`QueryOptions::wave_width`] that
+    /// reproduces this query's batches: the device's subgroup size where it has subgroups
+    /// (a fixed size of 8 to 64), else the 64-invocation workgroup (`None`: a subgroup size
+    /// that varies or is outside 8-64, for which no twin width matches).
+    #[must_use]
+    pub fn wave_width(&self) -> Option<staticscene::WaveWidth> {
+        if !self.subgroups {
+            return Some(staticscene::WaveWidth::W64);
+        }
+        let (lo, hi) = self.subgroup_sizes;
+        (lo == hi)
+            .then(|| staticscene::WaveWidth::from_lanes(lo).ok())
+            .flatten()
     }
 
     /// Active tiles on the GPU.

@@ -11,6 +11,9 @@
 
 #import staticscene::query
 #import wave::workgroup
+#if subgroups
+#import wave::subgroup
+#endif
 
 const STATICSCENE_QUERY_WORKGROUP: u32 = 64u;
 // Workgroups per row of a 2D dispatch (Rust: shader::MAX_WORKGROUPS_X).
@@ -468,9 +471,103 @@ fn staticscene_find_job(wave: u32, count: u32) -> u32 {
     return lo;
 }
 
+// Folds a visible invocation into its group's accumulation (bounds, nearest depth, flags).
+fn staticscene_fold(g: u32, lane: StaticsceneLane) {
+    atomicMax(&staticscene_wg_bmin[g * 3u], ~staticscene_ordered(lane.bmin.x));
+    atomicMax(&staticscene_wg_bmin[g * 3u + 1u], ~staticscene_ordered(lane.bmin.y));
+    atomicMax(&staticscene_wg_bmin[g * 3u + 2u], ~staticscene_ordered(lane.bmin.z));
+    atomicMax(&staticscene_wg_bmax[g * 3u], staticscene_ordered(lane.bmax.x));
+    atomicMax(&staticscene_wg_bmax[g * 3u + 1u], staticscene_ordered(lane.bmax.y));
+    atomicMax(&staticscene_wg_bmax[g * 3u + 2u], staticscene_ordered(lane.bmax.z));
+    atomicMax(&staticscene_wg_bdepth[g], ~staticscene_ordered(lane.depth));
+    atomicOr(&staticscene_wg_bflags[g], lane.flags);
+}
+
+// Writes group g's header at `bslot` (its first instance at `slot`, `count` instances);
+// returns 1 when it falls past the buffer (dropped).
+fn staticscene_write_header(g: u32, lane: StaticsceneLane, slot: u32, count: u32, bslot: u32) -> u32 {
+    let bmin = vec3<f32>(
+        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u])),
+        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 1u])),
+        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 2u])),
+    );
+    let bmax = vec3<f32>(
+        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u])),
+        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 1u])),
+        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 2u])),
+    );
+    let depth = staticscene_unordered(~atomicLoad(&staticscene_wg_bdepth[g]));
+    if (bslot >= arrayLength(&out_batches)) {
+        return 1u;
+    }
+    let centre = (bmin + bmax) * 0.5;
+    let r = length(bmax - bmin) * 0.5;
+    out_batches[bslot] = StaticsceneDrawableSetupBatch(
+        staticscene_sort_key(lane.handle, depth),
+        lane.handle,
+        vec4<f32>(centre, r),
+        slot,
+        atomicLoad(&staticscene_wg_bflags[g]),
+        count,
+        64u,
+    );
+    return 0u;
+}
+
+// Writes a visible invocation's instance at `slot`; returns 1 when it falls past the buffer.
+fn staticscene_write_instance(job: StaticsceneGpuJob, lane: StaticsceneLane, tile_index: u32, slot: u32) -> u32 {
+    if (slot >= arrayLength(&out_instances)) {
+        return 1u;
+    }
+    out_instances[slot] = StaticsceneDrawableSetupInstance(StaticsceneInstanceState(lane.fade, lane.flags, job.tile, tile_index), lane.l2f);
+    return 0u;
+}
+
+#if subgroups
+// Per group (subgroup base + group index): visible instances, and the complemented local
+// index of the first visible one (atomicMax of ~index keeps the lowest).
+var<workgroup> staticscene_wg_count: array<atomic<u32>, 64>;
+var<workgroup> staticscene_wg_first: array<atomic<u32>, 64>;
+
+// The run-grouped output of a wave with some visible invocation, HZD's per hardware wave:
+// batches never span a subgroup (the CPU twin with the subgroup's width), counts and
+// prefixes from ballots, one counter atomic per subgroup; `sg`: the subgroup invocation id
+// and the subgroup's first local index. Two workgroup barriers (the bounds accumulation in
+// workgroup memory). Returns the items dropped past the buffers.
+fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bool, group_end: bool, tile_index: u32, li: u32, sg: vec2<u32>) -> u32 {
+    var dropped = 0u;
+    let ends = subgroupBallot(group_end);
+    let g = sg.y + wave_ballot_count_below(ends, sg.x);
+    let a = wave_sg_append_begin(visible, sg.x);
+    var old = 0u;
+    if (a.total != 0u) {
+        old = atomicAdd(&counters.instances, a.total);
+    }
+    let slot = wave_sg_append_end(a, old);
+    if (visible) {
+        dropped += staticscene_write_instance(job, lane, tile_index, slot);
+        staticscene_fold(g, lane);
+        atomicAdd(&staticscene_wg_count[g], 1u);
+        atomicMax(&staticscene_wg_first[g], ~li);
+    }
+    workgroupBarrier();
+    let writes = visible && ~atomicLoad(&staticscene_wg_first[g]) == li;
+    let h = wave_sg_append_begin(writes, sg.x);
+    var old_b = 0u;
+    if (h.total != 0u) {
+        old_b = atomicAdd(&counters.batches, h.total);
+    }
+    let bslot = wave_sg_append_end(h, old_b);
+    if (writes) {
+        dropped += staticscene_write_header(g, lane, slot, atomicLoad(&staticscene_wg_count[g]), bslot);
+    }
+    return dropped;
+}
+#else
 // The run-grouped output of a wave with some visible invocation: one instance per
-// visible invocation, one header per group. Returns the items dropped past the buffers.
-fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bool, group_end: bool, tile_index: u32, li: u32) -> u32 {
+// visible invocation, one header per group, workgroup-wide (batches of up to 64, the CPU
+// twin's W64). Returns the items dropped past the buffers.
+fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bool, group_end: bool, tile_index: u32, li: u32, sg: vec2<u32>) -> u32 {
     var dropped = 0u;
     let b = wave_wg_batch_begin(group_end, visible, li);
     var old = 0u;
@@ -479,20 +576,8 @@ fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bo
     }
     let slot = wave_wg_append_end(b.instance, old);
     if (visible) {
-        if (slot < arrayLength(&out_instances)) {
-            out_instances[slot] = StaticsceneDrawableSetupInstance(StaticsceneInstanceState(lane.fade, lane.flags, job.tile, tile_index), lane.l2f);
-        } else {
-            dropped += 1u;
-        }
-        let g = b.group;
-        atomicMax(&staticscene_wg_bmin[g * 3u], ~staticscene_ordered(lane.bmin.x));
-        atomicMax(&staticscene_wg_bmin[g * 3u + 1u], ~staticscene_ordered(lane.bmin.y));
-        atomicMax(&staticscene_wg_bmin[g * 3u + 2u], ~staticscene_ordered(lane.bmin.z));
-        atomicMax(&staticscene_wg_bmax[g * 3u], staticscene_ordered(lane.bmax.x));
-        atomicMax(&staticscene_wg_bmax[g * 3u + 1u], staticscene_ordered(lane.bmax.y));
-        atomicMax(&staticscene_wg_bmax[g * 3u + 2u], staticscene_ordered(lane.bmax.z));
-        atomicMax(&staticscene_wg_bdepth[g], ~staticscene_ordered(lane.depth));
-        atomicOr(&staticscene_wg_bflags[g], lane.flags);
+        dropped += staticscene_write_instance(job, lane, tile_index, slot);
+        staticscene_fold(b.group, lane);
     }
     let hdr = wave_wg_batch_headers_begin(b, li);
     var old_b = 0u;
@@ -501,39 +586,28 @@ fn staticscene_output(job: StaticsceneGpuJob, lane: StaticsceneLane, visible: bo
     }
     let bslot = wave_wg_append_end(hdr.append, old_b);
     if (hdr.append.amount != 0u) {
-        let g = b.group;
-        let bmin = vec3<f32>(
-            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u])),
-            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 1u])),
-            staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 2u])),
-        );
-        let bmax = vec3<f32>(
-            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u])),
-            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 1u])),
-            staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 2u])),
-        );
-        let depth = staticscene_unordered(~atomicLoad(&staticscene_wg_bdepth[g]));
-        if (bslot < arrayLength(&out_batches)) {
-            let centre = (bmin + bmax) * 0.5;
-            let r = length(bmax - bmin) * 0.5;
-            out_batches[bslot] = StaticsceneDrawableSetupBatch(
-                staticscene_sort_key(lane.handle, depth),
-                lane.handle,
-                vec4<f32>(centre, r),
-                slot,
-                atomicLoad(&staticscene_wg_bflags[g]),
-                hdr.instance_count,
-                64u,
-            );
-        } else {
-            dropped += 1u;
-        }
+        dropped += staticscene_write_header(b.group, lane, slot, hdr.instance_count, bslot);
     }
     return dropped;
 }
+#endif
 
 @compute @workgroup_size(64)
+#if subgroups
+fn query(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+    @builtin(subgroup_invocation_id) sg_lane: u32,
+    @builtin(subgroup_id) sg_id: u32,
+    @builtin(subgroup_size) sg_size: u32,
+) {
+    // Subgroups are taken to tile the workgroup in local-index order (so a subgroup's
+    // lanes are consecutive instances, as the CPU twin's waves).
+    let sg = vec2<u32>(sg_lane, sg_id * sg_size);
+#else
 fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let sg = vec2<u32>(li, 0u);
+#endif
     let wave = wid.y * STATICSCENE_MAX_WORKGROUPS_X + wid.x;
     let job_count = min(job_list.count, arrayLength(&job_list.jobs));
     if (wave >= job_list.waves || job_count == 0u) {
@@ -579,7 +653,7 @@ fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     }
     var dropped = 0u;
     if (workgroupUniformLoad(&staticscene_wg_any_visible_copy) != 0u) {
-        dropped = staticscene_output(job, lane, visible, has_instance && staticscene_group_end(q), tile_index, li);
+        dropped = staticscene_output(job, lane, visible, has_instance && staticscene_group_end(q), tile_index, li, sg);
     }
     // Statistics: one global atomic per counter per workgroup.
     if (has_instance) {
