@@ -165,7 +165,9 @@ impl HiZ {
     /// inside the buffer) whose nearest depth is `depth`. The level is the finest `l` at
     /// which the rectangle spans at most 2x2 texels; if `l > scan_levels` and
     /// `scan_levels > 0`, the rectangle is scanned at level `l - scan_levels` instead (at
-    /// most `(2^scan_levels + 1)^2` texels), a tighter test for large boxes.
+    /// most `(2^scan_levels + 1)^2` texels), a tighter test for large boxes. Level `l`'s
+    /// 2x2 texels are read first either way: each is the farthest of the texels under it,
+    /// so behind them is behind the scan (the verdict is the scan's, in four reads).
     #[must_use]
     pub fn occluded_rect(&self, rect: [u32; 4], depth: f32, scan_levels: u32) -> bool {
         let [x0, y0, x1, y1] = rect;
@@ -175,11 +177,14 @@ impl HiZ {
         }
         let top = self.levels.len() as u32 - 1;
         let l = l.min(top);
-        let level = if scan_levels > 0 && l > scan_levels {
-            l - scan_levels
-        } else {
-            l
-        };
+        if self.behind_texels(l, rect, depth) {
+            return true;
+        }
+        scan_levels > 0 && l > scan_levels && self.behind_texels(l - scan_levels, rect, depth)
+    }
+
+    /// Whether `depth` is behind every texel of `level` under the level-0 rectangle.
+    fn behind_texels(&self, level: u32, [x0, y0, x1, y1]: [u32; 4], depth: f32) -> bool {
         let lv = self.levels[level as usize];
         for y in (y0 >> level)..=(y1 >> level).min(lv.height - 1) {
             let row = lv.offset + (y * lv.width) as usize;

@@ -252,8 +252,22 @@ fn staticscene_occluded(bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
         l += 1u;
     }
     l = min(l, level_count - 1u);
+    // The 2x2 texels of level l first: each is the farthest of the finer texels under it,
+    // so behind all of them is behind everything the finer scan reads (the same verdict,
+    // in at most four reads instead of up to a scan's 9x9).
+    if (staticscene_behind_texels(l, x0, y0, x1, y1, depth, reversed)) {
+        return true;
+    }
     let scan = params.hiz_scan_levels;
-    let level = select(l, l - scan, scan > 0u && l > scan);
+    if (scan == 0u || l <= scan) {
+        return false;
+    }
+    return staticscene_behind_texels(l - scan, x0, y0, x1, y1, depth, reversed);
+}
+
+// Whether `depth` is behind every texel of `level` under the level-0 rectangle
+// [x0, x1] x [y0, y1].
+fn staticscene_behind_texels(level: u32, x0: u32, y0: u32, x1: u32, y1: u32, depth: f32, reversed: bool) -> bool {
     let lw = hiz[4u + level * 4u];
     let lh = hiz[5u + level * 4u];
     let offset = hiz[6u + level * 4u];
