@@ -145,7 +145,8 @@ fn the_city_from_the_gpu_query_equals_the_twins_visible_set_drawn_as_batches() {
     let mut rig = Rig::new();
     let mut twin = rig.cpu.clone();
     let camera = rig.city.frame.camera;
-    let desc = static_view_desc(&camera, W, H);
+    // No fade: the first frame would dither every instance in (the planned twin is opaque).
+    let desc = still_lod_desc(&camera);
     let params = QueryParams::new(&desc).unwrap();
     let (gpu_image, stats) = rig.frame(desc, camera, RenderPath::Deferred);
     let (city, r) = (&rig.city, &mut rig.r);
@@ -196,8 +197,9 @@ fn the_static_frame_matches_the_depth_equal_baseline() {
     let mut rig = Rig::new();
     let camera = rig.city.frame.camera;
     let mut images = Vec::new();
+    // No fade: the two frames would be different steps of the fade-in dither.
     for path in [RenderPath::Deferred, RenderPath::Baseline] {
-        images.push(rig.frame(static_view_desc(&camera, W, H), camera, path).0);
+        images.push(rig.frame(still_lod_desc(&camera), camera, path).0);
     }
     let (mean, _) = diff_metrics(&images[0], &images[1], 0.5).unwrap();
     let (_, p99) = diff_metrics(&images[0], &images[1], 0.99).unwrap();
@@ -476,7 +478,8 @@ fn hzds_read_back_mode_draws_what_the_gpu_driven_frame_draws() {
     let c = ctx();
     let mut rig = Rig::new();
     let camera = rig.city.frame.camera;
-    let desc = static_view_desc(&camera, W, H);
+    // No fade: the planned batches are drawn opaque.
+    let desc = still_lod_desc(&camera);
     let mut readback_scene = rig.cpu.clone();
     let params = QueryParams::new(&desc).unwrap();
     let out = rig
@@ -538,10 +541,30 @@ fn the_lod_fade_view_shows_instances_fading() {
         rig.frame(desc, camera, RenderPath::Deferred);
         let vis = rig.r.read_vis().unwrap();
         let debug = rig.r.read_static_debug(&rig.prepared).unwrap();
-        for p in vis.iter().filter_map(|&w| debug.lookup(w)) {
+        for (i, p) in vis
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &w)| Some((i, debug.lookup(w)?)))
+        {
             let out = p.flags & staticscene::STATE_FADING_OUT != 0;
             if p.flags & staticscene::STATE_FADING != 0 {
                 assert!(p.fade > 0.0 && p.fade < 1.0, "{p:?}");
+                // The laydown's dither: a fading instance shows only where the 4x4 Bayer
+                // rank is below its cells of 16 (fading in) or at or above 16 minus them.
+                const BAYER: [[u32; 4]; 4] =
+                    [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+                let (x, y) = (i as u32 % W, i as u32 / W);
+                let rank = BAYER[(y % 4) as usize][(x % 4) as usize];
+                let cells = (p.fade * 16.0).round() as u32;
+                let kept = if out {
+                    rank + cells >= 16
+                } else {
+                    rank < cells
+                };
+                assert!(
+                    kept,
+                    "pixel ({x}, {y}) of a fading instance the dither drops: {p:?}"
+                );
                 if out {
                     fading_out += 1;
                 } else {

@@ -21,14 +21,17 @@ pub(crate) const BASELINE: Pass = Pass {
     entries: &[
         Entry::draw("vs_baseline", Stage::Vertex),
         Entry::draw("fs_baseline", Stage::Fragment),
+        Entry::draw("fs_baseline_fade", Stage::Fragment),
     ],
     zeroed: &[],
 };
 
-/// The baseline's geometry pipeline.
+/// The baseline's geometry pipelines: planned instances, and static ones (which may fade:
+/// the laydown's dither first).
 pub(crate) struct Baseline {
     layouts: Layouts,
     pipeline: wgpu::RenderPipeline,
+    fade_pipeline: wgpu::RenderPipeline,
 }
 
 impl Baseline {
@@ -39,32 +42,40 @@ impl Baseline {
             source: wgpu::ShaderSource::Wgsl(BASELINE.source(&[])?.into()),
         });
         let targets = gbuffer::color_targets();
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(BASELINE.name),
-            layout: Some(layouts.pipeline_layout()),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_baseline"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: primitive_state(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Equal),
-                ..depth_write_state()
-            }),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_baseline"),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Ok(Self { layouts, pipeline })
+        let make = |fragment: &str| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(BASELINE.name),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_baseline"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: primitive_state(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(wgpu::CompareFunction::Equal),
+                    ..depth_write_state()
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fragment),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipeline = make("fs_baseline");
+        let fade_pipeline = make("fs_baseline_fade");
+        Ok(Self {
+            layouts,
+            pipeline,
+            fade_pipeline,
+        })
     }
 
     /// A prepared scene's bind group (its `scene` resources by binding name).
@@ -116,7 +127,13 @@ impl Baseline {
         });
         pass.set_bind_group(0, &f.scene.baseline, &[]);
         // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
-        record_draws(&mut pass, f, &self.pipeline, &self.pipeline);
+        record_draws(
+            &mut pass,
+            f,
+            &self.pipeline,
+            &self.pipeline,
+            &self.fade_pipeline,
+        );
     }
 }
 

@@ -312,10 +312,12 @@ impl Laydown {
         if late {
             if let Some(b) = &f.scene.statics {
                 pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-                super::static_place::record_static_draws(pass, b, opaque, alpha, true);
+                // Static instances may fade: the alpha-tested pipeline dithers them.
+                super::static_place::record_static_draws(pass, b, alpha, alpha, true);
             }
         } else {
-            record_draws(pass, f, opaque, alpha);
+            // Static instances may fade: the alpha-tested pipeline dithers them.
+            record_draws(pass, f, opaque, alpha, alpha);
         }
     }
 }
@@ -342,12 +344,14 @@ fn depth_attachment(
 /// Records the scene's planned draws with the opaque or alpha-tested pipeline as each
 /// needs, opaque draws first (they fill depth that early-Z then uses against the
 /// foliage), then, in a frame with a static query, the static draw lists (opaque, then
-/// alpha-tested). Bind groups are the caller's.
+/// alpha-tested) with `statics`, a pipeline that applies the LOD fade dither (static
+/// instances may fade). Bind groups are the caller's.
 pub(crate) fn record_draws(
     pass: &mut wgpu::RenderPass<'_>,
     f: &FrameContext<'_>,
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
+    statics: &wgpu::RenderPipeline,
 ) {
     let draws: &[Draw] = &f.scene.draws;
     pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -367,7 +371,7 @@ pub(crate) fn record_draws(
     if f.static_query
         && let Some(b) = &f.scene.statics
     {
-        super::static_place::record_static_draws(pass, b, opaque, alpha, false);
+        super::static_place::record_static_draws(pass, b, statics, statics, false);
     }
 }
 

@@ -51,12 +51,45 @@ pub(crate) struct GpuInstance {
     pub micro_batch: u32,
     /// Its instance field within that micro-batch ID.
     pub instance_field: u32,
-    /// The mesh's primitive bits (`visbuf::PrimitiveBits`).
+    /// The mesh's primitive bits (`visbuf::PrimitiveBits`) in the low 8 bits; for static
+    /// instances, the LOD fade above them (`GPU_INSTANCE_FADE_CELLS_SHIFT`,
+    /// `GPU_INSTANCE_FADING`, `GPU_INSTANCE_FADING_OUT`), written by the placement.
     pub primitive_bits: u32,
     /// Index into the material table.
     pub material: u32,
 }
 const _: () = assert!(size_of::<GpuInstance>() == 64);
+
+/// `GpuInstance::primitive_bits`: the mesh's primitive bits.
+pub(crate) const GPU_INSTANCE_PRIMITIVE_BITS_MASK: u32 = 0xff;
+/// `GpuInstance::primitive_bits`: the Bayer cells (of 16) a fading instance keeps.
+#[cfg_attr(
+    not(test),
+    expect(
+        dead_code,
+        reason = "written on the GPU only; the WGSL is checked against it"
+    )
+)]
+pub(crate) const GPU_INSTANCE_FADE_CELLS_SHIFT: u32 = 8;
+/// `GpuInstance::primitive_bits`: the instance is fading (the laydown dithers it).
+#[cfg_attr(
+    not(test),
+    expect(
+        dead_code,
+        reason = "written on the GPU only; the WGSL is checked against it"
+    )
+)]
+pub(crate) const GPU_INSTANCE_FADING: u32 = 0x1_0000;
+/// `GpuInstance::primitive_bits`: it is fading out (the complementary pattern).
+#[cfg_attr(
+    not(test),
+    expect(
+        dead_code,
+        reason = "written on the GPU only; the WGSL is checked against it"
+    )
+)]
+pub(crate) const GPU_INSTANCE_FADING_OUT: u32 = 0x2_0000;
+const _: () = assert!(visbuf::MAX_PRIMITIVE_BITS <= GPU_INSTANCE_PRIMITIVE_BITS_MASK);
 
 /// One point light (WGSL `GpuPointLight`): origin-relative position and radius, colour.
 /// 32 bytes.
@@ -195,6 +228,25 @@ mod tests {
     fn check(module: &str, name: &str, size: usize, members: &[(&str, u32)]) {
         let m = shadercheck::assert_composed(LIBRARY, module, &[], shadercheck::Caps::CORE);
         shadercheck::assert_struct_layout(&m, name, size, members);
+    }
+
+    #[test]
+    fn instance_fade_bits_match_the_wgsl() {
+        let m = shadercheck::assert_composed(LIBRARY, "gpu::frame", &[], shadercheck::Caps::CORE);
+        for (name, v) in [
+            (
+                "GPU_INSTANCE_PRIMITIVE_BITS_MASK",
+                GPU_INSTANCE_PRIMITIVE_BITS_MASK,
+            ),
+            (
+                "GPU_INSTANCE_FADE_CELLS_SHIFT",
+                GPU_INSTANCE_FADE_CELLS_SHIFT,
+            ),
+            ("GPU_INSTANCE_FADING", GPU_INSTANCE_FADING),
+            ("GPU_INSTANCE_FADING_OUT", GPU_INSTANCE_FADING_OUT),
+        ] {
+            assert_eq!(shadercheck::const_u32(&m, name), Some(v), "{name}");
+        }
     }
 
     #[test]

@@ -25,8 +25,22 @@ fn vs_baseline(@builtin(vertex_index) vertex: u32, @builtin(instance_index) inst
     return out;
 }
 
+// The static instances' variant: the laydown's fade dither first (a fading instance's
+// dithered-away pixels would pass a coplanar partner's depth-equal test).
+@fragment
+fn fs_baseline_fade(in: BaselineOut) -> GBufferOut {
+    if (!gpu_fade_keeps(instances[in.instance].primitive_bits, vec2<u32>(in.clip.xy))) {
+        discard;
+    }
+    return baseline_gbuffer(in);
+}
+
 @fragment
 fn fs_baseline(in: BaselineOut) -> GBufferOut {
+    return baseline_gbuffer(in);
+}
+
+fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
     let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal);
     return gbuffer_fragment(s);
 }

@@ -36,7 +36,8 @@ struct FrameUniforms {
 }
 
 // One instance: object-to-origin-relative 3x4 transform (rows), and where it sits in the
-// vis buffer: its micro batch, instance field, the mesh's primitive bits, its material.
+// vis buffer: its micro batch, instance field, the mesh's primitive bits (low 8 bits; the
+// static placement packs HZD's LOD fade above them: GPU_INSTANCE_FADE_*), its material.
 struct GpuInstance {
     row0: vec4<f32>,
     row1: vec4<f32>,
@@ -46,6 +47,15 @@ struct GpuInstance {
     primitive_bits: u32,
     material: u32,
 }
+
+// `primitive_bits`: the mesh's primitive bits.
+const GPU_INSTANCE_PRIMITIVE_BITS_MASK: u32 = 0xffu;
+// `primitive_bits`: the Bayer cells (of 16) a fading instance keeps, in bits 8-15.
+const GPU_INSTANCE_FADE_CELLS_SHIFT: u32 = 8u;
+// `primitive_bits`: the instance is fading (dithered by its cells).
+const GPU_INSTANCE_FADING: u32 = 0x10000u;
+// `primitive_bits`: it is fading out (the complementary pattern).
+const GPU_INSTANCE_FADING_OUT: u32 = 0x20000u;
 
 struct GpuPointLight {
     // xyz: origin-relative position; w: radius (metres)

@@ -28,5 +28,5 @@ fn vs_payload(@builtin(vertex_index) vertex: u32, @builtin(instance_index) insta
 // Depth-only prepass (baseline), alpha-tested materials: no colour output.
 @fragment
 fn fs_depth_alpha(in: LaydownOut) {
-    alpha_test(in.uv, in.instance);
+    alpha_test(in.uv, in.instance, in.clip.xy);
 }

@@ -10,6 +10,6 @@ fn fs_vis(in: LaydownOut, @builtin(primitive_index) primitive: u32) -> @location
 
 @fragment
 fn fs_vis_alpha(in: LaydownOut, @builtin(primitive_index) primitive: u32) -> @location(0) u32 {
-    alpha_test(in.uv, in.instance);
+    alpha_test(in.uv, in.instance, in.clip.xy);
     return vis_word(in.instance, primitive);
 }

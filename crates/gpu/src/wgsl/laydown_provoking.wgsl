@@ -9,6 +9,6 @@ fn fs_vis(in: LaydownOut) -> @location(0) u32 {
 
 @fragment
 fn fs_vis_alpha(in: LaydownOut) -> @location(0) u32 {
-    alpha_test(in.uv, in.instance);
+    alpha_test(in.uv, in.instance, in.clip.xy);
     return vis_word(in.instance, in.payload);
 }

@@ -18,6 +18,6 @@ fn fs_vis(in: LaydownXorIn) -> @location(0) u32 {
 
 @fragment
 fn fs_vis_alpha(in: LaydownXorIn) -> @location(0) u32 {
-    alpha_test(in.uv, in.instance);
+    alpha_test(in.uv, in.instance, in.clip.xy);
     return vis_word(in.instance, in.payload[0] ^ in.payload[1] ^ in.payload[2]);
 }

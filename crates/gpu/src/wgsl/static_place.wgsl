@@ -148,7 +148,7 @@ fn gpu_static_place(wid: vec3<u32>, li: u32, late: bool) {
     out.row2 = src[2] + vec4<f32>(0.0, 0.0, 0.0, params.offset.z);
     out.micro_batch = id.x;
     out.instance_field = id.y;
-    out.primitive_bits = s.primitive_bits;
+    out.primitive_bits = s.primitive_bits | gpu_static_fade_bits(query_instances[gpu_static_wg_source + li].state);
     out.material = s.material;
     instances[slot] = out;
     let d = slot - min(params.debug_base, slot);
@@ -169,6 +169,18 @@ fn place_late(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
     gpu_static_place(wid, li, true);
 }
 
+
+// HZD's LOD fade for the laydown's dither (GPU_INSTANCE_FADE_*): a fading instance's
+// opacity as kept Bayer cells of 16 (rounded; a pair fading across each other sums to 16),
+// and whether it fades out.
+fn gpu_static_fade_bits(st: StaticsceneInstanceState) -> u32 {
+    if ((st.flags & STATICSCENE_STATE_FADING) == 0u) {
+        return 0u;
+    }
+    let cells = u32(round(clamp(st.fade, 0.0, 1.0) * 16.0));
+    let out = select(0u, GPU_INSTANCE_FADING_OUT, (st.flags & STATICSCENE_STATE_FADING_OUT) != 0u);
+    return GPU_INSTANCE_FADING | out | (cells << GPU_INSTANCE_FADE_CELLS_SHIFT);
+}
 
 // Appends setup i's draw of its instances [first, end) to list `list` of draw block
 // `block` (0: full lists, 1: late lists).
