@@ -746,6 +746,29 @@ impl Renderer {
         self.measure(frames, |r| r.render_static(scene, frame, path, statics))
     }
 
+    /// [`Renderer::render_static_frames`] with a moving view: frame `i` (counting the
+    /// warm-up frames from 0) is `sequence(i)`'s frame input and static view, so occlusion
+    /// and LOD fade see motion. The static statistics are the last frame's.
+    ///
+    /// # Errors
+    /// `frames` is 0, or as [`Renderer::render_static`].
+    pub fn render_static_sequence(
+        &mut self,
+        scene: &PreparedScene,
+        path: RenderPath,
+        statics: &mut StaticView<'_>,
+        frames: u32,
+        mut sequence: impl FnMut(u32) -> (FrameInput, staticscene::ViewDesc),
+    ) -> Result<FrameOutput> {
+        let mut i = 0;
+        self.measure(frames, |r| {
+            let (frame, view) = sequence(i);
+            i += 1;
+            statics.view = view;
+            r.render_static(scene, &frame, path, statics)
+        })
+    }
+
     /// Renders for [`WARM_UP`], then `frames` more (at least one), and averages those.
     fn measure(
         &mut self,

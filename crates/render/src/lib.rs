@@ -113,6 +113,10 @@ pub struct Args {
     /// Where the city's occlusion test gets its HiZ.
     #[arg(long, value_enum, default_value = "off")]
     pub occlusion: OcclusionArg,
+    /// Move the city's camera this many metres per frame down the street (warm-up frames
+    /// included), so occlusion and LOD fade see motion; 0 holds it still.
+    #[arg(long, default_value_t = 0.0, value_parser = parse_walk)]
+    pub walk: f32,
     /// How the laydown gets primitive IDs.
     #[arg(long, value_enum, default_value = "auto")]
     pub primitive_id: PrimitiveIdArg,
@@ -167,7 +171,20 @@ impl Args {
             })
             .with_context(|| format!("--density for the {} scene", scene.name()))?;
         }
+        if self.walk > 0.0 && self.occlusion == OcclusionArg::Readback {
+            anyhow::bail!(
+                "--occlusion readback tests one read-back pyramid: it needs a still camera (--walk 0)"
+            );
+        }
         Ok(())
+    }
+}
+
+fn parse_walk(v: &str) -> Result<f32, String> {
+    match v.parse::<f32>() {
+        Ok(m) if (0.0..=50.0).contains(&m) => Ok(m),
+        Ok(m) => Err(format!("{m} m per frame: 0 to 50")),
+        Err(e) => Err(e.to_string()),
     }
 }
 
@@ -270,8 +287,24 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             options: QueryOptions::default(),
             occlusion,
         };
-        let frames =
-            renderer.render_static_frames(&prepared, &city.frame, path, &mut view, args.frames)?;
+        let frames = if args.walk > 0.0 {
+            let base = city.frame.clone();
+            let ahead = (base.camera.target - base.camera.position).normalize();
+            let occlusion_camera = desc.occlusion_camera.is_some();
+            renderer.render_static_sequence(&prepared, path, &mut view, args.frames, |i| {
+                let step = ahead * args.walk * i as f32;
+                let mut frame = base.clone();
+                frame.camera.position += step;
+                frame.camera.target += step;
+                let mut d = gpu::static_view_desc(&frame.camera, w, h);
+                if occlusion_camera {
+                    d.occlusion_camera = Some(d.camera);
+                }
+                (frame, d)
+            })?
+        } else {
+            renderer.render_static_frames(&prepared, &city.frame, path, &mut view, args.frames)?
+        };
         let image = renderer.read_output()?;
         let file = args.out.join(format!("city_{}.png", path.name()));
         image.write_png(&file)?;
@@ -314,6 +347,8 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         let file = args.out.join("city_debug_hiz.png");
         gpu::debug::hiz_mips(&texels, size).write_png(&file)?;
         report.image_named("HiZ mips the query tested against", &file);
+    }
+    if args.occlusion != OcclusionArg::Off && !args.no_debug_views && args.walk == 0.0 {
         // What occlusion culls, from the CPU twin on this view: without occlusion, and
         // against the last frame's depth (the camera holds still).
         let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;

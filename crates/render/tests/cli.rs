@@ -27,6 +27,7 @@ fn help_lists_the_options() {
         "--width",
         "--instances",
         "--occlusion",
+        "--walk",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }
@@ -46,11 +47,30 @@ fn bad_values_are_refused_by_name_without_a_panic() {
         (&["--scene", "town"][..], "--scene"),
         (&["--instances", "10"][..], "--instances"),
         (&["--instances", "many"][..], "--instances"),
+        (&["--walk", "99"][..], "--walk"),
+        (&["--walk=-1"][..], "--walk"),
+        (&["--occlusion", "sometimes"][..], "--occlusion"),
     ] {
         let (code, _, err) = render(args);
         assert_eq!(code, 2, "{args:?}: clap's usage error\n{err}");
         assert!(err.contains(expect), "{args:?}: `{expect}` in\n{err}");
     }
+}
+
+#[test]
+fn a_read_back_pyramid_with_a_walking_camera_is_refused() {
+    let (code, _, err) = render(&[
+        "--scene",
+        "city",
+        "--walk",
+        "2",
+        "--occlusion",
+        "readback",
+        "--out",
+        "/nonexistent/x",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("still camera"), "{err}");
 }
 
 #[test]
