@@ -44,6 +44,10 @@ struct Args {
     /// Camera.
     #[arg(long, value_enum, default_value = "aerial")]
     camera: CameraArg,
+    /// HiZ scan levels of the camera view (`ViewDesc::hiz_scan_levels`: large boxes are
+    /// tested this many levels finer than their 2x2-texel level).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=8))]
+    scan_levels: u32,
     /// Leave subgroups off (the query's workgroup-wide batch output, W64 batches).
     #[arg(long)]
     no_subgroups: bool,
@@ -140,6 +144,7 @@ fn main() -> anyhow::Result<()> {
             QueryParams::new(&view)?
         } else {
             let mut view = ViewDesc::camera(cam, [w, h]);
+            view.hiz_scan_levels = args.scan_levels;
             if occlusion {
                 view.occlusion_camera = Some(cam);
             }

@@ -274,11 +274,24 @@ fn staticscene_behind_texels(level: u32, x0: u32, y0: u32, x1: u32, y1: u32, dep
     if (lw == 0u || lh == 0u) {
         return false;
     }
+    let xe = min(x1 >> level, lw - 1u);
+    let d = vec4<f32>(depth);
+    let e = vec4<f32>(STATICSCENE_HIZ_DEPTH_EPSILON);
     for (var y = y0 >> level; y <= min(y1 >> level, lh - 1u); y++) {
-        for (var x = x0 >> level; x <= min(x1 >> level, lw - 1u); x++) {
-            let t = staticscene_hiz_texel(offset + y * lw + x);
-            let behind = select(depth > t + STATICSCENE_HIZ_DEPTH_EPSILON, depth < t - STATICSCENE_HIZ_DEPTH_EPSILON, reversed);
-            if (!behind) {
+        let row = offset + y * lw;
+        // Four texels per step, all loads issued before any test (a scan row is up to
+        // nine texels; one dependent load per texel was the scan's cost: H200 aerial view,
+        // 71.5 -> 66.7 us; eight loads per step gained nothing and raised the register
+        // count of the whole pass). Lanes past the row's end re-read its last texel: the
+        // verdict is unchanged.
+        for (var x = x0 >> level; x <= xe; x += 4u) {
+            let t = vec4<f32>(
+                staticscene_hiz_texel(row + x),
+                staticscene_hiz_texel(row + min(x + 1u, xe)),
+                staticscene_hiz_texel(row + min(x + 2u, xe)),
+                staticscene_hiz_texel(row + min(x + 3u, xe)),
+            );
+            if (!all(select(d > t + e, d < t - e, reversed))) {
                 return false;
             }
         }
