@@ -148,9 +148,10 @@ pub struct Renderer {
     timer: GpuTimer,
     frame_index: u32,
     previous: Option<(u64, PreviousCamera)>,
-    /// The camera of the static view the depth target was last rendered for (`None`
-    /// after a frame without a static query): [`StaticOcclusion::PreviousFrame`]'s HiZ.
-    depth_camera: Option<staticscene::Camera>,
+    /// The scene and the camera of the static view the depth target was last rendered
+    /// for (`None` after a frame without a static query):
+    /// [`StaticOcclusion::PreviousFrame`]'s HiZ, for frames of the same scene.
+    depth_camera: Option<(u64, staticscene::Camera)>,
 }
 
 /// A frame's static query as recorded: the prepared view, and whether its second pass
@@ -462,7 +463,7 @@ impl Renderer {
         });
         // The depth target now holds this frame (or, after an error, nothing known).
         self.depth_camera = match (&view, statics.as_deref()) {
-            (Ok(Some(_)), Some(v)) => Some(v.view.camera),
+            (Ok(Some(_)), Some(v)) => Some((scene.id, v.view.camera)),
             _ => None,
         };
         let view = view?;
@@ -506,8 +507,12 @@ impl Renderer {
             StaticOcclusion::Given => false,
             StaticOcclusion::PreviousFrame => {
                 first.occlusion_pass = staticscene::OcclusionPass::Single;
-                first.occlusion_camera = self.depth_camera;
-                self.depth_camera.is_some()
+                // Another scene's depth occludes nothing of this one.
+                first.occlusion_camera = self
+                    .depth_camera
+                    .filter(|(id, _)| *id == scene.id)
+                    .map(|(_, c)| c);
+                first.occlusion_camera.is_some()
             }
             StaticOcclusion::TwoPass => {
                 first.occlusion_pass = staticscene::OcclusionPass::First;

@@ -379,6 +379,36 @@ fn hiz_of_the_previous_frame(w: u32, h: u32) {
     assert!(culled > 500, "{culled} culled");
 }
 
+/// HZD's previous-frame mode tests against the previous frame of the same prepared scene
+/// only: after a frame of another scene, nothing is occluded.
+#[test]
+fn the_previous_frame_of_another_scene_occludes_nothing() {
+    let mut rig = Rig::new();
+    let camera = rig.city.frame.camera;
+    let previous = StaticOcclusion::PreviousFrame;
+    rig.frame(still_lod_desc(&camera), camera, RenderPath::Deferred);
+    let (_, same) = rig.frame_with(
+        still_lod_desc(&camera),
+        camera,
+        RenderPath::Deferred,
+        previous,
+    );
+    assert!(
+        same.query.rejected_occlusion > 0,
+        "the same scene's depth occludes"
+    );
+    // The same content prepared again is another scene to the renderer.
+    rig.frame(still_lod_desc(&camera), camera, RenderPath::Deferred);
+    rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
+    let (_, other) = rig.frame_with(
+        still_lod_desc(&camera),
+        camera,
+        RenderPath::Deferred,
+        previous,
+    );
+    assert_eq!(other.query.rejected_occlusion, 0);
+}
+
 /// Two-pass occlusion while the camera moves (walks, turns, rises and jumps between
 /// frames): every frame's image equals the image without occlusion (same camera), for the
 /// deferred path and the baseline, while the second pass hides instances and the first
