@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, point_light_rows};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
-use crate::passes::query::PreparedView;
+use crate::passes::query::{PreparedView, StaticQuery};
 use crate::passes::static_place::{
     STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
     STATIC_COUNTER_PLACED, StaticBuffers,
@@ -442,16 +442,17 @@ impl Renderer {
                 };
             }
             self.pipelines
-                .record_geometry(what, &mut encoder, &context!(), &mut self.timer);
+                .record_geometry(what, &mut encoder, &context!(), &mut self.timer, false);
             if let (Some(sf), Some(v)) = (&view, statics.as_deref_mut())
                 && sf.two_pass
             {
                 self.record_static_late(&mut encoder, scene, v, &sf.view)?;
-                self.pipelines.record_late_geometry(
+                self.pipelines.record_geometry(
                     what,
                     &mut encoder,
                     &context!(),
                     &mut self.timer,
+                    true,
                 );
             }
             self.pipelines
@@ -544,20 +545,7 @@ impl Renderer {
             &v.options,
         )?;
         if depth_hiz && second.is_none() {
-            v.query.record_depth_hiz(
-                &self.device,
-                encoder,
-                &self.targets.depth_view,
-                &mut self.timer,
-                "hiz build",
-            )?;
-        }
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("static query"),
-                timestamp_writes: self.timer.compute("static query"),
-            });
-            v.query.record_view(&mut pass, &view, false);
+            self.record_hiz(encoder, v.query)?;
         }
         // Whole metres both: exact in f64, and in f32 below 2^24 m.
         let origin = glam::DVec3::new(
@@ -575,15 +563,7 @@ impl Renderer {
         };
         self.queue
             .write_buffer(&b.params, 0, bytemuck::bytes_of(&constants));
-        let group = self.pipelines.static_place.group(
-            &self.device,
-            b,
-            &scene.instances,
-            &v.query.outputs(false),
-        )?;
-        self.pipelines
-            .static_place
-            .record(encoder, b, &group, &mut self.timer, false);
+        self.record_query_and_place(encoder, scene, v.query, &view, false)?;
         Ok(StaticFrame {
             view,
             two_pass: second.is_some(),
@@ -599,30 +579,57 @@ impl Renderer {
         v: &mut StaticView<'_>,
         view: &PreparedView,
     ) -> Result<()> {
-        let b = Self::static_buffers(scene)?;
-        v.query.record_depth_hiz(
+        self.record_hiz(encoder, v.query)?;
+        self.record_query_and_place(encoder, scene, v.query, view, true)
+    }
+
+    /// Records the HiZ of the depth target (laid out by `prepare_depth_hiz` first).
+    fn record_hiz(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        query: &StaticQuery,
+    ) -> Result<()> {
+        query.record_depth_hiz(
             &self.device,
             encoder,
             &self.targets.depth_view,
             &mut self.timer,
             "hiz build",
-        )?;
+        )
+    }
+
+    /// Records one pass of the static query (`second`: two-pass occlusion's second) and the
+    /// placement of its output into `scene`'s reserved slots and draw lists.
+    fn record_query_and_place(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &PreparedScene,
+        query: &StaticQuery,
+        view: &PreparedView,
+        second: bool,
+    ) -> Result<()> {
+        let b = Self::static_buffers(scene)?;
+        let label = if second {
+            "static query (second pass)"
+        } else {
+            "static query"
+        };
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("static query (second pass)"),
-                timestamp_writes: self.timer.compute("static query (second pass)"),
+                label: Some(label),
+                timestamp_writes: self.timer.compute(label),
             });
-            v.query.record_view(&mut pass, view, true);
+            query.record_view(&mut pass, view, second);
         }
         let group = self.pipelines.static_place.group(
             &self.device,
             b,
             &scene.instances,
-            &v.query.outputs(true),
+            &query.outputs(second),
         )?;
         self.pipelines
             .static_place
-            .record(encoder, b, &group, &mut self.timer, true);
+            .record(encoder, b, &group, &mut self.timer, second);
         Ok(())
     }
 

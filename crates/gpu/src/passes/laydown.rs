@@ -196,28 +196,9 @@ impl Laydown {
         })
     }
 
-    /// Records the depth + visibility laydown.
-    pub(crate) fn record_laydown(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameContext<'_>,
-        timer: &mut GpuTimer,
-    ) {
-        self.record_vis(encoder, f, timer, false);
-    }
-
-    /// Records the laydown's second geometry pass of two-pass occlusion: the late static
-    /// lists over the depth and vis buffer the first pass left.
-    pub(crate) fn record_late_laydown(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameContext<'_>,
-        timer: &mut GpuTimer,
-    ) {
-        self.record_vis(encoder, f, timer, true);
-    }
-
-    fn record_vis(
+    /// Records the depth + visibility laydown; `late`: its second geometry pass of two-pass
+    /// occlusion, the late static lists over the depth and vis buffer the first left.
+    pub(crate) fn record_vis(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
@@ -254,28 +235,10 @@ impl Laydown {
         self.draw(&mut pass, f, &self.vis_opaque, &self.vis_alpha, late);
     }
 
-    /// Records the baseline's depth prepass (alpha-tested, no colour).
-    pub(crate) fn record_depth_prepass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameContext<'_>,
-        timer: &mut GpuTimer,
-    ) {
-        self.record_depth(encoder, f, timer, false);
-    }
-
-    /// Records the depth prepass's second geometry pass of two-pass occlusion: the late
-    /// static lists over the depth the first pass left.
-    pub(crate) fn record_late_depth_prepass(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        f: &FrameContext<'_>,
-        timer: &mut GpuTimer,
-    ) {
-        self.record_depth(encoder, f, timer, true);
-    }
-
-    fn record_depth(
+    /// Records the baseline's depth prepass (alpha-tested, no colour); `late`: its second
+    /// geometry pass of two-pass occlusion, the late static lists over the depth the first
+    /// left.
+    pub(crate) fn record_depth(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,

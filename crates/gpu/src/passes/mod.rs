@@ -178,41 +178,26 @@ impl Pipelines {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        self.record_geometry(what, encoder, f, timer);
+        self.record_geometry(what, encoder, f, timer, false);
         self.record_after_geometry(what, encoder, f, timer);
     }
 
-    /// The frame's geometry pass: the laydown, or the baseline's depth prepass.
+    /// The frame's geometry pass: the laydown, or the baseline's depth prepass. `late`:
+    /// its second half under two-pass occlusion, the late static draws over what the
+    /// first half left.
     pub(crate) fn record_geometry(
         &self,
         what: Recording,
         e: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
+        late: bool,
     ) {
         match what {
             Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
-                self.laydown.record_laydown(e, f, timer);
+                self.laydown.record_vis(e, f, timer, late);
             }
-            Recording::Baseline => self.laydown.record_depth_prepass(e, f, timer),
-            Recording::Classification => {}
-        }
-    }
-
-    /// The geometry pass's second half under two-pass occlusion: the late static draws
-    /// over what [`Pipelines::record_geometry`] left.
-    pub(crate) fn record_late_geometry(
-        &self,
-        what: Recording,
-        e: &mut wgpu::CommandEncoder,
-        f: &FrameContext<'_>,
-        timer: &mut GpuTimer,
-    ) {
-        match what {
-            Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
-                self.laydown.record_late_laydown(e, f, timer);
-            }
-            Recording::Baseline => self.laydown.record_late_depth_prepass(e, f, timer),
+            Recording::Baseline => self.laydown.record_depth(e, f, timer, late),
             Recording::Classification => {}
         }
     }

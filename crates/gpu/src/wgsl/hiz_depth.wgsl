@@ -27,9 +27,8 @@ struct GpuHizDepthStep {
 // Levels one dispatch reduces.
 const GPU_HIZ_DEPTH_LEVELS_PER_DISPATCH: u32 = 4u;
 
-var<workgroup> gpu_hiz_l1: array<f32, 64>;
-var<workgroup> gpu_hiz_l2: array<f32, 16>;
-var<workgroup> gpu_hiz_l3: array<f32, 4>;
+// The block's levels base + 1 to base + 4 (8x8, 4x4, 2x2, 1x1 texels) one after the other.
+var<workgroup> gpu_hiz_scratch: array<f32, 85>;
 
 // Stands for a texel outside its level: never the farthest.
 fn gpu_hiz_none() -> f32 {
@@ -91,39 +90,22 @@ fn reduce_hiz(
         }
     }
     gpu_hiz_store(base + 1u, q.x, q.y, v1);
-    let li = lid.y * 8u + lid.x;
-    gpu_hiz_l1[li] = v1;
-    workgroupBarrier();
-    // Level base + 2: 4x4 of the block.
-    if (lid.x < 4u && lid.y < 4u) {
-        var v = gpu_hiz_none();
-        for (var j = 0u; j < 2u; j++) {
-            for (var i = 0u; i < 2u; i++) {
-                v = gpu_hiz_farthest(v, gpu_hiz_l1[(lid.y * 2u + j) * 8u + lid.x * 2u + i]);
+    gpu_hiz_scratch[lid.y * 8u + lid.x] = v1;
+    // Levels base + 2, + 3, + 4 of the block: 4x4, 2x2, 1x1 texels, each from the 2x2
+    // under it in the scratch (levels at words 0, 64, 80, 84).
+    let at = array<u32, 4>(0u, 64u, 80u, 84u);
+    for (var k = 1u; k < GPU_HIZ_DEPTH_LEVELS_PER_DISPATCH; k++) {
+        workgroupBarrier();
+        let side = 8u >> k;
+        if (lid.x < side && lid.y < side) {
+            var v = gpu_hiz_none();
+            for (var j = 0u; j < 2u; j++) {
+                for (var i = 0u; i < 2u; i++) {
+                    v = gpu_hiz_farthest(v, gpu_hiz_scratch[at[k - 1u] + (lid.y * 2u + j) * side * 2u + lid.x * 2u + i]);
+                }
             }
+            gpu_hiz_store(base + 1u + k, wid.x * side + lid.x, wid.y * side + lid.y, v);
+            gpu_hiz_scratch[at[k] + lid.y * side + lid.x] = v;
         }
-        gpu_hiz_store(base + 2u, wid.x * 4u + lid.x, wid.y * 4u + lid.y, v);
-        gpu_hiz_l2[lid.y * 4u + lid.x] = v;
-    }
-    workgroupBarrier();
-    // Level base + 3: 2x2.
-    if (lid.x < 2u && lid.y < 2u) {
-        var v = gpu_hiz_none();
-        for (var j = 0u; j < 2u; j++) {
-            for (var i = 0u; i < 2u; i++) {
-                v = gpu_hiz_farthest(v, gpu_hiz_l2[(lid.y * 2u + j) * 4u + lid.x * 2u + i]);
-            }
-        }
-        gpu_hiz_store(base + 3u, wid.x * 2u + lid.x, wid.y * 2u + lid.y, v);
-        gpu_hiz_l3[lid.y * 2u + lid.x] = v;
-    }
-    workgroupBarrier();
-    // Level base + 4: the block's one texel.
-    if (li == 0u) {
-        let v = gpu_hiz_farthest(
-            gpu_hiz_farthest(gpu_hiz_l3[0], gpu_hiz_l3[1]),
-            gpu_hiz_farthest(gpu_hiz_l3[2], gpu_hiz_l3[3]),
-        );
-        gpu_hiz_store(base + 4u, wid.x, wid.y, v);
     }
 }
