@@ -115,6 +115,9 @@ pub fn hiz_mips(texels: &[f32], size: (u32, u32)) -> Rgba8Image {
     let (w0, h0) = size;
     let w1 = w0.div_ceil(2);
     let mut img = Rgba8Image::new(w0 + w1, h0, [0, 0, 0, 255]);
+    if w0 == 0 || h0 == 0 {
+        return img;
+    }
     let grey = |d: f32| -> [u8; 4] {
         if d <= 0.0 {
             return EMPTY;
@@ -322,5 +325,10 @@ mod tests {
         assert_eq!(px(6, 0), [128, 128, 128, 255]);
         assert_eq!(px(6, 2), [0, 0, 0, 255]);
         assert_eq!(px(6, 3), EMPTY);
+        // A zero side is an empty atlas, not a hang; too few texels leave black.
+        assert_eq!(hiz_mips(&[], (0, 4)).pixels.len(), 0);
+        let short = hiz_mips(&[1.0], (2, 2));
+        assert_eq!(short.pixels[0], [255, 255, 255, 255]);
+        assert_eq!(short.pixels[1], [0, 0, 0, 255]);
     }
 }

@@ -195,11 +195,13 @@ impl StaticDebug {
         let w = *self
             .words
             .get(usize::try_from(slot - u64::from(self.base)).ok()?)?;
+        use crate::passes::static_place::{STATIC_DEBUG_FLAGS_SHIFT, STATIC_DEBUG_LATE};
+        let fade_mask = (1 << STATIC_DEBUG_FLAGS_SHIFT) - 1;
         Some(StaticPixel {
             setup: *setup,
-            fade: (w & 0xff) as f32 / 255.0,
-            flags: (w >> 8) & 0xff,
-            late: w & crate::passes::static_place::STATIC_DEBUG_LATE != 0,
+            fade: (w & fade_mask) as f32 / fade_mask as f32,
+            flags: (w >> STATIC_DEBUG_FLAGS_SHIFT) & 0xff,
+            late: w & STATIC_DEBUG_LATE != 0,
         })
     }
 }

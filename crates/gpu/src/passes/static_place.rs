@@ -35,6 +35,9 @@ pub(crate) const STATIC_COUNTER_BAD_BATCHES: u32 = 5;
 /// `counters` word of setup 0's placed instances (setup `s` at `+ s`); then, per setup,
 /// those placed by the frame's first run.
 pub(crate) const STATIC_COUNTER_PLACED: u32 = 6;
+/// Debug word: the first bit of the query's state flags (bits 8-15); the fade opacity,
+/// 0-255, is in bits 0-7.
+pub(crate) const STATIC_DEBUG_FLAGS_SHIFT: u32 = 8;
 /// Debug word bit: placed by the frame's second placement (two-pass occlusion).
 pub(crate) const STATIC_DEBUG_LATE: u32 = 0x1_0000;
 /// Bytes of one `DrawIndexedIndirect`.
@@ -352,6 +355,10 @@ mod tests {
             ("GPU_STATIC_COUNTER_PLACED", super::STATIC_COUNTER_PLACED),
             ("GPU_STATIC_DRAW_WORDS", (super::DRAW_BYTES / 4) as u32),
             ("GPU_STATIC_DEBUG_LATE", super::STATIC_DEBUG_LATE),
+            (
+                "GPU_STATIC_DEBUG_FLAGS_SHIFT",
+                super::STATIC_DEBUG_FLAGS_SHIFT,
+            ),
             // The query's counter words and longest batch, as staticscene lays them out.
             (
                 "GPU_STATIC_QUERY_BATCHES",

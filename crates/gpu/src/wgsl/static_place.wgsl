@@ -81,6 +81,8 @@ const GPU_STATIC_BATCH_LANES: u32 = 64u;
 // the query's state flags in 8-15, GPU_STATIC_DEBUG_LATE for the second placement.
 @group(0) @binding(9) var<storage, read_write> debug: array<u32>;
 
+// Debug word: the state flags' first bit (the fade opacity, 0-255, below it).
+const GPU_STATIC_DEBUG_FLAGS_SHIFT: u32 = 8u;
 const GPU_STATIC_DEBUG_LATE: u32 = 0x10000u;
 
 // Batches the query wrote that its buffer holds.
@@ -155,7 +157,7 @@ fn gpu_static_place(wid: vec3<u32>, li: u32, late: bool) {
     if slot >= params.debug_base && d < arrayLength(&debug) {
         let st = query_instances[gpu_static_wg_source + li].state;
         let fade = u32(round(clamp(st.fade, 0.0, 1.0) * 255.0));
-        debug[d] = fade | ((st.flags & 0xffu) << 8u) | select(0u, GPU_STATIC_DEBUG_LATE, late);
+        debug[d] = fade | ((st.flags & 0xffu) << GPU_STATIC_DEBUG_FLAGS_SHIFT) | select(0u, GPU_STATIC_DEBUG_LATE, late);
     }
 }
 
@@ -200,11 +202,13 @@ fn gpu_static_append_draw(s: GpuStaticSetup, block: u32, first: u32, end: u32) {
     draws[at + 4u] = s.first_slot + first;
 }
 
-// Setup i and its placed instances (clamped to its capacity), or none past the table.
+// Whether setup i is in the table (one invocation per setup, rounded up to workgroups).
+fn gpu_static_is_setup(i: u32) -> bool {
+    return i < params.setup_count && i < arrayLength(&setups);
+}
+
+// Setup i's placed instances, clamped to its capacity (i a setup of the table).
 fn gpu_static_placed(i: u32) -> u32 {
-    if i >= params.setup_count || i >= arrayLength(&setups) {
-        return 0u;
-    }
     return min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + i]), setups[i].capacity);
 }
 
@@ -213,10 +217,10 @@ fn gpu_static_placed(i: u32) -> u32 {
 @compute @workgroup_size(64)
 fn emit_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let n = gpu_static_placed(i);
-    if i >= params.setup_count || i >= arrayLength(&setups) {
+    if !gpu_static_is_setup(i) {
         return;
     }
+    let n = gpu_static_placed(i);
     atomicStore(&counters[GPU_STATIC_COUNTER_PLACED + params.setup_count + i], n);
     gpu_static_append_draw(setups[i], 0u, 0u, n);
 }
@@ -226,10 +230,10 @@ fn emit_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
 @compute @workgroup_size(64)
 fn emit_late_draws(@builtin(global_invocation_id) gid: vec3<u32>) {
     let i = gid.x;
-    let n = gpu_static_placed(i);
-    if i >= params.setup_count || i >= arrayLength(&setups) {
+    if !gpu_static_is_setup(i) {
         return;
     }
+    let n = gpu_static_placed(i);
     let early = min(atomicLoad(&counters[GPU_STATIC_COUNTER_PLACED + params.setup_count + i]), n);
     gpu_static_append_draw(setups[i], 0u, 0u, n);
     gpu_static_append_draw(setups[i], 1u, early, n);
