@@ -328,6 +328,12 @@ pub fn staticscene_query(data: &[u8]) {
     };
     let mut view = ViewDesc::camera(cam, [32, 32]);
     view.fade_frames = u32::from(input.u8() % 10);
+    // Either pass of two-pass occlusion reads the camera state bytes below.
+    view.occlusion_pass = match input.u8() % 3 {
+        0 => staticscene::OcclusionPass::Single,
+        1 => staticscene::OcclusionPass::First,
+        _ => staticscene::OcclusionPass::Second,
+    };
     let Ok(params) = QueryParams::new(&view) else {
         return;
     };
@@ -336,7 +342,9 @@ pub fn staticscene_query(data: &[u8]) {
         count: u32::from(input.u8() % 90),
         snap_fade: input.u8().is_multiple_of(2),
     };
-    let mut fade = vec![0u8; usize::from(input.u8() % 100)];
+    // Arbitrary camera state bytes: fade states past the fade length, the visible bit.
+    let mut fade: Vec<u8> = (0..input.u8() % 100).map(|_| input.u8()).collect();
+    let before = fade.clone();
     let mut out = vec![DrawableSetupInstance::default(); usize::from(input.u8() % 40)];
     let mut batches = vec![DrawableSetupBatch::default(); usize::from(input.u8() % 40)];
     let (ci, cb) = (core::cell::Cell::new(0u32), core::cell::Cell::new(0u32));
@@ -354,6 +362,9 @@ pub fn staticscene_query(data: &[u8]) {
         &mut batches,
         &mut stats,
     );
+    if view.occlusion_pass == staticscene::OcclusionPass::First {
+        assert_eq!(fade, before, "the first pass of two wrote camera state");
+    }
     match r {
         Ok(_) => {
             assert_eq!(stats.instances, u64::from(job.count));
