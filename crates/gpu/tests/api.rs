@@ -2,6 +2,8 @@
 //! rendered from per-frame inputs, an empty scene, a device without the required limits,
 //! values the scene or the frame must not accept, and a scene given to the wrong renderer.
 
+mod common;
+
 use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::glam::{Affine3A, Vec3};
 use gpu::{
@@ -14,17 +16,7 @@ const W: u32 = 96;
 const H: u32 = 64;
 
 fn renderer() -> Renderer {
-    let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: W,
-            height: H,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    common::renderer(W, H, true)
 }
 
 fn small_forest() -> (Scene, FrameInput) {

@@ -7,10 +7,12 @@
 //! rewrites them from this machine's device (commit them with the adapter named in the
 //! message). Every test runs on testkit's device (lavapipe in CI).
 
+mod common;
+
 use std::path::PathBuf;
 
 use gpu::demo::{self, DemoOptions, DemoScene};
-use gpu::{FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene, diff_metrics};
+use gpu::{FrameInput, RenderPath, Rgba8Image, Scene, diff_metrics};
 use testkit::device::{GoldenBounds, check_golden, ctx};
 use visbuf::{ShadingRate, VisFields, VisId, VisLayout};
 
@@ -21,21 +23,6 @@ fn scene(kind: DemoScene) -> (Scene, FrameInput) {
         seed: 7,
         density: 0.25,
     })
-}
-
-fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
-    let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width,
-            height,
-            subgroups,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Both append paths where the device has subgroups, the fallback alone otherwise.
@@ -52,7 +39,7 @@ fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
         let (scene, frame) = scene(kind);
         for subgroups in subgroup_settings() {
             // 300x200: partial tiles on the right and bottom edges.
-            let mut r = renderer(300, 200, subgroups);
+            let mut r = common::renderer(300, 200, subgroups);
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             let gpu = r.read_classification(&prepared).unwrap();
@@ -87,7 +74,7 @@ fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
     let (scene, _) = scene(DemoScene::Forest);
     for subgroups in subgroup_settings() {
         let (w, h) = (257, 131);
-        let mut r = renderer(w, h, subgroups);
+        let mut r = common::renderer(w, h, subgroups);
         let prepared = r.prepare(&scene).unwrap();
         let mbs = &prepared.tiling_plan().micro_batches;
         for seed in 1..=3u64 {
@@ -144,7 +131,7 @@ fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
 
 fn render_both(kind: DemoScene, w: u32, h: u32) -> (Rgba8Image, Rgba8Image) {
     let (scene, frame) = scene(kind);
-    let mut r = renderer(w, h, true);
+    let mut r = common::renderer(w, h, true);
     let prepared = r.prepare(&scene).unwrap();
     r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
     let deferred = r.read_output().unwrap();

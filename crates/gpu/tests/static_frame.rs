@@ -6,14 +6,16 @@
 //! two-pass occlusion leaves it unchanged while the camera moves; bad input to
 //! `render_static` is an error.
 
+mod common;
+
 use gpu::demo::city::{City, city};
 use gpu::glam::{self, Affine3A, Vec3};
 use gpu::staticscene;
 use gpu::staticscene::ViewDesc;
 use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
 use gpu::{
-    Batch, Camera, FrameInput, PreparedScene, QueryReadback, RenderPath, Renderer, RendererConfig,
-    Rgba8Image, Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
+    Batch, Camera, FrameInput, PreparedScene, QueryReadback, RenderPath, Renderer, Rgba8Image,
+    Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
     scene_from_query, static_view_desc,
 };
 use testkit::device::ctx;
@@ -26,17 +28,7 @@ fn renderer() -> Renderer {
 }
 
 fn renderer_sized(width: u32, height: u32) -> Renderer {
-    let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width,
-            height,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    common::renderer(width, height, true)
 }
 
 fn small_city() -> City {

@@ -171,6 +171,50 @@ fn streamed_tiles_keep_the_gpu_query_equal_to_the_cpu_twin() {
     assert!(shadow_views >= 3);
 }
 
+/// The workgroup-wide batch output chosen on a device with subgroups
+/// (`StaticQuery::with_subgroups(.., false)`): 64-lane batches, equal to the twin at W64.
+#[test]
+fn the_workgroup_batch_output_equals_the_twin_at_w64() {
+    let c = ctx();
+    let cfg = CityConfig::with_instances(20_000);
+    let world = city(&cfg);
+    let mut streamer = TileStreamer::new(
+        ResourceLibrary::new(&world.resources),
+        BuildConfig::default(),
+    );
+    let mut scene = Scene::new();
+    let mut query = StaticQuery::with_subgroups(&c.device, &c.queue, false).unwrap();
+    assert_eq!(query.wave_width(), Some(gpu::staticscene::WaveWidth::W64));
+    for g in &world.groups {
+        let u = streamer.add_group(g).unwrap();
+        for t in &u.add {
+            query.activate(&c.device, &c.queue, t.tile()).unwrap();
+        }
+        scene.apply(u);
+    }
+    let params = QueryParams::new(&ViewDesc::camera(street_camera(&cfg), [256, 144])).unwrap();
+    let mut twin = scene.clone();
+    let mut cpu_out = QueryOutput::<DrawableSetupInstance>::new();
+    twin.query(&params, None, &QueryOptions::default(), &mut cpu_out)
+        .unwrap();
+    let gpu = query
+        .run(
+            &c.device,
+            &c.queue,
+            &mut scene,
+            &params,
+            &QueryOptions::default(),
+            QueryReadback::Full,
+        )
+        .unwrap();
+    assert!(gpu.stats.visible > 100);
+    assert_eq!(gpu.stats.batches, cpu_out.stats.batches);
+    assert_eq!(
+        canonical_batches(&gpu.instances, &gpu.batches),
+        canonical_batches(&cpu_out.instances, &cpu_out.batches)
+    );
+}
+
 /// What the query refuses or skips, as errors or reports, never a panic: a tile activated
 /// twice (error naming the tile), a scene tile never activated on the GPU (skipped and
 /// listed, the other tiles still queried), a HiZ larger than the query's viewport limit.

@@ -134,11 +134,26 @@ pub struct StaticQuery {
 }
 
 impl StaticQuery {
-    /// The pipeline and empty buffers.
+    /// The pipeline and empty buffers; batches per subgroup where the device has
+    /// subgroups ([`StaticQuery::with_subgroups`] chooses).
     ///
     /// # Errors
     /// A composition error (a bug).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self> {
+        Self::with_subgroups(device, queue, true)
+    }
+
+    /// [`StaticQuery::new`] with the batch output chosen: per subgroup when `subgroups`
+    /// and the device has `Features::SUBGROUP` (as `RendererConfig::subgroups` does for
+    /// the frame's passes), else per 64-invocation workgroup.
+    ///
+    /// # Errors
+    /// A composition error (a bug).
+    pub fn with_subgroups(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        subgroups: bool,
+    ) -> Result<Self> {
         let uniform = |label| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -148,7 +163,7 @@ impl StaticQuery {
             })
         };
         // Batches per subgroup where the device has subgroups (HZD's per hardware wave).
-        let subgroups = device.features().contains(wgpu::Features::SUBGROUP);
+        let subgroups = subgroups && device.features().contains(wgpu::Features::SUBGROUP);
         let (camera, shadow): (&[&str], &[&str]) = if subgroups {
             (&["subgroups"], &["shadow_view", "subgroups"])
         } else {
