@@ -184,7 +184,7 @@ fn the_workgroup_batch_output_equals_the_twin_at_w64() {
     );
     let mut scene = Scene::new();
     let mut query = StaticQuery::with_subgroups(&c.device, &c.queue, false).unwrap();
-    assert_eq!(query.wave_width(), Some(gpu::staticscene::WaveWidth::W64));
+    assert_eq!(query.wave_width(), Some(WaveWidth::W64));
     for g in &world.groups {
         let u = streamer.add_group(g).unwrap();
         for t in &u.add {
