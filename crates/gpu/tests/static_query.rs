@@ -9,7 +9,8 @@ use gpu::staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
 use gpu::staticscene::glam::{DQuat, DVec3, Mat4};
 use gpu::staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, FILTER_SUN_SHADOW, HiZ, QueryOptions, QueryOutput,
-    QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, canonical_batches, snap_origin,
+    QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, WaveWidth, canonical_batches,
+    snap_origin,
 };
 use gpu::{QueryReadback, StaticQuery};
 use testkit::device::ctx;
