@@ -263,6 +263,19 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         OcclusionArg::Previous => gpu::StaticOcclusion::PreviousFrame,
         OcclusionArg::TwoPass => gpu::StaticOcclusion::TwoPass,
     };
+    // A freshly streamed city fades in over `fade_frames` frames: render them first, so
+    // the measured frames (whose warm-up is 0.5 s, a few frames on a slow adapter) and the
+    // images of both paths show it settled, not at different steps of the dither.
+    for _ in 0..desc.fade_frames {
+        let mut view = gpu::StaticView {
+            query: &mut query,
+            scene: &mut cpu,
+            view: desc,
+            options: QueryOptions::default(),
+            occlusion,
+        };
+        renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
+    }
     if args.occlusion == OcclusionArg::Readback {
         // The previous frame's depth (the camera holds still): one frame without, then
         // its depth read back and reduced into the HiZ the measured frames test against.
