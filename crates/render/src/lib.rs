@@ -265,8 +265,12 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     };
     // A freshly streamed city fades in over `fade_frames` frames: render them first, so
     // the measured frames (whose warm-up is 0.5 s, a few frames on a slow adapter) and the
-    // images of both paths show it settled, not at different steps of the dither.
-    for _ in 0..desc.fade_frames {
+    // images of both paths show it settled, not at different steps of the dither. With
+    // `readback`, the last of them (at least one) is the previous frame whose depth is read
+    // back and reduced into the HiZ the measured frames test against (the camera holds
+    // still).
+    let readback = args.occlusion == OcclusionArg::Readback;
+    for _ in 0..desc.fade_frames.max(u32::from(readback)) {
         let mut view = gpu::StaticView {
             query: &mut query,
             scene: &mut cpu,
@@ -276,17 +280,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         };
         renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
     }
-    if args.occlusion == OcclusionArg::Readback {
-        // The previous frame's depth (the camera holds still): one frame without, then
-        // its depth read back and reduced into the HiZ the measured frames test against.
-        let mut view = gpu::StaticView {
-            query: &mut query,
-            scene: &mut cpu,
-            view: desc,
-            options: QueryOptions::default(),
-            occlusion,
-        };
-        renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
+    if readback {
         let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
         query.set_hiz(&ctx.device, &ctx.queue, Some(&hiz))?;
         desc.occlusion_camera = Some(desc.camera);
