@@ -333,6 +333,19 @@ impl GpuPlan {
         words
     }
 
+    /// The `wave_jobs` buffer: for each wave (workgroup) of the dispatch, the index of
+    /// its job in [`GpuPlan::jobs`] (so a workgroup finds its job in one load, not a
+    /// binary search over the jobs' first waves).
+    #[must_use]
+    pub fn wave_jobs(&self) -> Vec<u32> {
+        let mut table = Vec::with_capacity(self.waves as usize);
+        for (j, job) in self.jobs.iter().enumerate() {
+            let waves = job.count.div_ceil(QUERY_WORKGROUP);
+            table.extend(core::iter::repeat_n(j as u32, waves as usize));
+        }
+        table
+    }
+
     /// The dispatch size.
     #[must_use]
     pub fn dispatch(&self) -> QueryDispatch {
@@ -417,8 +430,8 @@ impl Scene {
 /// The job list's header and one job: the smallest `job_list` binding.
 const JOB_LIST_MIN: usize = 16 + size_of::<GpuJob>();
 
-/// The query pass: one bind group `query` (the view's [`QueryParams`], the job list, the
-/// pooled records, the HiZ, the fade and live state, the counters and the two outputs)
+/// The query pass: one bind group `query` (the view's [`QueryParams`], the job list and
+/// its per-wave job table ([`GpuPlan::wave_jobs`]), the pooled records, the HiZ, the fade and live state, the counters and the two outputs)
 /// and one entry point `query` of [`QUERY_WORKGROUP`] invocations per wave. Feature
 /// `shadow_view` compiles the shadow variant: views with
 /// [`QUERY_FLAG_SHADOW`](crate::QUERY_FLAG_SHADOW) only (fade, occlusion and the camera
@@ -437,6 +450,7 @@ pub const QUERY_PASS: Pass<QueryDispatch> = Pass {
         bindings: &[
             Binding::new("params", Kind::uniform(size_of::<QueryParams>())),
             Binding::new("job_list", Kind::read(JOB_LIST_MIN)),
+            Binding::new("wave_jobs", Kind::read(4)),
             Binding::new("instances", Kind::read(16)),
             Binding::new("records", Kind::read(4)),
             Binding::new("hiz", Kind::read(4)),
@@ -461,6 +475,32 @@ pub const QUERY_PASS: Pass<QueryDispatch> = Pass {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each wave's entry is the last job whose first wave is at or below it (a linear
+    /// search), for jobs of 1, 64, 65 and 200 instances.
+    #[test]
+    fn wave_jobs_name_each_waves_job() {
+        let mut plan = GpuPlan::default();
+        for count in [1, 64, 65, 200, 1] {
+            plan.jobs.push(GpuJob {
+                count,
+                first_wave: plan.waves,
+                ..GpuJob::default()
+            });
+            plan.waves += count.div_ceil(QUERY_WORKGROUP);
+        }
+        let table = plan.wave_jobs();
+        assert_eq!(table.len(), plan.waves as usize);
+        for (w, &j) in table.iter().enumerate() {
+            let naive = plan
+                .jobs
+                .iter()
+                .rposition(|job| job.first_wave <= w as u32)
+                .unwrap();
+            assert_eq!(j as usize, naive, "wave {w}");
+        }
+        assert_eq!(table, [0, 1, 2, 2, 3, 3, 3, 3, 4]);
+    }
 
     /// A fixed vector: 5x3 halves to 3x2, 2x1, 1x1; texels follow the header level after
     /// level.

@@ -115,9 +115,23 @@ fn run_variant(
     hiz: Option<&HiZ>,
     features: &[&str],
 ) -> GpuOut {
+    run_with_table(pool, plan, &plan.wave_jobs(), params, hiz, features)
+}
+
+/// [`run_variant`] with the per-wave job table given.
+fn run_with_table(
+    pool: &mut Pool,
+    plan: &GpuPlan,
+    wave_jobs: &[u32],
+    params: &QueryParams,
+    hiz: Option<&HiZ>,
+    features: &[&str],
+) -> GpuOut {
     let cap = plan.instances() as usize + 1;
     let hiz = hiz_words(hiz).unwrap();
     let jobs = plan.job_list();
+    let mut wave_jobs = wave_jobs.to_vec();
+    wave_jobs.push(0); // never empty (a wave past the table is not run)
     let out = run_pass(
         &QUERY_PASS,
         features,
@@ -126,6 +140,7 @@ fn run_variant(
         &[
             ("params", Data::Bytes(bytemuck::bytes_of(params))),
             ("job_list", Data::Words(&jobs)),
+            ("wave_jobs", Data::Words(&wave_jobs)),
             ("instances", Data::Words(&pool.instances)),
             ("records", Data::Words(&pool.records)),
             ("hiz", Data::Words(&hiz)),
@@ -515,6 +530,86 @@ fn corrupt_records_are_dropped_as_the_twin_drops_them() {
     assert!(cpu.stats.invalid > 500, "{:?}", cpu.stats);
     assert!(cpu.stats.visible > 100, "{:?}", cpu.stats);
     // Only the per-thread statistics compare (the twin ran without the pre-cull's).
+    assert_equal(0, &gpu, &cpu);
+}
+
+/// A corrupt per-wave job table never runs a wave against another job's records: waves
+/// whose entry names another job (or one past the list, clamped to the last) are dropped,
+/// the others run as the twin does, wave by wave.
+#[test]
+fn waves_with_a_corrupt_job_table_entry_are_dropped() {
+    use staticscene::pass::QUERY_WORKGROUP;
+    use staticscene::{ClusterJob, query_cluster};
+    let cfg = CityConfig::with_instances(20_000);
+    let c = city(&cfg);
+    let mut scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
+    let mut pool = Pool::new(&scene);
+    let mut view = ViewDesc::camera(street_camera(&cfg), [320, 180]);
+    view.fade_frames = 0;
+    let params = QueryParams::new(&view).unwrap();
+    let options = QueryOptions {
+        precull: false,
+        ..QueryOptions::default()
+    };
+    let slots = pool.slots.clone();
+    let plan = scene.plan_gpu(&params, &options, |id| slots.get(&id).copied());
+    let truth = plan.wave_jobs();
+    assert_eq!(truth.len(), plan.waves as usize);
+    let last = plan.jobs.len() as u32 - 1;
+    let mut table = truth.clone();
+    for (w, entry) in table.iter_mut().enumerate() {
+        match w % 3 {
+            0 => *entry = (*entry + 1) % plan.jobs.len() as u32,
+            1 => *entry = u32::MAX - w as u32,
+            _ => {}
+        }
+    }
+    let gpu = run_with_table(&mut pool, &plan, &table, &params, None, &[]);
+    // The twin over the waves whose entry (clamped as the pass clamps it) is their job's.
+    let counter = std::cell::Cell::new(0u32);
+    let batch_counter = std::cell::Cell::new(0u32);
+    let mut out = vec![DrawableSetupInstance::default(); 40_000];
+    let mut batches = vec![DrawableSetupBatch::default(); 40_000];
+    let mut stats = QueryStats::default();
+    let mut ran = 0;
+    for (w, (&entry, &job_index)) in table.iter().zip(&truth).enumerate() {
+        if entry.min(last) != job_index {
+            continue;
+        }
+        ran += 1;
+        let job = &plan.jobs[job_index as usize];
+        let tile = scene.tiles().iter().find(|t| t.id().0 == job.tile).unwrap();
+        let first = (w as u32 - job.first_wave) * QUERY_WORKGROUP;
+        let wave_job = ClusterJob {
+            first: job.first + first,
+            count: (job.count - first).min(QUERY_WORKGROUP),
+            snap_fade: false,
+        };
+        query_cluster(
+            &params,
+            &tile.buffers(),
+            None,
+            &mut [],
+            wave_job,
+            wave::WaveWidth::W64,
+            &counter,
+            &mut out,
+            &batch_counter,
+            &mut batches,
+            &mut stats,
+        )
+        .unwrap();
+    }
+    assert!(
+        ran > table.len() / 4 && ran < table.len(),
+        "{ran} of {}",
+        table.len()
+    );
+    let mut cpu = QueryOutput::new();
+    cpu.instances = out[..counter.get() as usize].to_vec();
+    cpu.batches = batches[..batch_counter.get() as usize].to_vec();
+    cpu.stats = stats;
+    assert!(cpu.stats.visible > 100, "{:?}", cpu.stats);
     assert_equal(0, &gpu, &cpu);
 }
 

@@ -122,6 +122,8 @@ pub struct StaticQuery {
     /// The second pass's params (two-pass occlusion).
     params_second: wgpu::Buffer,
     job_list: wgpu::Buffer,
+    /// The job of each wave (`GpuPlan::wave_jobs`).
+    wave_jobs: wgpu::Buffer,
     hiz: wgpu::Buffer,
     /// Set while `hiz` is laid out for a depth target (cleared by `set_hiz`).
     depth_hiz: Option<DepthHiz>,
@@ -183,6 +185,7 @@ impl StaticQuery {
             params: uniform("static query params"),
             params_second: uniform("static query params (second pass)"),
             job_list: empty_storage(device, "static query jobs", 4096)?,
+            wave_jobs: empty_storage(device, "static query wave jobs", 4096)?,
             hiz: empty_storage(device, "static query hiz", 256)?,
             depth_hiz: None,
             counters: empty_storage(device, "static query counters", 256)?,
@@ -418,6 +421,11 @@ impl StaticQuery {
         if self.job_list.size() < job_bytes {
             self.job_list = empty_storage(device, "static query jobs", job_bytes * 2)?;
         }
+        let wave_jobs = plan.wave_jobs();
+        let table_bytes = wave_jobs.len() as u64 * 4;
+        if self.wave_jobs.size() < table_bytes {
+            self.wave_jobs = empty_storage(device, "static query wave jobs", table_bytes * 2)?;
+        }
         // Every thread may output one instance and one header.
         let cap = threads.max(1);
         let inst_bytes = cap * size_of::<DrawableSetupInstance>() as u64;
@@ -431,6 +439,7 @@ impl StaticQuery {
         }
         queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
         queue.write_buffer(&self.job_list, 0, bytemuck::cast_slice(&jobs));
+        queue.write_buffer(&self.wave_jobs, 0, bytemuck::cast_slice(&wave_jobs));
         let shadow = params.has(staticscene::QUERY_FLAG_SHADOW);
         let pass = if shadow {
             &self.shadow_pass
@@ -445,6 +454,7 @@ impl StaticQuery {
                 &[
                     ("params", params.as_entire_binding()),
                     ("job_list", self.job_list.as_entire_binding()),
+                    ("wave_jobs", self.wave_jobs.as_entire_binding()),
                     ("instances", pool.instances.buffer.as_entire_binding()),
                     ("records", pool.records.buffer.as_entire_binding()),
                     ("hiz", self.hiz.as_entire_binding()),

@@ -78,14 +78,16 @@ struct StaticsceneQueryCounters {
 
 @group(0) @binding(0) var<uniform> params: StaticsceneQueryParams;
 @group(0) @binding(1) var<storage, read> job_list: StaticsceneJobList;
-@group(0) @binding(2) var<storage, read> instances: array<vec4<u32>>;
-@group(0) @binding(3) var<storage, read> records: array<u32>;
-@group(0) @binding(4) var<storage, read> hiz: array<u32>;
+// The job of each wave (GpuPlan::wave_jobs).
+@group(0) @binding(2) var<storage, read> wave_jobs: array<u32>;
+@group(0) @binding(3) var<storage, read> instances: array<vec4<u32>>;
+@group(0) @binding(4) var<storage, read> records: array<u32>;
+@group(0) @binding(5) var<storage, read> hiz: array<u32>;
 // Fade state bytes (four per word) and the clusters' live serials.
-@group(0) @binding(5) var<storage, read_write> state: array<atomic<u32>>;
-@group(0) @binding(6) var<storage, read_write> counters: StaticsceneQueryCounters;
-@group(0) @binding(7) var<storage, read_write> out_instances: array<StaticsceneDrawableSetupInstance>;
-@group(0) @binding(8) var<storage, read_write> out_batches: array<StaticsceneDrawableSetupBatch>;
+@group(0) @binding(6) var<storage, read_write> state: array<atomic<u32>>;
+@group(0) @binding(7) var<storage, read_write> counters: StaticsceneQueryCounters;
+@group(0) @binding(8) var<storage, read_write> out_instances: array<StaticsceneDrawableSetupInstance>;
+@group(0) @binding(9) var<storage, read_write> out_batches: array<StaticsceneDrawableSetupBatch>;
 
 var<workgroup> staticscene_wg_live_serial: u32;
 // Whether any invocation has a visible instance (most waves have none: the batch output
@@ -483,21 +485,6 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
     return lane;
 }
 
-// The index of the job holding `wave`: the last job whose first wave is at or below it.
-fn staticscene_find_job(wave: u32, count: u32) -> u32 {
-    var lo = 0u;
-    var hi = count;
-    while (hi - lo > 1u) {
-        let mid = (lo + hi) / 2u;
-        if (job_list.jobs[mid].first_wave <= wave) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
-}
-
 // Folds a visible invocation into its group's accumulation (bounds, nearest depth, flags).
 fn staticscene_fold(g: u32, lane: StaticsceneLane) {
     atomicMax(&staticscene_wg_bmin[g * 3u], ~staticscene_ordered(lane.bmin.x));
@@ -640,24 +627,33 @@ fn query(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     if (wave >= job_list.waves || job_count == 0u) {
         return;
     }
-    let job = job_list.jobs[staticscene_find_job(wave, job_count)];
+    if (wave >= arrayLength(&wave_jobs)) {
+        return;
+    }
+    // A corrupt table entry names a job whose waves do not hold this one: the wave is
+    // dropped by the test below, never run against another job's records.
+    let job = job_list.jobs[min(wave_jobs[wave], job_count - 1u)];
     let job_waves = (job.count + STATICSCENE_QUERY_WORKGROUP - 1u) / STATICSCENE_QUERY_WORKGROUP;
     if (wave < job.first_wave || wave - job.first_wave >= job_waves) {
         return;
     }
-    // A cluster the pre-cull rejected for its LOD runs only while some instance fades.
-    if (li == 0u) {
-        var serial = 0u;
-        if (job.cluster < arrayLength(&state)) {
-            serial = atomicLoad(&state[job.cluster]);
+    // A cluster the pre-cull rejected for its LOD runs only while some instance fades
+    // (the serial is read only for such jobs: a dependent load and a barrier less for the
+    // others).
+    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u) {
+        if (li == 0u) {
+            var serial = 0u;
+            if (job.cluster < arrayLength(&state)) {
+                serial = atomicLoad(&state[job.cluster]);
+            }
+            staticscene_wg_live_serial = serial;
         }
-        staticscene_wg_live_serial = serial;
-    }
-    let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
-    // Live at its last run, or marked live by another workgroup of this run (which ran
-    // because it was live at its last run).
-    if ((job.flags & STATICSCENE_JOB_LOD_UNLESS_LIVE) != 0u && live_serial != job.last_run && live_serial != job.serial) {
-        return;
+        let live_serial = workgroupUniformLoad(&staticscene_wg_live_serial);
+        // Live at its last run, or marked live by another workgroup of this run (which ran
+        // because it was live at its last run).
+        if (live_serial != job.last_run && live_serial != job.serial) {
+            return;
+        }
     }
     let local = (wave - job.first_wave) * STATICSCENE_QUERY_WORKGROUP + li;
     let tile_index = job.first + local;
