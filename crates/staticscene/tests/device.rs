@@ -434,9 +434,79 @@ fn a_shadow_view_through_the_shadow_variant_equals_the_twin() {
 /// invalid, exactly as the CPU twin does on the same hand-made buffers, and a job whose
 /// record block lies outside the records buffer drops every instance that passes the
 /// filter; every other instance is output as before.
+/// The street camera at 320x180, no fade, every cluster dispatched (the CPU twin is run
+/// cluster by cluster or wave by wave against it).
+fn street_without_fade_or_precull(cfg: &CityConfig) -> (QueryParams, QueryOptions) {
+    let mut view = ViewDesc::camera(street_camera(cfg), [320, 180]);
+    view.fade_frames = 0;
+    let options = QueryOptions {
+        precull: false,
+        ..QueryOptions::default()
+    };
+    (QueryParams::new(&view).unwrap(), options)
+}
+
+/// The CPU twin run job by job on given buffers (no fade, no HiZ, W64 batches), its
+/// output gathered as a [`QueryOutput`].
+struct TwinJobs {
+    counter: std::cell::Cell<u32>,
+    batch_counter: std::cell::Cell<u32>,
+    out: Vec<DrawableSetupInstance>,
+    batches: Vec<DrawableSetupBatch>,
+    stats: QueryStats,
+}
+
+impl TwinJobs {
+    fn new(cap: usize) -> TwinJobs {
+        TwinJobs {
+            counter: std::cell::Cell::new(0),
+            batch_counter: std::cell::Cell::new(0),
+            out: vec![DrawableSetupInstance::default(); cap],
+            batches: vec![DrawableSetupBatch::default(); cap],
+            stats: QueryStats::default(),
+        }
+    }
+
+    fn run(
+        &mut self,
+        params: &QueryParams,
+        buffers: &staticscene::TileBuffers,
+        first: u32,
+        count: u32,
+    ) {
+        let job = staticscene::ClusterJob {
+            first,
+            count,
+            snap_fade: false,
+        };
+        staticscene::query_cluster(
+            params,
+            buffers,
+            None,
+            &mut [],
+            job,
+            wave::WaveWidth::W64,
+            &self.counter,
+            &mut self.out,
+            &self.batch_counter,
+            &mut self.batches,
+            &mut self.stats,
+        )
+        .unwrap();
+    }
+
+    fn output(self) -> QueryOutput<DrawableSetupInstance> {
+        let mut cpu = QueryOutput::new();
+        cpu.instances = self.out[..self.counter.get() as usize].to_vec();
+        cpu.batches = self.batches[..self.batch_counter.get() as usize].to_vec();
+        cpu.stats = self.stats;
+        cpu
+    }
+}
+
 #[test]
 fn corrupt_records_are_dropped_as_the_twin_drops_them() {
-    use staticscene::{ClusterJob, InstanceFields, QueryInstance, TileBuffers, query_cluster};
+    use staticscene::{InstanceFields, QueryInstance, TileBuffers};
     let cfg = CityConfig::with_instances(20_000);
     let c = city(&cfg);
     let mut scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
@@ -468,19 +538,9 @@ fn corrupt_records_are_dropped_as_the_twin_drops_them() {
     let moved = scene.tiles()[1].id();
     pool.slots.get_mut(&moved).unwrap().records = pool.records.len() as u32 + 16;
 
-    let mut view = ViewDesc::camera(street_camera(&cfg), [320, 180]);
-    view.fade_frames = 0;
-    let params = QueryParams::new(&view).unwrap();
-    let options = QueryOptions {
-        precull: false,
-        ..QueryOptions::default()
-    };
+    let (params, options) = street_without_fade_or_precull(&cfg);
     // The CPU twin on the same buffers, cluster by cluster.
-    let counter = std::cell::Cell::new(0u32);
-    let batch_counter = std::cell::Cell::new(0u32);
-    let mut out = vec![DrawableSetupInstance::default(); 40_000];
-    let mut batches = vec![DrawableSetupBatch::default(); 40_000];
-    let mut stats = QueryStats::default();
+    let mut twin = TwinJobs::new(40_000);
     for t in scene.tiles() {
         let inst = &corrupted[&t.id()];
         let buffers = if t.id() == moved {
@@ -499,31 +559,10 @@ fn corrupt_records_are_dropped_as_the_twin_drops_them() {
             }
         };
         for cl in t.clusters() {
-            let job = ClusterJob {
-                first: cl.first,
-                count: cl.count,
-                snap_fade: false,
-            };
-            query_cluster(
-                &params,
-                &buffers,
-                None,
-                &mut [],
-                job,
-                wave::WaveWidth::W64,
-                &counter,
-                &mut out,
-                &batch_counter,
-                &mut batches,
-                &mut stats,
-            )
-            .unwrap();
+            twin.run(&params, &buffers, cl.first, cl.count);
         }
     }
-    let mut cpu = QueryOutput::new();
-    cpu.instances = out[..counter.get() as usize].to_vec();
-    cpu.batches = batches[..batch_counter.get() as usize].to_vec();
-    cpu.stats = stats;
+    let cpu = twin.output();
     let slots = pool.slots.clone();
     let plan = scene.plan_gpu(&params, &options, |id| slots.get(&id).copied());
     let gpu = run_query(&mut pool, &plan, &params, None);
@@ -539,18 +578,11 @@ fn corrupt_records_are_dropped_as_the_twin_drops_them() {
 #[test]
 fn waves_with_a_corrupt_job_table_entry_are_dropped() {
     use staticscene::pass::QUERY_WORKGROUP;
-    use staticscene::{ClusterJob, query_cluster};
     let cfg = CityConfig::with_instances(20_000);
     let c = city(&cfg);
     let mut scene = common::scene(&c.resources, &c.groups, staticscene::BuildConfig::default());
     let mut pool = Pool::new(&scene);
-    let mut view = ViewDesc::camera(street_camera(&cfg), [320, 180]);
-    view.fade_frames = 0;
-    let params = QueryParams::new(&view).unwrap();
-    let options = QueryOptions {
-        precull: false,
-        ..QueryOptions::default()
-    };
+    let (params, options) = street_without_fade_or_precull(&cfg);
     let slots = pool.slots.clone();
     let plan = scene.plan_gpu(&params, &options, |id| slots.get(&id).copied());
     let truth = plan.wave_jobs();
@@ -566,11 +598,7 @@ fn waves_with_a_corrupt_job_table_entry_are_dropped() {
     }
     let gpu = run_with_table(&mut pool, &plan, &table, &params, None, &[]);
     // The twin over the waves whose entry (clamped as the pass clamps it) is their job's.
-    let counter = std::cell::Cell::new(0u32);
-    let batch_counter = std::cell::Cell::new(0u32);
-    let mut out = vec![DrawableSetupInstance::default(); 40_000];
-    let mut batches = vec![DrawableSetupBatch::default(); 40_000];
-    let mut stats = QueryStats::default();
+    let mut twin = TwinJobs::new(40_000);
     let mut ran = 0;
     for (w, (&entry, &job_index)) in table.iter().zip(&truth).enumerate() {
         if entry.min(last) != job_index {
@@ -580,35 +608,15 @@ fn waves_with_a_corrupt_job_table_entry_are_dropped() {
         let job = &plan.jobs[job_index as usize];
         let tile = scene.tiles().iter().find(|t| t.id().0 == job.tile).unwrap();
         let first = (w as u32 - job.first_wave) * QUERY_WORKGROUP;
-        let wave_job = ClusterJob {
-            first: job.first + first,
-            count: (job.count - first).min(QUERY_WORKGROUP),
-            snap_fade: false,
-        };
-        query_cluster(
-            &params,
-            &tile.buffers(),
-            None,
-            &mut [],
-            wave_job,
-            wave::WaveWidth::W64,
-            &counter,
-            &mut out,
-            &batch_counter,
-            &mut batches,
-            &mut stats,
-        )
-        .unwrap();
+        let count = (job.count - first).min(QUERY_WORKGROUP);
+        twin.run(&params, &tile.buffers(), job.first + first, count);
     }
     assert!(
         ran > table.len() / 4 && ran < table.len(),
         "{ran} of {}",
         table.len()
     );
-    let mut cpu = QueryOutput::new();
-    cpu.instances = out[..counter.get() as usize].to_vec();
-    cpu.batches = batches[..batch_counter.get() as usize].to_vec();
-    cpu.stats = stats;
+    let cpu = twin.output();
     assert!(cpu.stats.visible > 100, "{:?}", cpu.stats);
     assert_equal(0, &gpu, &cpu);
 }
