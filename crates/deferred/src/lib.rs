@@ -179,6 +179,7 @@ pub mod lights;
 mod math;
 pub mod msaa;
 pub mod normal;
+pub mod pass;
 mod tables;
 pub mod wgsl;
 

@@ -20,8 +20,18 @@ pub const LIGHTS: Module = Module::new("deferred::lights", include_str!("wgsl/li
 /// `deferred::shadow`: stable cascade lookup, the MSAA PCF tap record and the edge tests.
 pub const SHADOW: Module = Module::new("deferred::shadow", include_str!("wgsl/shadow.wgsl"));
 
+/// `deferred::light_cull_pass`: the tiled light-culling pass
+/// ([`LIGHT_CULL_PASS`](crate::pass::LIGHT_CULL_PASS)).
+pub const LIGHT_CULL_PASS_MODULE: Module = Module::new(
+    "deferred::light_cull_pass",
+    include_str!("wgsl/light_cull_pass.wgsl"),
+);
+
 /// This crate's modules.
-pub const MODULES: &[Module] = &[GBUFFER, DEPTH, LIGHTS, SHADOW];
+pub const MODULES: &[Module] = &[GBUFFER, DEPTH, LIGHTS, SHADOW, LIGHT_CULL_PASS_MODULE];
+
+/// What this crate's passes compose from.
+pub const LIBRARY: &[&[Module]] = &[MODULES];
 
 #[cfg(test)]
 mod tests {

@@ -412,3 +412,170 @@ fn light_tile_test_matches_the_cpu() {
     // Only tangent cases may flip with the device's rounding.
     assert!(differ * 10_000 <= tiles.len() * lights.len(), "{differ}");
 }
+
+/// Lights in front of a camera: points and spots, `range` metres at most.
+fn random_lights(rng: &mut Rng, n: usize, max_range: f32) -> Vec<DeferredLight> {
+    (0..n)
+        .map(|i| {
+            let d = rng.range(1.0, 40.0);
+            let pos = Vec3::new(rng.range(-1.0, 1.0) * d, rng.range(-0.6, 0.6) * d, -d);
+            let range = rng.range(0.3, max_range);
+            if i % 3 == 0 {
+                DeferredLight::spot(pos, unit(rng), range, rng.range(0.1, 1.4), Vec3::ONE)
+            } else {
+                DeferredLight::point(pos, range, Vec3::ONE)
+            }
+        })
+        .collect()
+}
+
+/// The culling pass on testkit's device: `(counts, indices, stats)`.
+fn run_cull_pass(
+    params: &deferred::pass::LightCullParams,
+    tiles: &[DeferredTileDepth],
+    lights: &[DeferredLight],
+) -> (Vec<u32>, Vec<u32>, deferred::lights::CullStats) {
+    use deferred::pass::{LIGHT_CULL_PASS, LightCullCounters};
+    use testkit::device::{Data, run_pass};
+    let n = params.tile_count() as usize;
+    let words = params.index_words() as usize;
+    let light_rows = if lights.is_empty() {
+        vec![DeferredLight::default()]
+    } else {
+        lights.to_vec()
+    };
+    let out = run_pass(
+        &LIGHT_CULL_PASS,
+        &[],
+        &[],
+        params,
+        &[
+            ("params", Data::rows(std::slice::from_ref(params))),
+            ("tile_depths", Data::rows(tiles)),
+            ("lights", Data::rows(&light_rows)),
+            ("counts", Data::Words(&vec![u32::MAX; n])),
+            ("indices", Data::Zeros(words)),
+            ("counters", Data::rows(&[LightCullCounters::default()])),
+        ],
+    );
+    let counters: LightCullCounters = out.read("counters", 1)[0];
+    (
+        out.read("counts", n),
+        out.read("indices", words),
+        counters.stats(),
+    )
+}
+
+/// The culling pass against `cull_tiles` (its CPU twin): every tile's list, ascending, the
+/// same except where a tangent light flips with the device's rounding (bounded as in
+/// `light_tile_test_matches_the_cpu`), in both depth conventions, on a viewport whose
+/// last tile row and column are partial, with empty tiles.
+#[test]
+fn light_culling_pass_equals_cull_tiles() {
+    use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles};
+    use deferred::pass::LightCullParams;
+    for (mode, seed) in [(DepthMode::Reversed, 31), (DepthMode::Standard, 32)] {
+        let vp = Vec2::new(333.0, 190.0);
+        let far = match mode {
+            DepthMode::Reversed => None,
+            DepthMode::Standard => Some(500.0),
+        };
+        let p = Perspective::try_new(1.0, vp.x / vp.y, 0.1, far, mode).unwrap();
+        let proj = p.gpu(vp);
+        let (tx, ty) = tile_counts(vp.x as u32, vp.y as u32);
+        let mut rng = Rng::new(seed);
+        let lights = random_lights(&mut rng, 300, 6.0);
+        let l = p.linearize();
+        let tiles: Vec<DeferredTileDepth> = (0..tx * ty)
+            .map(|_| {
+                if rng.below(5) == 0 {
+                    return DeferredTileDepth::empty(mode);
+                }
+                let a = rng.range(0.5, 40.0);
+                let b = a + rng.range(0.0, 20.0);
+                DeferredTileDepth {
+                    nearest: l.depth(a),
+                    farthest: l.depth(b),
+                }
+            })
+            .collect();
+        let params = LightCullParams::new(proj, lights.len() as u32);
+        assert_eq!(params.tiles, [tx, ty]);
+        let (gpu_counts, gpu_indices, gpu_stats) = run_cull_pass(&params, &tiles, &lights);
+        let n = tiles.len();
+        let m = MAX_LIGHTS_PER_TILE as usize;
+        let mut counts = vec![0; n];
+        let mut indices = vec![0; n * m];
+        let stats = cull_tiles(&proj, &tiles, &lights, &mut counts, &mut indices).unwrap();
+        let mut differ = 0;
+        for t in 0..n {
+            let cpu: Vec<u32> = indices[t * m..t * m + counts[t] as usize].to_vec();
+            let gpu: Vec<u32> = gpu_indices[t * m..t * m + gpu_counts[t] as usize].to_vec();
+            assert!(
+                gpu.windows(2).all(|w| w[0] < w[1]),
+                "tile {t}: not ascending"
+            );
+            let a: std::collections::BTreeSet<u32> = cpu.iter().copied().collect();
+            let b: std::collections::BTreeSet<u32> = gpu.iter().copied().collect();
+            differ += a.symmetric_difference(&b).count();
+        }
+        eprintln!(
+            "{mode:?}: {n} tiles x {} lights, {} pairs, {differ} decisions differ",
+            lights.len(),
+            stats.pairs
+        );
+        assert!(stats.pairs > 1000, "{stats:?}");
+        assert!(differ * 10_000 <= n * lights.len(), "{differ}");
+        assert_eq!(gpu_stats.tiles_with_geometry, stats.tiles_with_geometry);
+        assert_eq!(gpu_stats.overflowed_tiles, stats.overflowed_tiles);
+        assert!(gpu_stats.pairs.abs_diff(stats.pairs) <= differ as u64);
+    }
+}
+
+/// More lights on a tile than its list holds: the first MAX_LIGHTS_PER_TILE (ascending)
+/// are kept and the tile counts as overflowed, as on the CPU; no light at all gives empty
+/// lists.
+#[test]
+fn light_culling_pass_overflows_as_cull_tiles() {
+    use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles};
+    use deferred::pass::LightCullParams;
+    let vp = Vec2::new(64.0, 48.0);
+    let p = Perspective::try_new(1.0, vp.x / vp.y, 0.1, None, DepthMode::Reversed).unwrap();
+    let proj = p.gpu(vp);
+    let l = p.linearize();
+    // 700 big lights around a wall 10 m away: every tile sees all of them.
+    let lights: Vec<DeferredLight> = (0..700)
+        .map(|i| {
+            DeferredLight::point(
+                Vec3::new(0.0, 0.0, -10.0 - i as f32 * 0.001),
+                50.0,
+                Vec3::ONE,
+            )
+        })
+        .collect();
+    let (tx, ty) = tile_counts(64, 48);
+    let tiles = vec![
+        DeferredTileDepth {
+            nearest: l.depth(10.0),
+            farthest: l.depth(10.0),
+        };
+        (tx * ty) as usize
+    ];
+    let params = LightCullParams::new(proj, lights.len() as u32);
+    let (counts, indices, stats) = run_cull_pass(&params, &tiles, &lights);
+    let m = MAX_LIGHTS_PER_TILE as usize;
+    let mut cpu_counts = vec![0; tiles.len()];
+    let mut cpu_indices = vec![0; tiles.len() * m];
+    let cpu = cull_tiles(&proj, &tiles, &lights, &mut cpu_counts, &mut cpu_indices).unwrap();
+    assert_eq!(cpu.overflowed_tiles, tx * ty);
+    assert_eq!(stats, cpu);
+    assert_eq!(counts, cpu_counts);
+    assert_eq!(indices, cpu_indices);
+    let expected: Vec<u32> = (0..MAX_LIGHTS_PER_TILE).collect();
+    assert_eq!(&indices[..m], &expected[..]);
+    // No lights: every tile with geometry gets an empty list.
+    let (counts, _, stats) = run_cull_pass(&LightCullParams::new(proj, 0), &tiles, &[]);
+    assert!(counts.iter().all(|&c| c == 0));
+    assert_eq!(stats.pairs, 0);
+    assert_eq!(stats.tiles_with_geometry, tx * ty);
+}
