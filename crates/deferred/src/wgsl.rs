@@ -27,11 +27,14 @@ pub const LIGHT_CULL_PASS_MODULE: Module = Module::new(
     include_str!("wgsl/light_cull_pass.wgsl"),
 );
 
-/// This crate's modules.
-pub const MODULES: &[Module] = &[GBUFFER, DEPTH, LIGHTS, SHADOW, LIGHT_CULL_PASS_MODULE];
+/// This crate's binding-free library modules.
+pub const MODULES: &[Module] = &[GBUFFER, DEPTH, LIGHTS, SHADOW];
+
+/// This crate's pass modules (they declare bindings).
+pub const PASS_MODULES: &[Module] = &[LIGHT_CULL_PASS_MODULE];
 
 /// What this crate's passes compose from.
-pub const LIBRARY: &[&[Module]] = &[MODULES];
+pub const LIBRARY: &[&[Module]] = &[MODULES, PASS_MODULES];
 
 #[cfg(test)]
 mod tests {

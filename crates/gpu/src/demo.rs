@@ -7,7 +7,7 @@
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
-use crate::frame::{Camera, FrameInput, Lighting, PointLight};
+use crate::frame::{Camera, FrameInput, Lighting, PointLight, SpotLight};
 use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
 pub mod city;
@@ -228,6 +228,51 @@ pub fn max_density(scene: DemoScene, seed: u64) -> f32 {
 
 // ---------------------------------------------------------------------------------------
 // Random numbers and noise (integer hashing; deterministic on every platform).
+
+/// Adds `count` local lights in KZ2's manner to `lighting`: lamps 0.5-3 m above the
+/// ground plane `y = center.y`, scattered over the square of half-size `half_extent`
+/// metres around `center`; two in three are point lights of 2-7 m radius, the rest spots
+/// of 4-10 m pointing down at 25-50° half-angles; warm and cool colours. Deterministic in
+/// `seed`.
+pub fn scatter_lights(
+    lighting: &mut Lighting,
+    center: Vec3,
+    half_extent: f32,
+    count: usize,
+    seed: u64,
+) {
+    let mut rng = Rng(seed ^ 0x9e37_79b9_7f4a_7c15);
+    for i in 0..count {
+        let position = center
+            + Vec3::new(
+                rng.range(-half_extent, half_extent),
+                rng.range(0.5, 3.0),
+                rng.range(-half_extent, half_extent),
+            );
+        let warm = rng.range(0.0, 1.0) < 0.6;
+        let color = if warm {
+            Vec3::new(12.0, 7.0, 2.8)
+        } else {
+            Vec3::new(3.0, 6.0, 12.0)
+        } * rng.range(0.5, 1.5);
+        if i % 3 == 2 {
+            let tilt = Vec3::new(rng.range(-0.4, 0.4), -1.0, rng.range(-0.4, 0.4));
+            lighting.spot_lights.push(SpotLight {
+                position,
+                direction: tilt,
+                color: color * 2.0,
+                radius: rng.range(4.0, 10.0),
+                half_angle: rng.range(25.0, 50.0).to_radians(),
+            });
+        } else {
+            lighting.point_lights.push(PointLight {
+                position,
+                color,
+                radius: rng.range(2.0, 7.0),
+            });
+        }
+    }
+}
 
 /// SplitMix64.
 #[derive(Clone, Debug)]

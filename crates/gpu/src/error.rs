@@ -203,11 +203,11 @@ pub enum FrameError {
         /// What is wrong.
         detail: &'static str,
     },
-    /// More point lights than the lighting pass takes.
-    TooManyPointLights {
+    /// More local lights (point and spot together) than the light culling takes.
+    TooManyLocalLights {
         /// How many were given.
         count: usize,
-        /// [`MAX_POINT_LIGHTS`](crate::MAX_POINT_LIGHTS).
+        /// [`MAX_LOCAL_LIGHTS`](crate::MAX_LOCAL_LIGHTS).
         limit: usize,
     },
 }
@@ -351,10 +351,9 @@ impl fmt::Display for FrameError {
                 allowed,
             } => write!(f, "{field} is {value}, allowed: {allowed}"),
             FrameError::CameraBasis { detail } => write!(f, "{detail}"),
-            FrameError::TooManyPointLights { count, limit } => write!(
+            FrameError::TooManyLocalLights { count, limit } => write!(
                 f,
-                "{count} point lights, over the limit of {limit} (the lighting pass loops over \
-                 every light at every pixel)"
+                "{count} point and spot lights, over the limit of {limit}"
             ),
         }
     }

@@ -7,16 +7,18 @@
 //! infinite far plane), so `Depth32Float` keeps its precision far away; depth tests are
 //! `Greater`.
 
+use deferred::DeferredLight;
 use glam::{Mat4, Vec3, Vec4};
 
 use crate::error::FrameError;
-use crate::resources::rows::{FrameUniforms, GpuPointLight};
+use crate::resources::rows::FrameUniforms;
 use crate::scene::check_range;
 
-/// The most point lights a frame may carry: the lighting pass loops over every light at
-/// every pixel (tiled culling is later work), so more would stall the GPU for seconds.
-/// KZ2 lit 100+ lights per frame, up to 300 on screen.
-pub const MAX_POINT_LIGHTS: usize = 1024;
+/// The most point and spot lights a frame may carry, together. Lighting reads each
+/// 16x16-pixel tile's list (at most [`deferred::lights::MAX_LIGHTS_PER_TILE`] lights: a
+/// tile that meets more keeps the lowest-indexed ones). KZ2 lit 100+ lights per frame, up
+/// to 300 on screen.
+pub const MAX_LOCAL_LIGHTS: usize = 4096;
 
 /// A perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -66,13 +68,18 @@ impl Camera {
         self.projection(aspect) * self.view()
     }
 
+    /// The view matrix's rotation alone: camera-relative world position to view space.
+    #[must_use]
+    pub fn view_rotation(&self) -> Mat4 {
+        let view = self.view();
+        Mat4::from_cols(view.x_axis, view.y_axis, view.z_axis, Vec4::W)
+    }
+
     /// Camera-relative-position-to-clip: the rotation and projection only, what the shaders
     /// use (positions are camera-relative on the GPU).
     #[must_use]
     pub fn relative_view_projection(&self, aspect: f32) -> Mat4 {
-        let view = self.view();
-        let rotation = Mat4::from_cols(view.x_axis, view.y_axis, view.z_axis, Vec4::W);
-        self.projection(aspect) * rotation
+        self.projection(aspect) * self.view_rotation()
     }
 
     /// Checks every field: finite, a positive near plane, a field of view in (0, π), a
@@ -132,6 +139,22 @@ pub struct PointLight {
     pub radius: f32,
 }
 
+/// A spot light: a cone from `position` along `direction`, to `radius` metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotLight {
+    /// World position of the apex (metres).
+    pub position: Vec3,
+    /// World direction of the cone's axis (normalised by the renderer), finite, non-zero.
+    pub direction: Vec3,
+    /// Linear RGB intensity, as [`PointLight::color`].
+    pub color: Vec3,
+    /// Distance at which the light fades to zero (metres), finite and > 0.
+    pub radius: f32,
+    /// Half-angle of the cone (radians), in `(0, π/2)`; the edge softens over the outer
+    /// quarter of its cosine range.
+    pub half_angle: f32,
+}
+
 /// Sun, sky and lights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lighting {
@@ -143,8 +166,10 @@ pub struct Lighting {
     pub ambient: Vec3,
     /// Sky colour behind everything (linear RGB, finite, >= 0).
     pub sky: Vec3,
-    /// Point lights, at most [`MAX_POINT_LIGHTS`].
+    /// Point lights ([`MAX_LOCAL_LIGHTS`] with the spot lights).
     pub point_lights: Vec<PointLight>,
+    /// Spot lights ([`MAX_LOCAL_LIGHTS`] with the point lights).
+    pub spot_lights: Vec<SpotLight>,
 }
 
 impl Default for Lighting {
@@ -155,6 +180,7 @@ impl Default for Lighting {
             ambient: Vec3::new(0.18, 0.22, 0.28),
             sky: Vec3::new(0.45, 0.62, 0.9),
             point_lights: Vec::new(),
+            spot_lights: Vec::new(),
         }
     }
 }
@@ -163,7 +189,7 @@ impl Lighting {
     /// Checks every value (see the fields).
     ///
     /// # Errors
-    /// [`FrameError::OutOfRange`] naming the field, or [`FrameError::TooManyPointLights`].
+    /// [`FrameError::OutOfRange`] naming the field, or [`FrameError::TooManyLocalLights`].
     pub fn validate(&self) -> Result<(), FrameError> {
         let colour = |field: &str, v: Vec3| -> Result<(), FrameError> {
             for (k, c) in ["r", "g", "b"].into_iter().zip(v.to_array()) {
@@ -182,10 +208,11 @@ impl Lighting {
         colour("lighting.sun_color", self.sun_color)?;
         colour("lighting.ambient", self.ambient)?;
         colour("lighting.sky", self.sky)?;
-        if self.point_lights.len() > MAX_POINT_LIGHTS {
-            return Err(FrameError::TooManyPointLights {
-                count: self.point_lights.len(),
-                limit: MAX_POINT_LIGHTS,
+        let local = self.point_lights.len() + self.spot_lights.len();
+        if local > MAX_LOCAL_LIGHTS {
+            return Err(FrameError::TooManyLocalLights {
+                count: local,
+                limit: MAX_LOCAL_LIGHTS,
             });
         }
         for (i, l) in self.point_lights.iter().enumerate() {
@@ -199,12 +226,38 @@ impl Lighting {
                 "finite, > 0 metres",
             )?;
         }
+        for (i, l) in self.spot_lights.iter().enumerate() {
+            finite3(&format!("lighting.spot_lights[{i}].position"), l.position)?;
+            finite3(&format!("lighting.spot_lights[{i}].direction"), l.direction)?;
+            if l.direction.length_squared() < 1e-12 {
+                return Err(FrameError::OutOfRange {
+                    field: format!("lighting.spot_lights[{i}].direction"),
+                    value: 0.0,
+                    allowed: "a non-zero direction",
+                });
+            }
+            colour(&format!("lighting.spot_lights[{i}].color"), l.color)?;
+            range(
+                || format!("lighting.spot_lights[{i}].radius"),
+                l.radius,
+                f32::MIN_POSITIVE,
+                f32::MAX,
+                "finite, > 0 metres",
+            )?;
+            range(
+                || format!("lighting.spot_lights[{i}].half_angle"),
+                l.half_angle,
+                1e-3,
+                core::f32::consts::FRAC_PI_2 - 1e-3,
+                "in (0, π/2) radians",
+            )?;
+        }
         Ok(())
     }
 }
 
 /// Everything one frame takes: [`Renderer::render`](crate::Renderer::render) checks it,
-/// uploads the frame constants, and the point lights only when they changed.
+/// uploads the frame constants and the lights.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameInput {
     /// The camera.
@@ -312,28 +365,33 @@ pub(crate) fn frame_uniforms(
         sun_color: l.sun_color.extend(0.0).to_array(),
         ambient: l.ambient.extend(0.0).to_array(),
         sky: l.sky.extend(0.0).to_array(),
-        point_light_count: l.point_lights.len() as u32,
+        local_light_count: (l.point_lights.len() + l.spot_lights.len()) as u32,
         mip_bias,
         frame_index,
         time: frame.time,
     }
 }
 
-/// The point lights of `lighting` relative to `origin` (at least one row: a binding must
-/// hold one struct even with no lights; the frame's light count says how many are real).
-pub(crate) fn point_light_rows(lighting: &Lighting, origin: Vec3) -> Vec<GpuPointLight> {
-    let mut rows: Vec<GpuPointLight> = lighting
+/// The local lights of `lighting` in the view space of `camera` (right-handed, looking
+/// down −Z, as `deferred::lights` takes them): the point lights, then the spot lights.
+#[must_use]
+pub fn local_light_rows(lighting: &Lighting, camera: &Camera) -> Vec<DeferredLight> {
+    let rotation = camera.view_rotation();
+    let at = |p: Vec3| rotation.transform_vector3(p - camera.position);
+    let points = lighting
         .point_lights
         .iter()
-        .map(|l| GpuPointLight {
-            position_radius: (l.position - origin).extend(l.radius).to_array(),
-            color: l.color.extend(0.0).to_array(),
-        })
-        .collect();
-    if rows.is_empty() {
-        rows.push(GpuPointLight::default());
-    }
-    rows
+        .map(|l| DeferredLight::point(at(l.position), l.radius, l.color));
+    let spots = lighting.spot_lights.iter().map(|l| {
+        DeferredLight::spot(
+            at(l.position),
+            rotation.transform_vector3(l.direction.normalize_or(Vec3::NEG_Z)),
+            l.radius,
+            l.half_angle,
+            l.color,
+        )
+    });
+    points.chain(spots).collect()
 }
 
 #[cfg(test)]
@@ -348,6 +406,43 @@ mod tests {
             fov_y: 1.0,
             near: 0.1,
         }
+    }
+
+    /// View-space lights against `Camera::view` applied to world positions (f64 of the
+    /// same transform): points then spots, directions rotated and unit.
+    #[test]
+    fn local_light_rows_are_in_view_space() {
+        let cam = camera();
+        let lighting = Lighting {
+            point_lights: vec![PointLight {
+                position: Vec3::new(12.0, 3.0, -9.0),
+                color: Vec3::ONE,
+                radius: 4.0,
+            }],
+            spot_lights: vec![SpotLight {
+                position: Vec3::new(9.0, 5.0, -2.0),
+                direction: Vec3::new(0.0, -2.0, 0.0),
+                color: Vec3::ONE,
+                radius: 6.0,
+                half_angle: 0.4,
+            }],
+            ..Lighting::default()
+        };
+        let rows = local_light_rows(&lighting, &cam);
+        let view = cam.view().as_dmat4();
+        assert_eq!(rows.len(), 2);
+        for (row, world) in rows
+            .iter()
+            .zip([Vec3::new(12.0, 3.0, -9.0), Vec3::new(9.0, 5.0, -2.0)])
+        {
+            let want = view.transform_point3(world.as_dvec3());
+            let got = Vec3::from(row.position).as_dvec3();
+            assert!((want - got).length() < 1e-4, "{want} vs {got}");
+        }
+        assert!(!rows[0].is_spot() && rows[1].is_spot());
+        let d = view.transform_vector3(glam::DVec3::NEG_Y);
+        assert!((Vec3::from(rows[1].direction).as_dvec3() - d).length() < 1e-5);
+        assert!((rows[1].cos_outer - 0.4f32.cos()).abs() < 1e-6);
     }
 
     #[test]
@@ -507,11 +602,58 @@ mod tests {
         );
         assert!(matches!(
             Lighting {
-                point_lights: vec![light; MAX_POINT_LIGHTS + 1],
+                point_lights: vec![light; MAX_LOCAL_LIGHTS + 1],
                 ..Lighting::default()
             }
             .validate(),
-            Err(FrameError::TooManyPointLights { .. })
+            Err(FrameError::TooManyLocalLights { .. })
+        ));
+        let spot = SpotLight {
+            position: Vec3::ZERO,
+            direction: Vec3::NEG_Y,
+            color: Vec3::ONE,
+            radius: 5.0,
+            half_angle: 0.5,
+        };
+        let spot_field = |s: SpotLight| match (Lighting {
+            spot_lights: vec![spot, s],
+            ..Lighting::default()
+        })
+        .validate()
+        {
+            Err(FrameError::OutOfRange { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            spot_field(SpotLight {
+                half_angle: 1.6,
+                ..spot
+            }),
+            "lighting.spot_lights[1].half_angle"
+        );
+        assert_eq!(
+            spot_field(SpotLight {
+                direction: Vec3::ZERO,
+                ..spot
+            }),
+            "lighting.spot_lights[1].direction"
+        );
+        assert_eq!(
+            spot_field(SpotLight {
+                radius: f32::NAN,
+                ..spot
+            }),
+            "lighting.spot_lights[1].radius"
+        );
+        // Point and spot lights count together.
+        assert!(matches!(
+            Lighting {
+                point_lights: vec![light; MAX_LOCAL_LIGHTS],
+                spot_lights: vec![spot],
+                ..Lighting::default()
+            }
+            .validate(),
+            Err(FrameError::TooManyLocalLights { count, .. }) if count == MAX_LOCAL_LIGHTS + 1
         ));
         let mut f = FrameInput::new(camera());
         f.time = f32::NAN;

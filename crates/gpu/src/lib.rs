@@ -82,13 +82,15 @@ pub use context::{
     headless, read_buffer, scoped, wait_idle,
 };
 pub use error::{Error, FrameError, Result, SceneError};
-pub use frame::{Camera, FrameInput, Lighting, MAX_POINT_LIGHTS, PointLight};
+pub use frame::{
+    Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight, local_light_rows,
+};
 pub use glam;
 pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
-pub use renderer::{FrameOutput, RenderPath, Renderer, RendererConfig, WARM_UP};
+pub use renderer::{FrameOutput, LightTiles, RenderPath, Renderer, RendererConfig, WARM_UP};
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,

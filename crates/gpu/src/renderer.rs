@@ -8,9 +8,11 @@ use std::time::{Duration, Instant};
 
 use crate::context::{ActivePaths, OPTIONAL_FEATURES, PrimitiveIdPath, scoped, wait_idle};
 use crate::error::{Error, Result};
-use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, point_light_rows};
+use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, local_light_rows};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
+use crate::passes::lighting::GpuLocalLights;
+use crate::passes::lights::{GpuTileDepthParams, LightBuffers};
 use crate::passes::query::{PreparedView, StaticQuery};
 use crate::passes::static_place::{
     STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
@@ -19,8 +21,8 @@ use crate::passes::static_place::{
 use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
 use crate::resources::readback::read_buffer;
 use crate::resources::readback::read_texture;
+use crate::resources::rows::FrameUniforms;
 use crate::resources::rows::GpuStaticParams;
-use crate::resources::rows::{FrameUniforms, GpuPointLight};
 use crate::resources::targets::Targets;
 use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::scene::Scene;
@@ -67,6 +69,9 @@ pub struct RendererConfig {
     pub subgroups: bool,
     /// Mip bias of the compute resolve (log2 units, in [-16, 16]).
     pub mip_bias: f32,
+    /// Lighting reads each 16x16 tile's light list (KZ2's tiled path, the default); off,
+    /// it tests every local light at every pixel (the reference and measurement baseline).
+    pub tiled_lights: bool,
 }
 
 impl RendererConfig {
@@ -108,6 +113,7 @@ impl Default for RendererConfig {
             primitive_id: None,
             subgroups: true,
             mip_bias: 0.0,
+            tiled_lights: true,
         }
     }
 }
@@ -121,6 +127,23 @@ pub struct FrameOutput {
     pub wall_ms: f64,
     /// The static query's and placement's statistics, in a frame with a static query.
     pub statics: Option<StaticFrameStats>,
+}
+
+/// The last frame's light tiles ([`Renderer::read_light_tiles`]), in the layout of
+/// `deferred::lights::cull_tiles`: tiles of 16x16 pixels, row-major from the top-left.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LightTiles {
+    /// Tiles across and down.
+    pub tiles: [u32; 2],
+    /// Per tile: the nearest and farthest depth of its geometry (reversed Z).
+    pub depths: Vec<deferred::DeferredTileDepth>,
+    /// Per tile: its lights (at most `MAX_LIGHTS_PER_TILE`).
+    pub counts: Vec<u32>,
+    /// Per tile, `MAX_LIGHTS_PER_TILE` slots: its lights' indices (ascending) in
+    /// [`local_light_rows`](crate::local_light_rows)'s order, the first `counts[t]` valid.
+    pub indices: Vec<u32>,
+    /// Tiles with geometry, (tile, light) pairs, tiles that overflowed.
+    pub stats: deferred::lights::CullStats,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -142,9 +165,10 @@ pub struct Renderer {
     groups: TargetGroups,
     frame: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    point_lights: wgpu::Buffer,
-    /// The point-light rows last uploaded, with the scene (origin) they were made for.
-    uploaded_lights: Option<(u64, Vec<GpuPointLight>)>,
+    /// Lighting's view rotation and tile counts (`GpuLocalLights`).
+    local: wgpu::Buffer,
+    /// The lights in view space and the light tiles.
+    lights: LightBuffers,
     timer: GpuTimer,
     frame_index: u32,
     previous: Option<(u64, PreviousCamera)>,
@@ -267,8 +291,15 @@ impl Renderer {
                 anisotropy_clamp: 1,
                 ..Default::default()
             });
-            let pipelines = Pipelines::new(device, &paths, wave_width.lanes())?;
-            let point_lights = light_buffer(device, 1);
+            let pipelines =
+                Pipelines::new(device, &paths, wave_width.lanes(), config.tiled_lights)?;
+            let local = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("local lights"),
+                size: size_of::<GpuLocalLights>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let lights = LightBuffers::new(device, &targets, 64)?;
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
                 gbuffer_store: pipelines
@@ -276,7 +307,8 @@ impl Renderer {
                     .gbuffer_group(device, &targets.gbuffer_views)?,
                 lighting: pipelines
                     .lighting
-                    .groups(device, &targets, &frame, &point_lights)?,
+                    .groups(device, &targets, &frame, &local, &lights)?,
+                lights: pipelines.lights.groups(device, &targets, &lights)?,
             };
             let timer = GpuTimer::new(device, queue, 32);
             Ok(Self {
@@ -292,8 +324,8 @@ impl Renderer {
                 groups,
                 frame,
                 sampler,
-                point_lights,
-                uploaded_lights: None,
+                local,
+                lights,
                 timer,
                 frame_index: 0,
                 previous: None,
@@ -374,26 +406,7 @@ impl Renderer {
             self.frame_index,
             previous,
         );
-        let rows = point_light_rows(&frame.lighting, origin);
-        let unchanged = self
-            .uploaded_lights
-            .as_ref()
-            .is_some_and(|(id, uploaded)| *id == scene.id && *uploaded == rows);
-        if !unchanged {
-            let capacity = (self.point_lights.size() / size_of::<GpuPointLight>() as u64) as usize;
-            if rows.len() > capacity {
-                self.point_lights = light_buffer(&self.device, rows.len().next_power_of_two());
-                self.groups.lighting = self.pipelines.lighting.groups(
-                    &self.device,
-                    &self.targets,
-                    &self.frame,
-                    &self.point_lights,
-                )?;
-            }
-            self.queue
-                .write_buffer(&self.point_lights, 0, bytemuck::cast_slice(&rows));
-            self.uploaded_lights = Some((scene.id, rows));
-        }
+        self.upload_lights(frame)?;
         self.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let aspect = self.config.width as f32 / self.config.height as f32;
@@ -914,6 +927,37 @@ impl Renderer {
         })
     }
 
+    /// Reads back the last frame's light tiles: each 16x16 tile's depth range, light count
+    /// and list, and what the culling pass counted.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_light_tiles(&self) -> Result<LightTiles> {
+        let b = &self.lights;
+        let n = u64::from(b.tiles[0]) * u64::from(b.tiles[1]);
+        let read = |buffer: &wgpu::Buffer, bytes: u64| {
+            read_buffer(&self.device, &self.queue, buffer, 0, bytes)
+        };
+        let depths = read(&b.tile_depths, n * 8)?;
+        let counts = read(&b.counts, n * 4)?;
+        let indices = read(
+            &b.indices,
+            n * u64::from(deferred::lights::MAX_LIGHTS_PER_TILE) * 4,
+        )?;
+        let counters = read(
+            &b.counters,
+            size_of::<deferred::pass::LightCullCounters>() as u64,
+        )?;
+        let counters: deferred::pass::LightCullCounters = bytemuck::pod_read_unaligned(&counters);
+        Ok(LightTiles {
+            tiles: b.tiles,
+            depths: bytemuck::pod_collect_to_vec(&depths),
+            counts: bytemuck::pod_collect_to_vec(&counts),
+            indices: bytemuck::pod_collect_to_vec(&indices),
+            stats: counters.stats(),
+        })
+    }
+
     /// Reads the vis buffer of the last frame back (row-major words, `visbuf`'s layout;
     /// `VIS_NONE` where nothing was drawn).
     ///
@@ -999,6 +1043,81 @@ impl Renderer {
         classification_statistics(scene, gpu)
     }
 
+    /// Uploads the frame's local lights in view space and the light passes' uniforms (the
+    /// lights move in view space with the camera, so every frame), growing the light
+    /// buffer when it is short.
+    fn upload_lights(&mut self, frame: &FrameInput) -> Result<()> {
+        let mut rows = local_light_rows(&frame.lighting, &frame.camera);
+        let count = rows.len() as u32;
+        if rows.is_empty() {
+            // A binding holds at least one light; the count says none are real.
+            rows.push(deferred::DeferredLight::default());
+        }
+        if rows.len() > self.lights.capacity {
+            self.lights =
+                LightBuffers::new(&self.device, &self.targets, rows.len().next_power_of_two())?;
+            self.groups.lighting = self.pipelines.lighting.groups(
+                &self.device,
+                &self.targets,
+                &self.frame,
+                &self.local,
+                &self.lights,
+            )?;
+            self.groups.lights =
+                self.pipelines
+                    .lights
+                    .groups(&self.device, &self.targets, &self.lights)?;
+        }
+        let (width, height) = (self.config.width, self.config.height);
+        let camera = &frame.camera;
+        let projection = deferred::Perspective::try_new(
+            camera.fov_y,
+            width as f32 / height as f32,
+            camera.near,
+            None,
+            deferred::DepthMode::Reversed,
+        )
+        .map_err(|e| {
+            Error::Frame(crate::error::FrameError::OutOfRange {
+                field: "camera".into(),
+                value: camera.fov_y,
+                allowed: if matches!(e, deferred::Error::InvalidParameter { name: "near", .. }) {
+                    "a near plane > 0"
+                } else {
+                    "a field of view in (0, π)"
+                },
+            })
+        })?
+        .gpu(glam::Vec2::new(width as f32, height as f32));
+        let b = &self.lights;
+        self.queue
+            .write_buffer(&b.lights, 0, bytemuck::cast_slice(&rows));
+        self.queue.write_buffer(
+            &b.cull_params,
+            0,
+            bytemuck::bytes_of(&deferred::pass::LightCullParams::new(projection, count)),
+        );
+        self.queue.write_buffer(
+            &b.tile_params,
+            0,
+            bytemuck::bytes_of(&GpuTileDepthParams {
+                size: [width, height],
+                tiles_x: b.tiles[0],
+                reversed: 1,
+            }),
+        );
+        self.queue.write_buffer(
+            &self.local,
+            0,
+            bytemuck::bytes_of(&GpuLocalLights {
+                view_rotation: camera.view_rotation().to_cols_array_2d(),
+                tiles: b.tiles,
+                pad: [0; 2],
+            }),
+        );
+        Ok(())
+    }
+
     /// Replaces the classification phases' `override`s and skips entry points, for timing
     /// experiments (`examples/classify_variants.rs`).
     #[doc(hidden)]
@@ -1008,15 +1127,6 @@ impl Renderer {
             self.pipelines.classify.set_variant(&device, variant)
         })
     }
-}
-
-fn light_buffer(device: &wgpu::Device, rows: usize) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("point lights"),
-        size: (rows.max(1) * size_of::<GpuPointLight>()) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
 }
 
 /// The first limit of `needed` that `available` falls short of (wgpu's own comparison of

@@ -126,6 +126,46 @@ pub struct Args {
     /// Skip writing the debug views.
     #[arg(long)]
     pub no_debug_views: bool,
+    /// Add this many local lights (two point lights in three, the rest spots) around the
+    /// camera's target, KZ2's 100s, at dusk (0 to 4000; 0 keeps the scene's own lights and
+    /// daylight).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4000))]
+    pub lights: u32,
+    /// Test every local light at every pixel instead of reading the tile lists (the
+    /// reference and baseline of the tiled path).
+    #[arg(long)]
+    pub all_lights: bool,
+}
+
+/// `frame` with `args.lights` lights scattered within `half_extent` metres of its target,
+/// and the sun and ambient dimmed to dusk so that they show.
+fn with_lights(args: &Args, mut frame: gpu::FrameInput, half_extent: f32) -> gpu::FrameInput {
+    if args.lights > 0 {
+        // Dusk, so that the lights show.
+        frame.lighting.sun_color *= 0.12;
+        frame.lighting.ambient *= 0.35;
+        let target = frame.camera.target;
+        demo::scatter_lights(
+            &mut frame.lighting,
+            target,
+            half_extent,
+            args.lights as usize,
+            args.seed,
+        );
+    }
+    frame
+}
+
+/// The light tiles of the frame just rendered, into the report.
+fn report_light_tiles(
+    report: &mut Report,
+    renderer: &Renderer,
+    frame: &gpu::FrameInput,
+) -> Result<()> {
+    let tiles = renderer.read_light_tiles()?;
+    let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
+    report.light_tiles(lights, &tiles);
+    Ok(())
 }
 
 /// A density given on the command line: a finite number above zero.
@@ -215,6 +255,7 @@ pub fn run(args: &Args) -> Result<()> {
         width: args.width,
         height: args.height,
         primitive_id,
+        tiled_lights: !args.all_lights,
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
@@ -248,6 +289,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     let t1 = std::time::Instant::now();
     let prepared = renderer.prepare(&city.scene)?;
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
+    let frame = with_lights(args, city.frame.clone(), 60.0);
     let mut report = Report::new(ctx, renderer, &prepared);
     report.cpu_ms("city build, tiles built and activated (CPU)", build_ms);
     report.cpu_ms("prepare: meshes, reservations, upload (CPU)", prepare_ms);
@@ -257,7 +299,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
     };
     let (w, h) = (args.width, args.height);
-    let mut desc = gpu::static_view_desc(&city.frame.camera, w, h);
+    let mut desc = gpu::static_view_desc(&frame.camera, w, h);
     let occlusion = match args.occlusion {
         OcclusionArg::Off | OcclusionArg::Readback => gpu::StaticOcclusion::Given,
         OcclusionArg::Previous => gpu::StaticOcclusion::PreviousFrame,
@@ -278,7 +320,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             options: QueryOptions::default(),
             occlusion,
         };
-        renderer.render_static(&prepared, &city.frame, RenderPath::Deferred, &mut view)?;
+        renderer.render_static(&prepared, &frame, RenderPath::Deferred, &mut view)?;
     }
     if readback {
         let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
@@ -295,7 +337,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             occlusion,
         };
         let frames = if args.walk > 0.0 {
-            let base = city.frame.clone();
+            let base = frame.clone();
             let ahead = (base.camera.target - base.camera.position).normalize();
             let occlusion_camera = desc.occlusion_camera.is_some();
             renderer.render_static_sequence(&prepared, path, &mut view, args.frames, |i| {
@@ -310,13 +352,16 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
                 (frame, d)
             })?
         } else {
-            renderer.render_static_frames(&prepared, &city.frame, path, &mut view, args.frames)?
+            renderer.render_static_frames(&prepared, &frame, path, &mut view, args.frames)?
         };
         let image = renderer.read_output()?;
         let file = args.out.join(format!("city_{}.png", path.name()));
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
+        if path == RenderPath::Deferred {
+            report_light_tiles(&mut report, renderer, &frame)?;
+        }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
         }
@@ -402,12 +447,8 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     let planned = gpu::scene_from_query(&city.scene, &out, &params)?;
     let prepared_hzd = renderer.prepare(&planned)?;
     let plan_ms = t.elapsed().as_secs_f64() * 1e3;
-    let frames = renderer.render_frames(
-        &prepared_hzd,
-        &city.frame,
-        RenderPath::Deferred,
-        args.frames,
-    )?;
+    let frames =
+        renderer.render_frames(&prepared_hzd, &frame, RenderPath::Deferred, args.frames)?;
     report.cpu_ms("HZD's mode: query, wait, read back (wall)", read_ms);
     report.cpu_ms(
         "HZD's mode: batches planned (tiling::build_plan) and uploaded (CPU)",
@@ -434,6 +475,7 @@ fn render_scene(
         seed: args.seed,
         density: args.density,
     });
+    let frame = with_lights(args, frame, 25.0);
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = std::time::Instant::now();
     let prepared = renderer.prepare(&scene)?;
@@ -462,6 +504,7 @@ fn render_scene(
         report.timings(path, &frames);
         let name = scene_kind.name();
         if path == RenderPath::Deferred {
+            report_light_tiles(&mut report, renderer, &frame)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;
             let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;

@@ -60,6 +60,31 @@ impl Report {
         self.lines.push((k.to_string(), v));
     }
 
+    /// The local lights and what the tiled culling made of them.
+    pub fn light_tiles(&mut self, lights: usize, t: &gpu::LightTiles) {
+        let tiles = u64::from(t.tiles[0]) * u64::from(t.tiles[1]);
+        let s = &t.stats;
+        self.row(
+            "local lights (point + spot) / light tiles with geometry",
+            format!(
+                "{} / {} of {}",
+                group_digits(lights as u64),
+                group_digits(u64::from(s.tiles_with_geometry)),
+                group_digits(tiles)
+            ),
+        );
+        let per_tile = s.pairs as f64 / f64::from(s.tiles_with_geometry.max(1));
+        self.row(
+            "(tile, light) pairs / lights per tile / tiles over the list cap",
+            format!(
+                "{} / {per_tile:.1} (every light at every tile: {}) / {}",
+                group_digits(s.pairs),
+                group_digits(lights as u64),
+                s.overflowed_tiles
+            ),
+        );
+    }
+
     /// A CPU time.
     pub fn cpu_ms(&mut self, what: &str, ms: f64) {
         self.row(what, format!("{ms:.1} ms"));

@@ -1,23 +1,41 @@
-//! Deferred lighting in compute (`gpu::lighting`): KZ2's sun, ambient and point lights over
-//! the G-buffer, tone mapped into the sRGB-encoded output image. The same pass ends both
-//! the deferred and the baseline frames.
+//! Deferred lighting in compute (`gpu::lighting`): KZ2's sun, ambient and local lights
+//! over the G-buffer, tone mapped into the sRGB-encoded output image. The same pass ends
+//! both the deferred and the baseline frames. Local lights come from each tile's list
+//! ([`super::lights`]); feature `all_lights` tests every light at every pixel instead (the
+//! reference the tiled image equals, and the baseline of its measurements).
 
 use shader::pipeline::ComputePass;
 use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
 
+use super::lights::LightBuffers;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer::LOAD_BINDINGS;
-use crate::resources::rows::{FrameUniforms, GpuPointLight};
+use crate::resources::rows::FrameUniforms;
 use crate::resources::targets::Targets;
 use crate::timing::GpuTimer;
+use bytemuck::{Pod, Zeroable};
+use deferred::DeferredLight;
+
+/// What lighting needs of the local lights besides the lights (WGSL `GpuLocalLights`),
+/// 80 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub(crate) struct GpuLocalLights {
+    /// Camera-relative world to view space: the camera's rotation.
+    pub view_rotation: [[f32; 4]; 4],
+    /// Light tiles across and down.
+    pub tiles: [u32; 2],
+    /// Zero.
+    pub pad: [u32; 2],
+}
 
 /// Lighting, over the image (`[width, height]`).
 pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
     name: "lighting",
     module: "gpu::lighting",
     library: LIBRARY,
-    features: &[],
+    features: &["all_lights"],
     groups: &[
         Group {
             name: "frame",
@@ -30,7 +48,10 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
                         dim: Dim::D2,
                     },
                 ),
-                Binding::new("point_lights", Kind::read(size_of::<GpuPointLight>())),
+                Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
+                Binding::new("lights", Kind::read(size_of::<DeferredLight>())),
+                Binding::new("light_counts", Kind::read(4)),
+                Binding::new("light_indices", Kind::read(4)),
                 Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
             ],
         },
@@ -39,7 +60,12 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
             bindings: &LOAD_BINDINGS,
         },
     ],
-    entries: &[Entry::grid("main", 8, 8, |size| *size)],
+    entries: &[Entry::grid(
+        "main",
+        deferred::lights::TILE_SIZE,
+        deferred::lights::TILE_SIZE,
+        |size| *size,
+    )],
     zeroed: &[],
 };
 
@@ -55,19 +81,22 @@ pub(crate) struct Groups {
 }
 
 impl Lighting {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+    /// Tiled (`tiled`) or every light at every pixel.
+    pub(crate) fn new(device: &wgpu::Device, tiled: bool) -> Result<Self> {
+        let features: &[&str] = if tiled { &[] } else { &["all_lights"] };
         Ok(Self {
-            pass: ComputePass::new(device, &LIGHTING, &[], &[])?,
+            pass: ComputePass::new(device, &LIGHTING, features, &[])?,
         })
     }
 
-    /// The groups over the renderer's targets, frame uniforms and point-light buffer.
+    /// The groups over the renderer's targets, frame uniforms and light buffers.
     pub(crate) fn groups(
         &self,
         device: &wgpu::Device,
         targets: &Targets,
         frame: &wgpu::Buffer,
-        point_lights: &wgpu::Buffer,
+        local: &wgpu::Buffer,
+        lights: &LightBuffers,
     ) -> Result<Groups> {
         Ok(Groups {
             frame: self.pass.bind_group(
@@ -79,7 +108,10 @@ impl Lighting {
                         "depth_texture",
                         wgpu::BindingResource::TextureView(&targets.depth_view),
                     ),
-                    ("point_lights", point_lights.as_entire_binding()),
+                    ("local", local.as_entire_binding()),
+                    ("lights", lights.lights.as_entire_binding()),
+                    ("light_counts", lights.counts.as_entire_binding()),
+                    ("light_indices", lights.indices.as_entire_binding()),
                     (
                         "output",
                         wgpu::BindingResource::TextureView(&targets.output_view),
@@ -116,8 +148,22 @@ impl Lighting {
 
 #[cfg(test)]
 mod tests {
+    use super::*;
+    use shadercheck::{Caps, assert_struct_layout, members};
+
     #[test]
     fn description_matches_its_module() {
-        shadercheck::check_pass(&super::LIGHTING, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass(&LIGHTING, |_| Caps::CORE);
+        let m = shadercheck::assert_composed(LIBRARY, LIGHTING.module, &[], Caps::CORE);
+        assert_struct_layout(
+            &m,
+            "GpuLocalLights",
+            size_of::<GpuLocalLights>(),
+            &members!(GpuLocalLights {
+                view_rotation,
+                tiles,
+                pad
+            }),
+        );
     }
 }

@@ -14,7 +14,8 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
-//! | lighting | [`lighting`] | sun, ambient, point lights, tone mapping -> output |
+//! | light tiles | [`lights`] | depth target -> per-tile depth ranges -> per-tile light lists (`deferred`'s culling pass) |
+//! | lighting | [`lighting`] | sun, ambient, local lights from the tile lists, tone mapping -> output |
 //! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
 //! | static placement | [`static_place`] | the query's batches -> instance rows and indirect draws |
 //! | HiZ build | [`query`] | the depth target -> HZD's HiZ pyramid (`gpu::hiz_depth`, then `staticscene`'s reduction) |
@@ -31,6 +32,7 @@ pub(crate) mod baseline;
 pub(crate) mod classify;
 pub(crate) mod laydown;
 pub(crate) mod lighting;
+pub(crate) mod lights;
 pub(crate) mod query;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
@@ -68,6 +70,7 @@ gpu_modules!(
     ZERO = "zero",
     STATIC_PLACE = "static_place",
     HIZ_DEPTH = "hiz_depth",
+    TILE_DEPTH = "tile_depth",
 );
 
 /// Every module list the renderer's passes import from.
@@ -90,6 +93,8 @@ pub(crate) fn stage_counts() -> StageCounts {
         classify::ZERO.stage_counts(),
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
+        lights::TILE_DEPTH.stage_counts(),
+        deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
     ]
     .into_iter()
@@ -111,20 +116,27 @@ pub(crate) struct Pipelines {
     pub resolve: resolve::Resolve,
     pub baseline: baseline::Baseline,
     pub lighting: lighting::Lighting,
+    pub lights: lights::LocalLights,
     pub static_place: static_place::StaticPlace,
 }
 
 impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
-    /// width).
-    pub(crate) fn new(device: &wgpu::Device, paths: &ActivePaths, wave_width: u32) -> Result<Self> {
+    /// width); `tiled_lights`: lighting reads the tile lists (else every light everywhere).
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        paths: &ActivePaths,
+        wave_width: u32,
+        tiled_lights: bool,
+    ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id)?,
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width)?,
             baseline: baseline::Baseline::new(device)?,
-            lighting: lighting::Lighting::new(device)?,
+            lighting: lighting::Lighting::new(device, tiled_lights)?,
+            lights: lights::LocalLights::new(device)?,
             static_place: static_place::StaticPlace::new(device)?,
         })
     }
@@ -139,6 +151,8 @@ pub(crate) struct TargetGroups {
     pub gbuffer_store: wgpu::BindGroup,
     /// Lighting's groups.
     pub lighting: lighting::Groups,
+    /// The light tiles' groups.
+    pub lights: lights::Groups,
 }
 
 /// What a pass records against: the scene's resources, the targets and the renderer's
@@ -222,6 +236,7 @@ impl Pipelines {
             Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),
         }
+        self.lights.record(e, f, timer);
         self.lighting.record(e, f, timer);
     }
 }

@@ -29,8 +29,8 @@ pub(crate) struct FrameUniforms {
     pub ambient: [f32; 4],
     /// Sky colour (linear RGB).
     pub sky: [f32; 4],
-    /// Point lights bound.
-    pub point_light_count: u32,
+    /// Local lights (point and spot) bound.
+    pub local_light_count: u32,
     /// log2 scale applied to the resolve's texture gradients.
     pub mip_bias: f32,
     /// Frames rendered since the renderer was made.
@@ -90,18 +90,6 @@ pub(crate) const GPU_INSTANCE_FADING: u32 = 0x1_0000;
 )]
 pub(crate) const GPU_INSTANCE_FADING_OUT: u32 = 0x2_0000;
 const _: () = assert!(visbuf::MAX_PRIMITIVE_BITS <= GPU_INSTANCE_PRIMITIVE_BITS_MASK);
-
-/// One point light (WGSL `GpuPointLight`): origin-relative position and radius, colour.
-/// 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub(crate) struct GpuPointLight {
-    /// Origin-relative position (xyz) and radius (w), metres.
-    pub position_radius: [f32; 4],
-    /// Linear RGB intensity.
-    pub color: [f32; 4],
-}
-const _: () = assert!(size_of::<GpuPointLight>() == 32);
 
 /// One vertex as every pass pulls it (WGSL `GpuVertex`): 48 bytes.
 #[repr(C)]
@@ -267,7 +255,7 @@ mod tests {
                 sun_color,
                 ambient,
                 sky,
-                point_light_count,
+                local_light_count,
                 mip_bias,
                 frame_index,
                 time,
@@ -290,15 +278,6 @@ mod tests {
             "GpuInstance",
             size_of::<GpuInstance>(),
             &instance,
-        );
-        check(
-            "gpu::frame",
-            "GpuPointLight",
-            size_of::<GpuPointLight>(),
-            &members!(GpuPointLight {
-                position_radius,
-                color
-            }),
         );
         check(
             "gpu::scene",

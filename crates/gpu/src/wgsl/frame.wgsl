@@ -1,5 +1,5 @@
 // gpu: per-frame constants and the per-instance record shared by every pass.
-// Rust twins: gpu's FrameUniforms, GpuInstance and GpuPointLight (sizes checked by tests).
+// Rust twins: gpu's FrameUniforms and GpuInstance (sizes checked by tests).
 //
 // Positions are relative to two points: instance transforms and point lights are stored
 // relative to the scene origin chosen at prepare (floating origin, so f32 keeps its
@@ -26,7 +26,8 @@ struct FrameUniforms {
     sun_color: vec4<f32>,
     ambient: vec4<f32>,
     sky: vec4<f32>,
-    point_light_count: u32,
+    // local lights (point and spot) bound
+    local_light_count: u32,
     // log2 scale applied to texture gradients in the resolve (mip bias)
     mip_bias: f32,
     // frames rendered since the renderer was made
@@ -56,12 +57,6 @@ const GPU_INSTANCE_FADE_CELLS_SHIFT: u32 = 8u;
 const GPU_INSTANCE_FADING: u32 = 0x10000u;
 // `primitive_bits`: it is fading out (the complementary pattern).
 const GPU_INSTANCE_FADING_OUT: u32 = 0x20000u;
-
-struct GpuPointLight {
-    // xyz: origin-relative position; w: radius (metres)
-    position_radius: vec4<f32>,
-    color: vec4<f32>,
-}
 
 fn gpu_transform_point(inst: GpuInstance, p: vec3<f32>) -> vec3<f32> {
     let h = vec4<f32>(p, 1.0);

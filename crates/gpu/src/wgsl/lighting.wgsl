@@ -1,13 +1,31 @@
-// gpu: deferred lighting in compute (KZ2's sun + ambient + point lights over the G-buffer),
-// then tone mapping into the sRGB-encoded output image. 8x8 pixels per workgroup.
+// gpu: deferred lighting in compute (KZ2's sun + ambient + local lights over the
+// G-buffer), then tone mapping into the sRGB-encoded output image. One 16x16 workgroup
+// per light tile: each pixel reads its tile's light list (deferred's culling pass) and
+// shades the lights whose volume holds it; with feature `all_lights`, every light is
+// tested at every pixel instead (the reference the tiled path must equal). Local lights
+// are in view space: the pixel's camera-relative position and normal are rotated into it
+// (dot products, and so the shading, do not change).
 
 #import gpu::frame
 #import gpu::gbuffer_load
+#import deferred::lights
+
+// Rust: passes::lighting::GpuLocalLights (80 bytes).
+struct GpuLocalLights {
+    // camera-relative world -> view (the camera's rotation)
+    view_rotation: mat4x4<f32>,
+    // light tiles across and down
+    tiles: vec2<u32>,
+    pad: vec2<u32>,
+}
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var depth_texture: texture_depth_2d;
-@group(0) @binding(2) var<storage, read> point_lights: array<GpuPointLight>;
-@group(0) @binding(3) var output: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(2) var<uniform> local: GpuLocalLights;
+@group(0) @binding(3) var<storage, read> lights: array<DeferredLight>;
+@group(0) @binding(4) var<storage, read> light_counts: array<u32>;
+@group(0) @binding(5) var<storage, read> light_indices: array<u32>;
+@group(0) @binding(6) var output: texture_storage_2d<rgba8unorm, write>;
 // Group 1: the G-buffer (gpu::gbuffer_load).
 
 const LIGHTING_PI: f32 = 3.14159265;
@@ -47,8 +65,29 @@ fn lighting_srgb(c: vec3<f32>) -> vec3<f32> {
     return select(hi, lo, c <= vec3<f32>(0.0031308));
 }
 
-@compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+// One local light's contribution at view-space `p` (normal `n`, towards the eye `v`), or
+// zero outside its volume.
+fn lighting_local(l: DeferredLight, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, s: DeferredSurface, diffuse: vec3<f32>) -> vec3<f32> {
+    if (!deferred_light_affects(l, p)) {
+        return vec3<f32>(0.0);
+    }
+    let to_light = l.position - p;
+    let dist = length(to_light);
+    if (!(dist > 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let ll = to_light / dist;
+    var falloff = pow(clamp(1.0 - pow(dist / l.range, 4.0), 0.0, 1.0), 2.0) / (dist * dist + 1.0);
+    if (deferred_light_is_spot(l)) {
+        // Soft edge over the outer quarter of the cone's cosine range.
+        falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
+    }
+    let nll = max(dot(n, ll), 0.0);
+    return l.color * falloff * (diffuse * nll + s.specular * lighting_specular(n, v, ll, s.roughness, 0.04));
+}
+
+@compute @workgroup_size(16, 16)
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
     let size = vec2<u32>(frame.viewport.xy);
     if id.x >= size.x || id.y >= size.y {
         return;
@@ -66,18 +105,31 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
         color += frame.sun_color.rgb * (diffuse * nl * s.sun_shadow + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * s.sun_shadow);
-        for (var i = 0u; i < frame.point_light_count; i++) {
-            let light = point_lights[i];
-            let to_light = light.position_radius.xyz + frame.origin_offset.xyz - p;
-            let dist = length(to_light);
-            let radius = light.position_radius.w;
-            if dist < radius {
-                let ll = to_light / dist;
-                let falloff = pow(clamp(1.0 - pow(dist / radius, 4.0), 0.0, 1.0), 2.0) / (dist * dist + 1.0);
-                let nll = max(dot(n, ll), 0.0);
-                color += light.color.rgb * falloff * (diffuse * nll + s.specular * lighting_specular(n, v, ll, s.roughness, 0.04));
+        let pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
+        let nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;
+        let vv = normalize(-pv);
+        let light_count = min(frame.local_light_count, arrayLength(&lights));
+#if all_lights
+        for (var i = 0u; i < light_count; i++) {
+            color += lighting_local(lights[i], pv, nv, vv, s, diffuse);
+        }
+#else
+        let tile = wid.y * local.tiles.x + wid.x;
+        var count = 0u;
+        if (tile < arrayLength(&light_counts)) {
+            count = min(light_counts[tile], DEFERRED_MAX_LIGHTS_PER_TILE);
+        }
+        let slot = tile * DEFERRED_MAX_LIGHTS_PER_TILE;
+        for (var k = 0u; k < count; k++) {
+            if (slot + k >= arrayLength(&light_indices)) {
+                break;
+            }
+            let i = light_indices[slot + k];
+            if (i < light_count) {
+                color += lighting_local(lights[i], pv, nv, vv, s, diffuse);
             }
         }
+#endif
     }
     textureStore(output, vec2<i32>(pixel), vec4<f32>(lighting_srgb(lighting_tonemap(color)), 1.0));
 }

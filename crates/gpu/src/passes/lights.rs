@@ -1,0 +1,229 @@
+//! Tiled local lights (KZ2's hundreds of point and spot lights): the depth target reduced
+//! to per-tile depth ranges (`gpu::tile_depth`, pass 1 of `deferred`'s tiled culling),
+//! then `deferred`'s light-culling pass ([`deferred::pass::LIGHT_CULL_PASS`]) writes each
+//! 16x16 tile's light list, which lighting reads. Lights are uploaded in view space each
+//! frame ([`crate::frame::local_light_rows`]).
+
+use bytemuck::{Pod, Zeroable};
+use deferred::lights::{DeferredLight, DeferredTileDepth, MAX_LIGHTS_PER_TILE, tile_counts};
+use deferred::pass::{LIGHT_CULL_PASS, LightCullCounters, LightCullParams};
+use shader::pipeline::ComputePass;
+use shader::{Binding, Entry, Group, Kind, Pass, Sample};
+
+use super::{FrameContext, LIBRARY};
+use crate::error::Result;
+use crate::resources::static_pool::empty_storage;
+use crate::resources::targets::Targets;
+use crate::timing::GpuTimer;
+
+/// The tile-depth pass's parameters (WGSL `GpuTileDepthParams`), 16 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub(crate) struct GpuTileDepthParams {
+    /// Viewport width and height in pixels.
+    pub size: [u32; 2],
+    /// Tiles across.
+    pub tiles_x: u32,
+    /// Non-zero for reversed depth.
+    pub reversed: u32,
+}
+
+/// Pass 1 over the depth target (`[width, height]`): one 16x16 workgroup per tile.
+pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
+    name: "light tile depth",
+    module: "gpu::tile_depth",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "tiles",
+        bindings: &[
+            Binding::new("params", Kind::uniform(size_of::<GpuTileDepthParams>())),
+            Binding::new("depth_texture", Kind::texture_2d(Sample::Depth)),
+            Binding::new(
+                "tile_depths",
+                Kind::read_write(size_of::<DeferredTileDepth>()),
+            ),
+        ],
+    }],
+    entries: &[Entry::grid(
+        "tile_depth",
+        deferred::lights::TILE_SIZE,
+        deferred::lights::TILE_SIZE,
+        |size| *size,
+    )],
+    zeroed: &[],
+};
+
+/// The light buffers of one target size: the lights (grown as needed), the per-tile depth
+/// ranges and lists, the counters and the two passes' uniforms.
+pub(crate) struct LightBuffers {
+    pub tile_params: wgpu::Buffer,
+    pub cull_params: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+    pub tile_depths: wgpu::Buffer,
+    pub counts: wgpu::Buffer,
+    pub indices: wgpu::Buffer,
+    pub counters: wgpu::Buffer,
+    /// Tiles across and down.
+    pub tiles: [u32; 2],
+    /// Lights `lights` holds.
+    pub capacity: usize,
+}
+
+impl LightBuffers {
+    /// Buffers for `targets` and `capacity` lights.
+    pub(crate) fn new(device: &wgpu::Device, targets: &Targets, capacity: usize) -> Result<Self> {
+        let (tx, ty) = tile_counts(targets.width, targets.height);
+        let tiles = u64::from(tx) * u64::from(ty);
+        let uniform = |label, size: usize| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let capacity = capacity.max(1);
+        Ok(Self {
+            tile_params: uniform("light tile depth params", size_of::<GpuTileDepthParams>()),
+            cull_params: uniform("light culling params", size_of::<LightCullParams>()),
+            lights: empty_storage(
+                device,
+                "local lights",
+                (capacity * size_of::<DeferredLight>()) as u64,
+            )?,
+            tile_depths: empty_storage(
+                device,
+                "light tile depths",
+                tiles * size_of::<DeferredTileDepth>() as u64,
+            )?,
+            counts: empty_storage(device, "light tile counts", tiles * 4)?,
+            indices: empty_storage(
+                device,
+                "light tile indices",
+                tiles * u64::from(MAX_LIGHTS_PER_TILE) * 4,
+            )?,
+            counters: empty_storage(
+                device,
+                "light culling counters",
+                size_of::<LightCullCounters>() as u64,
+            )?,
+            tiles: [tx, ty],
+            capacity,
+        })
+    }
+}
+
+/// The two passes' pipelines.
+pub(crate) struct LocalLights {
+    tile_depth: ComputePass<[u32; 2]>,
+    cull: ComputePass<LightCullParams>,
+}
+
+/// Their bind groups over one set of [`LightBuffers`].
+pub(crate) struct Groups {
+    tile_depth: wgpu::BindGroup,
+    cull: wgpu::BindGroup,
+    /// The counters, cleared before each culling pass.
+    counters: wgpu::Buffer,
+    /// Tiles across and down.
+    tiles: [u32; 2],
+}
+
+impl LocalLights {
+    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+        Ok(Self {
+            tile_depth: ComputePass::new(device, &TILE_DEPTH, &[], &[])?,
+            cull: ComputePass::new(device, &LIGHT_CULL_PASS, &[], &[])?,
+        })
+    }
+
+    pub(crate) fn groups(
+        &self,
+        device: &wgpu::Device,
+        targets: &Targets,
+        b: &LightBuffers,
+    ) -> Result<Groups> {
+        Ok(Groups {
+            tile_depth: self.tile_depth.bind_group(
+                device,
+                "tiles",
+                &[
+                    ("params", b.tile_params.as_entire_binding()),
+                    (
+                        "depth_texture",
+                        wgpu::BindingResource::TextureView(&targets.depth_view),
+                    ),
+                    ("tile_depths", b.tile_depths.as_entire_binding()),
+                ],
+            )?,
+            cull: self.cull.bind_group(
+                device,
+                "cull",
+                &[
+                    ("params", b.cull_params.as_entire_binding()),
+                    ("tile_depths", b.tile_depths.as_entire_binding()),
+                    ("lights", b.lights.as_entire_binding()),
+                    ("counts", b.counts.as_entire_binding()),
+                    ("indices", b.indices.as_entire_binding()),
+                    ("counters", b.counters.as_entire_binding()),
+                ],
+            )?,
+            counters: b.counters.clone(),
+            tiles: b.tiles,
+        })
+    }
+
+    /// Records pass 1 and the culling pass (the counters cleared first).
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let g = &f.groups.lights;
+        encoder.clear_buffer(&g.counters, 0, None);
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("light tile depth"),
+                timestamp_writes: timer.compute("light tile depth"),
+            });
+            self.tile_depth.record(
+                &mut pass,
+                &[&g.tile_depth],
+                &[f.targets.width, f.targets.height],
+            );
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light culling"),
+            timestamp_writes: timer.compute("light culling"),
+        });
+        let dispatch = LightCullParams {
+            tiles: g.tiles,
+            ..LightCullParams::default()
+        };
+        self.cull.record(&mut pass, &[&g.cull], &dispatch);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shadercheck::{Caps, assert_struct_layout, members};
+
+    #[test]
+    fn description_matches_its_module() {
+        shadercheck::check_pass(&TILE_DEPTH, |_| Caps::CORE);
+        let m = shadercheck::assert_composed(LIBRARY, TILE_DEPTH.module, &[], Caps::CORE);
+        assert_struct_layout(
+            &m,
+            "GpuTileDepthParams",
+            size_of::<GpuTileDepthParams>(),
+            &members!(GpuTileDepthParams {
+                size,
+                tiles_x,
+                reversed
+            }),
+        );
+    }
+}
