@@ -27,7 +27,7 @@ fn lit_forest() -> (Scene, FrameInput) {
     (scene, frame)
 }
 
-fn renderer(tiled_lights: bool) -> Renderer {
+fn renderer(tiled_lights: bool, subgroups: bool) -> Renderer {
     let c = ctx();
     Renderer::new(
         &c.device,
@@ -36,6 +36,7 @@ fn renderer(tiled_lights: bool) -> Renderer {
             width: W,
             height: H,
             tiled_lights,
+            subgroups,
             ..RendererConfig::default()
         },
     )
@@ -45,10 +46,20 @@ fn renderer(tiled_lights: bool) -> Renderer {
 #[test]
 fn light_tiles_equal_the_cpu_twin_on_the_depth_target() {
     let (scene, frame) = lit_forest();
-    let mut r = renderer(true);
-    let prepared = r.prepare(&scene).unwrap();
+    // Pass 1 with subgroups (where the device has them) and with workgroup atomics alone.
+    for subgroups in testkit::device::subgroup_variants()
+        .iter()
+        .map(|f| f.contains(&"subgroups"))
+    {
+        light_tiles_equal_the_twin(&scene, &frame, subgroups);
+    }
+}
+
+fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool) {
+    let mut r = renderer(true, subgroups);
+    let prepared = r.prepare(scene).unwrap();
     for path in [RenderPath::Deferred, RenderPath::Baseline] {
-        r.render(&prepared, &frame, path).unwrap();
+        r.render(&prepared, frame, path).unwrap();
         let tiles = r.read_light_tiles().unwrap();
         let depth = r.read_depth().unwrap();
         // Pass 1: exactly the CPU's reduction.
@@ -86,7 +97,7 @@ fn light_tiles_equal_the_cpu_twin_on_the_depth_target() {
             differ += cpu.symmetric_difference(&gpu).count();
         }
         eprintln!(
-            "{path:?}: {n} tiles, {} with geometry, {} lights, {} pairs, {differ} decisions differ",
+            "{path:?}, subgroups {subgroups}: {n} tiles, {} with geometry, {} lights, {} pairs, {differ} decisions differ",
             stats.tiles_with_geometry,
             lights.len(),
             stats.pairs
@@ -103,8 +114,8 @@ fn light_tiles_equal_the_cpu_twin_on_the_depth_target() {
 #[test]
 fn tiled_lighting_equals_every_light_at_every_pixel() {
     let (scene, frame) = lit_forest();
-    let mut tiled = renderer(true);
-    let mut all = renderer(false);
+    let mut tiled = renderer(true, true);
+    let mut all = renderer(false, true);
     let pt = tiled.prepare(&scene).unwrap();
     let pa = all.prepare(&scene).unwrap();
     let mut dark = frame.clone();

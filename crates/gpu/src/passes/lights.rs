@@ -28,12 +28,15 @@ pub(crate) struct GpuTileDepthParams {
     pub reversed: u32,
 }
 
-/// Pass 1 over the depth target (`[width, height]`): one 16x16 workgroup per tile.
+/// Invocations per workgroup of pass 1: one per pixel of a tile.
+const TILE_AREA: u32 = deferred::lights::TILE_SIZE * deferred::lights::TILE_SIZE;
+
+/// Pass 1 over the depth target (`[width, height]`): one workgroup per tile.
 pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
     name: "light tile depth",
     module: "gpu::tile_depth",
     library: LIBRARY,
-    features: &[],
+    features: &["subgroups"],
     groups: &[Group {
         name: "tiles",
         bindings: &[
@@ -45,12 +48,11 @@ pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
             ),
         ],
     }],
-    entries: &[Entry::grid(
-        "tile_depth",
-        deferred::lights::TILE_SIZE,
-        deferred::lights::TILE_SIZE,
-        |size| *size,
-    )],
+    // One workgroup of TILE_SIZE² invocations per tile.
+    entries: &[Entry::grid("tile_depth", TILE_AREA, 1, |size| {
+        let (tx, ty) = tile_counts(size[0], size[1]);
+        [tx.saturating_mul(TILE_AREA), ty]
+    })],
     zeroed: &[],
 };
 
@@ -131,9 +133,11 @@ pub(crate) struct Groups {
 }
 
 impl LocalLights {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+    /// `subgroups`: pass 1 reduces per subgroup first (the device must have them).
+    pub(crate) fn new(device: &wgpu::Device, subgroups: bool) -> Result<Self> {
+        let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
         Ok(Self {
-            tile_depth: ComputePass::new(device, &TILE_DEPTH, &[], &[])?,
+            tile_depth: ComputePass::new(device, &TILE_DEPTH, features, &[])?,
             cull: ComputePass::new(device, &LIGHT_CULL_PASS, &[], &[])?,
         })
     }
@@ -213,7 +217,13 @@ mod tests {
 
     #[test]
     fn description_matches_its_module() {
-        shadercheck::check_pass(&TILE_DEPTH, |_| Caps::CORE);
+        shadercheck::check_pass(&TILE_DEPTH, |f| {
+            if f.contains(&"subgroups") {
+                Caps::SUBGROUP
+            } else {
+                Caps::CORE
+            }
+        });
         let m = shadercheck::assert_composed(LIBRARY, TILE_DEPTH.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

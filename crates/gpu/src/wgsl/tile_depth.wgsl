@@ -1,8 +1,11 @@
 // gpu::tile_depth: pass 1 of tiled light culling (twin of deferred::lights
-// `tile_depth_ranges`) over the depth target. One 16x16 workgroup per
+// `tile_depth_ranges`) over the depth target. One workgroup of 256 per
 // DEFERRED_TILE_SIZE^2 tile: each invocation loads its pixel's depth and folds it into the
 // tile's nearest and farthest through workgroup atomics on order-preserving words (so any
-// float orders as on the CPU); pixels at the far plane's depth and NaN are skipped.
+// float orders as on the CPU); pixels at the far plane's depth and NaN are skipped. Both
+// words are maxima (the minimum's complemented), so a skipped pixel contributes 0; with
+// feature `subgroups` each subgroup reduces first and one lane folds its maxima in (256
+// atomics on two words per tile were the pass's cost on the H200).
 
 #import deferred::lights
 
@@ -34,8 +37,15 @@ fn gpu_unordered(u: u32) -> f32 {
     return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
 }
 
-@compute @workgroup_size(16, 16)
-fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+// 256 invocations in one dimension (subgroup builtins need it): invocation i reads pixel
+// (i % 16, i / 16) of the workgroup's tile.
+@compute @workgroup_size(256)
+#if subgroups
+fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32, @builtin(subgroup_invocation_id) sg_lane: u32) {
+#else
+fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+#endif
+    let pixel = wid.xy * DEFERRED_TILE_SIZE + vec2<u32>(li % DEFERRED_TILE_SIZE, li / DEFERRED_TILE_SIZE);
     let reversed = params.reversed != 0u;
     let far = select(1.0, 0.0, reversed);
     let empty = DeferredTileDepth(far, select(0.0, 1.0, reversed));
@@ -47,20 +57,30 @@ fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(global_invocation_
     }
     workgroupBarrier();
     let size = min(params.size, vec2<u32>(textureDimensions(depth_texture)));
-    if (all(id.xy < size)) {
-        let d = textureLoad(depth_texture, vec2<i32>(id.xy), 0);
+    var near_word = 0u;
+    var far_word = 0u;
+    if (all(pixel < size)) {
+        let d = textureLoad(depth_texture, vec2<i32>(pixel), 0);
         let nan = (bitcast<u32>(d) & 0x7fffffffu) > 0x7f800000u;
         if (d != far && !nan) {
             let o = gpu_ordered(d);
-            if (reversed) {
-                atomicMax(&gpu_tile_near, o);
-                atomicMax(&gpu_tile_far, ~o);
-            } else {
-                atomicMax(&gpu_tile_near, ~o);
-                atomicMax(&gpu_tile_far, o);
-            }
+            near_word = select(~o, o, reversed);
+            far_word = select(o, ~o, reversed);
         }
     }
+#if subgroups
+    let near_max = subgroupMax(near_word);
+    let far_max = subgroupMax(far_word);
+    if (sg_lane == 0u) {
+        atomicMax(&gpu_tile_near, near_max);
+        atomicMax(&gpu_tile_far, far_max);
+    }
+#else
+    if (near_word != 0u) {
+        atomicMax(&gpu_tile_near, near_word);
+        atomicMax(&gpu_tile_far, far_word);
+    }
+#endif
     workgroupBarrier();
     let tile = wid.y * params.tiles_x + wid.x;
     if (li == 0u && wid.x < params.tiles_x && tile < arrayLength(&tile_depths)) {
