@@ -36,7 +36,7 @@ pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
     name: "light tile depth",
     module: "gpu::tile_depth",
     library: LIBRARY,
-    features: &["subgroups"],
+    features: &[],
     groups: &[Group {
         name: "tiles",
         bindings: &[
@@ -133,11 +133,9 @@ pub(crate) struct Groups {
 }
 
 impl LocalLights {
-    /// `subgroups`: pass 1 reduces per subgroup first (the device must have them).
-    pub(crate) fn new(device: &wgpu::Device, subgroups: bool) -> Result<Self> {
-        let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
+    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
         Ok(Self {
-            tile_depth: ComputePass::new(device, &TILE_DEPTH, features, &[])?,
+            tile_depth: ComputePass::new(device, &TILE_DEPTH, &[], &[])?,
             cull: ComputePass::new(device, &LIGHT_CULL_PASS, &[], &[])?,
         })
     }
@@ -217,13 +215,7 @@ mod tests {
 
     #[test]
     fn description_matches_its_module() {
-        shadercheck::check_pass(&TILE_DEPTH, |f| {
-            if f.contains(&"subgroups") {
-                Caps::SUBGROUP
-            } else {
-                Caps::CORE
-            }
-        });
+        shadercheck::check_pass(&TILE_DEPTH, |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, TILE_DEPTH.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

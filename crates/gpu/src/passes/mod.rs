@@ -136,7 +136,7 @@ impl Pipelines {
             resolve: resolve::Resolve::new(device, wave_width)?,
             baseline: baseline::Baseline::new(device)?,
             lighting: lighting::Lighting::new(device, tiled_lights)?,
-            lights: lights::LocalLights::new(device, paths.subgroup_size.is_some())?,
+            lights: lights::LocalLights::new(device)?,
             static_place: static_place::StaticPlace::new(device)?,
         })
     }
