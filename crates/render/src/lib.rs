@@ -135,6 +135,23 @@ pub struct Args {
     /// reference and baseline of the tiled path).
     #[arg(long)]
     pub all_lights: bool,
+    /// Half-size in metres of the square around the camera's target that `--lights`
+    /// scatters over (how densely they overlap); default 25 (forest, grass), 60 (city).
+    #[arg(long, value_parser = parse_light_area)]
+    pub light_area: Option<f32>,
+}
+
+/// A light area given on the command line: finite, 1 to 10000 metres.
+fn parse_light_area(s: &str) -> Result<f32, String> {
+    let a: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (1.0..=10_000.0).contains(&a) {
+        Ok(a)
+    } else {
+        Err(format!("{s} is not between 1 and 10000 metres"))
+    }
 }
 
 /// `frame` with `args.lights` lights scattered within `half_extent` metres of its target,
@@ -148,7 +165,7 @@ fn with_lights(args: &Args, mut frame: gpu::FrameInput, half_extent: f32) -> gpu
         demo::scatter_lights(
             &mut frame.lighting,
             target,
-            half_extent,
+            args.light_area.unwrap_or(half_extent),
             args.lights as usize,
             args.seed,
         );

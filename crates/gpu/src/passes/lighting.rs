@@ -30,6 +30,12 @@ pub(crate) struct GpuLocalLights {
     pub pad: [u32; 2],
 }
 
+// The tiled path stages a tile's list with one load per invocation.
+const _: () = assert!(
+    deferred::lights::MAX_LIGHTS_PER_TILE
+        == deferred::lights::TILE_SIZE * deferred::lights::TILE_SIZE
+);
+
 /// Lighting, over the image (`[width, height]`).
 pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
     name: "lighting",

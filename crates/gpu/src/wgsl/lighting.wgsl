@@ -50,7 +50,10 @@ fn lighting_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f
     let ndf = a2 / (LIGHTING_PI * dd * dd);
     let k = a * 0.5;
     let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
-    let f = f0 + (1.0 - f0) * pow(1.0 - max(dot(v, h), 0.0), 5.0);
+    // Schlick's (1 - v.h)^5 by multiplications (pow is exp2(log2) on GPUs).
+    let m = 1.0 - max(dot(v, h), 0.0);
+    let m2 = m * m;
+    let f = f0 + (1.0 - f0) * (m2 * m2 * m);
     return ndf * vis * f * nl;
 }
 
@@ -77,7 +80,9 @@ fn lighting_local(l: DeferredLight, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, s:
         return vec3<f32>(0.0);
     }
     let ll = to_light / dist;
-    var falloff = pow(clamp(1.0 - pow(dist / l.range, 4.0), 0.0, 1.0), 2.0) / (dist * dist + 1.0);
+    let r2 = dist * dist / (l.range * l.range);
+    let window = clamp(1.0 - r2 * r2, 0.0, 1.0);
+    var falloff = window * window / (dist * dist + 1.0);
     if (deferred_light_is_spot(l)) {
         // Soft edge over the outer quarter of the cone's cosine range.
         falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
@@ -86,50 +91,99 @@ fn lighting_local(l: DeferredLight, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, s:
     return l.color * falloff * (diffuse * nll + s.specular * lighting_specular(n, v, ll, s.roughness, 0.04));
 }
 
+#if !all_lights
+// The tile's lights, staged once per workgroup (DEFERRED_MAX_LIGHTS_PER_TILE is the
+// workgroup's size: one load per invocation), as three vec4 arrays so that the sphere
+// test reads one vector and only lights that reach the pixel read the rest.
+var<workgroup> lighting_pos_range: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
+var<workgroup> lighting_dir_cos: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
+var<workgroup> lighting_color_flags: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
+var<workgroup> lighting_tile_count: u32;
+#endif
+
+// Whether view-space `p` is inside the sphere of centre `pr.xyz`, radius `pr.w` (the
+// first, cheap part of deferred_light_affects).
+fn lighting_in_sphere(pr: vec4<f32>, p: vec3<f32>) -> bool {
+    let d = p - pr.xyz;
+    return dot(d, d) <= pr.w * pr.w;
+}
+
 @compute @workgroup_size(16, 16)
-fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>) {
-    let size = vec2<u32>(frame.viewport.xy);
-    if id.x >= size.x || id.y >= size.y {
-        return;
+fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let light_count = min(frame.local_light_count, arrayLength(&lights));
+#if !all_lights
+    // Staging first (a chain of three loads: count, index, light), then the pixel's own
+    // loads and the sun, so that the two overlap before the barrier. Every invocation
+    // takes part, whether its pixel exists or holds geometry.
+    let tile = wid.y * local.tiles.x + wid.x;
+    var count = 0u;
+    if (tile < arrayLength(&light_counts)) {
+        count = min(light_counts[tile], DEFERRED_MAX_LIGHTS_PER_TILE);
     }
-    let pixel = id.xy;
+    let slot = tile * DEFERRED_MAX_LIGHTS_PER_TILE + li;
+    if (li < count && slot < arrayLength(&light_indices)) {
+        let i = light_indices[slot];
+        let l = lights[min(i, max(light_count, 1u) - 1u)];
+        // A corrupt index stages a light that lights nothing.
+        let range = select(0.0, l.range, i < light_count);
+        lighting_pos_range[li] = vec4<f32>(l.position, range);
+        lighting_dir_cos[li] = vec4<f32>(l.direction, l.cos_outer);
+        lighting_color_flags[li] = vec4<f32>(l.color, bitcast<f32>(l.flags));
+    }
+    if (li == 0u) {
+        lighting_tile_count = count;
+    }
+#endif
+    let size = vec2<u32>(frame.viewport.xy);
+    let inside = id.x < size.x && id.y < size.y;
+    let pixel = min(id.xy, max(size, vec2<u32>(1u)) - 1u);
     let d = textureLoad(depth_texture, vec2<i32>(pixel), 0);
+    let lit = inside && d > 0.0;
     var color = frame.sky.rgb;
-    if d > 0.0 {
-        let s = gbuffer_surface(pixel);
+    var s: DeferredSurface;
+    var pv = vec3<f32>(0.0);
+    var nv = vec3<f32>(0.0, 0.0, 1.0);
+    var vv = vec3<f32>(0.0, 0.0, 1.0);
+    var diffuse = vec3<f32>(0.0);
+    if (lit) {
+        s = gbuffer_surface(pixel);
         let p = lighting_position(pixel, d);
         let v = normalize(-p);
         let n = s.normal;
         let l = frame.sun_direction.xyz;
         let nl = max(dot(n, l), 0.0);
-        let diffuse = s.albedo / LIGHTING_PI;
+        diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
         color += frame.sun_color.rgb * (diffuse * nl * s.sun_shadow + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * s.sun_shadow);
-        let pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
-        let nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;
-        let vv = normalize(-pv);
-        let light_count = min(frame.local_light_count, arrayLength(&lights));
-#if all_lights
-        for (var i = 0u; i < light_count; i++) {
-            color += lighting_local(lights[i], pv, nv, vv, s, diffuse);
-        }
-#else
-        let tile = wid.y * local.tiles.x + wid.x;
-        var count = 0u;
-        if (tile < arrayLength(&light_counts)) {
-            count = min(light_counts[tile], DEFERRED_MAX_LIGHTS_PER_TILE);
-        }
-        let slot = tile * DEFERRED_MAX_LIGHTS_PER_TILE;
-        for (var k = 0u; k < count; k++) {
-            if (slot + k >= arrayLength(&light_indices)) {
-                break;
-            }
-            let i = light_indices[slot + k];
-            if (i < light_count) {
-                color += lighting_local(lights[i], pv, nv, vv, s, diffuse);
-            }
-        }
-#endif
+        pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
+        nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;
+        vv = normalize(-pv);
     }
-    textureStore(output, vec2<i32>(pixel), vec4<f32>(lighting_srgb(lighting_tonemap(color)), 1.0));
+#if all_lights
+    if (lit) {
+        for (var i = 0u; i < light_count; i++) {
+            let l = lights[i];
+            if (lighting_in_sphere(vec4<f32>(l.position, l.range), pv)) {
+                color += lighting_local(l, pv, nv, vv, s, diffuse);
+            }
+        }
+    }
+#else
+    let staged = workgroupUniformLoad(&lighting_tile_count);
+    if (lit) {
+        for (var k = 0u; k < staged; k++) {
+            let pr = lighting_pos_range[k];
+            if (!lighting_in_sphere(pr, pv)) {
+                continue;
+            }
+            let dc = lighting_dir_cos[k];
+            let cf = lighting_color_flags[k];
+            let l = DeferredLight(pr.xyz, pr.w, dc.xyz, dc.w, cf.xyz, bitcast<u32>(cf.w));
+            color += lighting_local(l, pv, nv, vv, s, diffuse);
+        }
+    }
+#endif
+    if (inside) {
+        textureStore(output, vec2<i32>(pixel), vec4<f32>(lighting_srgb(lighting_tonemap(color)), 1.0));
+    }
 }
