@@ -17,6 +17,9 @@
 //!   ([`tile_depth_ranges`], [`cull_tiles`]), point and spot lights ([`DeferredLight`]),
 //!   exact sphere screen rectangles, KZ2's light-volume / depth-bounds classification and
 //!   small-light shadow fade ([`LightClassifier`], [`ShadowFade`]).
+//! - [`pass`]: the light culling as a GPU compute pass ([`pass::LIGHT_CULL_PASS`], WGSL
+//!   `deferred::light_cull_pass` in [`wgsl::PASS_MODULES`]), the twin of [`cull_tiles`]
+//!   (device tests compare the two; `gpu` runs it in its frame).
 //! - [`cascades`]: stable cascaded shadow maps in f64: practical splits, rotation-invariant
 //!   slice spheres, texel-snapped world-anchored projections ([`StableCascades`]).
 //! - [`msaa`]: the PCF kernel split into per-sample tap subsets for 2x and 4x
