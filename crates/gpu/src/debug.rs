@@ -282,6 +282,61 @@ fn static_view(
     img
 }
 
+/// Height in pixels of the colour legend along the bottom of [`lights_per_tile`].
+pub const LEGEND_HEIGHT: u32 = 12;
+
+/// Local lights per 16x16 light tile as a heat map (black: none, white: `max` or more;
+/// tiles without geometry dark grey; tile borders dark), with the colour legend along the
+/// bottom [`LEGEND_HEIGHT`] rows: the scale from 0 at the left to `max` at the right, a
+/// white tick at every quarter. `max` 0 scales to the busiest tile. Returns the image and
+/// the count the scale ends at.
+pub fn lights_per_tile(
+    width: u32,
+    height: u32,
+    tiles: &crate::LightTiles,
+    max: u32,
+) -> (Rgba8Image, u32) {
+    use deferred::lights::TILE_SIZE;
+    let busiest = tiles.counts.iter().copied().max().unwrap_or(0);
+    let max = if max == 0 { busiest.max(1) } else { max };
+    let mut img = Rgba8Image::new(width, height, [0, 0, 0, 255]);
+    let [tx, ty] = tiles.tiles;
+    for y in 0..height {
+        for x in 0..width {
+            let (cx, cy) = (x / TILE_SIZE, y / TILE_SIZE);
+            let t = (cy * tx + cx) as usize;
+            let border = x % TILE_SIZE == 0 || y % TILE_SIZE == 0;
+            let colour = match (tiles.counts.get(t), tiles.depths.get(t)) {
+                _ if cx >= tx || cy >= ty => [0, 0, 0, 255],
+                _ if border => [20, 20, 20, 255],
+                (Some(_), Some(d)) if d.is_empty(deferred::DepthMode::Reversed) => {
+                    [45, 45, 45, 255]
+                }
+                (Some(&n), _) => heat_color(n as f32 / max as f32),
+                _ => [0, 0, 0, 255],
+            };
+            img.pixels[(y * width + x) as usize] = colour;
+        }
+    }
+    let legend = LEGEND_HEIGHT.min(height);
+    for y in height - legend..height {
+        for x in 0..width {
+            let f = if width > 1 {
+                x as f32 / (width - 1) as f32
+            } else {
+                0.0
+            };
+            let tick = (1..4).any(|q| x == (width - 1) * q / 4) && y < height - legend / 2;
+            img.pixels[(y * width + x) as usize] = if tick {
+                [255, 255, 255, 255]
+            } else {
+                heat_color(f)
+            };
+        }
+    }
+    (img, max)
+}
+
 fn blend(a: [u8; 4], b: [u8; 3], t: f32) -> [u8; 4] {
     let mix = |x: u8, y: u8| (f32::from(x) + (f32::from(y) - f32::from(x)) * t).round() as u8;
     [mix(a[0], b[0]), mix(a[1], b[1]), mix(a[2], b[2]), 255]
@@ -304,6 +359,54 @@ mod tests {
         assert!((mean - 2.0).abs() < 1e-12, "{mean}");
         let (_, mean) = quad_overdraw(4, 2, &vis[..3]);
         assert!((mean - 1.5).abs() < 1e-12, "{mean}");
+    }
+
+    /// Tile colours follow the counts on the scale, empty tiles are grey, and the legend
+    /// runs from the scale's bottom to its top.
+    #[test]
+    fn lights_per_tile_colours_tiles_by_count() {
+        use deferred::DeferredTileDepth;
+        let full = DeferredTileDepth {
+            nearest: 0.5,
+            farthest: 0.2,
+        };
+        let tiles = crate::LightTiles {
+            tiles: [3, 2],
+            depths: vec![
+                full,
+                full,
+                DeferredTileDepth::empty(deferred::DepthMode::Reversed),
+                full,
+                full,
+                full,
+            ],
+            counts: vec![0, 8, 0, 4, 2, 8],
+            ..crate::LightTiles::default()
+        };
+        let (w, h) = (40u32, 44u32);
+        let (img, max) = lights_per_tile(w, h, &tiles, 0);
+        assert_eq!(max, 8);
+        let px = |x: u32, y: u32| img.pixels[(y * w + x) as usize];
+        assert_eq!(px(5, 5), heat_color(0.0));
+        assert_eq!(px(21, 5), heat_color(1.0));
+        assert_eq!(px(37, 5), [45, 45, 45, 255]);
+        assert_eq!(px(5, 21), heat_color(0.5));
+        assert_eq!(px(16, 5), [20, 20, 20, 255]);
+        // The legend: 0 at the left, the top of the scale at the right, a tick at half.
+        assert_eq!(px(0, h - 1), heat_color(0.0));
+        assert_eq!(px(w - 1, h - 1), heat_color(1.0));
+        assert_eq!(px((w - 1) / 2, h - LEGEND_HEIGHT), [255, 255, 255, 255]);
+        // A given scale clamps: 8 lights on a scale of 4 is its top.
+        let (img, max) = lights_per_tile(w, h, &tiles, 4);
+        assert_eq!(max, 4);
+        assert_eq!(img.pixels[(5 * w + 21) as usize], heat_color(1.0));
+        // Fewer counts than tiles (a short read) leave black, never read out of bounds.
+        let short = crate::LightTiles {
+            counts: vec![1],
+            ..tiles
+        };
+        let (img, _) = lights_per_tile(w, h, &short, 0);
+        assert_eq!(img.pixels[(5 * w + 21) as usize], [0, 0, 0, 255]);
     }
 
     /// Each level lands where the atlas puts it: level 0 texel for texel at the left, the

@@ -139,6 +139,9 @@ pub struct Args {
     /// scatters over (how densely they overlap); default 25 (forest, grass), 60 (city).
     #[arg(long, value_parser = parse_light_area)]
     pub light_area: Option<f32>,
+    /// Switch the sun off (night: ambient and local lights only).
+    #[arg(long)]
+    pub no_sun: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -155,8 +158,11 @@ fn parse_light_area(s: &str) -> Result<f32, String> {
 }
 
 /// `frame` with `args.lights` lights scattered within `half_extent` metres of its target,
-/// and the sun and ambient dimmed to dusk so that they show.
+/// and the sun and ambient dimmed to dusk so that they show; the sun off with `--no-sun`.
 fn with_lights(args: &Args, mut frame: gpu::FrameInput, half_extent: f32) -> gpu::FrameInput {
+    if args.no_sun {
+        frame.lighting.sun_color = gpu::glam::Vec3::ZERO;
+    }
     if args.lights > 0 {
         // Dusk, so that the lights show.
         frame.lighting.sun_color *= 0.12;
@@ -173,15 +179,27 @@ fn with_lights(args: &Args, mut frame: gpu::FrameInput, half_extent: f32) -> gpu
     frame
 }
 
-/// The light tiles of the frame just rendered, into the report.
+/// The light tiles of the frame just rendered, into the report, and (unless
+/// `--no-debug-views`) their heat map as `{name}_debug_lights_per_tile.png`.
 fn report_light_tiles(
+    args: &Args,
     report: &mut Report,
     renderer: &Renderer,
     frame: &gpu::FrameInput,
+    name: &str,
 ) -> Result<()> {
     let tiles = renderer.read_light_tiles()?;
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
+    if !args.no_debug_views {
+        let (img, max) = gpu::debug::lights_per_tile(args.width, args.height, &tiles, 0);
+        let file = args.out.join(format!("{name}_debug_lights_per_tile.png"));
+        img.write_png(&file)?;
+        report.image_named(
+            &format!("lights per 16x16 tile (legend at the bottom: 0 black .. {max} white, ticks at quarters)"),
+            &file,
+        );
+    }
     Ok(())
 }
 
@@ -377,7 +395,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         report.image(path, &file);
         report.timings(path, &frames);
         if path == RenderPath::Deferred {
-            report_light_tiles(&mut report, renderer, &frame)?;
+            report_light_tiles(args, &mut report, renderer, &frame, "city")?;
         }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
@@ -521,7 +539,7 @@ fn render_scene(
         report.timings(path, &frames);
         let name = scene_kind.name();
         if path == RenderPath::Deferred {
-            report_light_tiles(&mut report, renderer, &frame)?;
+            report_light_tiles(args, &mut report, renderer, &frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;
             let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
