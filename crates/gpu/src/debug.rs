@@ -282,6 +282,50 @@ fn static_view(
     img
 }
 
+/// The G-buffer's motion vectors: hue by direction (right red, down green-yellow, left
+/// cyan, up blue-violet), brightness by length, full at `scale` pixels (0: the longest in
+/// the image); pixels without motion black. Returns the image and the length at full
+/// brightness.
+pub fn motion_vectors(
+    width: u32,
+    height: u32,
+    surfaces: &[deferred::Surface],
+    scale: f32,
+) -> (Rgba8Image, f32) {
+    let longest = surfaces
+        .iter()
+        .map(|s| s.motion.length())
+        .filter(|l| l.is_finite())
+        .fold(0.0f32, f32::max);
+    let scale = if scale > 0.0 {
+        scale
+    } else {
+        longest.max(1e-6)
+    };
+    let mut img = Rgba8Image::new(width, height, [0, 0, 0, 255]);
+    for (px, s) in img.pixels.iter_mut().zip(surfaces) {
+        let m = s.motion;
+        let length = m.length();
+        if !(length.is_finite() && length > 0.0) {
+            continue;
+        }
+        let hue = (m.y.atan2(m.x) / core::f32::consts::TAU).rem_euclid(1.0) * 6.0;
+        let v = (length / scale).min(1.0);
+        let f = hue.fract();
+        let (r, g, b) = match hue as u32 {
+            0 => (1.0, f, 0.0),
+            1 => (1.0 - f, 1.0, 0.0),
+            2 => (0.0, 1.0, f),
+            3 => (0.0, 1.0 - f, 1.0),
+            4 => (f, 0.0, 1.0),
+            _ => (1.0, 0.0, 1.0 - f),
+        };
+        let c = |x: f32| (x * v * 255.0).round() as u8;
+        *px = [c(r), c(g), c(b), 255];
+    }
+    (img, scale)
+}
+
 /// Height in pixels of the colour legend along the bottom of [`lights_per_tile`].
 pub const LEGEND_HEIGHT: u32 = 12;
 
@@ -359,6 +403,33 @@ mod tests {
         assert!((mean - 2.0).abs() < 1e-12, "{mean}");
         let (_, mean) = quad_overdraw(4, 2, &vis[..3]);
         assert!((mean - 1.5).abs() < 1e-12, "{mean}");
+    }
+
+    /// Direction picks the hue, length the brightness; no motion is black.
+    #[test]
+    fn motion_vectors_colour_by_direction_and_length() {
+        let at = |x: f32, y: f32| deferred::Surface {
+            motion: glam::Vec2::new(x, y),
+            ..deferred::Surface::default()
+        };
+        let surfaces = [
+            at(4.0, 0.0),
+            at(0.0, 2.0),
+            at(-4.0, 0.0),
+            at(0.0, 0.0),
+            at(f32::NAN, 1.0),
+        ];
+        let (img, scale) = motion_vectors(5, 1, &surfaces, 0.0);
+        assert_eq!(scale, 4.0);
+        assert_eq!(img.pixels[0], [255, 0, 0, 255]);
+        // Down (+y) at half the scale: a quarter turn, between yellow and green, half lit.
+        assert_eq!(img.pixels[1], [64, 128, 0, 255]);
+        assert_eq!(img.pixels[2], [0, 255, 255, 255]);
+        assert_eq!(img.pixels[3], [0, 0, 0, 255]);
+        assert_eq!(img.pixels[4], [0, 0, 0, 255]);
+        // A given scale clamps longer motion to full brightness.
+        let (img, _) = motion_vectors(5, 1, &surfaces, 1.0);
+        assert_eq!(img.pixels[1], [128, 255, 0, 255]);
     }
 
     /// Tile colours follow the counts on the scale, empty tiles are grey, and the legend

@@ -880,6 +880,46 @@ impl Renderer {
         ))
     }
 
+    /// Reads the G-buffer of the last frame back, one [`deferred::Surface`] per pixel
+    /// (row-major; world-space normals, motion in pixels, `+y` down): what lighting read.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_gbuffer(&self) -> Result<Vec<deferred::Surface>> {
+        let targets: Vec<(Vec<u8>, usize)> = self
+            .targets
+            .gbuffer
+            .iter()
+            .map(|t| {
+                let texel = t.format().block_copy_size(None).unwrap_or(4) as usize;
+                let bytes = read_texture(
+                    &self.device,
+                    &self.queue,
+                    t,
+                    wgpu::TextureAspect::All,
+                    texel as u32,
+                )?;
+                Ok((bytes, texel))
+            })
+            .collect::<Result<_>>()?;
+        let n = (self.config.width * self.config.height) as usize;
+        let mut texel = Vec::with_capacity(20);
+        (0..n)
+            .map(|i| {
+                texel.clear();
+                for (bytes, size) in &targets {
+                    texel.extend_from_slice(&bytes[i * size..(i + 1) * size]);
+                }
+                crate::gbuffer::LAYOUT.unpack_bytes(&texel).ok_or_else(|| {
+                    Error::Map(format!(
+                        "a G-buffer texel read back as {} bytes, not the layout's",
+                        texel.len()
+                    ))
+                })
+            })
+            .collect()
+    }
+
     /// Reads the depth buffer of the last frame back (row-major, reversed Z: 1 at the near
     /// plane, 0 for the sky): what a HiZ for the next frame's occlusion is built from.
     ///

@@ -203,6 +203,40 @@ fn report_light_tiles(
     Ok(())
 }
 
+/// The motion-vector debug view: one frame from the camera 0.3 m to the left and 0.2 m
+/// back, then the scene's own frame (the measured frames hold the camera still, so their
+/// motion is zero), its G-buffer motion as `{name}_debug_motion.png`.
+fn motion_view(
+    args: &Args,
+    report: &mut Report,
+    renderer: &mut Renderer,
+    prepared: &gpu::PreparedScene,
+    frame: &gpu::FrameInput,
+    name: &str,
+) -> Result<()> {
+    let mut before = frame.clone();
+    let c = &frame.camera;
+    let forward = (c.target - c.position).normalize();
+    let right = forward.cross(c.up).normalize();
+    let shift = -0.3 * right - 0.2 * forward;
+    before.camera.position += shift;
+    before.camera.target += shift;
+    renderer.render(prepared, &before, RenderPath::Deferred)?;
+    renderer.render(prepared, frame, RenderPath::Deferred)?;
+    let (img, scale) =
+        gpu::debug::motion_vectors(args.width, args.height, &renderer.read_gbuffer()?, 0.0);
+    let file = args.out.join(format!("{name}_debug_motion.png"));
+    img.write_png(&file)?;
+    report.image_named(
+        &format!(
+            "motion vectors after a 0.3 m step right and 0.2 m forward (hue: direction, full \
+             brightness at {scale:.1} px)"
+        ),
+        &file,
+    );
+    Ok(())
+}
+
 /// A density given on the command line: a finite number above zero.
 fn positive_density(s: &str) -> Result<f32, String> {
     let d: f32 = s
@@ -567,6 +601,7 @@ fn render_scene(
                     &format!("depth-equal quad overdraw (mean {mean:.2})"),
                     &file,
                 );
+                motion_view(args, &mut report, renderer, &prepared, &frame, name)?;
             }
             if mismatch.is_some() {
                 print!("{report}");

@@ -27,7 +27,7 @@ pub(crate) struct Targets {
     /// classification passes, which read `array<u32>`.
     pub vis_words: wgpu::Buffer,
     /// G-buffer targets RT0..RT3, in `deferred`'s layout order (kept with their views).
-    _gbuffer: Vec<wgpu::Texture>,
+    pub gbuffer: Vec<wgpu::Texture>,
     pub gbuffer_views: Vec<wgpu::TextureView>,
     /// Output image.
     pub output: wgpu::Texture,
@@ -88,7 +88,7 @@ impl Targets {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let (_gbuffer, gbuffer_views) = gbuffer::color_formats()
+        let (gbuffer, gbuffer_views) = gbuffer::color_formats()
             .into_iter()
             .enumerate()
             .map(|(i, f)| {
@@ -118,7 +118,7 @@ impl Targets {
             vis,
             vis_view,
             vis_words,
-            _gbuffer,
+            gbuffer,
             gbuffer_views,
             output,
             output_view,

@@ -12,6 +12,8 @@ struct BaselineOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) instance: u32,
     @location(2) normal: vec3<f32>,
+    // camera-relative position (for the motion vector)
+    @location(3) relative: vec3<f32>,
 }
 
 @vertex
@@ -22,6 +24,7 @@ fn vs_baseline(@builtin(vertex_index) vertex: u32, @builtin(instance_index) inst
     out.uv = l.uv;
     out.instance = instance;
     out.normal = gpu_transform_normal(instances[instance], vertices[vertex].normal);
+    out.relative = gpu_camera_relative(instances[instance], vertices[vertex].position);
     return out;
 }
 
@@ -41,6 +44,6 @@ fn fs_baseline(in: BaselineOut) -> GBufferOut {
 }
 
 fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
-    let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal);
+    let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.relative);
     return gbuffer_fragment(s);
 }

@@ -45,14 +45,18 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     let v0 = vertices[mesh.base_vertex + indices[first]];
     let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
     let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
-    let c0 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v0.position), 1.0);
-    let c1 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v1.position), 1.0);
-    let c2 = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v2.position), 1.0);
+    let r0 = gpu_camera_relative(inst, v0.position);
+    let r1 = gpu_camera_relative(inst, v1.position);
+    let r2 = gpu_camera_relative(inst, v2.position);
+    let c0 = frame.view_proj * vec4<f32>(r0, 1.0);
+    let c1 = frame.view_proj * vec4<f32>(r1, 1.0);
+    let c2 = frame.view_proj * vec4<f32>(r2, 1.0);
     let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
     let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
     let scale = visbuf_mip_bias_scale(frame.mip_bias);
-    out.surface = material_surface(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n));
+    let p = visbuf_interpolate3(b, r0, r1, r2).value;
+    out.surface = material_surface(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), p);
     out.ok = true;
     return out;
 }
