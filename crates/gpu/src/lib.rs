@@ -73,6 +73,7 @@ mod passes;
 mod renderer;
 mod resources;
 mod scene;
+mod shadows;
 mod statics;
 mod stats;
 mod timing;
@@ -96,6 +97,7 @@ pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
     MeshId, Scene, ShaderKind, StaticSetup,
 };
+pub use shadows::ShadowConfig;
 pub use statics::{
     StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticView, scene_from_query,
     static_view_desc,

@@ -72,6 +72,9 @@ pub struct RendererConfig {
     /// Lighting reads each 16x16 tile's light list (KZ2's tiled path, the default); off,
     /// it tests every local light at every pixel (the reference and measurement baseline).
     pub tiled_lights: bool,
+    /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
+    /// G-buffer's baked sun term).
+    pub shadows: Option<crate::ShadowConfig>,
 }
 
 impl RendererConfig {
@@ -101,6 +104,9 @@ impl RendererConfig {
                 "[-16, 16] (log2 units)",
             );
         }
+        if let Some(s) = &self.shadows {
+            s.validate()?;
+        }
         Ok(())
     }
 }
@@ -114,6 +120,7 @@ impl Default for RendererConfig {
             subgroups: true,
             mip_bias: 0.0,
             tiled_lights: true,
+            shadows: Some(crate::ShadowConfig::default()),
         }
     }
 }
@@ -169,6 +176,8 @@ pub struct Renderer {
     local: wgpu::Buffer,
     /// The lights in view space and the light tiles.
     lights: LightBuffers,
+    /// The sun's cascades of the last frame (f64), with shadows on.
+    cascades: Option<deferred::cascades::StableCascades>,
     timer: GpuTimer,
     frame_index: u32,
     previous: Option<(u64, PreviousCamera)>,
@@ -273,7 +282,7 @@ impl Renderer {
             .and_then(|(_, hi)| wave::WaveWidth::from_lanes(hi).ok())
             .unwrap_or(wave::WaveWidth::W32);
         scoped(device, || {
-            let targets = Targets::new(device, config.width, config.height);
+            let targets = Targets::new(device, config.width, config.height, config.shadows);
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
                 size: size_of::<FrameUniforms>() as u64,
@@ -326,6 +335,7 @@ impl Renderer {
                 sampler,
                 local,
                 lights,
+                cascades: None,
                 timer,
                 frame_index: 0,
                 previous: None,
@@ -407,6 +417,7 @@ impl Renderer {
             previous,
         );
         self.upload_lights(frame)?;
+        self.upload_shadows(frame, &uniforms)?;
         self.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let aspect = self.config.width as f32 / self.config.height as f32;
@@ -1081,6 +1092,74 @@ impl Renderer {
         gpu: &GpuClassification,
     ) -> Result<(ClassificationStats, Option<String>)> {
         classification_statistics(scene, gpu)
+    }
+
+    /// Fits the sun's cascades to this frame's camera and uploads each cascade's frame
+    /// uniforms (`uniforms` with the cascade's camera-relative matrix as `view_proj`) and
+    /// what lighting reads; with shadows off, a zero cascade count.
+    fn upload_shadows(&mut self, frame: &FrameInput, uniforms: &FrameUniforms) -> Result<()> {
+        let maps = &self.targets.shadows;
+        let Some(config) = maps.config else {
+            self.queue.write_buffer(
+                &maps.sun,
+                0,
+                bytemuck::bytes_of(&crate::shadows::GpuSunShadow::default()),
+            );
+            return Ok(());
+        };
+        let aspect = self.config.width as f32 / self.config.height as f32;
+        let cascades = config.fit(&frame.camera, aspect, frame.lighting.sun_direction)?;
+        let origin = frame.camera.position.as_dvec3();
+        for (i, c) in cascades.cascades().iter().enumerate() {
+            let mut u = *uniforms;
+            u.view_proj = c.relative_matrix(origin).to_cols_array_2d();
+            self.queue.write_buffer(
+                &maps.frames,
+                i as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
+                bytemuck::bytes_of(&u),
+            );
+        }
+        self.queue.write_buffer(
+            &maps.sun,
+            0,
+            bytemuck::bytes_of(&crate::shadows::GpuSunShadow::new(
+                &cascades,
+                origin,
+                config.resolution,
+            )),
+        );
+        self.cascades = Some(cascades);
+        Ok(())
+    }
+
+    /// The sun's cascades fitted to the last frame's camera (world space, f64), with
+    /// shadows on: each map's slice, snapped centre, texel size and matrix.
+    #[must_use]
+    pub fn shadow_cascades(&self) -> Option<&deferred::cascades::StableCascades> {
+        self.cascades.as_ref()
+    }
+
+    /// Reads the last frame's sun shadow maps back, one `resolution`² depth layer per
+    /// cascade (row-major, 0 nearest the sun, 1 where nothing casts); empty with shadows
+    /// off.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
+        let maps = &self.targets.shadows;
+        (0..maps.cascades())
+            .map(|layer| {
+                let bytes = crate::resources::readback::read_texture_layer(
+                    &self.device,
+                    &self.queue,
+                    &maps.texture,
+                    wgpu::TextureAspect::DepthOnly,
+                    4,
+                    layer,
+                )?;
+                Ok(bytemuck::pod_collect_to_vec(&bytes))
+            })
+            .collect()
     }
 
     /// Uploads the frame's local lights in view space and the light passes' uniforms (the

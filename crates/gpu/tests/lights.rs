@@ -38,6 +38,7 @@ fn renderer(tiled_lights: bool, subgroups: bool) -> Renderer {
             height: H,
             tiled_lights,
             subgroups,
+            shadows: common::test_shadows(),
             ..RendererConfig::default()
         },
     )
@@ -164,7 +165,20 @@ fn lit_image_equals_an_f64_reference() {
     });
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
-    let mut r = renderer(true, true);
+    // Without the sun's shadow maps (their test is tests/shadows.rs): the reference
+    // evaluates the lighting terms alone.
+    let c = ctx();
+    let mut r = Renderer::new(
+        &c.device,
+        &c.queue,
+        RendererConfig {
+            width: W,
+            height: H,
+            shadows: None,
+            ..RendererConfig::default()
+        },
+    )
+    .unwrap();
     let prepared = r.prepare(&scene).unwrap();
     r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
     let image = r.read_output().unwrap();

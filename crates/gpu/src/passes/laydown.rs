@@ -107,13 +107,44 @@ pub(crate) fn depth_write_state() -> wgpu::DepthStencilState {
     }
 }
 
-/// The laydown's pipelines for one primitive-ID path, and the depth prepass's.
+/// The sun-shadow passes' depth state: depth 0 nearest the sun, `Less`, writing, with a
+/// slope-scaled bias against acne.
+fn shadow_depth_state() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: crate::shadows::SHADOW_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: wgpu::StencilState::default(),
+        bias: wgpu::DepthBiasState {
+            constant: 2,
+            slope_scale: 2.0,
+            clamp: 0.0,
+        },
+    }
+}
+
+/// Timing labels of the sun-shadow passes, one per cascade.
+const SHADOW_LABELS: [&str; deferred::cascades::MAX_CASCADES] = [
+    "sun shadow 0",
+    "sun shadow 1",
+    "sun shadow 2",
+    "sun shadow 3",
+    "sun shadow 4",
+    "sun shadow 5",
+    "sun shadow 6",
+    "sun shadow 7",
+];
+
+/// The laydown's pipelines for one primitive-ID path, the depth prepass's and the sun
+/// shadows'.
 pub(crate) struct Laydown {
     layouts: Layouts,
     vis_opaque: wgpu::RenderPipeline,
     vis_alpha: wgpu::RenderPipeline,
     depth_opaque: wgpu::RenderPipeline,
     depth_alpha: wgpu::RenderPipeline,
+    shadow_opaque: wgpu::RenderPipeline,
+    shadow_alpha: wgpu::RenderPipeline,
 }
 
 /// A prepared scene's bind groups for the laydown.
@@ -136,35 +167,53 @@ impl Laydown {
         } else {
             "vs_payload"
         };
+        let make_with =
+            |label: &str, vs: &str, fs: Option<&str>, vis: bool, depth: wgpu::DepthStencilState| {
+                let targets = [Some(wgpu::ColorTargetState {
+                    format: VIS_FORMAT,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })];
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layouts.pipeline_layout()),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some(vs),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: primitive_state(),
+                    depth_stencil: Some(depth),
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: fs.map(|entry| wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(entry),
+                        compilation_options: Default::default(),
+                        targets: if vis { &targets } else { &[] },
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
         let make = |label: &str, vs: &str, fs: Option<&str>, vis: bool| {
-            let targets = [Some(wgpu::ColorTargetState {
-                format: VIS_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: primitive_state(),
-                depth_stencil: Some(depth_write_state()),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: fs.map(|entry| wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: if vis { &targets } else { &[] },
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            make_with(label, vs, fs, vis, depth_write_state())
         };
         Ok(Self {
+            shadow_opaque: make_with(
+                "sun shadow opaque",
+                "vs_main",
+                None,
+                false,
+                shadow_depth_state(),
+            ),
+            shadow_alpha: make_with(
+                "sun shadow alpha",
+                "vs_main",
+                Some("fs_depth_alpha"),
+                false,
+                shadow_depth_state(),
+            ),
             vis_opaque: make("laydown vis opaque", vs, Some("fs_vis"), true),
             vis_alpha: make("laydown vis alpha", vs, Some("fs_vis_alpha"), true),
             depth_opaque: make("prepass depth opaque", "vs_main", None, false),
@@ -194,6 +243,87 @@ impl Laydown {
                 &[("payloads", payloads.as_entire_binding())],
             )?,
         })
+    }
+
+    /// A scene group (group 0) over `scene` resources by binding name: the sun-shadow
+    /// passes' groups, whose `frame` is a cascade's.
+    pub(crate) fn scene_group(
+        &self,
+        device: &wgpu::Device,
+        scene: &[(&str, wgpu::BindingResource<'_>)],
+    ) -> Result<wgpu::BindGroup> {
+        Ok(self.layouts.bind_group(device, "scene", scene)?)
+    }
+
+    /// Records the sun's shadow maps, one render pass per cascade: every caster of the
+    /// scene's own batches (opaque, then alpha-tested), drawn with the cascade's frame
+    /// uniforms, then, in a frame with a static query, the camera query's static draw
+    /// lists (static instances outside the camera's view cast nothing yet: that needs the
+    /// static query's shadow view per cascade).
+    pub(crate) fn record_shadows(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let maps = &f.targets.shadows;
+        for (i, (view, group)) in maps
+            .layer_views
+            .iter()
+            .zip(&f.scene.shadow_scene)
+            .take(maps.cascades() as usize)
+            .enumerate()
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(SHADOW_LABELS[i]),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.render(SHADOW_LABELS[i]),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, group, &[]);
+            pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
+            pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            for alpha_pass in [false, true] {
+                pass.set_pipeline(if alpha_pass {
+                    &self.shadow_alpha
+                } else {
+                    &self.shadow_opaque
+                });
+                for d in f
+                    .scene
+                    .draws
+                    .iter()
+                    .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
+                {
+                    pass.draw_indexed(
+                        d.first_index..d.first_index + d.index_count,
+                        d.base_vertex as i32,
+                        d.first_instance..d.first_instance + d.instance_count,
+                    );
+                }
+            }
+            if f.static_query
+                && let Some(b) = &f.scene.statics
+            {
+                // Static instances may fade: the alpha-tested pipeline dithers them.
+                super::static_place::record_static_draws(
+                    &mut pass,
+                    b,
+                    &self.shadow_alpha,
+                    &self.shadow_alpha,
+                    false,
+                );
+            }
+        }
     }
 
     /// Records the depth + visibility laydown; `late`: its second geometry pass of two-pass

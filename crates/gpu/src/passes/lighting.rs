@@ -58,6 +58,17 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
                 Binding::new("lights", Kind::read(size_of::<DeferredLight>())),
                 Binding::new("light_counts", Kind::read(4)),
                 Binding::new("light_indices", Kind::read(4)),
+                Binding::new(
+                    "shadow_map",
+                    Kind::Texture {
+                        sample: Sample::Depth,
+                        dim: Dim::D2Array,
+                    },
+                ),
+                Binding::new(
+                    "sun_shadow",
+                    Kind::uniform(size_of::<crate::shadows::GpuSunShadow>()),
+                ),
                 Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
             ],
         },
@@ -119,6 +130,11 @@ impl Lighting {
                     ("light_counts", lights.counts.as_entire_binding()),
                     ("light_indices", lights.indices.as_entire_binding()),
                     (
+                        "shadow_map",
+                        wgpu::BindingResource::TextureView(&targets.shadows.array_view),
+                    ),
+                    ("sun_shadow", targets.shadows.sun.as_entire_binding()),
+                    (
                         "output",
                         wgpu::BindingResource::TextureView(&targets.output_view),
                     ),
@@ -168,6 +184,17 @@ mod tests {
             &members!(GpuLocalLights {
                 view_rotation,
                 tiles,
+                pad
+            }),
+        );
+        assert_struct_layout(
+            &m,
+            "GpuSunShadow",
+            size_of::<crate::shadows::GpuSunShadow>(),
+            &members!(crate::shadows::GpuSunShadow {
+                cascades,
+                count,
+                resolution,
                 pad
             }),
         );

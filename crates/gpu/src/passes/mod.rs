@@ -236,6 +236,7 @@ impl Pipelines {
             Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),
         }
+        self.laydown.record_shadows(e, f, timer);
         self.lights.record(e, f, timer);
         self.lighting.record(e, f, timer);
     }

@@ -106,6 +106,8 @@ pub struct PreparedScene {
     pub(crate) draws: Vec<Draw>,
     pub(crate) index_buffer: wgpu::Buffer,
     pub(crate) laydown: laydown::Groups,
+    /// The scene group once per sun-shadow cascade (its `frame` the cascade's).
+    pub(crate) shadow_scene: Vec<wgpu::BindGroup>,
     pub(crate) baseline: wgpu::BindGroup,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
@@ -408,6 +410,17 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             id: c.id,
             summary,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
+            shadow_scene: (0..c.targets.shadows.cascades())
+                .map(|i| {
+                    let mut group = scene_group.clone();
+                    group[0].1 = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &c.targets.shadows.frames,
+                        offset: u64::from(i) * crate::shadows::CASCADE_FRAME_STRIDE,
+                        size: wgpu::BufferSize::new(size_of::<rows::FrameUniforms>() as u64),
+                    });
+                    p.laydown.scene_group(device, &group)
+                })
+                .collect::<Result<_>>()?,
             baseline: p.baseline.group(device, &scene_group)?,
             classification,
             resolve,

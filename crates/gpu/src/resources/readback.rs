@@ -60,6 +60,18 @@ pub(crate) fn read_texture(
     aspect: wgpu::TextureAspect,
     bytes_per_texel: u32,
 ) -> Result<Vec<u8>> {
+    read_texture_layer(device, queue, texture, aspect, bytes_per_texel, 0)
+}
+
+/// [`read_texture`] of array layer `layer`.
+pub(crate) fn read_texture_layer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    aspect: wgpu::TextureAspect,
+    bytes_per_texel: u32,
+    layer: u32,
+) -> Result<Vec<u8>> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * bytes_per_texel;
     let padded_row =
@@ -77,7 +89,11 @@ pub(crate) fn read_texture(
         wgpu::TexelCopyTextureInfo {
             texture,
             mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
             aspect,
         },
         wgpu::TexelCopyBufferInfo {

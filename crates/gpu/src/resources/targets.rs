@@ -32,6 +32,8 @@ pub(crate) struct Targets {
     /// Output image.
     pub output: wgpu::Texture,
     pub output_view: wgpu::TextureView,
+    /// The sun's shadow maps (one 1x1 layer when shadows are off).
+    pub shadows: crate::shadows::ShadowMaps,
 }
 
 fn texture(
@@ -61,8 +63,13 @@ fn texture(
 }
 
 impl Targets {
-    /// The targets for `width` × `height` pixels.
-    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32) -> Self {
+    /// The targets for `width` × `height` pixels, and the sun's shadow maps of `shadows`.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        shadows: Option<crate::shadows::ShadowConfig>,
+    ) -> Self {
         use wgpu::TextureUsages as U;
         let (depth, depth_view) = texture(
             device,
@@ -122,6 +129,7 @@ impl Targets {
             gbuffer_views,
             output,
             output_view,
+            shadows: crate::shadows::ShadowMaps::new(device, shadows),
         }
     }
 }

@@ -9,6 +9,7 @@
 #import gpu::frame
 #import gpu::gbuffer_load
 #import deferred::lights
+#import deferred::shadow
 
 // Rust: passes::lighting::GpuLocalLights (80 bytes).
 struct GpuLocalLights {
@@ -19,13 +20,25 @@ struct GpuLocalLights {
     pad: vec2<u32>,
 }
 
+// Rust: gpu::shadows::GpuSunShadow (656 bytes).
+struct GpuSunShadow {
+    cascades: array<DeferredCascade, 8>,
+    // cascades in use; 0: no real-time sun shadow
+    count: u32,
+    // texels per side of each map
+    resolution: u32,
+    pad: vec2<u32>,
+}
+
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var depth_texture: texture_depth_2d;
 @group(0) @binding(2) var<uniform> local: GpuLocalLights;
 @group(0) @binding(3) var<storage, read> lights: array<DeferredLight>;
 @group(0) @binding(4) var<storage, read> light_counts: array<u32>;
 @group(0) @binding(5) var<storage, read> light_indices: array<u32>;
-@group(0) @binding(6) var output: texture_storage_2d<rgba8unorm, write>;
+@group(0) @binding(6) var shadow_map: texture_depth_2d_array;
+@group(0) @binding(7) var<uniform> sun_shadow: GpuSunShadow;
+@group(0) @binding(8) var output: texture_storage_2d<rgba8unorm, write>;
 // Group 1: the G-buffer (gpu::gbuffer_load).
 
 const LIGHTING_PI: f32 = 3.14159265;
@@ -66,6 +79,37 @@ fn lighting_srgb(c: vec3<f32>) -> vec3<f32> {
     let lo = c * 12.92;
     let hi = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
     return select(hi, lo, c <= vec3<f32>(0.0031308));
+}
+
+// The sun's visibility at camera-relative `p` (normal `n`, view distance `dist`): the
+// first cascade whose slice reaches `dist`, the point pushed 1.5 texels along its normal
+// (against acne on slopes), a 3x3 texel PCF of `depth <= stored` (0 nearest the sun). 1
+// beyond the last slice, off the map, or with shadows off.
+fn lighting_sun_visibility(p: vec3<f32>, n: vec3<f32>, dist: f32) -> f32 {
+    let count = min(sun_shadow.count, 8u);
+    var k = 0u;
+    while (k < count && dist > sun_shadow.cascades[k].split_far) {
+        k += 1u;
+    }
+    if (k >= count || k >= textureNumLayers(shadow_map)) {
+        return 1.0;
+    }
+    let c = sun_shadow.cascades[k];
+    let coord = deferred_shadow_coord(c, p + n * (1.5 * c.texel_size));
+    let size = vec2<i32>(textureDimensions(shadow_map));
+    if (!(all(coord.xy >= vec2<f32>(0.0)) && all(coord.xy < vec2<f32>(1.0)) && coord.z <= 1.0)) {
+        return 1.0;
+    }
+    let centre = vec2<i32>(coord.xy * vec2<f32>(size));
+    var lit = 0.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let t = clamp(centre + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
+            let stored = textureLoad(shadow_map, t, i32(k), 0);
+            lit += select(0.0, 1.0, coord.z <= stored);
+        }
+    }
+    return lit / 9.0;
 }
 
 // One local light's contribution at view-space `p` (normal `n`, towards the eye `v`), or
@@ -154,8 +198,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
         let nl = max(dot(n, l), 0.0);
         diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
-        color += frame.sun_color.rgb * (diffuse * nl * s.sun_shadow + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * s.sun_shadow);
         pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
+        // The baked sun term times the real-time shadow (skipped where nothing reaches).
+        var sun = s.sun_shadow;
+        if (sun > 0.0 && nl > 0.0) {
+            sun *= lighting_sun_visibility(p, n, -pv.z);
+        }
+        color += frame.sun_color.rgb * (diffuse * nl * sun + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * sun);
         nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;
         vv = normalize(-pv);
     }

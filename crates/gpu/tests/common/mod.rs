@@ -1,8 +1,17 @@
 //! What the renderer's integration tests share: a renderer on testkit's device.
 #![allow(dead_code)]
 
-use gpu::{Renderer, RendererConfig};
+use gpu::{Renderer, RendererConfig, ShadowConfig};
 use testkit::device::ctx;
+
+/// The sun's shadow maps of the tests' renderers: the default cascades at 512 texels
+/// (lavapipe rasterises a 2048-texel map of the forest in about 0.2 s).
+pub fn test_shadows() -> Option<ShadowConfig> {
+    Some(ShadowConfig {
+        resolution: 512,
+        ..ShadowConfig::default()
+    })
+}
 
 /// A renderer of `width` x `height` on the shared test device, subgroups on or off.
 pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
@@ -14,6 +23,7 @@ pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
             width,
             height,
             subgroups,
+            shadows: test_shadows(),
             ..RendererConfig::default()
         },
     )

@@ -1,0 +1,242 @@
+//! The sun's shadows: KZ2's depth slices as stable cascaded shadow maps
+//! (`deferred::StableCascades`: world-aligned, texel-snapped, rotation-invariant slice
+//! spheres), fitted on the CPU in f64 every frame, rendered into one layer each of a depth
+//! array by the depth-prepass geometry (every caster of the scene's own batches), and
+//! sampled by lighting with a 3x3 PCF.
+//!
+//! Conventions: shadow clip depth in `[0, 1]`, 0 nearest the sun (cleared to 1, tested
+//! `Less`); the matrices take camera-relative positions, as every pass's do.
+
+use bytemuck::{Pod, Zeroable};
+use deferred::cascades::{
+    CascadeCamera, CascadeParams, DeferredCascade, MAX_CASCADES, StableCascades,
+};
+use glam::DVec3;
+
+use crate::error::{Error, Result};
+use crate::frame::Camera;
+
+/// Shadow-map depth format.
+pub(crate) const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The sun's cascaded shadow maps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowConfig {
+    /// Depth slices (cascades), 1 to 8.
+    pub cascades: u32,
+    /// Texels per side of each slice's map, 64 to 8192.
+    pub resolution: u32,
+    /// View distance where shadows end (metres), above the camera's near plane.
+    pub far: f32,
+    /// Practical-split blend of the slice distances, in `[0, 1]` (0 uniform, 1
+    /// logarithmic).
+    pub lambda: f32,
+}
+
+impl Default for ShadowConfig {
+    fn default() -> Self {
+        Self {
+            cascades: 4,
+            resolution: 2048,
+            far: 120.0,
+            lambda: 0.75,
+        }
+    }
+}
+
+impl ShadowConfig {
+    /// Checks the ranges above.
+    ///
+    /// # Errors
+    /// [`Error::Config`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &'static str, value: f64, allowed: &'static str| {
+            Err(Error::Config {
+                field,
+                value,
+                allowed,
+            })
+        };
+        if self.cascades == 0 || self.cascades as usize > MAX_CASCADES {
+            return bad("ShadowConfig::cascades", f64::from(self.cascades), "1 to 8");
+        }
+        if !(64..=8192).contains(&self.resolution) {
+            return bad(
+                "ShadowConfig::resolution",
+                f64::from(self.resolution),
+                "64 to 8192 texels",
+            );
+        }
+        if !(self.far.is_finite() && self.far > 0.0) {
+            return bad(
+                "ShadowConfig::far",
+                f64::from(self.far),
+                "finite, > 0 metres",
+            );
+        }
+        if !(0.0..=1.0).contains(&self.lambda) {
+            return bad("ShadowConfig::lambda", f64::from(self.lambda), "[0, 1]");
+        }
+        Ok(())
+    }
+
+    /// The stable cascades of `camera` (aspect `aspect`) for a sun towards
+    /// `sun_direction` (world, normalised here), anchored at the world origin.
+    ///
+    /// # Errors
+    /// A camera whose near plane is at or beyond [`ShadowConfig::far`], or other
+    /// parameters `deferred` refuses ([`Error::Config`]).
+    pub fn fit(
+        &self,
+        camera: &Camera,
+        aspect: f32,
+        sun_direction: glam::Vec3,
+    ) -> Result<StableCascades> {
+        let params = CascadeParams {
+            count: self.cascades,
+            near: f64::from(camera.near),
+            far: f64::from(self.far),
+            lambda: f64::from(self.lambda),
+            resolution: self.resolution,
+            ..CascadeParams::default()
+        };
+        let cam = CascadeCamera {
+            position: camera.position.as_dvec3(),
+            forward: (camera.target - camera.position).as_dvec3().normalize(),
+            fov_y: f64::from(camera.fov_y),
+            aspect: f64::from(aspect),
+        };
+        StableCascades::fit(
+            &cam,
+            sun_direction.as_dvec3().normalize_or(DVec3::Y),
+            &params,
+        )
+        .map_err(|e| Error::Config {
+            field: "ShadowConfig (with the camera)",
+            value: f64::from(self.far),
+            allowed: match e {
+                deferred::Error::InvalidParameter { name: "far", .. } => {
+                    "a far distance beyond the camera's near plane"
+                }
+                _ => "parameters StableCascades::fit accepts",
+            },
+        })
+    }
+}
+
+/// What lighting reads of the sun's shadows (WGSL `GpuSunShadow`), 656 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub(crate) struct GpuSunShadow {
+    /// The cascades, nearest first, matrices for camera-relative positions.
+    pub cascades: [DeferredCascade; MAX_CASCADES],
+    /// Cascades in use (0: no real-time sun shadow).
+    pub count: u32,
+    /// Texels per side of each map.
+    pub resolution: u32,
+    /// Zero.
+    pub pad: [u32; 2],
+}
+const _: () = assert!(size_of::<GpuSunShadow>() == 656);
+
+impl Default for GpuSunShadow {
+    fn default() -> Self {
+        Zeroable::zeroed()
+    }
+}
+
+impl GpuSunShadow {
+    /// The GPU rows of `cascades` for a camera at `origin` (world).
+    pub(crate) fn new(cascades: &StableCascades, origin: DVec3, resolution: u32) -> Self {
+        let mut s = Self::default();
+        for (out, c) in s.cascades.iter_mut().zip(cascades.cascades()) {
+            *out = c.gpu(origin);
+        }
+        s.count = cascades.cascades().len() as u32;
+        s.resolution = resolution;
+        s
+    }
+}
+
+/// Byte stride of the per-cascade frame uniforms in their buffer (a multiple of every
+/// adapter's uniform offset alignment, 256).
+pub(crate) const CASCADE_FRAME_STRIDE: u64 = 512;
+
+/// The shadow maps of one renderer: a depth array of one layer per cascade (1x1x1 when
+/// shadows are off, so lighting's bindings hold something), its views, the per-cascade
+/// frame uniforms the shadow passes draw with, and the uniform lighting reads.
+pub(crate) struct ShadowMaps {
+    pub config: Option<ShadowConfig>,
+    pub texture: wgpu::Texture,
+    /// One view per layer (render attachments).
+    pub layer_views: Vec<wgpu::TextureView>,
+    /// The whole array (lighting samples it).
+    pub array_view: wgpu::TextureView,
+    /// `FrameUniforms` per cascade at [`CASCADE_FRAME_STRIDE`].
+    pub frames: wgpu::Buffer,
+    /// `GpuSunShadow`.
+    pub sun: wgpu::Buffer,
+}
+
+impl ShadowMaps {
+    pub(crate) fn new(device: &wgpu::Device, config: Option<ShadowConfig>) -> Self {
+        let (size, layers) = config.map_or((1, 1), |c| (c.resolution, c.cascades));
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("sun shadow maps"),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHADOW_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let layer_views = (0..layers)
+            .map(|i| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("sun shadow map layer"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: i,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("sun shadow maps"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let frames = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sun shadow cascade frames"),
+            size: CASCADE_FRAME_STRIDE * u64::from(layers),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sun = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sun shadow"),
+            size: size_of::<GpuSunShadow>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            config,
+            texture,
+            layer_views,
+            array_view,
+            frames,
+            sun,
+        }
+    }
+
+    /// Cascades rendered each frame (0 when off).
+    pub(crate) fn cascades(&self) -> u32 {
+        self.config.map_or(0, |c| c.cascades)
+    }
+}
