@@ -326,6 +326,73 @@ pub fn motion_vectors(
     (img, scale)
 }
 
+/// The sun's shadow maps side by side, one `resolution`² layer per cascade (nearest first,
+/// left to right), depth as grey (black nearest the sun, white where nothing casts), each
+/// map downsampled by `step` (1: every texel) by taking the nearest of its texels.
+pub fn shadow_atlas(maps: &[Vec<f32>], resolution: u32, step: u32) -> Rgba8Image {
+    let step = step.max(1);
+    let side = resolution.div_ceil(step);
+    let mut img = Rgba8Image::new(side * maps.len() as u32, side, [0, 0, 0, 255]);
+    for (k, map) in maps.iter().enumerate() {
+        for y in 0..side {
+            for x in 0..side {
+                let mut nearest = 1.0f32;
+                for sy in y * step..((y + 1) * step).min(resolution) {
+                    for sx in x * step..((x + 1) * step).min(resolution) {
+                        if let Some(&d) = map.get((sy * resolution + sx) as usize) {
+                            nearest = nearest.min(d);
+                        }
+                    }
+                }
+                let g = (nearest.clamp(0.0, 1.0) * 255.0).round() as u8;
+                img.pixels[(y * img.width + k as u32 * side + x) as usize] = [g, g, g, 255];
+            }
+        }
+    }
+    img
+}
+
+/// Colours of [`cascade_index`]'s slices, nearest first.
+pub const CASCADE_COLOURS: [[u8; 3]; 8] = [
+    [230, 60, 60],
+    [60, 200, 80],
+    [70, 110, 240],
+    [240, 200, 50],
+    [200, 80, 220],
+    [60, 210, 220],
+    [240, 140, 60],
+    [160, 160, 160],
+];
+
+/// The sun's depth slice each pixel falls in, by its view distance (from the reversed-Z
+/// `depth` of a camera with `near`, `fov_y` and this image's aspect) against the
+/// slices' far distances `splits` (nearest first): [`CASCADE_COLOURS`] over a grey of the
+/// depth; beyond the last slice dark grey, sky black.
+pub fn cascade_index(
+    width: u32,
+    height: u32,
+    depth: &[f32],
+    near: f32,
+    splits: &[f64],
+) -> Rgba8Image {
+    let mut img = Rgba8Image::new(width, height, [0, 0, 0, 255]);
+    for (px, &d) in img.pixels.iter_mut().zip(depth) {
+        if !(d > 0.0) {
+            continue;
+        }
+        // Infinite reversed Z: depth = near / distance.
+        let distance = f64::from(near) / f64::from(d);
+        *px = match splits.iter().position(|&far| distance <= far) {
+            Some(k) => {
+                let c = CASCADE_COLOURS[k % CASCADE_COLOURS.len()];
+                [c[0], c[1], c[2], 255]
+            }
+            None => [50, 50, 50, 255],
+        };
+    }
+    img
+}
+
 /// Height in pixels of the colour legend along the bottom of [`lights_per_tile`].
 pub const LEGEND_HEIGHT: u32 = 12;
 
@@ -430,6 +497,27 @@ mod tests {
         // A given scale clamps longer motion to full brightness.
         let (img, _) = motion_vectors(5, 1, &surfaces, 1.0);
         assert_eq!(img.pixels[1], [128, 255, 0, 255]);
+    }
+
+    /// Layers side by side, nearest texel of each block; slices by view distance.
+    #[test]
+    fn shadow_atlas_and_cascade_index_lay_out_and_colour() {
+        let maps = vec![vec![1.0, 0.5, 0.0, 1.0], vec![0.25; 4]];
+        let img = shadow_atlas(&maps, 2, 1);
+        assert_eq!((img.width, img.height), (4, 2));
+        assert_eq!(img.pixels[0], [255, 255, 255, 255]);
+        assert_eq!(img.pixels[1], [128, 128, 128, 255]);
+        assert_eq!(img.pixels[4], [0, 0, 0, 255]);
+        assert_eq!(img.pixels[2], [64, 64, 64, 255]);
+        let small = shadow_atlas(&maps, 2, 2);
+        assert_eq!((small.width, small.height), (2, 1));
+        assert_eq!(small.pixels[0], [0, 0, 0, 255]);
+        // near 0.1: depth 0.01 is 10 m, 0.001 is 100 m, 0.0001 is 1 km.
+        let img = cascade_index(4, 1, &[0.0, 0.01, 0.001, 0.0001], 0.1, &[20.0, 200.0]);
+        assert_eq!(img.pixels[0], [0, 0, 0, 255]);
+        assert_eq!(img.pixels[1], [230, 60, 60, 255]);
+        assert_eq!(img.pixels[2], [60, 200, 80, 255]);
+        assert_eq!(img.pixels[3], [50, 50, 50, 255]);
     }
 
     /// Tile colours follow the counts on the scale, empty tiles are grey, and the legend

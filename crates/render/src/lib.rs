@@ -142,6 +142,9 @@ pub struct Args {
     /// Switch the sun off (night: ambient and local lights only).
     #[arg(long)]
     pub no_sun: bool,
+    /// Render no sun shadow maps (the sun lights everything but for the baked term).
+    #[arg(long)]
+    pub no_shadows: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -200,6 +203,46 @@ fn report_light_tiles(
             &file,
         );
     }
+    Ok(())
+}
+
+/// The sun-shadow debug views of the frame just rendered (with shadows on): the shadow
+/// maps side by side as `{name}_debug_shadow_atlas.png` (512 texels a side at most) and
+/// each pixel's depth slice as `{name}_debug_cascades.png`.
+fn shadow_views(
+    args: &Args,
+    report: &mut Report,
+    renderer: &Renderer,
+    frame: &gpu::FrameInput,
+    name: &str,
+) -> Result<()> {
+    let Some(cascades) = renderer.shadow_cascades() else {
+        return Ok(());
+    };
+    let maps = renderer.read_shadow_maps()?;
+    let resolution = gpu::ShadowConfig::default().resolution;
+    let step = resolution.div_ceil(512);
+    let file = args.out.join(format!("{name}_debug_shadow_atlas.png"));
+    gpu::debug::shadow_atlas(&maps, resolution, step).write_png(&file)?;
+    report.image_named(
+        &format!(
+            "sun shadow maps, nearest slice first ({resolution} texels, 1 in {step} shown; black nearest the sun)"
+        ),
+        &file,
+    );
+    let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
+    let depth = renderer.read_depth()?;
+    let file = args.out.join(format!("{name}_debug_cascades.png"));
+    gpu::debug::cascade_index(args.width, args.height, &depth, frame.camera.near, &splits)
+        .write_png(&file)?;
+    let ends: Vec<String> = splits.iter().map(|d| format!("{d:.1}")).collect();
+    report.image_named(
+        &format!(
+            "sun depth slice per pixel (red, green, blue, yellow; slices end at {} m)",
+            ends.join(" / ")
+        ),
+        &file,
+    );
     Ok(())
 }
 
@@ -325,6 +368,7 @@ pub fn run(args: &Args) -> Result<()> {
         height: args.height,
         primitive_id,
         tiled_lights: !args.all_lights,
+        shadows: (!args.no_shadows).then(gpu::ShadowConfig::default),
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
@@ -430,6 +474,9 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         report.timings(path, &frames);
         if path == RenderPath::Deferred {
             report_light_tiles(args, &mut report, renderer, &frame, "city")?;
+            if !args.no_debug_views {
+                shadow_views(args, &mut report, renderer, &frame, "city")?;
+            }
         }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
@@ -601,6 +648,7 @@ fn render_scene(
                     &format!("depth-equal quad overdraw (mean {mean:.2})"),
                     &file,
                 );
+                shadow_views(args, &mut report, renderer, &frame, name)?;
                 motion_view(args, &mut report, renderer, &prepared, &frame, name)?;
             }
             if mismatch.is_some() {
