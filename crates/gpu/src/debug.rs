@@ -377,7 +377,8 @@ pub fn cascade_index(
 ) -> Rgba8Image {
     let mut img = Rgba8Image::new(width, height, [0, 0, 0, 255]);
     for (px, &d) in img.pixels.iter_mut().zip(depth) {
-        if !(d > 0.0) {
+        // Sky (0) and NaN hold no slice.
+        if d.is_nan() || d <= 0.0 {
             continue;
         }
         // Infinite reversed Z: depth = near / distance.
