@@ -212,6 +212,17 @@ pub enum FrameError {
     },
 }
 
+impl Error {
+    /// `Err(Error::Config { .. })`: a configuration value outside what it allows.
+    pub(crate) fn config<T>(field: &'static str, value: f64, allowed: &'static str) -> Result<T> {
+        Err(Error::Config {
+            field,
+            value,
+            allowed,
+        })
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -84,13 +84,7 @@ impl RendererConfig {
     /// # Errors
     /// [`Error::Config`] naming the field and its allowed range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field: &'static str, value: f64, allowed: &'static str| {
-            Err(Error::Config {
-                field,
-                value,
-                allowed,
-            })
-        };
+        let bad = Error::config;
         if self.width == 0 {
             return bad("RendererConfig::width", 0.0, "at least 1 pixel");
         }

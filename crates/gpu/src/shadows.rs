@@ -50,13 +50,7 @@ impl ShadowConfig {
     /// # Errors
     /// [`Error::Config`] naming the field.
     pub fn validate(&self) -> Result<()> {
-        let bad = |field: &'static str, value: f64, allowed: &'static str| {
-            Err(Error::Config {
-                field,
-                value,
-                allowed,
-            })
-        };
+        let bad = Error::config;
         if self.cascades == 0 || self.cascades as usize > MAX_CASCADES {
             return bad("ShadowConfig::cascades", f64::from(self.cascades), "1 to 8");
         }

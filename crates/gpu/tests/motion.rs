@@ -11,8 +11,8 @@ use gpu::{Camera, RenderPath};
 const W: u32 = 240;
 const H: u32 = 136;
 
-/// Clip of world point `p` through `camera` (f64).
-fn clip(camera: &Camera, p: DVec3) -> DVec4 {
+/// World -> clip of `camera` (f64, reversed Z, infinite far plane).
+fn view_proj(camera: &Camera) -> DMat4 {
     let aspect = f64::from(W) / f64::from(H);
     let view = DMat4::look_at_rh(
         camera.position.as_dvec3(),
@@ -24,29 +24,23 @@ fn clip(camera: &Camera, p: DVec3) -> DVec4 {
         aspect,
         f64::from(camera.near),
     );
-    proj * view * p.extend(1.0)
+    proj * view
+}
+
+/// Clip of world point `p` through `camera` (f64).
+fn clip(camera: &Camera, p: DVec3) -> DVec4 {
+    view_proj(camera) * p.extend(1.0)
 }
 
 /// The world point at pixel centre `(x, y)` with depth `d` seen by `camera` (f64).
 fn unproject(camera: &Camera, x: u32, y: u32, d: f32) -> DVec3 {
-    let aspect = f64::from(W) / f64::from(H);
-    let view = DMat4::look_at_rh(
-        camera.position.as_dvec3(),
-        camera.target.as_dvec3(),
-        camera.up.as_dvec3(),
-    );
-    let proj = DMat4::perspective_infinite_reverse_rh(
-        f64::from(camera.fov_y),
-        aspect,
-        f64::from(camera.near),
-    );
     let ndc = DVec4::new(
         (f64::from(x) + 0.5) / f64::from(W) * 2.0 - 1.0,
         1.0 - (f64::from(y) + 0.5) / f64::from(H) * 2.0,
         f64::from(d),
         1.0,
     );
-    let p = (proj * view).inverse() * ndc;
+    let p = view_proj(camera).inverse() * ndc;
     p.truncate() / p.w
 }
 

@@ -183,8 +183,9 @@ fn with_lights(args: &Args, mut frame: gpu::FrameInput, half_extent: f32) -> gpu
 }
 
 /// The light tiles of the frame just rendered, into the report, and (unless
-/// `--no-debug-views`) their heat map as `{name}_debug_lights_per_tile.png`.
-fn report_light_tiles(
+/// `--no-debug-views`) their heat map as `{name}_debug_lights_per_tile.png` and the sun
+/// shadows' views ([`shadow_views`]).
+fn report_lighting(
     args: &Args,
     report: &mut Report,
     renderer: &Renderer,
@@ -202,18 +203,20 @@ fn report_light_tiles(
             &format!("lights per 16x16 tile (legend at the bottom: 0 black .. {max} white, ticks at quarters)"),
             &file,
         );
+        shadow_views(args, report, renderer, frame.camera.near, name)?;
     }
     Ok(())
 }
 
 /// The sun-shadow debug views of the frame just rendered (with shadows on): the shadow
 /// maps side by side as `{name}_debug_shadow_atlas.png` (512 texels a side at most) and
-/// each pixel's depth slice as `{name}_debug_cascades.png`.
+/// each pixel's depth slice (for a camera whose near plane is `near` metres) as
+/// `{name}_debug_cascades.png`.
 fn shadow_views(
     args: &Args,
     report: &mut Report,
     renderer: &Renderer,
-    frame: &gpu::FrameInput,
+    near: f32,
     name: &str,
 ) -> Result<()> {
     let Some(cascades) = renderer.shadow_cascades() else {
@@ -233,8 +236,7 @@ fn shadow_views(
     let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
     let depth = renderer.read_depth()?;
     let file = args.out.join(format!("{name}_debug_cascades.png"));
-    gpu::debug::cascade_index(args.width, args.height, &depth, frame.camera.near, &splits)
-        .write_png(&file)?;
+    gpu::debug::cascade_index(args.width, args.height, &depth, near, &splits).write_png(&file)?;
     let ends: Vec<String> = splits.iter().map(|d| format!("{d:.1}")).collect();
     report.image_named(
         &format!(
@@ -473,10 +475,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         report.image(path, &file);
         report.timings(path, &frames);
         if path == RenderPath::Deferred {
-            report_light_tiles(args, &mut report, renderer, &frame, "city")?;
-            if !args.no_debug_views {
-                shadow_views(args, &mut report, renderer, &frame, "city")?;
-            }
+            report_lighting(args, &mut report, renderer, &frame, "city")?;
         }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
@@ -620,7 +619,7 @@ fn render_scene(
         report.timings(path, &frames);
         let name = scene_kind.name();
         if path == RenderPath::Deferred {
-            report_light_tiles(args, &mut report, renderer, &frame, name)?;
+            report_lighting(args, &mut report, renderer, &frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;
             let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
@@ -648,7 +647,6 @@ fn render_scene(
                     &format!("depth-equal quad overdraw (mean {mean:.2})"),
                     &file,
                 );
-                shadow_views(args, &mut report, renderer, &frame, name)?;
                 motion_view(args, &mut report, renderer, &prepared, &frame, name)?;
             }
             if mismatch.is_some() {

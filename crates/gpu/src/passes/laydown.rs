@@ -291,38 +291,14 @@ impl Laydown {
             });
             pass.set_bind_group(0, group, &[]);
             pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
-            pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-            for alpha_pass in [false, true] {
-                pass.set_pipeline(if alpha_pass {
-                    &self.shadow_alpha
-                } else {
-                    &self.shadow_opaque
-                });
-                for d in f
-                    .scene
-                    .draws
-                    .iter()
-                    .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
-                {
-                    pass.draw_indexed(
-                        d.first_index..d.first_index + d.index_count,
-                        d.base_vertex as i32,
-                        d.first_instance..d.first_instance + d.instance_count,
-                    );
-                }
-            }
-            if f.static_query
-                && let Some(b) = &f.scene.statics
-            {
-                // Static instances may fade: the alpha-tested pipeline dithers them.
-                super::static_place::record_static_draws(
-                    &mut pass,
-                    b,
-                    &self.shadow_alpha,
-                    &self.shadow_alpha,
-                    false,
-                );
-            }
+            // Static instances may fade: the alpha-tested pipeline dithers them.
+            record_draws(
+                &mut pass,
+                f,
+                &self.shadow_opaque,
+                &self.shadow_alpha,
+                &self.shadow_alpha,
+            );
         }
     }
 
