@@ -369,6 +369,7 @@ pub(crate) fn frame_uniforms(
         mip_bias,
         frame_index,
         time: frame.time,
+        baked_sun: [[0.0; 4]; 4],
     }
 }
 

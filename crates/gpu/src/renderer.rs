@@ -75,6 +75,11 @@ pub struct RendererConfig {
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
     pub shadows: Option<crate::ShadowConfig>,
+    /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
+    /// (1024² texels), rendered when the scene or the sun
+    /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
+    /// the sun's shader. Off: the term is 1 everywhere.
+    pub baked_sun: bool,
 }
 
 impl RendererConfig {
@@ -115,6 +120,7 @@ impl Default for RendererConfig {
             mip_bias: 0.0,
             tiled_lights: true,
             shadows: Some(crate::ShadowConfig::default()),
+            baked_sun: true,
         }
     }
 }
@@ -402,7 +408,7 @@ impl Renderer {
             .filter(|(id, _)| *id == scene.id)
             .map(|(_, p)| p);
         let origin = scene.summary.origin;
-        let uniforms = frame_uniforms(
+        let mut uniforms = frame_uniforms(
             frame,
             origin,
             (self.config.width, self.config.height),
@@ -410,6 +416,7 @@ impl Renderer {
             self.frame_index,
             previous,
         );
+        self.bake_sun(scene, frame, &mut uniforms);
         self.upload_lights(frame)?;
         self.upload_shadows(frame, &uniforms)?;
         self.queue
@@ -1086,6 +1093,45 @@ impl Renderer {
         gpu: &GpuClassification,
     ) -> Result<(ClassificationStats, Option<String>)> {
         classification_statistics(scene, gpu)
+    }
+
+    /// KZ2's pre-rendered sun shadow: the baked map of `scene`'s batches for this frame's
+    /// sun, rendered (in a submission of its own) when the scene or the sun direction
+    /// changed, its matrix put into `uniforms`. Off (`RendererConfig::baked_sun`), or for a
+    /// scene without batch instances, the matrix stays zero: no baked shadow.
+    fn bake_sun(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        uniforms: &mut FrameUniforms,
+    ) {
+        let (true, Some(bounds)) = (self.config.baked_sun, scene.bounds) else {
+            return;
+        };
+        let sun = frame.lighting.sun_direction.normalize_or(glam::Vec3::Y);
+        let matrix = crate::shadows::baked_sun_matrix(bounds, sun);
+        uniforms.baked_sun = matrix.to_cols_array_2d();
+        let key = (scene.id, sun.to_array().map(f32::to_bits));
+        let maps = &mut self.targets.shadows;
+        if maps.baked_for == Some(key) {
+            return;
+        }
+        let mut bake = *uniforms;
+        bake.view_proj = matrix.to_cols_array_2d();
+        bake.origin_offset = [0.0; 4];
+        bake.baked_sun = [[0.0; 4]; 4];
+        self.queue
+            .write_buffer(&maps.baked_frame, 0, bytemuck::bytes_of(&bake));
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("baked sun map"),
+            });
+        self.pipelines
+            .laydown
+            .record_bake(&mut encoder, scene, &maps.baked_view);
+        self.queue.submit([encoder.finish()]);
+        maps.baked_for = Some(key);
     }
 
     /// Fits the sun's cascades to this frame's camera and uploads each cascade's frame

@@ -152,6 +152,43 @@ impl GpuSunShadow {
     }
 }
 
+/// Texels per side of the baked sun map (KZ2's pre-rendered sun shadow: low resolution,
+/// the real-time slices add the detail).
+pub(crate) const BAKED_SUN_RESOLUTION: u32 = 1024;
+
+/// The baked sun map's matrix: origin-relative positions to an orthographic box around
+/// the sphere of `bounds` (origin-relative), seen from the sun towards `sun_direction`
+/// (world), depth 0 nearest the sun.
+pub(crate) fn baked_sun_matrix(
+    bounds: (glam::Vec3, glam::Vec3),
+    sun_direction: glam::Vec3,
+) -> glam::Mat4 {
+    use glam::{Mat4, Vec3, Vec4};
+    let to_sun = sun_direction.normalize_or(Vec3::Y);
+    let centre = (bounds.0 + bounds.1) * 0.5;
+    let radius = ((bounds.1 - bounds.0).length() * 0.5).max(1e-3);
+    let fwd = -to_sun;
+    let helper = if fwd.y.abs() > 0.99 { Vec3::X } else { Vec3::Y };
+    let right = helper.cross(fwd).normalize();
+    let up = fwd.cross(right);
+    // Rows: x = (q - c).right / r, y = (q - c).up / r, z = ((q - c).fwd + r) / 2r.
+    let row = |axis: Vec3, scale: f32, offset: f32| {
+        Vec4::new(
+            axis.x * scale,
+            axis.y * scale,
+            axis.z * scale,
+            (offset - centre.dot(axis)) * scale,
+        )
+    };
+    Mat4::from_cols(
+        row(right, 1.0 / radius, 0.0),
+        row(up, 1.0 / radius, 0.0),
+        row(fwd, 0.5 / radius, radius),
+        Vec4::W,
+    )
+    .transpose()
+}
+
 /// Byte stride of the per-cascade frame uniforms in their buffer (a multiple of every
 /// adapter's uniform offset alignment, 256).
 pub(crate) const CASCADE_FRAME_STRIDE: u64 = 512;
@@ -170,6 +207,14 @@ pub(crate) struct ShadowMaps {
     pub frames: wgpu::Buffer,
     /// `GpuSunShadow`.
     pub sun: wgpu::Buffer,
+    /// The baked sun map ([`BAKED_SUN_RESOLUTION`]²; the view keeps its texture).
+    pub baked_view: wgpu::TextureView,
+    /// A 1x1 depth texture bound in the baked map's place while the map is the attachment.
+    pub stand_in_view: wgpu::TextureView,
+    /// The bake pass's frame uniforms.
+    pub baked_frame: wgpu::Buffer,
+    /// The scene and sun (bits) the baked map was rendered for.
+    pub baked_for: Option<(u64, [u32; 3])>,
 }
 
 impl ShadowMaps {
@@ -219,6 +264,34 @@ impl ShadowMaps {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let depth = |label, size| {
+            let t = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size,
+                    height: size,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: SHADOW_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let v = t.create_view(&Default::default());
+            (t, v)
+        };
+        let (_, baked_view) = depth("baked sun map", BAKED_SUN_RESOLUTION);
+        let (_, stand_in_view) = depth("baked sun stand-in", 1);
+        let baked_frame = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("baked sun frame"),
+            size: size_of::<crate::resources::rows::FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Self {
             config,
             texture,
@@ -226,6 +299,10 @@ impl ShadowMaps {
             array_view,
             frames,
             sun,
+            baked_view,
+            stand_in_view,
+            baked_frame,
+            baked_for: None,
         }
     }
 

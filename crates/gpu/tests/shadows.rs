@@ -151,3 +151,111 @@ fn shadow_maps_move_by_whole_texels_and_keep_their_texels() {
     }
     assert!(shifted >= 2, "the maps never moved: {shifted}");
 }
+
+/// KZ2's pre-rendered sun shadow: the G-buffer's sun term is 0 on a good part of the forest
+/// floor, and where it is 0 the real-time slices agree (an f64 evaluation of lighting's
+/// PCF on the read-back maps gives at most a third lit for nearly all of those pixels);
+/// with the bake off the term is 1 everywhere.
+#[test]
+fn the_baked_sun_term_agrees_with_the_real_time_slices() {
+    use glam::DMat4;
+    let (scene, frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    let c = ctx();
+    let (w, h) = (240u32, 136u32);
+    let make = |baked_sun: bool| {
+        Renderer::new(
+            &c.device,
+            &c.queue,
+            RendererConfig {
+                width: w,
+                height: h,
+                shadows: common::test_shadows(),
+                baked_sun,
+                ..RendererConfig::default()
+            },
+        )
+        .unwrap()
+    };
+    let mut off = make(false);
+    let p = off.prepare(&scene).unwrap();
+    off.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let depth_off = off.read_depth().unwrap();
+    let surfaces_off = off.read_gbuffer().unwrap();
+    assert!(
+        surfaces_off
+            .iter()
+            .zip(&depth_off)
+            .all(|(s, &d)| d <= 0.0 || s.sun_shadow == 1.0)
+    );
+
+    let mut r = make(true);
+    let prepared = r.prepare(&scene).unwrap();
+    r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
+    let surfaces = r.read_gbuffer().unwrap();
+    let depth = r.read_depth().unwrap();
+    let maps = r.read_shadow_maps().unwrap();
+    let cascades = r.shadow_cascades().unwrap().cascades().to_vec();
+    let res = f64::from(common::test_shadows().unwrap().resolution);
+    let cam = frame.camera;
+    let aspect = f64::from(w) / f64::from(h);
+    let view = DMat4::look_at_rh(
+        cam.position.as_dvec3(),
+        cam.target.as_dvec3(),
+        cam.up.as_dvec3(),
+    );
+    let proj =
+        DMat4::perspective_infinite_reverse_rh(f64::from(cam.fov_y), aspect, f64::from(cam.near));
+    let inv = (proj * view).inverse();
+    let forward = (cam.target - cam.position).as_dvec3().normalize();
+    let (mut geometry, mut baked_dark, mut agree) = (0, 0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if depth[i] <= 0.0 {
+                continue;
+            }
+            geometry += 1;
+            let s = &surfaces[i];
+            if s.sun_shadow > 0.0 || s.normal.dot(frame.lighting.sun_direction.normalize()) <= 0.0 {
+                continue;
+            }
+            baked_dark += 1;
+            let ndc = DVec4::new(
+                (f64::from(x) + 0.5) / f64::from(w) * 2.0 - 1.0,
+                1.0 - (f64::from(y) + 0.5) / f64::from(h) * 2.0,
+                f64::from(depth[i]),
+                1.0,
+            );
+            let q = inv * ndc;
+            let world = q.truncate() / q.w;
+            let dist = (world - cam.position.as_dvec3()).dot(forward);
+            let Some(k) = cascades.iter().position(|c| dist <= c.split[1]) else {
+                agree += 1; // beyond the slices: nothing real-time to compare
+                continue;
+            };
+            let c = &cascades[k];
+            let pushed = world + s.normal.as_dvec3() * (1.5 * c.texel_size);
+            let clip = c.world_to_clip * pushed.extend(1.0);
+            let (u, v) = (clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
+            let (cx, cy) = ((u * res).floor() as i64, (v * res).floor() as i64);
+            let n = res as i64;
+            let mut lit = 0;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (tx, ty) = ((cx + dx).clamp(0, n - 1), (cy + dy).clamp(0, n - 1));
+                    lit += usize::from(clip.z <= f64::from(maps[k][(ty * n + tx) as usize]));
+                }
+            }
+            agree += usize::from(lit <= 3);
+        }
+    }
+    eprintln!(
+        "{geometry} geometry pixels, {baked_dark} facing the sun in full baked shadow, {agree} of them at most a third lit in the slices"
+    );
+    assert!(baked_dark * 10 > geometry, "{baked_dark} of {geometry}");
+    assert!(agree * 100 >= baked_dark * 90, "{agree} of {baked_dark}");
+}

@@ -145,6 +145,9 @@ pub struct Args {
     /// Render no sun shadow maps (the sun lights everything but for the baked term).
     #[arg(long)]
     pub no_shadows: bool,
+    /// No baked sun term (KZ2's pre-rendered sun shadow): every pixel runs the sun's shader.
+    #[arg(long)]
+    pub no_baked_sun: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -195,6 +198,25 @@ fn report_lighting(
     let tiles = renderer.read_light_tiles()?;
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
+    // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
+    let (surfaces, depth) = (renderer.read_gbuffer()?, renderer.read_depth()?);
+    let to_sun = frame
+        .lighting
+        .sun_direction
+        .normalize_or(gpu::glam::Vec3::Y);
+    let (mut geometry, mut baked, mut away) = (0u64, 0u64, 0u64);
+    for (s, &d) in surfaces.iter().zip(&depth) {
+        if d <= 0.0 {
+            continue;
+        }
+        geometry += 1;
+        if s.normal.dot(to_sun) <= 0.0 {
+            away += 1;
+        } else if s.sun_shadow <= 0.0 {
+            baked += 1;
+        }
+    }
+    report.sun_skip(geometry, baked, away);
     if !args.no_debug_views {
         let (img, max) = gpu::debug::lights_per_tile(args.width, args.height, &tiles, 0);
         let file = args.out.join(format!("{name}_debug_lights_per_tile.png"));
@@ -371,6 +393,7 @@ pub fn run(args: &Args) -> Result<()> {
         primitive_id,
         tiled_lights: !args.all_lights,
         shadows: (!args.no_shadows).then(gpu::ShadowConfig::default),
+        baked_sun: !args.no_baked_sun,
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;

@@ -85,6 +85,21 @@ impl Report {
         );
     }
 
+    /// How many geometry pixels skip the sun's shader (KZ2: close to half): in full baked
+    /// sun shadow, or facing away from the sun.
+    pub fn sun_skip(&mut self, geometry: u64, baked: u64, away: u64) {
+        let pct = |n: u64| 100.0 * n as f64 / geometry.max(1) as f64;
+        self.row(
+            "sun's shader skipped: in full baked shadow / facing away (of geometry pixels)",
+            format!(
+                "{:.1}% / {:.1}% = {:.1}% (KZ2: close to 50%)",
+                pct(baked),
+                pct(away),
+                pct(baked + away)
+            ),
+        );
+    }
+
     /// A CPU time.
     pub fn cpu_ms(&mut self, what: &str, ms: f64) {
         self.row(what, format!("{ms:.1} ms"));

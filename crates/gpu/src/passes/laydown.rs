@@ -29,6 +29,7 @@ pub(crate) const SCENE_GROUP: Group = Group {
             },
         ),
         Binding::new("albedo_sampler", Kind::Sampler),
+        Binding::new("baked_sun_map", Kind::texture_2d(Sample::Depth)),
     ],
 };
 
@@ -302,6 +303,34 @@ impl Laydown {
         }
     }
 
+    /// Records KZ2's pre-rendered sun map: every caster of the scene's own batches into
+    /// `target`, through the bake group (whose frame holds the bake's matrix).
+    pub(crate) fn record_bake(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &crate::resources::PreparedScene,
+        target: &wgpu::TextureView,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("baked sun map"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: target,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &scene.bake_scene, &[]);
+        pass.set_bind_group(1, &scene.laydown.payloads, &[]);
+        draw_planned(&mut pass, scene, &self.shadow_opaque, &self.shadow_alpha);
+    }
+
     /// Records the depth + visibility laydown; `late`: its second geometry pass of two-pass
     /// occlusion, the late static lists over the depth and vis buffer the first left.
     pub(crate) fn record_vis(
@@ -422,8 +451,23 @@ pub(crate) fn record_draws(
     alpha: &wgpu::RenderPipeline,
     statics: &wgpu::RenderPipeline,
 ) {
-    let draws: &[Draw] = &f.scene.draws;
-    pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    draw_planned(pass, f.scene, opaque, alpha);
+    if f.static_query
+        && let Some(b) = &f.scene.statics
+    {
+        super::static_place::record_static_draws(pass, b, statics, statics, false);
+    }
+}
+
+/// The scene's planned draws (its batches), opaque first, then alpha-tested.
+fn draw_planned(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &crate::resources::PreparedScene,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+) {
+    let draws: &[Draw] = &scene.draws;
+    pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     for alpha_pass in [false, true] {
         pass.set_pipeline(if alpha_pass { alpha } else { opaque });
         for d in draws
@@ -436,11 +480,6 @@ pub(crate) fn record_draws(
                 d.first_instance..d.first_instance + d.instance_count,
             );
         }
-    }
-    if f.static_query
-        && let Some(b) = &f.scene.statics
-    {
-        super::static_place::record_static_draws(pass, b, statics, statics, false);
     }
 }
 

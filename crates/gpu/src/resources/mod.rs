@@ -108,6 +108,10 @@ pub struct PreparedScene {
     pub(crate) laydown: laydown::Groups,
     /// The scene group once per sun-shadow cascade (its `frame` the cascade's).
     pub(crate) shadow_scene: Vec<wgpu::BindGroup>,
+    /// The scene group of the baked sun map's pass.
+    pub(crate) bake_scene: wgpu::BindGroup,
+    /// The batch instances' bounds, origin-relative (`None` without instances).
+    pub(crate) bounds: Option<(Vec3, Vec3)>,
     pub(crate) baseline: wgpu::BindGroup,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
@@ -164,6 +168,35 @@ fn origin(scene: &Scene) -> Vec3 {
     };
     let (lo, hi) = it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
     ((lo + hi) * 0.5).round()
+}
+
+/// The world bounds of the scene's batch instances (each mesh's box through each
+/// instance's transform), relative to `origin`; `None` without instances.
+fn batch_bounds(scene: &Scene, origin: Vec3) -> Option<(Vec3, Vec3)> {
+    let mut bounds: Option<(Vec3, Vec3)> = None;
+    for b in &scene.batches {
+        let Some(mesh) = scene.meshes.get(b.mesh.0) else {
+            continue;
+        };
+        let Some(&first) = mesh.positions.first() else {
+            continue;
+        };
+        let (lo, hi) = mesh
+            .positions
+            .iter()
+            .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let (centre, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+        for t in &b.instances {
+            let c = t.transform_point3(centre) - origin;
+            let m = glam::Mat3::from(t.matrix3);
+            let e = m.x_axis.abs() * half.x + m.y_axis.abs() * half.y + m.z_axis.abs() * half.z;
+            bounds = Some(match bounds {
+                None => (c - e, c + e),
+                Some((a, z)) => (a.min(c - e), z.max(c + e)),
+            });
+        }
+    }
+    bounds.filter(|(lo, hi)| lo.is_finite() && hi.is_finite())
 }
 
 /// Reserves instance slots and micro-batch IDs for every static setup (`tiling`'s
@@ -369,8 +402,17 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             ("materials", materials.as_entire_binding()),
             ("albedo", wgpu::BindingResource::TextureView(&albedo_view)),
             ("albedo_sampler", wgpu::BindingResource::Sampler(c.sampler)),
+            (
+                "baked_sun_map",
+                wgpu::BindingResource::TextureView(&c.targets.shadows.baked_view),
+            ),
         ];
         let p = c.pipelines;
+        // The bake pass's group: its own frame, the stand-in where the map it renders is.
+        let mut bake_group = scene_group.clone();
+        bake_group[0].1 = c.targets.shadows.baked_frame.as_entire_binding();
+        bake_group[6].1 = wgpu::BindingResource::TextureView(&c.targets.shadows.stand_in_view);
+        let bake_scene = p.laydown.scene_group(device, &bake_group)?;
         let config = tiling::ClassifyConfig::for_plan(&tiling_plan, c.wave_width);
         let batch_groups: usize = tiling_plan.pass_groups.iter().map(Vec::len).sum();
         let sizes = classify::Sizes::new(
@@ -410,6 +452,8 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             id: c.id,
             summary,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
+            bake_scene,
+            bounds: batch_bounds(scene, origin),
             shadow_scene: (0..c.targets.shadows.cascades())
                 .map(|i| {
                     let mut group = scene_group.clone();

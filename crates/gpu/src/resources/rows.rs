@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Per-frame constants (WGSL `FrameUniforms`): 320 bytes. See `wgsl/frame.wgsl` for the
+/// Per-frame constants (WGSL `FrameUniforms`): 384 bytes. See `wgsl/frame.wgsl` for the
 /// spaces: positions are camera-relative, stored origin-relative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -37,8 +37,11 @@ pub(crate) struct FrameUniforms {
     pub frame_index: u32,
     /// The frame input's time (seconds).
     pub time: f32,
+    /// Origin-relative position to the baked sun map's clip space (KZ2's pre-rendered sun
+    /// shadow); all zero when there is none.
+    pub baked_sun: [[f32; 4]; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 320);
+const _: () = assert!(size_of::<FrameUniforms>() == 384);
 
 /// One instance (WGSL `GpuInstance`): object-to-origin-relative transform rows and its
 /// place in the vis buffer. 64 bytes.
@@ -259,6 +262,7 @@ mod tests {
                 mip_bias,
                 frame_index,
                 time,
+                baked_sun,
             }),
         );
         // The Rust rows array is three WGSL members.

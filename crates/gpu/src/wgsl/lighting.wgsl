@@ -199,10 +199,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
         diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
         pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
-        // The baked sun term times the real-time shadow (skipped where nothing reaches).
+        // KZ2's mix of the baked sun term and the real-time shadow: the darker of the two;
+        // the sun's shader is skipped where the baked term is 0 (fully in baked shadow) or
+        // the surface faces away.
         var sun = s.sun_shadow;
         if (sun > 0.0 && nl > 0.0) {
-            sun *= lighting_sun_visibility(p, n, -pv.z);
+            sun = min(sun, lighting_sun_visibility(p, n, -pv.z));
         }
         color += frame.sun_color.rgb * (diffuse * nl * sun + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * sun);
         nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;

@@ -21,7 +21,33 @@ fn material_motion(p: vec3<f32>) -> vec2<f32> {
     return (now.xy / now.w - before.xy / before.w) * half_size;
 }
 
-// `p`: the sample's camera-relative position (for its motion).
+// KZ2's pre-rendered sun shadow: the sun's visibility at camera-relative `p` (normal `n`)
+// in the baked map of the scene's own batches, a 2x2 texel PCF (1 without a baked map or
+// off it). Pixels where it is 0 skip the sun's shader in lighting.
+fn material_baked_sun(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    if (frame.baked_sun[3][3] == 0.0) {
+        return 1.0;
+    }
+    let size = vec2<f32>(textureDimensions(baked_sun_map));
+    // One texel of world size, from the matrix's x row scale (orthographic).
+    let texel = 2.0 / (length(vec3<f32>(frame.baked_sun[0][0], frame.baked_sun[1][0], frame.baked_sun[2][0])) * size.x);
+    let q = p - frame.origin_offset.xyz + n * (1.5 * texel);
+    let clip = frame.baked_sun * vec4<f32>(q, 1.0);
+    let uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5) * size - 0.5;
+    if (!(all(uv >= vec2<f32>(0.0)) && all(uv < size - 1.0) && clip.z <= 1.0)) {
+        return 1.0;
+    }
+    let t = vec2<i32>(floor(uv));
+    let f = fract(uv);
+    var lit = vec4<f32>(0.0);
+    lit.x = select(0.0, 1.0, clip.z <= textureLoad(baked_sun_map, t, 0));
+    lit.y = select(0.0, 1.0, clip.z <= textureLoad(baked_sun_map, t + vec2<i32>(1, 0), 0));
+    lit.z = select(0.0, 1.0, clip.z <= textureLoad(baked_sun_map, t + vec2<i32>(0, 1), 0));
+    lit.w = select(0.0, 1.0, clip.z <= textureLoad(baked_sun_map, t + vec2<i32>(1, 1), 0));
+    return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
+}
+
+// `p`: the sample's camera-relative position (for its motion and the baked sun).
 fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>) -> DeferredSurface {
     let m = materials[material_index];
     let texel = textureSampleGrad(albedo, albedo_sampler, uv, m.albedo_layer, duv_dx, duv_dy);
@@ -31,7 +57,7 @@ fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_d
     s.normal = normalize(normal);
     s.roughness = m.roughness;
     s.specular = m.specular;
-    s.sun_shadow = 1.0;
+    s.sun_shadow = material_baked_sun(p, s.normal);
     // The scene does not animate yet: the camera's motion is all there is.
     s.motion = material_motion(p);
     return s;
