@@ -220,22 +220,7 @@ pub(crate) struct ShadowMaps {
 impl ShadowMaps {
     pub(crate) fn new(device: &wgpu::Device, config: Option<ShadowConfig>) -> Self {
         let (size, layers) = config.map_or((1, 1), |c| (c.resolution, c.cascades));
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sun shadow maps"),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: layers,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: SHADOW_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        let texture = depth_texture(device, "sun shadow maps", size, layers);
         let layer_views = (0..layers)
             .map(|i| {
                 texture.create_view(&wgpu::TextureViewDescriptor {
@@ -264,28 +249,10 @@ impl ShadowMaps {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let depth = |label, size| {
-            let t = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: size,
-                    height: size,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: SHADOW_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
-            let v = t.create_view(&Default::default());
-            (t, v)
-        };
-        let (_, baked_view) = depth("baked sun map", BAKED_SUN_RESOLUTION);
-        let (_, stand_in_view) = depth("baked sun stand-in", 1);
+        let depth =
+            |label, size| depth_texture(device, label, size, 1).create_view(&Default::default());
+        let baked_view = depth("baked sun map", BAKED_SUN_RESOLUTION);
+        let stand_in_view = depth("baked sun stand-in", 1);
         let baked_frame = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("baked sun frame"),
             size: size_of::<crate::resources::rows::FrameUniforms>() as u64,
@@ -310,4 +277,25 @@ impl ShadowMaps {
     pub(crate) fn cascades(&self) -> u32 {
         self.config.map_or(0, |c| c.cascades)
     }
+}
+
+/// A square [`SHADOW_FORMAT`] texture of `layers` layers, for rendering, sampling and
+/// read-back.
+fn depth_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: SHADOW_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
 }
