@@ -1,12 +1,13 @@
 //! The complete wgpu renderer of the workspace: visibility-buffer laydown, GPU
 //! classification into loose-tile wave commands, compute material resolve into a G-buffer,
-//! deferred lighting, and HZD's depth-equal baseline that it replaces. Every format and
+//! deferred lighting (KZ2's sun slices as stable cascaded shadow maps with a baked sun
+//! term, tiled point and spot lights), and HZD's depth-equal baseline that it replaces. Every format and
 //! algorithm comes from the small crates; this crate owns devices, buffers, pipelines and
 //! passes.
 //!
 //! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
-//! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun and point
-//! lights) and uploads only what changed. The renderer runs on your device: ask for
+//! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun, point
+//! and spot lights) and uploads its constants. The renderer runs on your device: ask for
 //! [`Renderer::required_limits`] and any of [`Renderer::optional_features`] when you create
 //! it, or let [`headless`] make one.
 //!
