@@ -27,8 +27,23 @@ fn renderer() -> Renderer {
     renderer_sized(W, H)
 }
 
+/// The static frames' renderer: without the baked sun term, which takes a scene's batches
+/// only (the city's static instances are placed per frame), so it would differ between a
+/// GPU-driven city and the same instances planned as batches, which these tests compare.
 fn renderer_sized(width: u32, height: u32) -> Renderer {
-    common::renderer(width, height, true)
+    let c = ctx();
+    Renderer::new(
+        &c.device,
+        &c.queue,
+        gpu::RendererConfig {
+            width,
+            height,
+            shadows: common::test_shadows(),
+            baked_sun: false,
+            ..gpu::RendererConfig::default()
+        },
+    )
+    .unwrap()
 }
 
 fn small_city() -> City {
@@ -63,6 +78,7 @@ impl Rig {
                 width,
                 height,
                 shadows: None,
+                baked_sun: false,
                 ..gpu::RendererConfig::default()
             },
         )

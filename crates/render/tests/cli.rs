@@ -28,6 +28,12 @@ fn help_lists_the_options() {
         "--instances",
         "--occlusion",
         "--walk",
+        "--lights",
+        "--light-area",
+        "--all-lights",
+        "--no-sun",
+        "--no-shadows",
+        "--no-baked-sun",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }
@@ -50,6 +56,11 @@ fn bad_values_are_refused_by_name_without_a_panic() {
         (&["--walk", "99"][..], "--walk"),
         (&["--walk=-1"][..], "--walk"),
         (&["--occlusion", "sometimes"][..], "--occlusion"),
+        (&["--lights", "5000"][..], "--lights"),
+        (&["--lights=-3"][..], "--lights"),
+        (&["--light-area", "0.5"][..], "between 1 and 10000 metres"),
+        (&["--light-area", "NaN"][..], "between 1 and 10000 metres"),
+        (&["--light-area", "far"][..], "not a number"),
     ] {
         let (code, _, err) = render(args);
         assert_eq!(code, 2, "{args:?}: clap's usage error\n{err}");
