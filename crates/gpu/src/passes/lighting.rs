@@ -1,5 +1,6 @@
-//! Deferred lighting in compute (`gpu::lighting`): KZ2's sun, ambient and local lights
-//! over the G-buffer, tone mapped into the sRGB-encoded output image. The same pass ends
+//! Deferred lighting in compute (`gpu::lighting`): KZ2's sun (its slice of the shadow
+//! maps, 3x3 PCF, and the G-buffer's baked term), ambient and local lights over the
+//! G-buffer, tone mapped into the sRGB-encoded output image. The same pass ends
 //! both the deferred and the baseline frames. Local lights come from each tile's list
 //! ([`super::lights`]); feature `all_lights` tests every light at every pixel instead (the
 //! reference the tiled image equals, and the baseline of its measurements).

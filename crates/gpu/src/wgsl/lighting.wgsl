@@ -4,7 +4,9 @@
 // shades the lights whose volume holds it; with feature `all_lights`, every light is
 // tested at every pixel instead (the reference the tiled path must equal). Local lights
 // are in view space: the pixel's camera-relative position and normal are rotated into it
-// (dot products, and so the shading, do not change).
+// (dot products, and so the shading, do not change). The sun is shadowed by its slice of
+// the cascaded shadow maps (gpu::shadows) and the G-buffer's baked term, the darker of the
+// two; its shader is skipped where the baked term is 0.
 
 #import gpu::frame
 #import gpu::gbuffer_load
