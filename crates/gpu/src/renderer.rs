@@ -1163,9 +1163,7 @@ impl Renderer {
             &maps.sun,
             0,
             bytemuck::bytes_of(&crate::shadows::GpuSunShadow::new(
-                &cascades,
-                origin,
-                config.resolution,
+                &cascades, origin, &config,
             )),
         );
         self.cascades = Some(cascades);

@@ -16,6 +16,9 @@ use glam::DVec3;
 use crate::error::{Error, Result};
 use crate::frame::Camera;
 
+/// Largest [`ShadowConfig::pcf_radius`].
+pub(crate) const MAX_PCF_RADIUS: u32 = 2;
+
 /// Shadow-map depth format.
 pub(crate) const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -31,6 +34,10 @@ pub struct ShadowConfig {
     /// Practical-split blend of the slice distances, in `[0, 1]` (0 uniform, 1
     /// logarithmic).
     pub lambda: f32,
+    /// KZ2's per-slice filtering: slice `k` takes a `(2 r + 1)²`-texel PCF with
+    /// `r = pcf_radius[k]`, at most 2 (25, 9 or 1 taps): wide near the camera, one tap far
+    /// away, where a texel covers more of the screen's pixels anyway.
+    pub pcf_radius: [u32; MAX_CASCADES],
 }
 
 impl Default for ShadowConfig {
@@ -40,6 +47,7 @@ impl Default for ShadowConfig {
             resolution: 2048,
             far: 120.0,
             lambda: 0.75,
+            pcf_radius: [2, 1, 1, 0, 0, 0, 0, 0],
         }
     }
 }
@@ -70,6 +78,13 @@ impl ShadowConfig {
         }
         if !(0.0..=1.0).contains(&self.lambda) {
             return bad("ShadowConfig::lambda", f64::from(self.lambda), "[0, 1]");
+        }
+        if let Some(&r) = self.pcf_radius.iter().find(|&&r| r > MAX_PCF_RADIUS) {
+            return bad(
+                "ShadowConfig::pcf_radius",
+                f64::from(r),
+                "0 to 2 texels per slice",
+            );
         }
         Ok(())
     }
@@ -118,7 +133,7 @@ impl ShadowConfig {
     }
 }
 
-/// What lighting reads of the sun's shadows (WGSL `GpuSunShadow`), 656 bytes.
+/// What lighting reads of the sun's shadows (WGSL `GpuSunShadow`), 688 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub(crate) struct GpuSunShadow {
@@ -130,8 +145,10 @@ pub(crate) struct GpuSunShadow {
     pub resolution: u32,
     /// Zero.
     pub pad: [u32; 2],
+    /// Per slice: its PCF radius in texels ([`ShadowConfig::pcf_radius`]).
+    pub pcf_radius: [u32; MAX_CASCADES],
 }
-const _: () = assert!(size_of::<GpuSunShadow>() == 656);
+const _: () = assert!(size_of::<GpuSunShadow>() == 688);
 
 impl Default for GpuSunShadow {
     fn default() -> Self {
@@ -140,14 +157,17 @@ impl Default for GpuSunShadow {
 }
 
 impl GpuSunShadow {
-    /// The GPU rows of `cascades` for a camera at `origin` (world).
-    pub(crate) fn new(cascades: &StableCascades, origin: DVec3, resolution: u32) -> Self {
+    /// The GPU rows of `cascades` for a camera at `origin` (world), filtered as `config`
+    /// says.
+    pub(crate) fn new(cascades: &StableCascades, origin: DVec3, config: &ShadowConfig) -> Self {
+        let resolution = config.resolution;
         let mut s = Self::default();
         for (out, c) in s.cascades.iter_mut().zip(cascades.cascades()) {
             *out = c.gpu(origin);
         }
         s.count = cascades.cascades().len() as u32;
         s.resolution = resolution;
+        s.pcf_radius = config.pcf_radius.map(|r| r.min(MAX_PCF_RADIUS));
         s
     }
 }
@@ -298,4 +318,77 @@ fn depth_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32) -> 
             | wgpu::TextureUsages::COPY_SRC,
         view_formats: &[],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field out of range is refused by name; the default passes.
+    #[test]
+    fn validation_names_the_field() {
+        assert!(ShadowConfig::default().validate().is_ok());
+        let field = |c: ShadowConfig| match c.validate() {
+            Err(Error::Config { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        let d = ShadowConfig::default();
+        assert_eq!(
+            field(ShadowConfig { cascades: 0, ..d }),
+            "ShadowConfig::cascades"
+        );
+        assert_eq!(
+            field(ShadowConfig { cascades: 9, ..d }),
+            "ShadowConfig::cascades"
+        );
+        assert_eq!(
+            field(ShadowConfig {
+                resolution: 32,
+                ..d
+            }),
+            "ShadowConfig::resolution"
+        );
+        assert_eq!(
+            field(ShadowConfig { far: f32::NAN, ..d }),
+            "ShadowConfig::far"
+        );
+        assert_eq!(
+            field(ShadowConfig { lambda: 1.5, ..d }),
+            "ShadowConfig::lambda"
+        );
+        let mut wide = d;
+        wide.pcf_radius[3] = 3;
+        assert_eq!(field(wide), "ShadowConfig::pcf_radius");
+    }
+
+    /// The bake's box holds the scene: its bounds' corners land inside clip x, y in
+    /// [-1, 1] and depth in [0, 1], for a low and a vertical sun.
+    #[test]
+    fn the_baked_sun_box_holds_the_bounds() {
+        let bounds = (
+            glam::Vec3::new(-40.0, -2.0, -30.0),
+            glam::Vec3::new(50.0, 25.0, 20.0),
+        );
+        for sun in [glam::Vec3::new(0.4, 0.3, 0.2), glam::Vec3::Y] {
+            let m = baked_sun_matrix(bounds, sun);
+            for i in 0..8 {
+                let p = glam::Vec3::new(
+                    if i & 1 == 0 { bounds.0.x } else { bounds.1.x },
+                    if i & 2 == 0 { bounds.0.y } else { bounds.1.y },
+                    if i & 4 == 0 { bounds.0.z } else { bounds.1.z },
+                );
+                let c = m * p.extend(1.0);
+                assert!(
+                    c.x.abs() <= 1.0 + 1e-5 && c.y.abs() <= 1.0 + 1e-5,
+                    "{sun} {p}: {c}"
+                );
+                assert!((-1e-5..=1.0 + 1e-5).contains(&c.z), "{sun} {p}: {c}");
+            }
+            // Nearer the sun is smaller depth.
+            let centre = (bounds.0 + bounds.1) * 0.5;
+            let a = m * centre.extend(1.0);
+            let b = m * (centre + sun.normalize() * 5.0).extend(1.0);
+            assert!(b.z < a.z, "{sun}");
+        }
+    }
 }

@@ -196,8 +196,13 @@ mod tests {
                 cascades,
                 count,
                 resolution,
-                pad
+                pad,
+                pcf_radius
             }),
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_MAX_PCF_RADIUS"),
+            Some(crate::shadows::MAX_PCF_RADIUS)
         );
     }
 }

@@ -22,7 +22,7 @@ struct GpuLocalLights {
     pad: vec2<u32>,
 }
 
-// Rust: gpu::shadows::GpuSunShadow (656 bytes).
+// Rust: gpu::shadows::GpuSunShadow (688 bytes).
 struct GpuSunShadow {
     cascades: array<DeferredCascade, 8>,
     // cascades in use; 0: no real-time sun shadow
@@ -30,7 +30,12 @@ struct GpuSunShadow {
     // texels per side of each map
     resolution: u32,
     pad: vec2<u32>,
+    // per slice: its PCF radius in texels, at most GPU_MAX_PCF_RADIUS
+    pcf_radius: array<vec4<u32>, 2>,
 }
+
+// Rust: shadows::MAX_PCF_RADIUS.
+const GPU_MAX_PCF_RADIUS: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 @group(0) @binding(1) var depth_texture: texture_depth_2d;
@@ -85,8 +90,9 @@ fn lighting_srgb(c: vec3<f32>) -> vec3<f32> {
 
 // The sun's visibility at camera-relative `p` (normal `n`, view distance `dist`): the
 // first cascade whose slice reaches `dist`, the point pushed 1.5 texels along its normal
-// (against acne on slopes), a 3x3 texel PCF of `depth <= stored` (0 nearest the sun). 1
-// beyond the last slice, off the map, or with shadows off.
+// (against acne on slopes), a (2r + 1)^2 texel PCF of `depth <= stored` (0 nearest the
+// sun) with the slice's radius r (KZ2: each slice its own tap count). 1 beyond the last
+// slice, off the map, or with shadows off.
 fn lighting_sun_visibility(p: vec3<f32>, n: vec3<f32>, dist: f32) -> f32 {
     let count = min(sun_shadow.count, 8u);
     var k = 0u;
@@ -103,15 +109,17 @@ fn lighting_sun_visibility(p: vec3<f32>, n: vec3<f32>, dist: f32) -> f32 {
         return 1.0;
     }
     let centre = vec2<i32>(coord.xy * vec2<f32>(size));
+    let r = i32(min(sun_shadow.pcf_radius[k / 4u][k % 4u], GPU_MAX_PCF_RADIUS));
     var lit = 0.0;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
+    for (var dy = -r; dy <= r; dy++) {
+        for (var dx = -r; dx <= r; dx++) {
             let t = clamp(centre + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
             let stored = textureLoad(shadow_map, t, i32(k), 0);
             lit += select(0.0, 1.0, coord.z <= stored);
         }
     }
-    return lit / 9.0;
+    let side = f32(2 * r + 1);
+    return lit / (side * side);
 }
 
 // One local light's contribution at view-space `p` (normal `n`, towards the eye `v`), or
