@@ -400,7 +400,12 @@ impl Renderer {
 
     /// Uploads the frame constants of `frame` for `scene`, and its point lights when they
     /// differ from the last upload.
-    fn upload_frame(&mut self, scene: &PreparedScene, frame: &FrameInput) -> Result<()> {
+    fn upload_frame(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        static_frame: bool,
+    ) -> Result<()> {
         frame.validate()?;
         self.check_scene(scene)?;
         let previous = self
@@ -418,7 +423,7 @@ impl Renderer {
         );
         self.bake_sun(scene, frame, &mut uniforms);
         self.upload_lights(frame)?;
-        self.upload_shadows(frame, &uniforms)?;
+        self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
         self.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let aspect = self.config.width as f32 / self.config.height as f32;
@@ -447,7 +452,8 @@ impl Renderer {
         let device = self.device.clone();
         let t0 = Instant::now();
         let view = scoped(&device, || {
-            self.upload_frame(scene, frame)?;
+            let static_frame = statics.is_some();
+            self.upload_frame(scene, frame, static_frame)?;
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
             let view = match statics.as_deref_mut() {
@@ -485,8 +491,15 @@ impl Renderer {
             self.timer.resolve(&mut encoder);
             self.queue.submit([encoder.finish()]);
             wait_idle(&device)?;
+            if what.lights() {
+                self.targets.shadows.rendered(static_frame);
+            }
             Ok(view)
         });
+        if view.is_err() {
+            // The maps' contents are unknown after a failed frame.
+            self.targets.shadows.rendered.clear();
+        }
         // The depth target now holds this frame (or, after an error, nothing known).
         self.depth_camera = match (&view, statics.as_deref()) {
             (Ok(Some(_)), Some(v)) => Some((scene.id, v.view.camera)),
@@ -1137,8 +1150,14 @@ impl Renderer {
     /// Fits the sun's cascades to this frame's camera and uploads each cascade's frame
     /// uniforms (`uniforms` with the cascade's camera-relative matrix as `view_proj`) and
     /// what lighting reads; with shadows off, a zero cascade count.
-    fn upload_shadows(&mut self, frame: &FrameInput, uniforms: &FrameUniforms) -> Result<()> {
-        let maps = &self.targets.shadows;
+    fn upload_shadows(
+        &mut self,
+        scene_id: u64,
+        static_frame: bool,
+        frame: &FrameInput,
+        uniforms: &FrameUniforms,
+    ) -> Result<()> {
+        let maps = &mut self.targets.shadows;
         let Some(config) = maps.config else {
             self.queue.write_buffer(
                 &maps.sun,
@@ -1166,6 +1185,12 @@ impl Renderer {
                 &cascades, origin, &config,
             )),
         );
+        let keys = cascades
+            .cascades()
+            .iter()
+            .map(|c| (scene_id, c.world_to_clip.to_cols_array().map(f64::to_bits)))
+            .collect();
+        maps.plan(keys, static_frame);
         self.cascades = Some(cascades);
         Ok(())
     }

@@ -38,6 +38,11 @@ pub struct ShadowConfig {
     /// `r = pcf_radius[k]`, at most 2 (25, 9 or 1 taps): wide near the camera, one tap far
     /// away, where a texel covers more of the screen's pixels anyway.
     pub pcf_radius: [u32; MAX_CASCADES],
+    /// Keep a slice's map while its world-space matrix and the scene stay the same (the
+    /// stable cascades keep it while the camera holds still or moves within a texel):
+    /// KZ2's stability turned into skipped passes. Frames with a static query always
+    /// re-render (their static casters change per frame). Off: every slice every frame.
+    pub cache: bool,
 }
 
 impl Default for ShadowConfig {
@@ -48,6 +53,7 @@ impl Default for ShadowConfig {
             far: 120.0,
             lambda: 0.75,
             pcf_radius: [2, 1, 1, 0, 0, 0, 0, 0],
+            cache: true,
         }
     }
 }
@@ -235,6 +241,40 @@ pub(crate) struct ShadowMaps {
     pub baked_frame: wgpu::Buffer,
     /// The scene and sun (bits) the baked map was rendered for.
     pub baked_for: Option<(u64, [u32; 3])>,
+    /// Per slice: the scene and world-space matrix (f64 bits) its map holds.
+    pub rendered: Vec<Option<SliceKey>>,
+    /// Per slice: this frame's key, and whether the frame renders the slice.
+    pub pending: Vec<SliceKey>,
+    pub dirty: Vec<bool>,
+}
+
+/// What a slice's map was rendered for: the scene id and the slice's world-to-clip matrix.
+pub(crate) type SliceKey = (u64, [u64; 16]);
+
+impl ShadowMaps {
+    /// Decides which slices this frame renders: those whose key changed since their map
+    /// was rendered, all of them without the cache or in a frame with static casters.
+    pub(crate) fn plan(&mut self, keys: Vec<SliceKey>, static_frame: bool) {
+        let cache = self.config.is_some_and(|c| c.cache);
+        self.dirty = keys
+            .iter()
+            .enumerate()
+            .map(|(i, k)| {
+                !cache || static_frame || self.rendered.get(i).copied().flatten() != Some(*k)
+            })
+            .collect();
+        self.pending = keys;
+    }
+
+    /// After a frame that recorded the slices: what their maps now hold (nothing reusable
+    /// after a frame with static casters).
+    pub(crate) fn rendered(&mut self, static_frame: bool) {
+        self.rendered = self
+            .pending
+            .iter()
+            .map(|k| (!static_frame).then_some(*k))
+            .collect();
+    }
 }
 
 impl ShadowMaps {
@@ -290,6 +330,9 @@ impl ShadowMaps {
             stand_in_view,
             baked_frame,
             baked_for: None,
+            rendered: Vec::new(),
+            pending: Vec::new(),
+            dirty: Vec::new(),
         }
     }
 

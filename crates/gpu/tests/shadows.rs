@@ -259,3 +259,86 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
     assert!(baked_dark * 10 > geometry, "{baked_dark} of {geometry}");
     assert!(agree * 100 >= baked_dark * 90, "{agree} of {baked_dark}");
 }
+
+/// The slice cache: a still camera re-renders no slice, a camera moving within texels
+/// re-renders only slices whose snapped matrix moved, and every frame's image equals the
+/// image of a renderer that renders every slice every frame.
+#[test]
+fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
+    let (scene, frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    let c = ctx();
+    let make = |cache: bool| {
+        Renderer::new(
+            &c.device,
+            &c.queue,
+            RendererConfig {
+                width: 160,
+                height: 90,
+                shadows: Some(ShadowConfig {
+                    cache,
+                    ..common::test_shadows().unwrap()
+                }),
+                ..RendererConfig::default()
+            },
+        )
+        .unwrap()
+    };
+    let (mut cached, mut every) = (make(true), make(false));
+    let (pc, pe) = (
+        cached.prepare(&scene).unwrap(),
+        every.prepare(&scene).unwrap(),
+    );
+    let slices_drawn = |out: &gpu::FrameOutput| {
+        out.gpu
+            .iter()
+            .filter(|t| t.label.starts_with("sun shadow"))
+            .count()
+    };
+    let timestamps = !cached
+        .render(&pc, &frame, RenderPath::Deferred)
+        .unwrap()
+        .gpu
+        .is_empty();
+    let mut path = vec![frame.camera, frame.camera];
+    for k in 1..6 {
+        let d = Vec3::new(0.02 * k as f32, 0.0, -0.05 * k as f32);
+        path.push(Camera {
+            position: frame.camera.position + d,
+            target: frame.camera.target + d,
+            ..frame.camera
+        });
+    }
+    let mut skipped = 0;
+    for (k, camera) in path.iter().enumerate() {
+        let mut f = frame.clone();
+        f.camera = *camera;
+        let out = cached.render(&pc, &f, RenderPath::Deferred).unwrap();
+        every.render(&pe, &f, RenderPath::Deferred).unwrap();
+        let (a, b) = (cached.read_output().unwrap(), every.read_output().unwrap());
+        let differ = a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .filter(|(x, y)| x != y)
+            .count();
+        assert_eq!(differ, 0, "frame {k}: {differ} pixels differ");
+        if timestamps {
+            let drawn = slices_drawn(&out);
+            skipped += 4 - drawn;
+            if k < 2 {
+                assert_eq!(
+                    drawn, 0,
+                    "frame {k}: a still camera re-rendered {drawn} slices"
+                );
+            }
+        }
+    }
+    if timestamps {
+        eprintln!("{skipped} of {} slice passes skipped", 4 * path.len());
+        assert!(skipped > 8, "{skipped}");
+    }
+}

@@ -148,6 +148,10 @@ pub struct Args {
     /// No baked sun term (KZ2's pre-rendered sun shadow): every pixel runs the sun's shader.
     #[arg(long)]
     pub no_baked_sun: bool,
+    /// Render every shadow slice every frame (no reuse of a slice whose stable matrix did
+    /// not move: with a still camera the cache skips them all).
+    #[arg(long)]
+    pub no_shadow_cache: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -392,7 +396,10 @@ pub fn run(args: &Args) -> Result<()> {
         height: args.height,
         primitive_id,
         tiled_lights: !args.all_lights,
-        shadows: (!args.no_shadows).then(gpu::ShadowConfig::default),
+        shadows: (!args.no_shadows).then(|| gpu::ShadowConfig {
+            cache: !args.no_shadow_cache,
+            ..gpu::ShadowConfig::default()
+        }),
         baked_sun: !args.no_baked_sun,
         ..RendererConfig::default()
     };

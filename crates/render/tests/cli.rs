@@ -34,6 +34,7 @@ fn help_lists_the_options() {
         "--no-sun",
         "--no-shadows",
         "--no-baked-sun",
+        "--no-shadow-cache",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }

@@ -275,6 +275,9 @@ impl Laydown {
             .take(maps.cascades() as usize)
             .enumerate()
         {
+            if !maps.dirty.get(i).copied().unwrap_or(true) {
+                continue;
+            }
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(SHADOW_LABELS[i]),
                 color_attachments: &[],

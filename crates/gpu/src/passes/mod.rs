@@ -183,6 +183,16 @@ pub(crate) enum Recording {
     Classification,
 }
 
+impl Recording {
+    /// Whether it ends with the sun's shadow maps, the light tiles and lighting.
+    pub(crate) fn lights(self) -> bool {
+        matches!(
+            self,
+            Recording::Deferred | Recording::DeferredFullScreen | Recording::Baseline
+        )
+    }
+}
+
 impl Pipelines {
     /// Records `what` into `encoder`, each pass in its own timing scope: the frame's order.
     pub(crate) fn record(
