@@ -128,22 +128,12 @@ fn tiled_lighting_equals_every_light_at_every_pixel() {
         let a = tiled.read_output().unwrap();
         all.render(&pa, &frame, path).unwrap();
         let b = all.read_output().unwrap();
-        let differ = a
-            .pixels
-            .iter()
-            .zip(&b.pixels)
-            .filter(|(x, y)| x != y)
-            .count();
+        let differ = common::differing_pixels(&a, &b);
         assert_eq!(differ, 0, "{path:?}: {differ} pixels differ");
         // The lights do light the frame.
         tiled.render(&pt, &dark, path).unwrap();
         let unlit = tiled.read_output().unwrap();
-        let lit = a
-            .pixels
-            .iter()
-            .zip(&unlit.pixels)
-            .filter(|(x, y)| x != y)
-            .count();
+        let lit = common::differing_pixels(&a, &unlit);
         eprintln!(
             "{path:?}: {lit} of {} pixels lit by local lights",
             a.pixels.len()

@@ -319,12 +319,7 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
         let out = cached.render(&pc, &f, RenderPath::Deferred).unwrap();
         every.render(&pe, &f, RenderPath::Deferred).unwrap();
         let (a, b) = (cached.read_output().unwrap(), every.read_output().unwrap());
-        let differ = a
-            .pixels
-            .iter()
-            .zip(&b.pixels)
-            .filter(|(x, y)| x != y)
-            .count();
+        let differ = common::differing_pixels(&a, &b);
         assert_eq!(differ, 0, "frame {k}: {differ} pixels differ");
         if timestamps {
             let drawn = slices_drawn(&out);

@@ -1,7 +1,7 @@
 //! What the renderer's integration tests share: a renderer on testkit's device.
 #![allow(dead_code)]
 
-use gpu::{Renderer, RendererConfig, ShadowConfig};
+use gpu::{Renderer, RendererConfig, Rgba8Image, ShadowConfig};
 use testkit::device::ctx;
 
 /// The sun's shadow maps of the tests' renderers: the default cascades at 512 texels
@@ -28,4 +28,13 @@ pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
         },
     )
     .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Pixels of `a` and `b` (same size) that differ in any channel.
+pub fn differing_pixels(a: &Rgba8Image, b: &Rgba8Image) -> usize {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .filter(|(x, y)| x != y)
+        .count()
 }
