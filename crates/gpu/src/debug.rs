@@ -394,6 +394,62 @@ pub fn cascade_index(
     img
 }
 
+/// KZ2's decision per local light (`deferred::LightClassifier`): each light's screen
+/// rectangle outlined over `image` (a frame of `frame`), green for the depth-bounds path
+/// (small lights), red for the stencil light-volume path (large, shadow-casting, or around
+/// the eye). Returns the image and the counts of lights culled, on the depth-bounds path
+/// and on the volume path. (The frame lights both kinds through the tile lists; the
+/// volume path's own passes are not built.)
+pub fn light_paths(image: &Rgba8Image, frame: &crate::FrameInput) -> (Rgba8Image, [u32; 3]) {
+    use deferred::lights::{LightClassifier, LightPath};
+    let (w, h) = (image.width, image.height);
+    let mut out = image.clone();
+    let mut counts = [0u32; 3];
+    let Ok(perspective) = deferred::Perspective::try_new(
+        frame.camera.fov_y,
+        w.max(1) as f32 / h.max(1) as f32,
+        frame.camera.near,
+        None,
+        deferred::DepthMode::Reversed,
+    ) else {
+        return (out, counts);
+    };
+    let proj = perspective.gpu(glam::Vec2::new(w as f32, h as f32));
+    let classifier = LightClassifier::default();
+    for light in crate::local_light_rows(&frame.lighting, &frame.camera) {
+        let class = classifier.classify(&proj, &light);
+        let colour = match class.path {
+            LightPath::Culled => {
+                counts[0] += 1;
+                continue;
+            }
+            LightPath::DepthBounds => {
+                counts[1] += 1;
+                [40, 230, 60, 255]
+            }
+            LightPath::Volume => {
+                counts[2] += 1;
+                [240, 40, 40, 255]
+            }
+        };
+        let clamp_x = |v: f32| (v.max(0.0) as u32).min(w.saturating_sub(1));
+        let clamp_y = |v: f32| (v.max(0.0) as u32).min(h.saturating_sub(1));
+        let (x0, x1) = (clamp_x(class.rect.min.x), clamp_x(class.rect.max.x));
+        let (y0, y1) = (clamp_y(class.rect.min.y), clamp_y(class.rect.max.y));
+        for x in x0..=x1 {
+            for y in [y0, y1] {
+                out.pixels[(y * w + x) as usize] = colour;
+            }
+        }
+        for y in y0..=y1 {
+            for x in [x0, x1] {
+                out.pixels[(y * w + x) as usize] = colour;
+            }
+        }
+    }
+    (out, counts)
+}
+
 /// Height in pixels of the colour legend along the bottom of [`lights_per_tile`].
 pub const LEGEND_HEIGHT: u32 = 12;
 
@@ -519,6 +575,26 @@ mod tests {
         assert_eq!(img.pixels[1], [230, 60, 60, 255]);
         assert_eq!(img.pixels[2], [60, 200, 80, 255]);
         assert_eq!(img.pixels[3], [50, 50, 50, 255]);
+    }
+
+    /// A small light far ahead takes the depth-bounds path, one around the eye the volume
+    /// path, one behind the eye is culled; outlines stay inside the image.
+    #[test]
+    fn light_paths_follow_kz2s_classifier() {
+        use glam::Vec3;
+        let camera = crate::Camera::look_at(Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 1.0, -10.0));
+        let mut frame = crate::FrameInput::new(camera);
+        let point = |z: f32, radius: f32| crate::PointLight {
+            position: Vec3::new(0.0, 1.0, z),
+            color: Vec3::ONE,
+            radius,
+        };
+        frame.lighting.point_lights = vec![point(-30.0, 1.0), point(0.5, 3.0), point(20.0, 1.0)];
+        let base = Rgba8Image::new(64, 36, [0, 0, 0, 255]);
+        let (img, counts) = light_paths(&base, &frame);
+        assert_eq!(counts, [1, 1, 1]);
+        assert!(img.pixels.contains(&[40, 230, 60, 255]));
+        assert!(img.pixels.contains(&[240, 40, 40, 255]));
     }
 
     /// Tile colours follow the counts on the scale, empty tiles are grey, and the legend

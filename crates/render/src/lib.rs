@@ -229,6 +229,16 @@ fn report_lighting(
             &format!("lights per 16x16 tile (legend at the bottom: 0 black .. {max} white, ticks at quarters)"),
             &file,
         );
+        let (img, [culled, bounds, volume]) =
+            gpu::debug::light_paths(&renderer.read_output()?, frame);
+        let file = args.out.join(format!("{name}_debug_light_paths.png"));
+        img.write_png(&file)?;
+        report.image_named(
+            &format!(
+                "KZ2's path per light: {bounds} depth-bounds (green), {volume} light-volume (red), {culled} culled"
+            ),
+            &file,
+        );
         shadow_views(args, report, renderer, frame.camera.near, name)?;
     }
     Ok(())
