@@ -5,9 +5,8 @@
 //! [`TILE_SIZE`](crate::lights::TILE_SIZE)² tile, row-major; the renderer reduces its depth
 //! target into them) and the frame's lights in view space; its output the per-tile lists in
 //! `cull_tiles`' layout: `counts[t]` lights for tile `t`, their indices ascending at
-//! `indices[t * MAX_LIGHTS_PER_TILE ..]`. One workgroup per tile tests the lights
-//! [`CULL_STEP`] at a time (four per invocation), so a tile's list costs
-//! `ceil(lights / 256)` steps of three barriers whatever its length.
+//! `indices[t * MAX_LIGHTS_PER_TILE ..]`. One workgroup per tile tests the lights 64 at a
+//! time, so a tile's list costs `ceil(lights / 64)` steps whatever its length.
 //!
 //! The per-tile decisions are `TileFrustum::light_visible`'s in f32 on the GPU: a light
 //! within rounding of a tile's plane can fall on the other side (the device tests bound
@@ -23,8 +22,6 @@ use crate::lights::{
 
 /// Invocations per workgroup of [`LIGHT_CULL_PASS`] (one workgroup per tile).
 pub const CULL_WORKGROUP: u32 = 64;
-/// Lights one workgroup tests per step (four per invocation).
-pub const CULL_STEP: u32 = 256;
 
 /// The culling pass's parameters (WGSL `DeferredLightCullParams`), 48 bytes.
 #[repr(C)]
@@ -165,15 +162,6 @@ mod tests {
         assert_eq!(
             const_u32(&m, "DEFERRED_CULL_WORKGROUP"),
             Some(CULL_WORKGROUP)
-        );
-        assert_eq!(const_u32(&m, "DEFERRED_CULL_STEP"), Some(CULL_STEP));
-        assert_eq!(
-            const_u32(&m, "DEFERRED_CULL_PER_LANE").map(|l| l * CULL_WORKGROUP),
-            Some(CULL_STEP)
-        );
-        assert_eq!(
-            const_u32(&m, "DEFERRED_CULL_MASK_WORDS").map(|w| w * 32),
-            Some(CULL_STEP)
         );
         assert_eq!(
             const_u32(&m, "DEFERRED_MAX_WORKGROUPS_X"),

@@ -1,19 +1,13 @@
 // deferred::light_cull_pass: pass 2 of tiled light culling (twin of lights.rs
-// `cull_tiles`). One workgroup of 64 invocations per tile: the lights are tested 256 at a
-// time (four consecutive ones per invocation) against the tile's frustum
-// (deferred_light_in_tile) and the passing indices appended in ascending order, up to
-// DEFERRED_MAX_LIGHTS_PER_TILE; a tile that finds more keeps the first ones and counts as
-// overflowed. Tiles without geometry get an empty
+// `cull_tiles`). One workgroup of 64 invocations per tile: the lights are tested 64 at a
+// time against the tile's frustum (deferred_light_in_tile) and the passing indices
+// appended in ascending order, up to DEFERRED_MAX_LIGHTS_PER_TILE; a tile that finds more
+// keeps the first ones and counts as overflowed. Tiles without geometry get an empty
 // list. Every index and length is checked against its buffer.
 
 #import deferred::lights
 
 const DEFERRED_CULL_WORKGROUP: u32 = 64u;
-// Lights each invocation tests per step, and the lights of one step.
-const DEFERRED_CULL_PER_LANE: u32 = 4u;
-const DEFERRED_CULL_STEP: u32 = 256u;
-// Words of a step's mask (one bit per light).
-const DEFERRED_CULL_MASK_WORDS: u32 = 8u;
 // Workgroups per row of a 2D dispatch (Rust: shader::MAX_WORKGROUPS_X).
 const DEFERRED_MAX_WORKGROUPS_X: u32 = 65535u;
 // Most lights one pass takes (Rust: MAX_LIGHTS).
@@ -45,9 +39,9 @@ struct DeferredLightCullCounters {
 @group(0) @binding(4) var<storage, read_write> indices: array<u32>;
 @group(0) @binding(5) var<storage, read_write> counters: DeferredLightCullCounters;
 
-// The step's passing lights, one bit each (light base + b at bit b).
-var<workgroup> deferred_wg_mask: array<atomic<u32>, 8>;
-var<workgroup> deferred_wg_mask_copy: array<u32, 8>;
+// The chunk's passing lanes, one bit each.
+var<workgroup> deferred_wg_mask: array<atomic<u32>, 2>;
+var<workgroup> deferred_wg_mask_copy: vec2<u32>;
 
 @compute @workgroup_size(64)
 fn cull_lights(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
@@ -71,48 +65,31 @@ fn cull_lights(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_
     let slot = tile * DEFERRED_MAX_LIGHTS_PER_TILE;
     var count = 0u;
     var overflow = false;
-    for (var base = 0u; base < n; base += DEFERRED_CULL_STEP) {
-        if (li < DEFERRED_CULL_MASK_WORDS) {
+    for (var base = 0u; base < n; base += DEFERRED_CULL_WORKGROUP) {
+        if (li < 2u) {
             atomicStore(&deferred_wg_mask[li], 0u);
         }
         workgroupBarrier();
-        // This invocation's four lights: bits 4 li .. 4 li + 3 of the step's mask.
-        let first = base + li * DEFERRED_CULL_PER_LANE;
-        var nibble = 0u;
-        for (var j = 0u; j < DEFERRED_CULL_PER_LANE; j++) {
-            let i = first + j;
-            if (i < n && deferred_light_in_tile(f, lights[i])) {
-                nibble |= 1u << j;
-            }
-        }
-        let shift = (li % 8u) * DEFERRED_CULL_PER_LANE;
-        if (nibble != 0u) {
-            atomicOr(&deferred_wg_mask[li / 8u], nibble << shift);
+        let i = base + li;
+        let visible = i < n && deferred_light_in_tile(f, lights[i]);
+        if (visible) {
+            atomicOr(&deferred_wg_mask[li / 32u], 1u << (li % 32u));
         }
         workgroupBarrier();
-        if (li < DEFERRED_CULL_MASK_WORDS) {
-            deferred_wg_mask_copy[li] = atomicLoad(&deferred_wg_mask[li]);
+        if (li == 0u) {
+            deferred_wg_mask_copy = vec2<u32>(atomicLoad(&deferred_wg_mask[0]), atomicLoad(&deferred_wg_mask[1]));
         }
-        var mask = workgroupUniformLoad(&deferred_wg_mask_copy);
-        // Rank of this invocation's first passing light among the step's (ascending).
-        var below = countOneBits(mask[li / 8u] & ((1u << shift) - 1u));
-        for (var w = 0u; w < li / 8u; w++) {
-            below += countOneBits(mask[w]);
+        let mask = workgroupUniformLoad(&deferred_wg_mask_copy);
+        // Rank among the chunk's passing lanes (ascending light index).
+        var below = countOneBits(mask.x & ((1u << min(li, 31u)) - 1u));
+        if (li >= 32u) {
+            below = countOneBits(mask.x) + countOneBits(mask.y & ((1u << (li - 32u)) - 1u));
         }
-        var k = 0u;
-        for (var j = 0u; j < DEFERRED_CULL_PER_LANE; j++) {
-            if ((nibble & (1u << j)) != 0u) {
-                let at = count + below + k;
-                if (at < DEFERRED_MAX_LIGHTS_PER_TILE && slot + at < arrayLength(&indices)) {
-                    indices[slot + at] = first + j;
-                }
-                k += 1u;
-            }
+        let at = count + below;
+        if (visible && at < DEFERRED_MAX_LIGHTS_PER_TILE && slot + at < arrayLength(&indices)) {
+            indices[slot + at] = i;
         }
-        var total = 0u;
-        for (var w = 0u; w < DEFERRED_CULL_MASK_WORDS; w++) {
-            total += countOneBits(mask[w]);
-        }
+        let total = countOneBits(mask.x) + countOneBits(mask.y);
         if (count + total > DEFERRED_MAX_LIGHTS_PER_TILE) {
             count = DEFERRED_MAX_LIGHTS_PER_TILE;
             overflow = true;
