@@ -12,6 +12,8 @@
 //! - [`Wave::batch_output`]: HZD's run-grouped batch output ("GPU compute thread:
 //!   Batching"): instances append in lane order, the first visible lane of each run writes
 //!   one [`WaveBatch`] header.
+//! - [`ordered_f32`] / [`unordered_f32`]: floats as order-preserving words, so that
+//!   `atomicMax` / `atomicMin` on `u32` keep float extrema (bounds, depth ranges).
 //! - [`compact`] / [`batch_compact`]: the same over a whole stream of items, and under the
 //!   `parallel` feature `parallel::par_compact` and friends over many threads with a real
 //!   shared `AtomicU32`.
@@ -58,6 +60,7 @@ mod append;
 mod batch;
 mod counter;
 mod mask;
+mod ordered;
 #[cfg(feature = "parallel")]
 pub mod parallel;
 mod wave;
@@ -67,6 +70,7 @@ pub use append::{Append, Compaction, RangeReservation, Reservation, compact, com
 pub use batch::{Batch, BatchCompaction, BatchOutput, WaveBatch, batch_compact};
 pub use counter::{CountedAtomicU32, Counter};
 pub use mask::{LaneMask, Lanes, WAVE_WIDTH_MAX, WaveWidth};
+pub use ordered::{ordered_f32, unordered_f32};
 pub use wave::{PerLane, Wave};
 pub use wgsl::{NO_SLOT, WG_BALLOT_WORDS, WG_INVOCATIONS_MAX};
 

@@ -7,6 +7,7 @@
 // subgroup reduction before the atomics changed nothing on the H200: 80 vs 78 us at 4K.)
 
 #import deferred::lights
+#import wave::common
 
 // Rust: passes::lights::GpuTileDepthParams (16 bytes).
 struct GpuTileDepthParams {
@@ -26,16 +27,6 @@ struct GpuTileDepthParams {
 var<workgroup> gpu_tile_near: atomic<u32>;
 var<workgroup> gpu_tile_far: atomic<u32>;
 
-// f32 to a u32 with the same order.
-fn gpu_ordered(f: f32) -> u32 {
-    let b = bitcast<u32>(f);
-    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
-}
-
-fn gpu_unordered(u: u32) -> f32 {
-    return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
-}
-
 // 256 invocations in one dimension: invocation i reads pixel
 // (i % 16, i / 16) of the workgroup's tile.
 @compute @workgroup_size(256)
@@ -47,8 +38,8 @@ fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
     if (li == 0u) {
         // Reversed: nearest is a maximum (from far = 0), farthest a minimum (from 1).
         // Standard: the other way round. Kept as maximum words: minima complemented.
-        atomicStore(&gpu_tile_near, select(~gpu_ordered(empty.nearest), gpu_ordered(empty.nearest), reversed));
-        atomicStore(&gpu_tile_far, select(gpu_ordered(empty.farthest), ~gpu_ordered(empty.farthest), reversed));
+        atomicStore(&gpu_tile_near, select(~wave_ordered_f32(empty.nearest), wave_ordered_f32(empty.nearest), reversed));
+        atomicStore(&gpu_tile_far, select(wave_ordered_f32(empty.farthest), ~wave_ordered_f32(empty.farthest), reversed));
     }
     workgroupBarrier();
     let size = min(params.size, vec2<u32>(textureDimensions(depth_texture)));
@@ -58,7 +49,7 @@ fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
         let d = textureLoad(depth_texture, vec2<i32>(pixel), 0);
         let nan = (bitcast<u32>(d) & 0x7fffffffu) > 0x7f800000u;
         if (d != far && !nan) {
-            let o = gpu_ordered(d);
+            let o = wave_ordered_f32(d);
             near_word = select(~o, o, reversed);
             far_word = select(o, ~o, reversed);
         }
@@ -73,8 +64,8 @@ fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
         let n = atomicLoad(&gpu_tile_near);
         let f = atomicLoad(&gpu_tile_far);
         tile_depths[tile] = DeferredTileDepth(
-            gpu_unordered(select(~n, n, reversed)),
-            gpu_unordered(select(f, ~f, reversed)),
+            wave_unordered_f32(select(~n, n, reversed)),
+            wave_unordered_f32(select(f, ~f, reversed)),
         );
     }
 }

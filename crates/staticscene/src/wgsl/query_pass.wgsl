@@ -10,6 +10,7 @@
 // records never read outside their tile.
 
 #import staticscene::query
+#import wave::common
 #import wave::workgroup
 #if subgroups
 #import wave::subgroup
@@ -102,16 +103,6 @@ var<workgroup> staticscene_wg_bmin: array<atomic<u32>, 192>;
 var<workgroup> staticscene_wg_bmax: array<atomic<u32>, 192>;
 var<workgroup> staticscene_wg_bdepth: array<atomic<u32>, 64>;
 var<workgroup> staticscene_wg_bflags: array<atomic<u32>, 64>;
-
-// f32 to a u32 with the same order (-0 below +0).
-fn staticscene_ordered(f: f32) -> u32 {
-    let b = bitcast<u32>(f);
-    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
-}
-
-fn staticscene_unordered(u: u32) -> f32 {
-    return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
-}
 
 fn staticscene_is_nan(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
@@ -487,13 +478,13 @@ fn staticscene_test(job: StaticsceneGpuJob, records_fit: bool, q: vec4<u32>, til
 
 // Folds a visible invocation into its group's accumulation (bounds, nearest depth, flags).
 fn staticscene_fold(g: u32, lane: StaticsceneLane) {
-    atomicMax(&staticscene_wg_bmin[g * 3u], ~staticscene_ordered(lane.bmin.x));
-    atomicMax(&staticscene_wg_bmin[g * 3u + 1u], ~staticscene_ordered(lane.bmin.y));
-    atomicMax(&staticscene_wg_bmin[g * 3u + 2u], ~staticscene_ordered(lane.bmin.z));
-    atomicMax(&staticscene_wg_bmax[g * 3u], staticscene_ordered(lane.bmax.x));
-    atomicMax(&staticscene_wg_bmax[g * 3u + 1u], staticscene_ordered(lane.bmax.y));
-    atomicMax(&staticscene_wg_bmax[g * 3u + 2u], staticscene_ordered(lane.bmax.z));
-    atomicMax(&staticscene_wg_bdepth[g], ~staticscene_ordered(lane.depth));
+    atomicMax(&staticscene_wg_bmin[g * 3u], ~wave_ordered_f32(lane.bmin.x));
+    atomicMax(&staticscene_wg_bmin[g * 3u + 1u], ~wave_ordered_f32(lane.bmin.y));
+    atomicMax(&staticscene_wg_bmin[g * 3u + 2u], ~wave_ordered_f32(lane.bmin.z));
+    atomicMax(&staticscene_wg_bmax[g * 3u], wave_ordered_f32(lane.bmax.x));
+    atomicMax(&staticscene_wg_bmax[g * 3u + 1u], wave_ordered_f32(lane.bmax.y));
+    atomicMax(&staticscene_wg_bmax[g * 3u + 2u], wave_ordered_f32(lane.bmax.z));
+    atomicMax(&staticscene_wg_bdepth[g], ~wave_ordered_f32(lane.depth));
     atomicOr(&staticscene_wg_bflags[g], lane.flags);
 }
 
@@ -501,16 +492,16 @@ fn staticscene_fold(g: u32, lane: StaticsceneLane) {
 // returns 1 when it falls past the buffer (dropped).
 fn staticscene_write_header(g: u32, lane: StaticsceneLane, slot: u32, count: u32, bslot: u32) -> u32 {
     let bmin = vec3<f32>(
-        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u])),
-        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 1u])),
-        staticscene_unordered(~atomicLoad(&staticscene_wg_bmin[g * 3u + 2u])),
+        wave_unordered_f32(~atomicLoad(&staticscene_wg_bmin[g * 3u])),
+        wave_unordered_f32(~atomicLoad(&staticscene_wg_bmin[g * 3u + 1u])),
+        wave_unordered_f32(~atomicLoad(&staticscene_wg_bmin[g * 3u + 2u])),
     );
     let bmax = vec3<f32>(
-        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u])),
-        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 1u])),
-        staticscene_unordered(atomicLoad(&staticscene_wg_bmax[g * 3u + 2u])),
+        wave_unordered_f32(atomicLoad(&staticscene_wg_bmax[g * 3u])),
+        wave_unordered_f32(atomicLoad(&staticscene_wg_bmax[g * 3u + 1u])),
+        wave_unordered_f32(atomicLoad(&staticscene_wg_bmax[g * 3u + 2u])),
     );
-    let depth = staticscene_unordered(~atomicLoad(&staticscene_wg_bdepth[g]));
+    let depth = wave_unordered_f32(~atomicLoad(&staticscene_wg_bdepth[g]));
     if (bslot >= arrayLength(&out_batches)) {
         return 1u;
     }

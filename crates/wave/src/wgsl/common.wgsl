@@ -15,6 +15,19 @@
 // arguments, so the counter can be any `atomic<u32>` the pass has: a binding, an array
 // element, a struct field.
 
+// f32 to a u32 with the same order (-0 below +0), for atomicMax / atomicMin on floats
+// (keep a minimum as the maximum of the complemented words: zero memory is neutral).
+// Rust: wave::ordered_f32.
+fn wave_ordered_f32(f: f32) -> u32 {
+    let b = bitcast<u32>(f);
+    return select(b | 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+// Inverse of wave_ordered_f32. Rust: wave::unordered_f32.
+fn wave_unordered_f32(u: u32) -> f32 {
+    return bitcast<f32>(select(~u, u & 0x7fffffffu, (u & 0x80000000u) != 0u));
+}
+
 // Returned by the `*_append_end` functions to invocations that append nothing, and to
 // those whose slot would wrap past u32::MAX. Rust: `wave::NO_SLOT`.
 const WAVE_NO_SLOT: u32 = 0xffffffffu;
