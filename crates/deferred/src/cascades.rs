@@ -174,9 +174,10 @@ pub fn slice_bounding_sphere(near: f64, far: f64, tan_x: f64, tan_y: f64) -> (f6
     (c, math::sqrt64(dn * dn + near * near * k2))
 }
 
-/// A unit light frame: `(right, up, towards the scene)`, from `to_light` and a fixed world
-/// reference, so it depends only on the light.
-fn light_frame(to_light: DVec3) -> (DVec3, DVec3, DVec3) {
+/// A unit light frame: `(right, up, towards the scene)`, from the unit direction
+/// `to_light` (towards the light) and a fixed world reference, so it depends only on the
+/// light; right-handed, `up = right × forward`. The cascades' light space.
+pub fn light_frame(to_light: DVec3) -> (DVec3, DVec3, DVec3) {
     let fwd = -to_light;
     let reference = if fwd.y.abs() < 0.99 {
         DVec3::Y

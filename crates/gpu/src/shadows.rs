@@ -193,10 +193,9 @@ pub(crate) fn baked_sun_matrix(
     let to_sun = sun_direction.normalize_or(Vec3::Y);
     let centre = (bounds.0 + bounds.1) * 0.5;
     let radius = ((bounds.1 - bounds.0).length() * 0.5).max(1e-3);
-    let fwd = -to_sun;
-    let helper = if fwd.y.abs() > 0.99 { Vec3::X } else { Vec3::Y };
-    let right = helper.cross(fwd).normalize();
-    let up = fwd.cross(right);
+    // The cascades' light space, so the bake and the slices share their axes.
+    let (right, up, fwd) = deferred::cascades::light_frame(to_sun.as_dvec3());
+    let (right, up, fwd) = (right.as_vec3(), up.as_vec3(), fwd.as_vec3());
     // Rows: x = (q - c).right / r, y = (q - c).up / r, z = ((q - c).fwd + r) / 2r.
     let row = |axis: Vec3, scale: f32, offset: f32| {
         Vec4::new(
@@ -218,6 +217,10 @@ pub(crate) fn baked_sun_matrix(
 /// Byte stride of the per-cascade frame uniforms in their buffer (a multiple of every
 /// adapter's uniform offset alignment, 256).
 pub(crate) const CASCADE_FRAME_STRIDE: u64 = 512;
+const _: () = assert!(
+    CASCADE_FRAME_STRIDE.is_multiple_of(256)
+        && CASCADE_FRAME_STRIDE >= size_of::<crate::resources::rows::FrameUniforms>() as u64
+);
 
 /// The shadow maps of one renderer: a depth array of one layer per cascade (1x1x1 when
 /// shadows are off, so lighting's bindings hold something), its views, the per-cascade

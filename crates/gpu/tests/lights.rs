@@ -10,7 +10,6 @@ use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles, tile_depth_ranges};
 use deferred::{DepthMode, Perspective};
 use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{FrameInput, RenderPath, Renderer, RendererConfig, Scene, local_light_rows};
-use testkit::device::ctx;
 
 const W: u32 = 333;
 const H: u32 = 190;
@@ -29,20 +28,14 @@ fn lit_forest() -> (Scene, FrameInput) {
 }
 
 fn renderer(tiled_lights: bool, subgroups: bool) -> Renderer {
-    let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: W,
-            height: H,
-            tiled_lights,
-            subgroups,
-            shadows: common::test_shadows(),
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    common::renderer_with(RendererConfig {
+        width: W,
+        height: H,
+        tiled_lights,
+        subgroups,
+        shadows: common::test_shadows(),
+        ..RendererConfig::default()
+    })
 }
 
 #[test]
@@ -157,18 +150,12 @@ fn lit_image_equals_an_f64_reference() {
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
     // Without the sun's shadow maps (their test is tests/shadows.rs): the reference
     // evaluates the lighting terms alone.
-    let c = ctx();
-    let mut r = Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: W,
-            height: H,
-            shadows: None,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap();
+    let mut r = common::renderer_with(RendererConfig {
+        width: W,
+        height: H,
+        shadows: None,
+        ..RendererConfig::default()
+    });
     let prepared = r.prepare(&scene).unwrap();
     r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
     let image = r.read_output().unwrap();

@@ -8,7 +8,6 @@ mod common;
 use glam::{DVec3, DVec4, Quat, Vec3};
 use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, ShadowConfig};
-use testkit::device::ctx;
 
 const RES: u32 = 512;
 
@@ -80,24 +79,18 @@ fn shadow_maps_move_by_whole_texels_and_keep_their_texels() {
         seed: 7,
         density: 0.25,
     });
-    let c = ctx();
     let config = ShadowConfig {
         cascades: 2,
         resolution: RES,
         far: 40.0,
         ..ShadowConfig::default()
     };
-    let mut r = Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: 160,
-            height: 90,
-            shadows: Some(config),
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap();
+    let mut r = common::renderer_with(RendererConfig {
+        width: 160,
+        height: 90,
+        shadows: Some(config),
+        ..RendererConfig::default()
+    });
     let prepared = r.prepare(&scene).unwrap();
     let base = render(&mut r, &prepared, &frame);
     // Something casts into every cascade.
@@ -164,21 +157,15 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
         seed: 7,
         density: 0.25,
     });
-    let c = ctx();
     let (w, h) = (240u32, 136u32);
     let make = |baked_sun: bool| {
-        Renderer::new(
-            &c.device,
-            &c.queue,
-            RendererConfig {
-                width: w,
-                height: h,
-                shadows: common::test_shadows(),
-                baked_sun,
-                ..RendererConfig::default()
-            },
-        )
-        .unwrap()
+        common::renderer_with(RendererConfig {
+            width: w,
+            height: h,
+            shadows: common::test_shadows(),
+            baked_sun,
+            ..RendererConfig::default()
+        })
     };
     let mut off = make(false);
     let p = off.prepare(&scene).unwrap();
@@ -270,22 +257,16 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
         seed: 7,
         density: 0.25,
     });
-    let c = ctx();
     let make = |cache: bool| {
-        Renderer::new(
-            &c.device,
-            &c.queue,
-            RendererConfig {
-                width: 160,
-                height: 90,
-                shadows: Some(ShadowConfig {
-                    cache,
-                    ..common::test_shadows().unwrap()
-                }),
-                ..RendererConfig::default()
-            },
-        )
-        .unwrap()
+        common::renderer_with(RendererConfig {
+            width: 160,
+            height: 90,
+            shadows: Some(ShadowConfig {
+                cache,
+                ..common::test_shadows().unwrap()
+            }),
+            ..RendererConfig::default()
+        })
     };
     let (mut cached, mut every) = (make(true), make(false));
     let (pc, pe) = (

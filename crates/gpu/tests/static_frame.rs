@@ -31,19 +31,13 @@ fn renderer() -> Renderer {
 /// only (the city's static instances are placed per frame), so it would differ between a
 /// GPU-driven city and the same instances planned as batches, which these tests compare.
 fn renderer_sized(width: u32, height: u32) -> Renderer {
-    let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        gpu::RendererConfig {
-            width,
-            height,
-            shadows: common::test_shadows(),
-            baked_sun: false,
-            ..gpu::RendererConfig::default()
-        },
-    )
-    .unwrap()
+    common::renderer_with(gpu::RendererConfig {
+        width,
+        height,
+        shadows: common::test_shadows(),
+        baked_sun: false,
+        ..gpu::RendererConfig::default()
+    })
 }
 
 fn small_city() -> City {
@@ -70,19 +64,13 @@ impl Rig {
     /// what occlusion draws, without them.
     fn without_sun_shadows(width: u32, height: u32) -> Rig {
         let mut rig = Rig::sized(width, height);
-        let c = ctx();
-        rig.r = Renderer::new(
-            &c.device,
-            &c.queue,
-            gpu::RendererConfig {
-                width,
-                height,
-                shadows: None,
-                baked_sun: false,
-                ..gpu::RendererConfig::default()
-            },
-        )
-        .unwrap();
+        rig.r = common::renderer_with(gpu::RendererConfig {
+            width,
+            height,
+            shadows: None,
+            baked_sun: false,
+            ..gpu::RendererConfig::default()
+        });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
         rig
     }

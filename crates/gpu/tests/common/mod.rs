@@ -13,21 +13,22 @@ pub fn test_shadows() -> Option<ShadowConfig> {
     })
 }
 
-/// A renderer of `width` x `height` on the shared test device, subgroups on or off.
-pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
+/// A renderer of `config` on the shared test device.
+pub fn renderer_with(config: RendererConfig) -> Renderer {
     let c = ctx();
-    Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width,
-            height,
-            subgroups,
-            shadows: test_shadows(),
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    Renderer::new(&c.device, &c.queue, config).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A renderer of `width` x `height` on the shared test device, subgroups on or off, with
+/// the tests' shadow maps.
+pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
+    renderer_with(RendererConfig {
+        width,
+        height,
+        subgroups,
+        shadows: test_shadows(),
+        ..RendererConfig::default()
+    })
 }
 
 /// Pixels of `a` and `b` (same size) that differ in any channel.
