@@ -405,6 +405,9 @@ pub fn light_paths(image: &Rgba8Image, frame: &crate::FrameInput) -> (Rgba8Image
     let (w, h) = (image.width, image.height);
     let mut out = image.clone();
     let mut counts = [0u32; 3];
+    if w == 0 || h == 0 || out.pixels.len() < (w * h) as usize {
+        return (out, counts);
+    }
     let Ok(perspective) = deferred::Perspective::try_new(
         frame.camera.fov_y,
         w.max(1) as f32 / h.max(1) as f32,
@@ -593,6 +596,12 @@ mod tests {
         let base = Rgba8Image::new(64, 36, [0, 0, 0, 255]);
         let (img, counts) = light_paths(&base, &frame);
         assert_eq!(counts, [1, 1, 1]);
+        // An empty or short image is returned as it is, never indexed out of bounds.
+        let (empty, none) = light_paths(&Rgba8Image::new(0, 0, [0; 4]), &frame);
+        assert_eq!((empty.pixels.len(), none), (0, [0; 3]));
+        let mut short = base.clone();
+        short.pixels.truncate(10);
+        assert_eq!(light_paths(&short, &frame).0.pixels.len(), 10);
         assert!(img.pixels.contains(&[40, 230, 60, 255]));
         assert!(img.pixels.contains(&[240, 40, 40, 255]));
     }
