@@ -15,7 +15,9 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::SHADER_F16)
     .union(wgpu::Features::SHADER_INT64)
     .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
-    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT);
+    .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT)
+    .union(wgpu::Features::FLOAT32_BLENDABLE)
+    .union(wgpu::Features::DEPTH32FLOAT_STENCIL8);
 
 /// How the laydown's fragment shader learns which triangle it is shading.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

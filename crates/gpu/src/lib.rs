@@ -92,7 +92,10 @@ pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
-pub use renderer::{FrameOutput, LightTiles, RenderPath, Renderer, RendererConfig, WARM_UP};
+pub use renderer::{
+    FrameOutput, LightPathCounts, LightPaths, LightTiles, RenderPath, Renderer, RendererConfig,
+    WARM_UP,
+};
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,

@@ -55,6 +55,31 @@ impl RenderPath {
     }
 }
 
+/// How local lights reach the image. Every path gives the same image up to rounding:
+/// each light's shading is exactly zero outside its volume, and the paths differ only in
+/// which pixels they try.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum LightPaths {
+    /// KZ2's classification per light and frame ([`deferred::lights::LightClassifier`]):
+    /// small lights take the tiles (the per-tile depth-bounds test, wgpu having none),
+    /// lights covering at least 20% of the screen or holding the eye take stencil volumes.
+    #[default]
+    Classified,
+    /// Every light through the 16x16 tiles' lists.
+    Tiled,
+    /// Every light as a stencil volume.
+    Volumes,
+    /// Every light tested at every pixel (no tiles, no volumes): the reference.
+    EveryPixel,
+}
+
+impl LightPaths {
+    /// Whether some light may take the stencil-volume path.
+    pub fn volumes(self) -> bool {
+        matches!(self, LightPaths::Classified | LightPaths::Volumes)
+    }
+}
+
 /// Renderer options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RendererConfig {
@@ -69,9 +94,10 @@ pub struct RendererConfig {
     pub subgroups: bool,
     /// Mip bias of the compute resolve (log2 units, in [-16, 16]).
     pub mip_bias: f32,
-    /// Lighting reads each 16x16 tile's light list (KZ2's tiled path, the default); off,
-    /// it tests every local light at every pixel (the reference and measurement baseline).
-    pub tiled_lights: bool,
+    /// How local lights reach the image: KZ2's classification between tiles and stencil
+    /// volumes (the default), one of the two for every light, or every light tested at
+    /// every pixel (the reference and measurement baseline).
+    pub light_paths: LightPaths,
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
     pub shadows: Option<crate::ShadowConfig>,
@@ -118,7 +144,7 @@ impl Default for RendererConfig {
             primitive_id: None,
             subgroups: true,
             mip_bias: 0.0,
-            tiled_lights: true,
+            light_paths: LightPaths::Classified,
             shadows: Some(crate::ShadowConfig::default()),
             baked_sun: true,
         }
@@ -147,10 +173,28 @@ pub struct LightTiles {
     /// Per tile: its lights (at most `MAX_LIGHTS_PER_TILE`).
     pub counts: Vec<u32>,
     /// Per tile, `MAX_LIGHTS_PER_TILE` slots: its lights' indices (ascending) in
-    /// [`local_light_rows`](crate::local_light_rows)'s order, the first `counts[t]` valid.
+    /// [`LightTiles::lights`], the first `counts[t]` valid.
     pub indices: Vec<u32>,
+    /// The lights that took the tiled path in the last frame, in view space: all of
+    /// [`local_light_rows`](crate::local_light_rows), in its order, under
+    /// [`LightPaths::Tiled`]; under [`LightPaths::Classified`], those KZ2's classifier
+    /// left to the tiles, in the same relative order.
+    pub lights: Vec<deferred::DeferredLight>,
     /// Tiles with geometry, (tile, light) pairs, tiles that overflowed.
     pub stats: deferred::lights::CullStats,
+}
+
+/// How the last frame's local lights were drawn ([`Renderer::light_path_counts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LightPathCounts {
+    /// Lights in the tiles' lists (or, under [`LightPaths::EveryPixel`], tested at every
+    /// pixel).
+    pub tiled: u32,
+    /// Lights drawn as stencil volumes (those wholly behind the near plane are not).
+    pub volumes: u32,
+    /// Of `volumes`, those drawn from inside (the eye in the mesh or the mesh reaching the
+    /// near plane): back faces alone, no stencil.
+    pub volumes_from_inside: u32,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -176,6 +220,11 @@ pub struct Renderer {
     local: wgpu::Buffer,
     /// The lights in view space and the light tiles.
     lights: LightBuffers,
+    /// This frame's lights on the tiled path (the tiles' indices point into it), in the
+    /// light buffer's order.
+    tiled_lights: Vec<deferred::DeferredLight>,
+    /// This frame's stencil volume draws.
+    volume_draws: Vec<passes::light_volumes::VolumeDraw>,
     /// The sun's cascades of the last frame (f64), with shadows on.
     cascades: Option<deferred::cascades::StableCascades>,
     timer: GpuTimer,
@@ -282,7 +331,13 @@ impl Renderer {
             .and_then(|(_, hi)| wave::WaveWidth::from_lanes(hi).ok())
             .unwrap_or(wave::WaveWidth::W32);
         scoped(device, || {
-            let targets = Targets::new(device, config.width, config.height, config.shadows);
+            let targets = Targets::new(
+                device,
+                config.width,
+                config.height,
+                config.shadows,
+                config.light_paths.volumes(),
+            );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
                 size: size_of::<FrameUniforms>() as u64,
@@ -300,8 +355,7 @@ impl Renderer {
                 anisotropy_clamp: 1,
                 ..Default::default()
             });
-            let pipelines =
-                Pipelines::new(device, &paths, wave_width.lanes(), config.tiled_lights)?;
+            let pipelines = Pipelines::new(device, &paths, wave_width.lanes(), config.light_paths)?;
             let local = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("local lights"),
                 size: size_of::<GpuLocalLights>() as u64,
@@ -318,8 +372,22 @@ impl Renderer {
                     .lighting
                     .groups(device, &targets, &frame, &local, &lights)?,
                 lights: pipelines.lights.groups(device, &targets, &lights)?,
+                light_volumes: pipelines
+                    .light_volumes
+                    .as_ref()
+                    .map(|v| {
+                        v.groups(
+                            device,
+                            &targets,
+                            &frame,
+                            &local,
+                            &lights.lights,
+                            &lights.volumes,
+                        )
+                    })
+                    .transpose()?,
             };
-            let timer = GpuTimer::new(device, queue, 32);
+            let timer = GpuTimer::new(device, queue, 48);
             Ok(Self {
                 device: device.clone(),
                 queue: queue.clone(),
@@ -335,6 +403,8 @@ impl Renderer {
                 sampler,
                 local,
                 lights,
+                tiled_lights: Vec::new(),
+                volume_draws: Vec::new(),
                 cascades: None,
                 timer,
                 frame_index: 0,
@@ -422,7 +492,7 @@ impl Renderer {
             previous,
         );
         self.bake_sun(scene, frame, &mut uniforms);
-        self.upload_lights(frame)?;
+        uniforms.local_light_count = self.upload_lights(frame)?;
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
         self.queue
             .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
@@ -469,6 +539,7 @@ impl Renderer {
                         targets: &self.targets,
                         groups: &self.groups,
                         static_query,
+                        volumes: &self.volume_draws,
                     }
                 };
             }
@@ -992,6 +1063,16 @@ impl Renderer {
         })
     }
 
+    /// How the last frame's local lights were split between the tiles and the stencil
+    /// volumes.
+    pub fn light_path_counts(&self) -> LightPathCounts {
+        LightPathCounts {
+            tiled: self.tiled_lights.len() as u32,
+            volumes: self.volume_draws.len() as u32,
+            volumes_from_inside: self.volume_draws.iter().filter(|d| d.inside).count() as u32,
+        }
+    }
+
     /// Reads back the last frame's light tiles: each 16x16 tile's depth range, light count
     /// and list, and what the culling pass counted.
     ///
@@ -1019,6 +1100,7 @@ impl Renderer {
             depths: bytemuck::pod_collect_to_vec(&depths),
             counts: bytemuck::pod_collect_to_vec(&counts),
             indices: bytemuck::pod_collect_to_vec(&indices),
+            lights: self.tiled_lights.clone(),
             stats: counters.stats(),
         })
     }
@@ -1083,6 +1165,7 @@ impl Renderer {
                 targets: &self.targets,
                 groups: &self.groups,
                 static_query: false,
+                volumes: &[],
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);
@@ -1227,29 +1310,12 @@ impl Renderer {
 
     /// Uploads the frame's local lights in view space and the light passes' uniforms (the
     /// lights move in view space with the camera, so every frame), growing the light
-    /// buffer when it is short.
-    fn upload_lights(&mut self, frame: &FrameInput) -> Result<()> {
-        let mut rows = local_light_rows(&frame.lighting, &frame.camera);
-        let count = rows.len() as u32;
-        if rows.is_empty() {
-            // A binding holds at least one light; the count says none are real.
-            rows.push(deferred::DeferredLight::default());
-        }
-        if rows.len() > self.lights.capacity {
-            self.lights =
-                LightBuffers::new(&self.device, &self.targets, rows.len().next_power_of_two())?;
-            self.groups.lighting = self.pipelines.lighting.groups(
-                &self.device,
-                &self.targets,
-                &self.frame,
-                &self.local,
-                &self.lights,
-            )?;
-            self.groups.lights =
-                self.pipelines
-                    .lights
-                    .groups(&self.device, &self.targets, &self.lights)?;
-        }
+    /// buffers when they are short. Splits the lights between the tiles and the stencil
+    /// volumes as [`RendererConfig::light_paths`] says: the tiled ones first in the light
+    /// buffer (their count is returned, for the frame uniforms), the volumes' after them.
+    fn upload_lights(&mut self, frame: &FrameInput) -> Result<u32> {
+        use crate::passes::light_volumes::{GpuLightVolume, VolumeDraw};
+        use deferred::lights::{LightClassifier, LightPath};
         let (width, height) = (self.config.width, self.config.height);
         let camera = &frame.camera;
         let projection = deferred::Perspective::try_new(
@@ -1271,9 +1337,88 @@ impl Renderer {
             })
         })?
         .gpu(glam::Vec2::new(width as f32, height as f32));
+        let all = local_light_rows(&frame.lighting, camera);
+        let classifier = LightClassifier::default();
+        let volume = |l: &deferred::DeferredLight| match self.config.light_paths {
+            LightPaths::Tiled | LightPaths::EveryPixel => false,
+            LightPaths::Volumes => true,
+            // A light the classifier culls stays with the tiles, whose own test decides.
+            LightPaths::Classified => classifier.classify(&projection, l).path == LightPath::Volume,
+        };
+        let (volume_lights, tiled): (Vec<_>, Vec<_>) = all.into_iter().partition(volume);
+        let count = tiled.len() as u32;
+        let reach = self
+            .pipelines
+            .light_volumes
+            .as_ref()
+            .map_or(1.0, |v| v.reach);
+        let mut volumes = Vec::with_capacity(volume_lights.len().max(1));
+        self.volume_draws.clear();
+        for (k, l) in volume_lights.iter().enumerate() {
+            let (c, r) = l.bounding_sphere();
+            volumes.push(GpuLightVolume {
+                sphere: [c.x, c.y, c.z, r],
+                light: count + k as u32,
+                pad: [0; 3],
+            });
+            // View depths of the mesh's bounding sphere. All of it nearer than the near
+            // plane (or behind the eye): it lights no visible point, no draw. Reaching the
+            // near plane (as it does with the eye inside): its front faces may be clipped,
+            // so it is drawn from inside.
+            let (nearest, farthest) = (-c.z - r * reach, -c.z + r * reach);
+            if farthest < camera.near {
+                continue;
+            }
+            self.volume_draws.push(VolumeDraw {
+                volume: k as u32,
+                inside: nearest <= camera.near * 1.001,
+            });
+        }
+        let mut rows = tiled.clone();
+        rows.extend(volume_lights);
+        self.tiled_lights = tiled;
+        if rows.is_empty() {
+            // A binding holds at least one light; the counts say none are real.
+            rows.push(deferred::DeferredLight::default());
+        }
+        if volumes.is_empty() {
+            volumes.push(GpuLightVolume::default());
+        }
+        if rows.len() > self.lights.capacity {
+            self.lights =
+                LightBuffers::new(&self.device, &self.targets, rows.len().next_power_of_two())?;
+            self.groups.lighting = self.pipelines.lighting.groups(
+                &self.device,
+                &self.targets,
+                &self.frame,
+                &self.local,
+                &self.lights,
+            )?;
+            self.groups.lights =
+                self.pipelines
+                    .lights
+                    .groups(&self.device, &self.targets, &self.lights)?;
+            self.groups.light_volumes = self
+                .pipelines
+                .light_volumes
+                .as_ref()
+                .map(|v| {
+                    v.groups(
+                        &self.device,
+                        &self.targets,
+                        &self.frame,
+                        &self.local,
+                        &self.lights.lights,
+                        &self.lights.volumes,
+                    )
+                })
+                .transpose()?;
+        }
         let b = &self.lights;
         self.queue
             .write_buffer(&b.lights, 0, bytemuck::cast_slice(&rows));
+        self.queue
+            .write_buffer(&b.volumes, 0, bytemuck::cast_slice(&volumes));
         self.queue.write_buffer(
             &b.cull_params,
             0,
@@ -1297,7 +1442,7 @@ impl Renderer {
                 pad: [0; 2],
             }),
         );
-        Ok(())
+        Ok(count)
     }
 
     /// Replaces the classification phases' `override`s and skips entry points, for timing

@@ -63,6 +63,19 @@ pub enum OcclusionArg {
     Readback,
 }
 
+/// `--light-paths`: how local lights reach the image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LightPathsArg {
+    /// KZ2's: small lights by tiles, large ones (or holding the eye) by stencil volumes.
+    Classified,
+    /// Every light by the 16x16 tiles' lists.
+    Tiled,
+    /// Every light by stencil volume.
+    Volumes,
+    /// Every light tested at every pixel (the reference).
+    EveryPixel,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -131,9 +144,12 @@ pub struct Args {
     /// daylight).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4000))]
     pub lights: u32,
-    /// Test every local light at every pixel instead of reading the tile lists (the
+    /// How local lights reach the image.
+    #[arg(long, value_enum, default_value = "classified")]
+    pub light_paths: LightPathsArg,
+    /// Short for `--light-paths every-pixel`: every local light at every pixel (the
     /// reference and baseline of the tiled path).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "light_paths")]
     pub all_lights: bool,
     /// Half-size in metres of the square around the camera's target that `--lights`
     /// scatters over (how densely they overlap); default 25 (forest, grass), 60 (city).
@@ -202,6 +218,7 @@ fn report_lighting(
     let tiles = renderer.read_light_tiles()?;
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
+    report.light_paths(renderer.light_path_counts());
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
     let (surfaces, depth) = (renderer.read_gbuffer()?, renderer.read_depth()?);
     let to_sun = frame
@@ -405,7 +422,16 @@ pub fn run(args: &Args) -> Result<()> {
         width: args.width,
         height: args.height,
         primitive_id,
-        tiled_lights: !args.all_lights,
+        light_paths: if args.all_lights {
+            gpu::LightPaths::EveryPixel
+        } else {
+            match args.light_paths {
+                LightPathsArg::Classified => gpu::LightPaths::Classified,
+                LightPathsArg::Tiled => gpu::LightPaths::Tiled,
+                LightPathsArg::Volumes => gpu::LightPaths::Volumes,
+                LightPathsArg::EveryPixel => gpu::LightPaths::EveryPixel,
+            }
+        },
         shadows: (!args.no_shadows).then(|| gpu::ShadowConfig {
             cache: !args.no_shadow_cache,
             ..gpu::ShadowConfig::default()

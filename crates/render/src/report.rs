@@ -85,6 +85,19 @@ impl Report {
         );
     }
 
+    /// How the lights were drawn: tiles, stencil volumes (and of those, from inside).
+    pub fn light_paths(&mut self, c: gpu::LightPathCounts) {
+        self.row(
+            "lights by tiles / by stencil volumes (drawn from inside)",
+            format!(
+                "{} / {} ({})",
+                group_digits(u64::from(c.tiled)),
+                group_digits(u64::from(c.volumes)),
+                group_digits(u64::from(c.volumes_from_inside))
+            ),
+        );
+    }
+
     /// How many geometry pixels skip the sun's shader (KZ2: close to half): in full baked
     /// sun shadow, or facing away from the sun.
     pub fn sun_skip(&mut self, geometry: u64, baked: u64, away: u64) {

@@ -42,7 +42,7 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
     name: "lighting",
     module: "gpu::lighting",
     library: LIBRARY,
-    features: &["all_lights"],
+    features: &["all_lights", "light_volumes"],
     groups: &[
         Group {
             name: "frame",
@@ -71,6 +71,10 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
                     Kind::uniform(size_of::<crate::shadows::GpuSunShadow>()),
                 ),
                 Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
+                Binding::new(
+                    "light_accumulation",
+                    Kind::texture_2d(Sample::Float { filterable: false }),
+                ),
             ],
         },
         Group {
@@ -87,9 +91,10 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-/// The lighting pipeline.
+/// The lighting pipelines: without and with the stencil volumes' accumulation.
 pub(crate) struct Lighting {
     pass: ComputePass<[u32; 2]>,
+    with_volumes: Option<ComputePass<[u32; 2]>>,
 }
 
 /// The renderer's bind groups for lighting (they change only when the light buffer grows).
@@ -99,11 +104,26 @@ pub(crate) struct Groups {
 }
 
 impl Lighting {
-    /// Tiled (`tiled`) or every light at every pixel.
-    pub(crate) fn new(device: &wgpu::Device, tiled: bool) -> Result<Self> {
-        let features: &[&str] = if tiled { &[] } else { &["all_lights"] };
+    /// For `paths`: tiled, or every light at every pixel; the variant adding the volumes'
+    /// accumulation where some light may take a volume.
+    pub(crate) fn new(device: &wgpu::Device, paths: crate::LightPaths) -> Result<Self> {
+        let features: &[&str] = if paths == crate::LightPaths::EveryPixel {
+            &["all_lights"]
+        } else {
+            &[]
+        };
         Ok(Self {
             pass: ComputePass::new(device, &LIGHTING, features, &[])?,
+            with_volumes: if paths.volumes() {
+                Some(ComputePass::new(
+                    device,
+                    &LIGHTING,
+                    &["light_volumes"],
+                    &[],
+                )?)
+            } else {
+                None
+            },
         })
     }
 
@@ -139,6 +159,12 @@ impl Lighting {
                         "output",
                         wgpu::BindingResource::TextureView(&targets.output_view),
                     ),
+                    (
+                        "light_accumulation",
+                        wgpu::BindingResource::TextureView(
+                            &targets.light_volumes.accumulation_view,
+                        ),
+                    ),
                 ],
             )?,
             gbuffer: self.pass.bind_group(
@@ -161,7 +187,11 @@ impl Lighting {
             timestamp_writes: timer.compute("lighting"),
         });
         let g = &f.groups.lighting;
-        self.pass.record(
+        let pass_variant = match &self.with_volumes {
+            Some(v) if !f.volumes.is_empty() => v,
+            _ => &self.pass,
+        };
+        pass_variant.record(
             &mut pass,
             &[&g.frame, &g.gbuffer],
             &[f.targets.width, f.targets.height],
@@ -177,6 +207,9 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHTING, |_| Caps::CORE);
+        for features in [&["all_lights"][..], &["light_volumes"]] {
+            shadercheck::assert_composed(LIBRARY, LIGHTING.module, features, Caps::CORE);
+        }
         let m = shadercheck::assert_composed(LIBRARY, LIGHTING.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

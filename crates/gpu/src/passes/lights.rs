@@ -62,6 +62,8 @@ pub(crate) struct LightBuffers {
     pub tile_params: wgpu::Buffer,
     pub cull_params: wgpu::Buffer,
     pub lights: wgpu::Buffer,
+    /// The stencil volumes' rows (`GpuLightVolume`), as many as lights.
+    pub volumes: wgpu::Buffer,
     pub tile_depths: wgpu::Buffer,
     pub counts: wgpu::Buffer,
     pub indices: wgpu::Buffer,
@@ -93,6 +95,11 @@ impl LightBuffers {
                 device,
                 "local lights",
                 (capacity * size_of::<DeferredLight>()) as u64,
+            )?,
+            volumes: empty_storage(
+                device,
+                "light volumes",
+                (capacity * size_of::<super::light_volumes::GpuLightVolume>()) as u64,
             )?,
             tile_depths: empty_storage(
                 device,

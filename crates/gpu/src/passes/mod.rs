@@ -14,6 +14,7 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | light volumes | [`light_volumes`] | KZ2's stencil light volumes (large lights) -> light accumulation |
 //! | light tiles | [`lights`] | depth target -> per-tile depth ranges -> per-tile light lists (`deferred`'s culling pass) |
 //! | lighting | [`lighting`] | sun, ambient, local lights from the tile lists, tone mapping -> output |
 //! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
@@ -31,6 +32,7 @@ use crate::timing::GpuTimer;
 pub(crate) mod baseline;
 pub(crate) mod classify;
 pub(crate) mod laydown;
+pub(crate) mod light_volumes;
 pub(crate) mod lighting;
 pub(crate) mod lights;
 pub(crate) mod query;
@@ -66,6 +68,8 @@ gpu_modules!(
     GBUFFER_FRAGMENT = "gbuffer_fragment",
     RESOLVE = "resolve",
     LIGHTING = "lighting",
+    LIGHT_SHADING = "light_shading",
+    LIGHT_VOLUMES = "light_volumes",
     VIS_COPY = "vis_copy",
     ZERO = "zero",
     STATIC_PLACE = "static_place",
@@ -93,6 +97,7 @@ pub(crate) fn stage_counts() -> StageCounts {
         classify::ZERO.stage_counts(),
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
+        light_volumes::LIGHT_VOLUMES.stage_counts(),
         lights::TILE_DEPTH.stage_counts(),
         deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
@@ -117,17 +122,19 @@ pub(crate) struct Pipelines {
     pub baseline: baseline::Baseline,
     pub lighting: lighting::Lighting,
     pub lights: lights::LocalLights,
+    /// With a light path that has volumes.
+    pub light_volumes: Option<light_volumes::LightVolumes>,
     pub static_place: static_place::StaticPlace,
 }
 
 impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
-    /// width); `tiled_lights`: lighting reads the tile lists (else every light everywhere).
+    /// width) and `light_paths`.
     pub(crate) fn new(
         device: &wgpu::Device,
         paths: &ActivePaths,
         wave_width: u32,
-        tiled_lights: bool,
+        light_paths: crate::LightPaths,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id)?,
@@ -135,8 +142,13 @@ impl Pipelines {
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width)?,
             baseline: baseline::Baseline::new(device)?,
-            lighting: lighting::Lighting::new(device, tiled_lights)?,
+            lighting: lighting::Lighting::new(device, light_paths)?,
             lights: lights::LocalLights::new(device)?,
+            light_volumes: if light_paths.volumes() {
+                Some(light_volumes::LightVolumes::new(device)?)
+            } else {
+                None
+            },
             static_place: static_place::StaticPlace::new(device)?,
         })
     }
@@ -153,6 +165,8 @@ pub(crate) struct TargetGroups {
     pub lighting: lighting::Groups,
     /// The light tiles' groups.
     pub lights: lights::Groups,
+    /// The light volumes' groups, with a light path that has volumes.
+    pub light_volumes: Option<light_volumes::Groups>,
 }
 
 /// What a pass records against: the scene's resources, the targets and the renderer's
@@ -164,6 +178,8 @@ pub(crate) struct FrameContext<'a> {
     /// Whether this frame's static query placed instances (the static draw lists are
     /// drawn only then: without a query this frame, they hold an older frame's draws).
     pub static_query: bool,
+    /// This frame's stencil light volumes (empty: lighting reads no accumulation).
+    pub volumes: &'a [light_volumes::VolumeDraw],
 }
 
 /// What a command buffer records.
@@ -247,6 +263,9 @@ impl Pipelines {
             Recording::Classification => return self.classify.record(e, f, timer),
         }
         self.laydown.record_shadows(e, f, timer);
+        if let Some(v) = &self.light_volumes {
+            v.record(e, f, timer);
+        }
         self.lights.record(e, f, timer);
         self.lighting.record(e, f, timer);
     }

@@ -34,6 +34,8 @@ pub(crate) struct Targets {
     pub output_view: wgpu::TextureView,
     /// The sun's shadow maps (one 1x1 layer when shadows are off).
     pub shadows: crate::shadows::ShadowMaps,
+    /// The stencil light volumes' accumulation and depth-stencil (1x1 without volumes).
+    pub light_volumes: crate::passes::light_volumes::VolumeTargets,
 }
 
 fn texture(
@@ -63,12 +65,14 @@ fn texture(
 }
 
 impl Targets {
-    /// The targets for `width` × `height` pixels, and the sun's shadow maps of `shadows`.
+    /// The targets for `width` × `height` pixels, the sun's shadow maps of `shadows`, and
+    /// with `light_volumes` the stencil volumes' targets.
     pub(crate) fn new(
         device: &wgpu::Device,
         width: u32,
         height: u32,
         shadows: Option<crate::shadows::ShadowConfig>,
+        light_volumes: bool,
     ) -> Self {
         use wgpu::TextureUsages as U;
         let (depth, depth_view) = texture(
@@ -130,6 +134,12 @@ impl Targets {
             output,
             output_view,
             shadows: crate::shadows::ShadowMaps::new(device, shadows),
+            light_volumes: crate::passes::light_volumes::VolumeTargets::new(
+                device,
+                width,
+                height,
+                light_volumes,
+            ),
         }
     }
 }

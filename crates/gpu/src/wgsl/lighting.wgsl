@@ -2,7 +2,9 @@
 // G-buffer), then tone mapping into the sRGB-encoded output image. One 16x16 workgroup
 // per light tile: each pixel reads its tile's light list (deferred's culling pass) and
 // shades the lights whose volume holds it; with feature `all_lights`, every light is
-// tested at every pixel instead (the reference the tiled path must equal). Local lights
+// tested at every pixel instead (the reference the tiled path must equal). With feature
+// `light_volumes`, the lights drawn as stencil volumes before (their sum in
+// `light_accumulation`) are added. Local lights
 // are in view space: the pixel's camera-relative position and normal are rotated into it
 // (dot products, and so the shading, do not change). The sun is shadowed by its slice of
 // the cascaded shadow maps (gpu::shadows) and the G-buffer's baked term, the darker of the
@@ -12,15 +14,7 @@
 #import gpu::gbuffer_load
 #import deferred::lights
 #import deferred::shadow
-
-// Rust: passes::lighting::GpuLocalLights (80 bytes).
-struct GpuLocalLights {
-    // camera-relative world -> view (the camera's rotation)
-    view_rotation: mat4x4<f32>,
-    // light tiles across and down
-    tiles: vec2<u32>,
-    pad: vec2<u32>,
-}
+#import gpu::light_shading
 
 // Rust: gpu::shadows::GpuSunShadow (688 bytes).
 struct GpuSunShadow {
@@ -46,36 +40,9 @@ const GPU_MAX_PCF_RADIUS: u32 = 2u;
 @group(0) @binding(6) var shadow_map: texture_depth_2d_array;
 @group(0) @binding(7) var<uniform> sun_shadow: GpuSunShadow;
 @group(0) @binding(8) var output: texture_storage_2d<rgba8unorm, write>;
+// The stencil light volumes' sum (read with feature `light_volumes`).
+@group(0) @binding(9) var light_accumulation: texture_2d<f32>;
 // Group 1: the G-buffer (gpu::gbuffer_load).
-
-const LIGHTING_PI: f32 = 3.14159265;
-
-// Camera-relative position of a pixel centre at reversed-Z depth `d`.
-fn lighting_position(pixel: vec2<u32>, d: f32) -> vec3<f32> {
-    let uv = (vec2<f32>(pixel) + 0.5) * frame.viewport.zw;
-    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
-    let p = frame.inv_view_proj * ndc;
-    return p.xyz / p.w;
-}
-
-// GGX normal distribution with Schlick Fresnel and a Smith-style visibility term.
-fn lighting_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
-    let h = normalize(v + l);
-    let nh = max(dot(n, h), 0.0);
-    let nl = max(dot(n, l), 0.0);
-    let nv = max(dot(n, v), 1e-4);
-    let a = max(roughness * roughness, 0.02);
-    let a2 = a * a;
-    let dd = nh * nh * (a2 - 1.0) + 1.0;
-    let ndf = a2 / (LIGHTING_PI * dd * dd);
-    let k = a * 0.5;
-    let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
-    // Schlick's (1 - v.h)^5 by multiplications (pow is exp2(log2) on GPUs).
-    let m = 1.0 - max(dot(v, h), 0.0);
-    let m2 = m * m;
-    let f = f0 + (1.0 - f0) * (m2 * m2 * m);
-    return ndf * vis * f * nl;
-}
 
 // Narkowicz's ACES fit.
 fn lighting_tonemap(x: vec3<f32>) -> vec3<f32> {
@@ -122,29 +89,6 @@ fn lighting_sun_visibility(p: vec3<f32>, n: vec3<f32>, dist: f32) -> f32 {
     return lit / (side * side);
 }
 
-// One local light's contribution at view-space `p` (normal `n`, towards the eye `v`), or
-// zero outside its volume.
-fn lighting_local(l: DeferredLight, p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, s: DeferredSurface, diffuse: vec3<f32>) -> vec3<f32> {
-    if (!deferred_light_affects(l, p)) {
-        return vec3<f32>(0.0);
-    }
-    let to_light = l.position - p;
-    let dist = length(to_light);
-    if (!(dist > 0.0)) {
-        return vec3<f32>(0.0);
-    }
-    let ll = to_light / dist;
-    let r2 = dist * dist / (l.range * l.range);
-    let window = clamp(1.0 - r2 * r2, 0.0, 1.0);
-    var falloff = window * window / (dist * dist + 1.0);
-    if (deferred_light_is_spot(l)) {
-        // Soft edge over the outer quarter of the cone's cosine range.
-        falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
-    }
-    let nll = max(dot(n, ll), 0.0);
-    return l.color * falloff * (diffuse * nll + s.specular * lighting_specular(n, v, ll, s.roughness, 0.04));
-}
-
 #if !all_lights
 // The tile's lights, staged once per workgroup (DEFERRED_MAX_LIGHTS_PER_TILE is the
 // workgroup's size: one load per invocation), as three vec4 arrays so that the sphere
@@ -154,13 +98,6 @@ var<workgroup> lighting_dir_cos: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
 var<workgroup> lighting_color_flags: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
 var<workgroup> lighting_tile_count: u32;
 #endif
-
-// Whether view-space `p` is inside the sphere of centre `pr.xyz`, radius `pr.w` (the
-// first, cheap part of deferred_light_affects).
-fn lighting_in_sphere(pr: vec4<f32>, p: vec3<f32>) -> bool {
-    let d = p - pr.xyz;
-    return dot(d, d) <= pr.w * pr.w;
-}
 
 @compute @workgroup_size(16, 16)
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
@@ -195,37 +132,35 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     let lit = inside && d > 0.0;
     var color = frame.sky.rgb;
     var s: DeferredSurface;
-    var pv = vec3<f32>(0.0);
-    var nv = vec3<f32>(0.0, 0.0, 1.0);
-    var vv = vec3<f32>(0.0, 0.0, 1.0);
-    var diffuse = vec3<f32>(0.0);
+    var at = LightShadingPoint(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0));
     if (lit) {
         s = gbuffer_surface(pixel);
-        let p = lighting_position(pixel, d);
+        let p = light_shading_position(frame.inv_view_proj, frame.viewport.zw, pixel, d);
+        at = light_shading_point(local.view_rotation, p, s);
         let v = normalize(-p);
         let n = s.normal;
         let l = frame.sun_direction.xyz;
         let nl = max(dot(n, l), 0.0);
-        diffuse = s.albedo / LIGHTING_PI;
         color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
-        pv = (local.view_rotation * vec4<f32>(p, 0.0)).xyz;
         // KZ2's mix of the baked sun term and the real-time shadow: the darker of the two;
         // the sun's shader is skipped where the baked term is 0 (fully in baked shadow) or
         // the surface faces away.
         var sun = s.sun_shadow;
         if (sun > 0.0 && nl > 0.0) {
-            sun = min(sun, lighting_sun_visibility(p, n, -pv.z));
+            sun = min(sun, lighting_sun_visibility(p, n, -at.p.z));
         }
-        color += frame.sun_color.rgb * (diffuse * nl * sun + s.specular * lighting_specular(n, v, l, s.roughness, 0.04) * sun);
-        nv = (local.view_rotation * vec4<f32>(n, 0.0)).xyz;
-        vv = normalize(-pv);
+        color += frame.sun_color.rgb * (at.diffuse * nl * sun + s.specular * light_shading_specular(n, v, l, s.roughness, 0.04) * sun);
+#if light_volumes
+        // The lights the stencil volumes drew (passes::light_volumes), summed there.
+        color += textureLoad(light_accumulation, vec2<i32>(pixel), 0).rgb;
+#endif
     }
 #if all_lights
     if (lit) {
         for (var i = 0u; i < light_count; i++) {
             let l = lights[i];
-            if (lighting_in_sphere(vec4<f32>(l.position, l.range), pv)) {
-                color += lighting_local(l, pv, nv, vv, s, diffuse);
+            if (light_shading_in_sphere(vec4<f32>(l.position, l.range), at.p)) {
+                color += light_shading_local(l, at, s);
             }
         }
     }
@@ -234,13 +169,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     if (lit) {
         for (var k = 0u; k < staged; k++) {
             let pr = lighting_pos_range[k];
-            if (!lighting_in_sphere(pr, pv)) {
+            if (!light_shading_in_sphere(pr, at.p)) {
                 continue;
             }
             let dc = lighting_dir_cos[k];
             let cf = lighting_color_flags[k];
             let l = DeferredLight(pr.xyz, pr.w, dc.xyz, dc.w, cf.xyz, bitcast<u32>(cf.w));
-            color += lighting_local(l, pv, nv, vv, s, diffuse);
+            color += light_shading_local(l, at, s);
         }
     }
 #endif

@@ -1,0 +1,570 @@
+//! KZ2's stencil light volumes (`gpu::light_volumes`): the lights [`LightPaths`] sends
+//! here (KZ2: large ones, or the eye inside) are drawn as convex meshes over a copy of the
+//! frame's depth with a stencil buffer, and their shading is summed into an accumulation
+//! target that the compute lighting adds. wgpu has no depth-bounds test and the frame's
+//! depth target has no stencil, so the pass first copies depth into its own depth-stencil
+//! target (one full-screen triangle). Per light (camera outside its mesh): back faces
+//! behind the scene mark stencil, front faces in front of the scene where stencil is set
+//! shade and clear it; with the eye inside (or the mesh reaching the near plane), back
+//! faces behind the scene shade alone.
+//!
+//! [`LightPaths`]: crate::LightPaths
+
+use bytemuck::{Pod, Zeroable};
+use deferred::DeferredLight;
+use glam::Vec3;
+use shader::pipeline::Layouts;
+use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+
+use super::lighting::GpuLocalLights;
+use super::{FrameContext, LIBRARY};
+use crate::error::Result;
+use crate::gbuffer::LOAD_BINDINGS;
+use crate::resources::rows::FrameUniforms;
+use crate::timing::GpuTimer;
+
+/// One light drawn as a volume (WGSL `GpuLightVolume`), 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub(crate) struct GpuLightVolume {
+    /// View-space centre of the light's bounding sphere and its radius (metres): the unit
+    /// mesh is scaled by it.
+    pub sphere: [f32; 4],
+    /// The light's index in the light buffer.
+    pub light: u32,
+    /// Zero.
+    pub pad: [u32; 3],
+}
+
+/// One light's draw: its volume row and whether the eye may be inside its mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct VolumeDraw {
+    /// Index of its [`GpuLightVolume`] (the draw's instance).
+    pub volume: u32,
+    /// Back faces alone, no stencil (the front faces may be clipped by the near plane).
+    pub inside: bool,
+}
+
+/// The pass: the depth copy and the volumes (group `volume`), over the G-buffer.
+pub(crate) const LIGHT_VOLUMES: Pass = Pass {
+    name: "light volumes",
+    module: "gpu::light_volumes",
+    library: LIBRARY,
+    features: &[],
+    groups: &[
+        Group {
+            name: "volume",
+            bindings: &[
+                Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
+                Binding::new("depth_texture", Kind::texture_2d(Sample::Depth)),
+                Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
+                Binding::new("lights", Kind::read(size_of::<DeferredLight>())),
+                Binding::new("volumes", Kind::read(size_of::<GpuLightVolume>())),
+            ],
+        },
+        Group {
+            name: "gbuffer",
+            bindings: &LOAD_BINDINGS,
+        },
+    ],
+    entries: &[
+        Entry::draw("vs_full_screen", Stage::Vertex),
+        Entry::draw("fs_copy_depth", Stage::Fragment),
+        Entry::draw("vs_volume", Stage::Vertex),
+        Entry::draw("fs_mark", Stage::Fragment),
+        Entry::draw("fs_shade", Stage::Fragment),
+    ],
+    zeroed: &[],
+};
+
+/// The unit volume mesh: an icosahedron subdivided once (42 vertices, 80 faces, wound
+/// counter-clockwise seen from outside), scaled so that every face's plane lies at least 1
+/// from the origin: it encloses the unit sphere. Returns the positions and the indices.
+pub(crate) fn unit_volume_mesh() -> (Vec<[f32; 3]>, Vec<u16>) {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v: Vec<glam::DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .into_iter()
+    .map(|(x, y, z)| glam::DVec3::new(x, y, z).normalize())
+    .collect();
+    let faces: [[u16; 3]; 20] = [
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    // One midpoint per edge, shared by the edge's two faces.
+    let mut midpoints = std::collections::HashMap::new();
+    let mut midpoint = |a: u16, b: u16, v: &mut Vec<glam::DVec3>| -> u16 {
+        *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+            v.push((v[a as usize] + v[b as usize]).normalize());
+            (v.len() - 1) as u16
+        })
+    };
+    let mut indices = Vec::with_capacity(80 * 3);
+    for [a, b, c] in faces {
+        let ab = midpoint(a, b, &mut v);
+        let bc = midpoint(b, c, &mut v);
+        let ca = midpoint(c, a, &mut v);
+        for tri in [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]] {
+            let [p, q, r] = tri.map(|i| v[i as usize]);
+            // Outward: counter-clockwise seen from outside.
+            if (q - p).cross(r - p).dot(p + q + r) > 0.0 {
+                indices.extend(tri);
+            } else {
+                indices.extend([tri[0], tri[2], tri[1]]);
+            }
+        }
+    }
+    let inradius = indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [p, q, r] = [t[0], t[1], t[2]].map(|i| v[i as usize]);
+            (q - p).cross(r - p).normalize().dot(p)
+        })
+        .fold(f64::INFINITY, f64::min);
+    // A hair more than 1 / inradius, so that f32 rounding keeps every plane outside.
+    let scale = 1.0 / inradius * (1.0 + 1e-5);
+    let positions = v
+        .iter()
+        .map(|p| (*p * scale).as_vec3().to_array())
+        .collect();
+    (positions, indices)
+}
+
+/// How far the unit mesh reaches from its centre (its vertices' radius).
+pub(crate) fn unit_volume_reach(positions: &[[f32; 3]]) -> f32 {
+    positions
+        .iter()
+        .map(|p| Vec3::from_array(*p).length())
+        .fold(0.0, f32::max)
+}
+
+/// The volume pass's own targets: the light accumulation (read by lighting) and the
+/// depth-stencil copy of the frame's depth. 1x1 when no light may take the path.
+/// (Views keep their textures alive.)
+pub(crate) struct VolumeTargets {
+    pub accumulation_view: wgpu::TextureView,
+    pub depth_stencil_view: wgpu::TextureView,
+}
+
+/// The accumulation's format: 32-bit float where the device blends it (the sum then
+/// rounds as the compute lighting's own does), else 16-bit.
+pub(crate) fn accumulation_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    if device
+        .features()
+        .contains(wgpu::Features::FLOAT32_BLENDABLE)
+    {
+        wgpu::TextureFormat::Rgba32Float
+    } else {
+        wgpu::TextureFormat::Rgba16Float
+    }
+}
+
+/// The depth-stencil copy's format: the depth target's 32-bit float with stencil where
+/// the device has it, else 24-bit depth.
+pub(crate) fn depth_stencil_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    if device
+        .features()
+        .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8)
+    {
+        wgpu::TextureFormat::Depth32FloatStencil8
+    } else {
+        wgpu::TextureFormat::Depth24PlusStencil8
+    }
+}
+
+impl VolumeTargets {
+    /// Targets of `width` × `height` pixels, or 1x1 ones without `enabled`.
+    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32, enabled: bool) -> Self {
+        use wgpu::TextureUsages as U;
+        let (w, h) = if enabled { (width, height) } else { (1, 1) };
+        let make = |label, format, usage| {
+            let t = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            });
+            t.create_view(&Default::default())
+        };
+        let accumulation_view = make(
+            "light accumulation",
+            accumulation_format(device),
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let depth_stencil_view = make(
+            "light volume depth-stencil",
+            depth_stencil_format(device),
+            U::RENDER_ATTACHMENT,
+        );
+        Self {
+            accumulation_view,
+            depth_stencil_view,
+        }
+    }
+}
+
+/// The pass's pipelines and the unit mesh.
+pub(crate) struct LightVolumes {
+    layouts: Layouts,
+    copy_depth: wgpu::RenderPipeline,
+    mark: wgpu::RenderPipeline,
+    shade: wgpu::RenderPipeline,
+    inside: wgpu::RenderPipeline,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    /// How far the unit mesh reaches (its vertices' radius).
+    pub reach: f32,
+}
+
+/// The pass's bind groups.
+pub(crate) struct Groups {
+    pub volume: wgpu::BindGroup,
+    pub gbuffer: wgpu::BindGroup,
+}
+
+impl LightVolumes {
+    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+        use wgpu::util::DeviceExt;
+        let layouts = Layouts::new(device, &LIGHT_VOLUMES);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(LIGHT_VOLUMES.name),
+            source: wgpu::ShaderSource::Wgsl(LIGHT_VOLUMES.source(&[])?.into()),
+        });
+        let accumulation = accumulation_format(device);
+        let depth_format = depth_stencil_format(device);
+        let additive = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let no_colour = [Some(wgpu::ColorTargetState {
+            format: accumulation,
+            blend: None,
+            write_mask: wgpu::ColorWrites::empty(),
+        })];
+        let add_colour = [Some(wgpu::ColorTargetState {
+            format: accumulation,
+            blend: Some(wgpu::BlendState {
+                color: additive,
+                alpha: additive,
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        let stencil_face = |compare, pass_op, depth_fail_op| wgpu::StencilFaceState {
+            compare,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op,
+            pass_op,
+        };
+        let stencil = |face: wgpu::StencilFaceState| wgpu::StencilState {
+            front: face,
+            back: face,
+            read_mask: 0xff,
+            write_mask: 0xff,
+        };
+        let keep = stencil(stencil_face(
+            wgpu::CompareFunction::Always,
+            wgpu::StencilOperation::Keep,
+            wgpu::StencilOperation::Keep,
+        ));
+        let volume_buffers = [Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        })];
+        let make = |label: &str,
+                    vertex: &str,
+                    fragment: &str,
+                    cull: Option<wgpu::Face>,
+                    depth_write: bool,
+                    depth_compare: wgpu::CompareFunction,
+                    stencil: wgpu::StencilState,
+                    targets: &[Option<wgpu::ColorTargetState>]| {
+            let buffers: &[Option<wgpu::VertexBufferLayout<'_>>] = if vertex == "vs_volume" {
+                &volume_buffers
+            } else {
+                &[]
+            };
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vertex),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..super::laydown::primitive_state()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: depth_format,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(depth_compare),
+                    stencil,
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fragment),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        use wgpu::CompareFunction as C;
+        use wgpu::StencilOperation as S;
+        let copy_depth = make(
+            "light volumes: depth copy",
+            "vs_full_screen",
+            "fs_copy_depth",
+            None,
+            true,
+            C::Always,
+            keep.clone(),
+            &no_colour,
+        );
+        // Reversed Z: "behind the scene" is Less, "in front of or at it" GreaterEqual.
+        let mark = make(
+            "light volumes: stencil mark",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            stencil(stencil_face(C::Always, S::Replace, S::Keep)),
+            &no_colour,
+        );
+        let shade = make(
+            "light volumes: shade",
+            "vs_volume",
+            "fs_shade",
+            Some(wgpu::Face::Back),
+            false,
+            C::GreaterEqual,
+            stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+            &add_colour,
+        );
+        let inside = make(
+            "light volumes: shade from inside",
+            "vs_volume",
+            "fs_shade",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            keep,
+            &add_colour,
+        );
+        let (positions, indices) = unit_volume_mesh();
+        let reach = unit_volume_reach(&positions);
+        let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volume mesh vertices"),
+            contents: bytemuck::cast_slice(&positions),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let index_count = indices.len() as u32;
+        let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volume mesh indices"),
+            contents: bytemuck::cast_slice(&indices),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Ok(Self {
+            layouts,
+            copy_depth,
+            mark,
+            shade,
+            inside,
+            vertices,
+            indices,
+            index_count,
+            reach,
+        })
+    }
+
+    /// The groups: the frame's uniforms, depth target and lights, the volume rows, and the
+    /// G-buffer.
+    pub(crate) fn groups(
+        &self,
+        device: &wgpu::Device,
+        targets: &crate::resources::targets::Targets,
+        frame: &wgpu::Buffer,
+        local: &wgpu::Buffer,
+        lights: &wgpu::Buffer,
+        volumes: &wgpu::Buffer,
+    ) -> Result<Groups> {
+        Ok(Groups {
+            volume: self.layouts.bind_group(
+                device,
+                "volume",
+                &[
+                    ("frame", frame.as_entire_binding()),
+                    (
+                        "depth_texture",
+                        wgpu::BindingResource::TextureView(&targets.depth_view),
+                    ),
+                    ("local", local.as_entire_binding()),
+                    ("lights", lights.as_entire_binding()),
+                    ("volumes", volumes.as_entire_binding()),
+                ],
+            )?,
+            gbuffer: self.layouts.bind_group(
+                device,
+                "gbuffer",
+                &crate::gbuffer::resources(&LOAD_BINDINGS, &targets.gbuffer_views),
+            )?,
+        })
+    }
+
+    /// Records the depth copy and `draws` into the accumulation target (cleared first).
+    /// Records nothing without draws (lighting then does not read the accumulation).
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let Some(g) = &f.groups.light_volumes else {
+            return;
+        };
+        if f.volumes.is_empty() {
+            return;
+        }
+        let t = &f.targets.light_volumes;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("light volumes"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &t.accumulation_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth_stencil_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+            }),
+            timestamp_writes: timer.render("light volumes"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &g.volume, &[]);
+        pass.set_bind_group(1, &g.gbuffer, &[]);
+        pass.set_pipeline(&self.copy_depth);
+        pass.draw(0..3, 0..1);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
+        pass.set_stencil_reference(1);
+        let n = self.index_count;
+        for d in f.volumes {
+            let instance = d.volume..d.volume + 1;
+            if d.inside {
+                pass.set_pipeline(&self.inside);
+                pass.draw_indexed(0..n, 0, instance);
+            } else {
+                pass.set_pipeline(&self.mark);
+                pass.draw_indexed(0..n, 0, instance.clone());
+                pass.set_pipeline(&self.shade);
+                pass.draw_indexed(0..n, 0, instance);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shadercheck::{Caps, assert_struct_layout, members};
+
+    #[test]
+    fn description_matches_its_module() {
+        shadercheck::check_pass(&LIGHT_VOLUMES, |_| Caps::CORE);
+        let m = shadercheck::assert_composed(LIBRARY, LIGHT_VOLUMES.module, &[], Caps::CORE);
+        assert_struct_layout(
+            &m,
+            "GpuLightVolume",
+            size_of::<GpuLightVolume>(),
+            &members!(GpuLightVolume { sphere, light, pad }),
+        );
+    }
+
+    /// The mesh is closed (every edge in exactly two faces, once each way), wound outwards,
+    /// and encloses the unit sphere: every face's plane at least 1 from the centre, in f64
+    /// over the f32 positions the GPU gets.
+    #[test]
+    fn unit_mesh_is_closed_outward_and_encloses_the_unit_sphere() {
+        let (p, idx) = unit_volume_mesh();
+        assert_eq!((p.len(), idx.len()), (42, 240));
+        let v = |i: u16| glam::DVec3::from_array(p[i as usize].map(f64::from));
+        let mut edges = std::collections::HashMap::new();
+        for t in idx.chunks_exact(3) {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *edges.entry((a, b)).or_insert(0) += 1;
+            }
+            let n = (v(t[1]) - v(t[0])).cross(v(t[2]) - v(t[0])).normalize();
+            let plane = n.dot(v(t[0]));
+            assert!(plane >= 1.0, "face {t:?} plane at {plane}");
+            assert!(
+                n.dot(v(t[0]) + v(t[1]) + v(t[2])) > 0.0,
+                "face {t:?} inward"
+            );
+        }
+        for (&(a, b), &k) in &edges {
+            assert_eq!(k, 1, "edge {a}-{b} used {k} times one way");
+            assert_eq!(edges.get(&(b, a)), Some(&1), "edge {a}-{b} open");
+        }
+        let reach = unit_volume_reach(&p);
+        assert!((1.0..1.3).contains(&reach), "reach {reach}");
+    }
+}

@@ -1,0 +1,92 @@
+// gpu: one local light's shading at one pixel, shared by the compute lighting (tiled and
+// every-light paths) and the stencil light volumes, so both paths compute the same
+// contribution bit for bit where their compilers allow. Lights are in view space.
+
+#import deferred::gbuffer
+#import deferred::lights
+
+// Rust: passes::lighting::GpuLocalLights (80 bytes).
+struct GpuLocalLights {
+    // camera-relative world -> view (the camera's rotation)
+    view_rotation: mat4x4<f32>,
+    // light tiles across and down
+    tiles: vec2<u32>,
+    pad: vec2<u32>,
+}
+
+const LIGHT_SHADING_PI: f32 = 3.14159265;
+
+// Camera-relative position of the centre of `pixel` at reversed-Z depth `d`, with the
+// frame's `inv_view_proj` and `texel` (1 / viewport size, FrameUniforms::viewport.zw).
+fn light_shading_position(inv_view_proj: mat4x4<f32>, texel: vec2<f32>, pixel: vec2<u32>, d: f32) -> vec3<f32> {
+    let uv = (vec2<f32>(pixel) + 0.5) * texel;
+    let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
+    let p = inv_view_proj * ndc;
+    return p.xyz / p.w;
+}
+
+// GGX normal distribution with Schlick Fresnel and a Smith-style visibility term.
+fn light_shading_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
+    let h = normalize(v + l);
+    let nh = max(dot(n, h), 0.0);
+    let nl = max(dot(n, l), 0.0);
+    let nv = max(dot(n, v), 1e-4);
+    let a = max(roughness * roughness, 0.02);
+    let a2 = a * a;
+    let dd = nh * nh * (a2 - 1.0) + 1.0;
+    let ndf = a2 / (LIGHT_SHADING_PI * dd * dd);
+    let k = a * 0.5;
+    let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
+    // Schlick's (1 - v.h)^5 by multiplications (pow is exp2(log2) on GPUs).
+    let m = 1.0 - max(dot(v, h), 0.0);
+    let m2 = m * m;
+    let f = f0 + (1.0 - f0) * (m2 * m2 * m);
+    return ndf * vis * f * nl;
+}
+
+// A surface as the local lights see it: view-space position, normal and direction to the
+// eye, and its diffuse reflectance over pi.
+struct LightShadingPoint {
+    p: vec3<f32>,
+    n: vec3<f32>,
+    v: vec3<f32>,
+    diffuse: vec3<f32>,
+}
+
+// The view-space shading point of a pixel at camera-relative `p` with surface `s`
+// (`view_rotation`: GpuLocalLights::view_rotation).
+fn light_shading_point(view_rotation: mat4x4<f32>, p: vec3<f32>, s: DeferredSurface) -> LightShadingPoint {
+    let pv = (view_rotation * vec4<f32>(p, 0.0)).xyz;
+    let nv = (view_rotation * vec4<f32>(s.normal, 0.0)).xyz;
+    return LightShadingPoint(pv, nv, normalize(-pv), s.albedo / LIGHT_SHADING_PI);
+}
+
+// Whether view-space `p` is inside the sphere of centre `pr.xyz`, radius `pr.w` (the
+// first, cheap part of deferred_light_affects).
+fn light_shading_in_sphere(pr: vec4<f32>, p: vec3<f32>) -> bool {
+    let d = p - pr.xyz;
+    return dot(d, d) <= pr.w * pr.w;
+}
+
+// One local light's contribution at `at`, or exactly zero outside its volume (so that any
+// conservative coverage of the volume gives the same sum).
+fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurface) -> vec3<f32> {
+    if (!deferred_light_affects(l, at.p)) {
+        return vec3<f32>(0.0);
+    }
+    let to_light = l.position - at.p;
+    let dist = length(to_light);
+    if (!(dist > 0.0)) {
+        return vec3<f32>(0.0);
+    }
+    let ll = to_light / dist;
+    let r2 = dist * dist / (l.range * l.range);
+    let window = clamp(1.0 - r2 * r2, 0.0, 1.0);
+    var falloff = window * window / (dist * dist + 1.0);
+    if (deferred_light_is_spot(l)) {
+        // Soft edge over the outer quarter of the cone's cosine range.
+        falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
+    }
+    let nll = max(dot(at.n, ll), 0.0);
+    return l.color * falloff * (at.diffuse * nll + s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04));
+}
