@@ -58,8 +58,9 @@
 //!
 //! # Driving it from wgpu
 //!
-//! Designed for per-frame uploads such as the `gpu` crate's; it is not wired into `gpu`
-//! yet. Any wgpu user can drive it like this:
+//! The `gpu` crate's per-frame uploads run through it (`gpu`'s `resources/uploads.rs`: every
+//! frame's writes sub-allocated from one pool buffer and copied ahead of the frame's
+//! commands). Any wgpu user can drive it like this:
 //!
 //! 1. Create one `wgpu::Buffer` of [`BlockPool::pool_bytes`] (usages as needed, e.g.
 //!    `COPY_DST | VERTEX | INDEX | UNIFORM | STORAGE | INDIRECT`) and one `BlockPool` in an

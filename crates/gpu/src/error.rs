@@ -63,6 +63,19 @@ pub enum Error {
     Image(String),
     /// The static scene refused a value (a HiZ size, a view).
     StaticScene(staticscene::Error),
+    /// A frame's uploads found the upload pool full even after waiting for the device:
+    /// the pool is smaller than a frame's uploads, or the GPU has not finished the frames
+    /// holding it. Nothing was overwritten; the frame was not submitted.
+    UploadPoolExhausted {
+        /// Bytes in the pool (`RendererConfig::upload_pool`).
+        pool_bytes: u64,
+        /// Blocks in the pool, all live.
+        blocks: u32,
+        /// Bytes the frame tried to upload.
+        frame_bytes: u64,
+    },
+    /// The upload allocator refused a request (a bug: every upload is sized to fit).
+    Upload(String),
     /// A [`RendererConfig`](crate::RendererConfig) value outside its range.
     Config {
         /// Which value (`RendererConfig::width`).
@@ -255,6 +268,18 @@ impl fmt::Display for Error {
                 f,
                 "the scene was prepared by another renderer: prepare it with this one"
             ),
+            Error::UploadPoolExhausted {
+                pool_bytes,
+                blocks,
+                frame_bytes,
+            } => write!(
+                f,
+                "the upload pool ({pool_bytes} bytes in {blocks} blocks, \
+                 RendererConfig::upload_pool) is full: the frame's {frame_bytes} bytes of \
+                 uploads wait for frames the GPU has not finished; raise the pool size or \
+                 wait for the device"
+            ),
+            Error::Upload(e) => write!(f, "upload allocator: {e}"),
             Error::DeviceLimit {
                 limit,
                 needed,

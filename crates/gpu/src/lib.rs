@@ -87,6 +87,7 @@ pub use error::{Error, FrameError, Result, SceneError};
 pub use frame::{
     Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight, local_light_rows,
 };
+pub use framealloc;
 pub use glam;
 pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
@@ -96,6 +97,7 @@ pub use renderer::{
     FrameOutput, LightPathCounts, LightPaths, LightTiles, RenderPath, Renderer, RendererConfig,
     WARM_UP,
 };
+pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,

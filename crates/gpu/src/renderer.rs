@@ -24,6 +24,7 @@ use crate::resources::readback::read_texture;
 use crate::resources::rows::FrameUniforms;
 use crate::resources::rows::GpuStaticParams;
 use crate::resources::targets::Targets;
+use crate::resources::uploads::{UploadSink, UploadStats, Uploads};
 use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::scene::Scene;
 use crate::statics::{StaticFrameStats, StaticOcclusion, StaticView};
@@ -101,6 +102,11 @@ pub struct RendererConfig {
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
     pub shadows: Option<crate::ShadowConfig>,
+    /// The per-frame upload pool (KZ2's render-memory allocator, `framealloc`): every
+    /// frame's uniforms, lights and query parameters are sub-allocated from its blocks
+    /// and freed when the GPU has finished the frame. Default: KZ2's 22 MiB in 256 KiB
+    /// blocks.
+    pub upload_pool: framealloc::PoolConfig,
     /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
     /// (1024² texels), rendered when the scene or the sun
     /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
@@ -147,6 +153,7 @@ impl Default for RendererConfig {
             light_paths: LightPaths::Classified,
             shadows: Some(crate::ShadowConfig::default()),
             baked_sun: true,
+            upload_pool: framealloc::PoolConfig::KZ2,
         }
     }
 }
@@ -223,6 +230,8 @@ pub struct Renderer {
     /// This frame's lights on the tiled path (the tiles' indices point into it), in the
     /// light buffer's order.
     tiled_lights: Vec<deferred::DeferredLight>,
+    /// The per-frame uploads (framealloc's pool over one upload buffer).
+    uploads: Uploads,
     /// This frame's stencil volume draws.
     volume_draws: Vec<passes::light_volumes::VolumeDraw>,
     /// The sun's cascades of the last frame (f64), with shadows on.
@@ -388,6 +397,7 @@ impl Renderer {
                     .transpose()?,
             };
             let timer = GpuTimer::new(device, queue, 48);
+            let uploads = Uploads::new(device, config.upload_pool)?;
             Ok(Self {
                 device: device.clone(),
                 queue: queue.clone(),
@@ -404,6 +414,7 @@ impl Renderer {
                 local,
                 lights,
                 tiled_lights: Vec::new(),
+                uploads,
                 volume_draws: Vec::new(),
                 cascades: None,
                 timer,
@@ -494,8 +505,8 @@ impl Renderer {
         self.bake_sun(scene, frame, &mut uniforms);
         uniforms.local_light_count = self.upload_lights(frame)?;
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
-        self.queue
-            .write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniforms));
+        self.uploads
+            .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         let aspect = self.config.width as f32 / self.config.height as f32;
         self.previous = Some((
             scene.id,
@@ -518,6 +529,7 @@ impl Renderer {
         label: &str,
         what: Recording,
         mut statics: Option<&mut StaticView<'_>>,
+        wait: bool,
     ) -> Result<FrameOutput> {
         let device = self.device.clone();
         let t0 = Instant::now();
@@ -560,16 +572,22 @@ impl Renderer {
             self.pipelines
                 .record_after_geometry(what, &mut encoder, &context!(), &mut self.timer);
             self.timer.resolve(&mut encoder);
-            self.queue.submit([encoder.finish()]);
-            wait_idle(&device)?;
+            let uploads = self.uploads.commit(&device, &self.queue)?;
+            self.queue.submit([uploads, encoder.finish()]);
+            self.uploads.submitted(&self.queue);
+            if wait {
+                wait_idle(&device)?;
+            }
             if what.lights() {
                 self.targets.shadows.rendered(static_frame);
             }
             Ok(view)
         });
         if view.is_err() {
-            // The maps' contents are unknown after a failed frame.
+            // The maps' contents are unknown after a failed frame, and its queued uploads
+            // go with it.
             self.targets.shadows.rendered.clear();
+            self.uploads.discard();
         }
         // The depth target now holds this frame (or, after an error, nothing known).
         self.depth_camera = match (&view, statics.as_deref()) {
@@ -578,6 +596,15 @@ impl Renderer {
         };
         let view = view?;
         let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        if !wait {
+            // Not waited for: no timings or statistics to read.
+            self.timer.discard();
+            return Ok(FrameOutput {
+                gpu: Vec::new(),
+                wall_ms,
+                statics: None,
+            });
+        }
         let gpu = self.timer.read(&self.device, &self.queue)?;
         let statics = match (view, statics) {
             (Some(view), Some(v)) => Some(self.read_static_stats(scene, v, view)?),
@@ -647,7 +674,7 @@ impl Renderer {
         let params = staticscene::QueryParams::new(&first)?;
         let view = v.query.prepare_view(
             &self.device,
-            &self.queue,
+            &mut self.uploads,
             v.scene,
             &params,
             second.as_ref(),
@@ -670,8 +697,8 @@ impl Renderer {
             alpha_base: b.opaque,
             debug_base: b.debug_base,
         };
-        self.queue
-            .write_buffer(&b.params, 0, bytemuck::bytes_of(&constants));
+        self.uploads
+            .write(&b.params, 0, bytemuck::bytes_of(&constants));
         self.record_query_and_place(encoder, scene, v.query, &view, false)?;
         Ok(StaticFrame {
             view,
@@ -805,7 +832,52 @@ impl Renderer {
             RenderPath::Baseline => Recording::Baseline,
             RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
         };
-        self.run(scene, frame, path.name(), what, None)
+        self.run(scene, frame, path.name(), what, None, true)
+    }
+
+    /// Records and submits one frame of `scene` as [`Renderer::render`] does, without
+    /// waiting for the GPU: the next frame's CPU work overlaps this one's GPU work, and
+    /// its uploads take other blocks of the upload pool (those of finished frames are
+    /// reused). Reads no timings ([`FrameOutput::gpu`] is empty); [`Renderer::wait`], a
+    /// read-back or [`Renderer::render`] waits.
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; [`Error::UploadPoolExhausted`] when the upload pool is
+    /// still full after waiting for the device.
+    pub fn submit(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        path: RenderPath,
+    ) -> Result<FrameOutput> {
+        let what = match path {
+            RenderPath::Deferred => Recording::Deferred,
+            RenderPath::Baseline => Recording::Baseline,
+            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
+        };
+        self.run(scene, frame, path.name(), what, None, false)
+    }
+
+    /// Waits until the GPU has finished every submitted frame.
+    ///
+    /// # Errors
+    /// A device error.
+    pub fn wait(&self) -> Result<()> {
+        wait_idle(&self.device)
+    }
+
+    /// What the last frame's uploads took from the upload pool: bytes, blocks, the CPU
+    /// time spent in `framealloc`, the pool's free blocks and the frames in flight.
+    pub fn upload_stats(&self) -> &UploadStats {
+        self.uploads.stats()
+    }
+
+    /// Holds the GPU's completion notices back from the upload pool (`true`), as a GPU
+    /// that is slow to finish would: no block of a held frame is handed out again. `false`
+    /// delivers the held notices and resumes. For tests of the allocator in the frame.
+    #[doc(hidden)]
+    pub fn hold_upload_completions(&self, hold: bool) {
+        self.uploads.hold_completions(hold);
     }
 
     /// Renders one frame as [`Renderer::render`] does, with HZD's static query in front:
@@ -830,7 +902,7 @@ impl Renderer {
             RenderPath::Baseline => Recording::Baseline,
             RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
         };
-        self.run(scene, frame, path.name(), what, Some(statics))
+        self.run(scene, frame, path.name(), what, Some(statics), true)
     }
 
     /// Renders `path` for at least [`WARM_UP`] of wall time (at least one frame) to bring the
@@ -965,7 +1037,7 @@ impl Renderer {
         scene: &PreparedScene,
         frame: &FrameInput,
     ) -> Result<(Vec<u32>, Vec<f32>)> {
-        self.run(scene, frame, "laydown", Recording::Laydown, None)?;
+        self.run(scene, frame, "laydown", Recording::Laydown, None, true)?;
         let read =
             |t: &wgpu::Texture, aspect| read_texture(&self.device, &self.queue, t, aspect, 4);
         let vis = read(&self.targets.vis, wgpu::TextureAspect::All)?;
@@ -1242,7 +1314,7 @@ impl Renderer {
     ) -> Result<()> {
         let maps = &mut self.targets.shadows;
         let Some(config) = maps.config else {
-            self.queue.write_buffer(
+            self.uploads.write(
                 &maps.sun,
                 0,
                 bytemuck::bytes_of(&crate::shadows::GpuSunShadow::default()),
@@ -1255,13 +1327,13 @@ impl Renderer {
         for (i, c) in cascades.cascades().iter().enumerate() {
             let mut u = *uniforms;
             u.view_proj = c.relative_matrix(origin).to_cols_array_2d();
-            self.queue.write_buffer(
+            self.uploads.write(
                 &maps.frames,
                 i as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
                 bytemuck::bytes_of(&u),
             );
         }
-        self.queue.write_buffer(
+        self.uploads.write(
             &maps.sun,
             0,
             bytemuck::bytes_of(&crate::shadows::GpuSunShadow::new(
@@ -1415,16 +1487,16 @@ impl Renderer {
                 .transpose()?;
         }
         let b = &self.lights;
-        self.queue
-            .write_buffer(&b.lights, 0, bytemuck::cast_slice(&rows));
-        self.queue
-            .write_buffer(&b.volumes, 0, bytemuck::cast_slice(&volumes));
-        self.queue.write_buffer(
+        self.uploads
+            .write(&b.lights, 0, bytemuck::cast_slice(&rows));
+        self.uploads
+            .write(&b.volumes, 0, bytemuck::cast_slice(&volumes));
+        self.uploads.write(
             &b.cull_params,
             0,
             bytemuck::bytes_of(&deferred::pass::LightCullParams::new(projection, count)),
         );
-        self.queue.write_buffer(
+        self.uploads.write(
             &b.tile_params,
             0,
             bytemuck::bytes_of(&GpuTileDepthParams {
@@ -1433,7 +1505,7 @@ impl Renderer {
                 reversed: 1,
             }),
         );
-        self.queue.write_buffer(
+        self.uploads.write(
             &self.local,
             0,
             bytemuck::bytes_of(&GpuLocalLights {

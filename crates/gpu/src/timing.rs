@@ -94,6 +94,11 @@ impl GpuTimer {
         }
     }
 
+    /// Forgets this frame's timed passes without reading them (a frame not waited for).
+    pub fn discard(&mut self) {
+        self.labels.clear();
+    }
+
     /// After the frame's submission: reads the timestamps back and sums them per label, in
     /// first-use order. Clears the timer for the next frame.
     pub fn read(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Timing>> {

@@ -1,7 +1,9 @@
 //! The whole frame on a device (lavapipe in CI): the GPU classification equals `tiling`'s
 //! CPU twin on both demo scenes (subgroup appends and the workgroup fallback) and on random
 //! vis buffers; the deferred-texturing image matches HZD's depth-equal baseline; each
-//! scene matches a small golden image.
+//! scene matches a small golden image; per-frame uploads go through `framealloc`'s pool
+//! without reusing a block before the GPU is done with it, even with the GPU's completion
+//! notices held back.
 //!
 //! Golden images live in `tests/golden/`; `GPU_BLESS=1 cargo test -p gpu --test frame`
 //! rewrites them from this machine's device (commit them with the adapter named in the
@@ -12,6 +14,7 @@ mod common;
 use std::path::PathBuf;
 
 use gpu::demo::{self, DemoOptions, DemoScene};
+use gpu::framealloc::PoolConfig;
 use gpu::{FrameInput, RenderPath, Rgba8Image, Scene, diff_metrics};
 use testkit::device::{GoldenBounds, check_golden, ctx};
 use visbuf::{ShadingRate, VisFields, VisId, VisLayout};
@@ -200,4 +203,133 @@ fn each_scene_matches_its_golden_image() {
             golden_bounds(),
         );
     }
+}
+
+/// The forest at 160x90 with 300 lights, and a renderer whose upload pool is `pool`.
+fn upload_rig(pool: PoolConfig) -> (gpu::Renderer, gpu::PreparedScene, FrameInput) {
+    let (scene, mut frame) = scene(DemoScene::Forest);
+    let target = frame.camera.target;
+    demo::scatter_lights(&mut frame.lighting, target, 25.0, 300, 3);
+    let r = common::renderer_with(gpu::RendererConfig {
+        width: 160,
+        height: 90,
+        shadows: common::test_shadows(),
+        upload_pool: pool,
+        ..gpu::RendererConfig::default()
+    });
+    let p = r.prepare(&scene).unwrap();
+    (r, p, frame)
+}
+
+/// KZ2's allocator in the frame, with a GPU that looks slow (its completion notices held
+/// back): frames keep being submitted without a CPU wait, each on blocks no other frame in
+/// flight holds, until the pool is full; then the frame fails with an error naming the
+/// pool size, nothing overwritten. Once the notices arrive the pool recovers, and the image
+/// equals a renderer's with a roomy pool.
+#[test]
+fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
+    const BLOCK: u32 = 16 * 1024;
+    const BLOCKS: u64 = 12;
+    let (mut r, p, frame) = upload_rig(PoolConfig::new(BLOCKS * u64::from(BLOCK), BLOCK));
+    r.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let one = r.upload_stats().clone();
+    eprintln!("one frame's uploads: {one:?}");
+    assert!(
+        one.bytes > 300 * 48,
+        "the lights alone are 14 400 bytes: {one:?}"
+    );
+    assert!(!one.blocks.is_empty() && one.blocks.len() < 6, "{one:?}");
+    assert!(one.writes >= 8, "{one:?}");
+
+    r.hold_upload_completions(true);
+    let mut frames: Vec<Vec<u32>> = Vec::new();
+    let error = loop {
+        // Each frame its own camera, so that each frame's uploads differ.
+        let mut f = frame.clone();
+        f.camera.position.x += 0.01 * frames.len() as f32;
+        match r.submit(&p, &f, RenderPath::Deferred) {
+            Ok(_) => {
+                let s = r.upload_stats();
+                assert_eq!(s.frames_in_flight as usize, frames.len() + 1, "{s:?}");
+                frames.push(s.blocks.clone());
+            }
+            Err(e) => break e,
+        }
+        assert!(frames.len() < 100, "the pool never filled");
+    };
+    eprintln!("{} frames in flight, then: {error}", frames.len());
+    assert!(
+        frames.len() >= 2,
+        "at least two frames in flight: {}",
+        frames.len()
+    );
+    for (i, a) in frames.iter().enumerate() {
+        for b in &frames[i + 1..] {
+            assert!(
+                a.iter().all(|x| !b.contains(x)),
+                "a block of a frame in flight was handed out again: {frames:?}"
+            );
+        }
+    }
+    match &error {
+        gpu::Error::UploadPoolExhausted {
+            pool_bytes, blocks, ..
+        } => {
+            assert_eq!(*pool_bytes, BLOCKS * u64::from(BLOCK));
+            assert_eq!(u64::from(*blocks), BLOCKS);
+        }
+        e => panic!("expected UploadPoolExhausted, got {e:?}"),
+    }
+    assert!(
+        error
+            .to_string()
+            .contains(&(BLOCKS * u64::from(BLOCK)).to_string())
+    );
+
+    // The GPU catches up: the pool recovers and the frame is right.
+    r.hold_upload_completions(false);
+    r.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let image = r.read_output().unwrap();
+    let (mut reference, rp, _) = upload_rig(PoolConfig::KZ2);
+    reference.render(&rp, &frame, RenderPath::Deferred).unwrap();
+    assert_eq!(
+        common::differing_pixels(&image, &reference.read_output().unwrap()),
+        0
+    );
+    assert!(r.upload_stats().free_blocks as u64 >= BLOCKS - one.blocks.len() as u64);
+}
+
+/// A pool smaller than one frame's uploads is an error naming its size, every time (never
+/// a panic); a pool layout framealloc rejects is a configuration error.
+#[test]
+fn an_upload_pool_smaller_than_a_frame_is_an_error() {
+    let (mut r, p, frame) = upload_rig(PoolConfig::new(2 * 4096, 4096));
+    for _ in 0..2 {
+        match r.render(&p, &frame, RenderPath::Deferred) {
+            Err(gpu::Error::UploadPoolExhausted { pool_bytes, .. }) => {
+                assert_eq!(pool_bytes, 8192);
+            }
+            other => panic!("expected UploadPoolExhausted, got {other:?}"),
+        }
+    }
+    let c = ctx();
+    let bad = gpu::Renderer::new(
+        &c.device,
+        &c.queue,
+        gpu::RendererConfig {
+            upload_pool: PoolConfig::new(1000, 300),
+            ..gpu::RendererConfig::default()
+        },
+    );
+    assert!(
+        matches!(
+            bad,
+            Err(gpu::Error::Config {
+                field: "RendererConfig::upload_pool",
+                ..
+            })
+        ),
+        "{:?}",
+        bad.err()
+    );
 }

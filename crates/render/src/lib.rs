@@ -219,6 +219,7 @@ fn report_lighting(
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
     report.light_paths(renderer.light_path_counts());
+    report.uploads(renderer.upload_stats(), renderer.config().upload_pool);
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
     let (surfaces, depth) = (renderer.read_gbuffer()?, renderer.read_depth()?);
     let to_sun = frame

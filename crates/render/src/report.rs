@@ -98,6 +98,23 @@ impl Report {
         );
     }
 
+    /// The last frame's per-frame uploads through the framealloc pool.
+    pub fn uploads(&mut self, u: &gpu::UploadStats, pool: gpu::framealloc::PoolConfig) {
+        self.row(
+            "per-frame uploads (framealloc pool) / blocks / CPU time in framealloc, whole commit",
+            format!(
+                "{} bytes in {} writes / {} of {} blocks of {} KiB / {:.1} us, {:.1} us",
+                group_digits(u.bytes),
+                u.writes,
+                u.blocks.len(),
+                u.pool_blocks,
+                pool.block_bytes / 1024,
+                u.allocator_ns as f64 / 1e3,
+                u.commit_ns as f64 / 1e3
+            ),
+        );
+    }
+
     /// How many geometry pixels skip the sun's shader (KZ2: close to half): in full baked
     /// sun shadow, or facing away from the sun.
     pub fn sun_skip(&mut self, geometry: u64, baked: u64, away: u64) {

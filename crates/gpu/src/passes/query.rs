@@ -26,6 +26,7 @@ use super::static_place::QueryOutputs;
 use crate::error::Result;
 use crate::resources::readback::read_buffer;
 use crate::resources::static_pool::{StaticPool, empty_storage};
+use crate::resources::uploads::UploadSink;
 use crate::timing::GpuTimer;
 
 /// What [`StaticQuery::run`] reads back.
@@ -407,7 +408,7 @@ impl StaticQuery {
     pub(crate) fn prepare_view(
         &mut self,
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        uploads: &mut dyn UploadSink,
         scene: &mut staticscene::Scene,
         params: &QueryParams,
         second: Option<&QueryParams>,
@@ -437,17 +438,29 @@ impl StaticQuery {
                 cap * size_of::<DrawableSetupBatch>() as u64,
             )?;
         }
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(params));
-        queue.write_buffer(&self.job_list, 0, bytemuck::cast_slice(&jobs));
-        queue.write_buffer(&self.wave_jobs, 0, bytemuck::cast_slice(&wave_jobs));
+        uploads.write(&self.params, 0, bytemuck::bytes_of(params));
+        uploads.write(&self.job_list, 0, bytemuck::cast_slice(&jobs));
+        uploads.write(&self.wave_jobs, 0, bytemuck::cast_slice(&wave_jobs));
         let shadow = params.has(staticscene::QUERY_FLAG_SHADOW);
         let pass = if shadow {
             &self.shadow_pass
         } else {
             &self.pass
         };
+        uploads.write(
+            &self.counters,
+            0,
+            bytemuck::bytes_of(&QueryCounters::default()),
+        );
+        if let Some(p) = second {
+            uploads.write(&self.params_second, 0, bytemuck::bytes_of(p));
+            uploads.write(
+                &self.counters_second,
+                0,
+                bytemuck::bytes_of(&QueryCounters::default()),
+            );
+        }
         let group = |params: &wgpu::Buffer, counters: &wgpu::Buffer| {
-            queue.write_buffer(counters, 0, bytemuck::bytes_of(&QueryCounters::default()));
             pass.bind_group(
                 device,
                 "query",
@@ -467,10 +480,7 @@ impl StaticQuery {
         };
         let first = group(&self.params, &self.counters)?;
         let second = match second {
-            Some(p) => {
-                queue.write_buffer(&self.params_second, 0, bytemuck::bytes_of(p));
-                Some(group(&self.params_second, &self.counters_second)?)
-            }
+            Some(_) => Some(group(&self.params_second, &self.counters_second)?),
             None => None,
         };
         Ok(PreparedView {
@@ -553,7 +563,7 @@ impl StaticQuery {
         options: &QueryOptions,
         readback: QueryReadback,
     ) -> Result<StaticQueryOutput> {
-        let view = self.prepare_view(device, queue, scene, params, None, options)?;
+        let view = self.prepare_view(device, &mut queue.clone(), scene, params, None, options)?;
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("static query"),
         });

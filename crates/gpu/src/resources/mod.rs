@@ -8,6 +8,7 @@ pub(crate) mod readback;
 pub(crate) mod rows;
 pub(crate) mod static_pool;
 pub(crate) mod targets;
+pub(crate) mod uploads;
 
 use glam::Vec3;
 use wgpu::util::DeviceExt as _;
