@@ -98,6 +98,14 @@ impl Report {
         );
     }
 
+    /// Wall-clock per frame, waiting for each frame against submitting them back to back.
+    pub fn frame_pacing(&mut self, waited_ms: f64, pipelined_ms: f64, in_flight: u32) {
+        self.row(
+            "wall-clock per frame: waiting for each / submitted back to back (most in flight)",
+            format!("{waited_ms:.2} ms / {pipelined_ms:.2} ms ({in_flight})"),
+        );
+    }
+
     /// The last frame's per-frame uploads through the framealloc pool.
     pub fn uploads(&mut self, u: &gpu::UploadStats, pool: gpu::framealloc::PoolConfig) {
         self.row(
