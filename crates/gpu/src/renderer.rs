@@ -59,14 +59,20 @@ impl RenderPath {
 /// How local lights reach the image. Every path gives the same image up to rounding:
 /// each light's shading is exactly zero outside its volume, and the paths differ only in
 /// which pixels they try.
+///
+/// The default is [`LightPaths::Tiled`]: measured fastest on the H200 (whose raster
+/// units are few: a light volume covering much of a 4K screen costs 0.1-0.5 ms there,
+/// against about a microsecond per light per tile in the compute lighting) and on
+/// lavapipe; BENCHMARKS.md has the figures. KZ2's classification suits GPUs with
+/// rasterisers to spare.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum LightPaths {
     /// KZ2's classification per light and frame ([`deferred::lights::LightClassifier`]):
     /// small lights take the tiles (the per-tile depth-bounds test, wgpu having none),
     /// lights covering at least 20% of the screen or holding the eye take stencil volumes.
-    #[default]
     Classified,
-    /// Every light through the 16x16 tiles' lists.
+    /// Every light through the 16x16 tiles' lists (the per-tile depth-bounds test).
+    #[default]
     Tiled,
     /// Every light as a stencil volume.
     Volumes,
@@ -95,13 +101,16 @@ pub struct RendererConfig {
     pub subgroups: bool,
     /// Mip bias of the compute resolve (log2 units, in [-16, 16]).
     pub mip_bias: f32,
-    /// How local lights reach the image: KZ2's classification between tiles and stencil
-    /// volumes (the default), one of the two for every light, or every light tested at
+    /// How local lights reach the image: the tiles (the default), KZ2's classification
+    /// between tiles and stencil volumes, stencil volumes alone, or every light tested at
     /// every pixel (the reference and measurement baseline).
     pub light_paths: LightPaths,
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
     pub shadows: Option<crate::ShadowConfig>,
+    /// Frames [`Renderer::submit`] lets run ahead of the GPU before it waits for the
+    /// oldest (at least 1; default 2: one recording while one renders).
+    pub frames_in_flight: u32,
     /// The per-frame upload pool (KZ2's render-memory allocator, `framealloc`): every
     /// frame's uniforms, lights and query parameters are sub-allocated from its blocks
     /// and freed when the GPU has finished the frame. Default: KZ2's 22 MiB in 256 KiB
@@ -135,6 +144,9 @@ impl RendererConfig {
                 "[-16, 16] (log2 units)",
             );
         }
+        if self.frames_in_flight == 0 {
+            return bad("RendererConfig::frames_in_flight", 0.0, "at least 1 frame");
+        }
         if let Some(s) = &self.shadows {
             s.validate()?;
         }
@@ -150,10 +162,11 @@ impl Default for RendererConfig {
             primitive_id: None,
             subgroups: true,
             mip_bias: 0.0,
-            light_paths: LightPaths::Classified,
+            light_paths: LightPaths::Tiled,
             shadows: Some(crate::ShadowConfig::default()),
             baked_sun: true,
             upload_pool: framealloc::PoolConfig::KZ2,
+            frames_in_flight: 2,
         }
     }
 }
@@ -163,7 +176,8 @@ impl Default for RendererConfig {
 pub struct FrameOutput {
     /// GPU time per pass label, from timestamp queries (empty without them).
     pub gpu: Vec<Timing>,
-    /// Wall-clock time of the frame's submission to completion (ms).
+    /// Wall-clock time of the frame's recording and submission to its completion (ms);
+    /// for [`Renderer::submit`], of the call (recording, submission, and any pacing wait).
     pub wall_ms: f64,
     /// The static query's and placement's statistics, in a frame with a static query.
     pub statics: Option<StaticFrameStats>,
@@ -232,6 +246,8 @@ pub struct Renderer {
     tiled_lights: Vec<deferred::DeferredLight>,
     /// The per-frame uploads (framealloc's pool over one upload buffer).
     uploads: Uploads,
+    /// Submissions of frames not waited for, oldest first.
+    in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
     /// This frame's stencil volume draws.
     volume_draws: Vec<passes::light_volumes::VolumeDraw>,
     /// The sun's cascades of the last frame (f64), with shadows on.
@@ -415,6 +431,7 @@ impl Renderer {
                 lights,
                 tiled_lights: Vec::new(),
                 uploads,
+                in_flight: Default::default(),
                 volume_draws: Vec::new(),
                 cascades: None,
                 timer,
@@ -573,10 +590,23 @@ impl Renderer {
                 .record_after_geometry(what, &mut encoder, &context!(), &mut self.timer);
             self.timer.resolve(&mut encoder);
             let uploads = self.uploads.commit(&device, &self.queue)?;
-            self.queue.submit([uploads, encoder.finish()]);
+            let index = self.queue.submit([uploads, encoder.finish()]);
             self.uploads.submitted(&self.queue);
             if wait {
                 wait_idle(&device)?;
+                self.in_flight.clear();
+            } else {
+                // Frame pacing: at most `frames_in_flight` frames ahead of the GPU.
+                self.in_flight.push_back(index);
+                while self.in_flight.len() > self.config.frames_in_flight as usize {
+                    let oldest = self.in_flight.pop_front();
+                    device
+                        .poll(wgpu::PollType::Wait {
+                            submission_index: oldest,
+                            timeout: None,
+                        })
+                        .map_err(|e| Error::Poll(e.to_string()))?;
+                }
             }
             if what.lights() {
                 self.targets.shadows.rendered(static_frame);
@@ -836,9 +866,10 @@ impl Renderer {
     }
 
     /// Records and submits one frame of `scene` as [`Renderer::render`] does, without
-    /// waiting for the GPU: the next frame's CPU work overlaps this one's GPU work, and
-    /// its uploads take other blocks of the upload pool (those of finished frames are
-    /// reused). Reads no timings ([`FrameOutput::gpu`] is empty); [`Renderer::wait`], a
+    /// waiting for the GPU (unless [`RendererConfig::frames_in_flight`] frames are already
+    /// running: then for the oldest): the next frame's CPU work overlaps this one's GPU
+    /// work, and its uploads take other blocks of the upload pool (those of finished
+    /// frames are reused). Reads no timings ([`FrameOutput::gpu`] is empty); [`Renderer::wait`], a
     /// read-back or [`Renderer::render`] waits.
     ///
     /// # Errors
@@ -862,7 +893,8 @@ impl Renderer {
     ///
     /// # Errors
     /// A device error.
-    pub fn wait(&self) -> Result<()> {
+    pub fn wait(&mut self) -> Result<()> {
+        self.in_flight.clear();
         wait_idle(&self.device)
     }
 

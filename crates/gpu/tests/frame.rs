@@ -215,6 +215,8 @@ fn upload_rig(pool: PoolConfig) -> (gpu::Renderer, gpu::PreparedScene, FrameInpu
         height: 90,
         shadows: common::test_shadows(),
         upload_pool: pool,
+        // No pacing wait: every frame may run ahead.
+        frames_in_flight: 64,
         ..gpu::RendererConfig::default()
     });
     let p = r.prepare(&scene).unwrap();

@@ -98,11 +98,18 @@ impl Report {
         );
     }
 
-    /// Wall-clock per frame, waiting for each frame against submitting them back to back.
-    pub fn frame_pacing(&mut self, waited_ms: f64, pipelined_ms: f64, in_flight: u32) {
+    /// Wall-clock per frame, waiting for each frame against submitting them back to back
+    /// (with the CPU time of a submission, the pacing wait included).
+    pub fn frame_pacing(
+        &mut self,
+        waited_ms: f64,
+        pipelined_ms: f64,
+        submit_ms: f64,
+        in_flight: u32,
+    ) {
         self.row(
-            "wall-clock per frame: waiting for each / submitted back to back (most in flight)",
-            format!("{waited_ms:.2} ms / {pipelined_ms:.2} ms ({in_flight})"),
+            "wall-clock per frame: waiting for each / back to back (submit call; most in flight)",
+            format!("{waited_ms:.2} ms / {pipelined_ms:.2} ms ({submit_ms:.2} ms; {in_flight})"),
         );
     }
 
