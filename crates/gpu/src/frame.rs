@@ -370,6 +370,7 @@ pub(crate) fn frame_uniforms(
         frame_index,
         time: frame.time,
         baked_sun: [[0.0; 4]; 4],
+        view_rotation: camera.view_rotation().to_cols_array_2d(),
     }
 }
 

@@ -1,5 +1,8 @@
-//! The G-buffer on the GPU: `deferred`'s octahedral layout (world-space 12+12-bit normal,
-//! formats guaranteed for storage writes, render attachments and 4x MSAA), written as
+//! The G-buffer on the GPU, in either of `deferred`'s layouts
+//! ([`RendererConfig::gbuffer`](crate::RendererConfig::gbuffer)): the octahedral one (the
+//! default: world-space 12+12-bit normal, formats guaranteed for storage writes, render
+//! attachments and 4x MSAA, 20 bytes a pixel) or KZ2's four RGBA8 targets (view-space
+//! normal xy in f16 pairs, 16 bytes a pixel; feature `kz2_gbuffer` of the modules), written as
 //! storage textures by the compute resolve (`gpu::gbuffer_store`), as colour attachments
 //! by the baseline's fragment shader (`gpu::gbuffer_fragment`), and read as sampled
 //! textures by lighting (`gpu::gbuffer_load`). The bit layout and its packing are
@@ -8,9 +11,6 @@
 
 use deferred::{GBufferLayout, TargetFormat};
 use shader::{Binding, Dim, Format, Kind, Sample};
-
-/// The layout the renderer writes.
-pub(crate) const LAYOUT: GBufferLayout = GBufferLayout::Octahedral;
 
 /// wgpu's format for a `deferred` target format.
 pub(crate) fn wgpu_format(f: TargetFormat) -> wgpu::TextureFormat {
@@ -23,21 +23,17 @@ pub(crate) fn wgpu_format(f: TargetFormat) -> wgpu::TextureFormat {
     }
 }
 
-/// The colour targets' wgpu formats, RT0..RT3.
-pub(crate) fn color_formats() -> Vec<wgpu::TextureFormat> {
-    LAYOUT
+/// The colour targets' wgpu formats, RT0..RT3, of `layout`.
+pub(crate) fn color_formats(layout: GBufferLayout) -> Vec<wgpu::TextureFormat> {
+    layout
         .color_formats()
         .iter()
         .map(|&f| wgpu_format(f))
         .collect()
 }
 
-const fn color(i: usize) -> TargetFormat {
-    LAYOUT.color_formats()[i]
-}
-
-const fn storage(i: usize) -> Kind {
-    Kind::storage_texture_2d(match color(i) {
+const fn storage(layout: GBufferLayout, i: usize) -> Kind {
+    Kind::storage_texture_2d(match layout.color_formats()[i] {
         TargetFormat::Rgba8Unorm => Format::Rgba8Unorm,
         TargetFormat::Rgba8Uint => Format::Rgba8Uint,
         TargetFormat::Rgba16Float => Format::Rgba16Float,
@@ -45,9 +41,9 @@ const fn storage(i: usize) -> Kind {
     })
 }
 
-const fn sampled(i: usize) -> Kind {
+const fn sampled(layout: GBufferLayout, i: usize) -> Kind {
     Kind::Texture {
-        sample: match color(i) {
+        sample: match layout.color_formats()[i] {
             TargetFormat::Rgba8Uint => Sample::Uint,
             _ => Sample::Float { filterable: false },
         },
@@ -55,25 +51,44 @@ const fn sampled(i: usize) -> Kind {
     }
 }
 
-/// RT0..RT3 as the resolve writes them (`gpu::gbuffer_store`).
-pub(crate) const STORE_BINDINGS: [Binding; 4] = [
-    Binding::new("gbuffer_rt0", storage(0)),
-    Binding::new("gbuffer_rt1", storage(1)),
-    Binding::new("gbuffer_rt2", storage(2)),
-    Binding::new("gbuffer_rt3", storage(3)),
-];
+const fn store_bindings(layout: GBufferLayout) -> [Binding; 4] {
+    [
+        Binding::new("gbuffer_rt0", storage(layout, 0)),
+        Binding::new("gbuffer_rt1", storage(layout, 1)),
+        Binding::new("gbuffer_rt2", storage(layout, 2)),
+        Binding::new("gbuffer_rt3", storage(layout, 3)),
+    ]
+}
 
-/// RT0..RT3 as lighting reads them (`gpu::gbuffer_load`).
-pub(crate) const LOAD_BINDINGS: [Binding; 4] = [
-    Binding::new("gbuffer_tex0", sampled(0)),
-    Binding::new("gbuffer_tex1", sampled(1)),
-    Binding::new("gbuffer_tex2", sampled(2)),
-    Binding::new("gbuffer_tex3", sampled(3)),
-];
+const fn load_bindings(layout: GBufferLayout) -> [Binding; 4] {
+    [
+        Binding::new("gbuffer_tex0", sampled(layout, 0)),
+        Binding::new("gbuffer_tex1", sampled(layout, 1)),
+        Binding::new("gbuffer_tex2", sampled(layout, 2)),
+        Binding::new("gbuffer_tex3", sampled(layout, 3)),
+    ]
+}
+
+/// RT0..RT3 as the resolve writes them (`gpu::gbuffer_store`), octahedral layout.
+pub(crate) const STORE_BINDINGS: [Binding; 4] = store_bindings(GBufferLayout::Octahedral);
+/// The same for the KZ2 preset (feature `kz2_gbuffer`).
+pub(crate) const KZ2_STORE_BINDINGS: [Binding; 4] = store_bindings(GBufferLayout::Kz2);
+/// RT0..RT3 as lighting reads them (`gpu::gbuffer_load`), octahedral layout.
+pub(crate) const LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Octahedral);
+/// The same for the KZ2 preset (feature `kz2_gbuffer`).
+pub(crate) const KZ2_LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Kz2);
+
+/// The WGSL feature of `layout`'s G-buffer modules (none for the octahedral layout).
+pub(crate) fn features(layout: GBufferLayout) -> &'static [&'static str] {
+    match layout {
+        GBufferLayout::Kz2 => &["kz2_gbuffer"],
+        GBufferLayout::Octahedral => &[],
+    }
+}
 
 /// The colour-target states of the baseline's geometry pass.
-pub(crate) fn color_targets() -> Vec<Option<wgpu::ColorTargetState>> {
-    color_formats()
+pub(crate) fn color_targets(layout: GBufferLayout) -> Vec<Option<wgpu::ColorTargetState>> {
+    color_formats(layout)
         .into_iter()
         .map(|format| {
             Some(wgpu::ColorTargetState {

@@ -83,10 +83,13 @@ pub use context::{
     ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,
     headless, read_buffer, scoped, wait_idle,
 };
+/// The `deferred` version this crate's API uses (G-buffer layouts, lights, cascades).
+pub use deferred;
 pub use error::{Error, FrameError, Result, SceneError};
 pub use frame::{
     Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight, local_light_rows,
 };
+/// The `framealloc` version this crate's API uses (the upload pool's layout).
 pub use framealloc;
 pub use glam;
 pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};

@@ -108,6 +108,12 @@ pub struct RendererConfig {
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
     pub shadows: Option<crate::ShadowConfig>,
+    /// The G-buffer layout: `deferred`'s octahedral one (the default: world-space 12+12-bit
+    /// normal, 20 bytes a pixel) or KZ2's four RGBA8 targets (view-space normal xy as f16,
+    /// lighting and glow, motion and log specular power, albedo and sun shadow; 16 bytes a
+    /// pixel). Both render the same scene; the KZ2 preset rounds more (BENCHMARKS.md has
+    /// the image difference). The depth target stays `Depth32Float` in both.
+    pub gbuffer: deferred::GBufferLayout,
     /// Frames [`Renderer::submit`] lets run ahead of the GPU before it waits for the
     /// oldest (at least 1; default 2: one recording while one renders).
     pub frames_in_flight: u32,
@@ -167,6 +173,7 @@ impl Default for RendererConfig {
             baked_sun: true,
             upload_pool: framealloc::PoolConfig::KZ2,
             frames_in_flight: 2,
+            gbuffer: deferred::GBufferLayout::Octahedral,
         }
     }
 }
@@ -246,6 +253,8 @@ pub struct Renderer {
     tiled_lights: Vec<deferred::DeferredLight>,
     /// The per-frame uploads (framealloc's pool over one upload buffer).
     uploads: Uploads,
+    /// The last frame's camera rotation (camera-relative world to view).
+    view_rotation: glam::Mat4,
     /// Submissions of frames not waited for, oldest first.
     in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
     /// This frame's stencil volume draws.
@@ -362,6 +371,7 @@ impl Renderer {
                 config.height,
                 config.shadows,
                 config.light_paths.volumes(),
+                config.gbuffer,
             );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
@@ -380,7 +390,13 @@ impl Renderer {
                 anisotropy_clamp: 1,
                 ..Default::default()
             });
-            let pipelines = Pipelines::new(device, &paths, wave_width.lanes(), config.light_paths)?;
+            let pipelines = Pipelines::new(
+                device,
+                &paths,
+                wave_width.lanes(),
+                config.light_paths,
+                config.gbuffer,
+            )?;
             let local = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("local lights"),
                 size: size_of::<GpuLocalLights>() as u64,
@@ -432,6 +448,7 @@ impl Renderer {
                 tiled_lights: Vec::new(),
                 uploads,
                 in_flight: Default::default(),
+                view_rotation: glam::Mat4::IDENTITY,
                 volume_draws: Vec::new(),
                 cascades: None,
                 timer,
@@ -524,6 +541,7 @@ impl Renderer {
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
+        self.view_rotation = frame.camera.view_rotation();
         let aspect = self.config.width as f32 / self.config.height as f32;
         self.previous = Some((
             scene.id,
@@ -1081,7 +1099,8 @@ impl Renderer {
     }
 
     /// Reads the G-buffer of the last frame back, one [`deferred::Surface`] per pixel
-    /// (row-major; world-space normals, motion in pixels, `+y` down): what lighting read.
+    /// (row-major; world-space normals, turned back from view space under the KZ2 preset;
+    /// motion in pixels, `+y` down): what lighting read.
     ///
     /// # Errors
     /// A device or mapping error.
@@ -1104,18 +1123,25 @@ impl Renderer {
             .collect::<Result<_>>()?;
         let n = (self.config.width * self.config.height) as usize;
         let mut texel = Vec::with_capacity(20);
+        // The KZ2 preset's view-space normals, back to world directions.
+        let to_world = self.view_rotation.transpose();
         (0..n)
             .map(|i| {
                 texel.clear();
                 for (bytes, size) in &targets {
                     texel.extend_from_slice(&bytes[i * size..(i + 1) * size]);
                 }
-                crate::gbuffer::LAYOUT.unpack_bytes(&texel).ok_or_else(|| {
+                let layout = self.config.gbuffer;
+                let mut s = layout.unpack_bytes(&texel).ok_or_else(|| {
                     Error::Map(format!(
                         "a G-buffer texel read back as {} bytes, not the layout's",
                         texel.len()
                     ))
-                })
+                })?;
+                if layout.normal_space() == deferred::NormalSpace::View {
+                    s.normal = to_world.transform_vector3(s.normal);
+                }
+                Ok(s)
             })
             .collect()
     }

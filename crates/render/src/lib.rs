@@ -76,6 +76,15 @@ pub enum LightPathsArg {
     EveryPixel,
 }
 
+/// `--gbuffer`: the G-buffer layout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum GBufferArg {
+    /// deferred's octahedral layout: world-space 12+12-bit normal, 20 bytes a pixel.
+    Octahedral,
+    /// KZ2's four RGBA8 targets: view-space normal xy as f16, 16 bytes a pixel.
+    Kz2,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -144,6 +153,9 @@ pub struct Args {
     /// daylight).
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4000))]
     pub lights: u32,
+    /// The G-buffer layout.
+    #[arg(long, value_enum, default_value = "octahedral")]
+    pub gbuffer: GBufferArg,
     /// How local lights reach the image.
     #[arg(long, value_enum, default_value = "tiled")]
     pub light_paths: LightPathsArg,
@@ -438,6 +450,10 @@ pub fn run(args: &Args) -> Result<()> {
             ..gpu::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,
+        gbuffer: match args.gbuffer {
+            GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
+            GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
+        },
         ..RendererConfig::default()
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;

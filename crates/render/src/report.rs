@@ -45,6 +45,14 @@ impl Report {
         );
         let c = renderer.config();
         r.row("resolution", format!("{} x {}", c.width, c.height));
+        r.row(
+            "G-buffer",
+            format!(
+                "{:?}: {} bytes a pixel + 4 of depth",
+                c.gbuffer,
+                c.gbuffer.color_bytes_per_sample()
+            ),
+        );
         let s = prepared.summary();
         r.row("instances", group_digits(s.instances));
         r.row("triangles", group_digits(s.triangles));

@@ -45,9 +45,34 @@ fn subsets<'a>(features: &[&'a str]) -> Vec<Vec<&'a str>> {
 /// naming the pass, the features and what differs.
 #[track_caller]
 pub fn check_pass<P>(pass: &Pass<P>, caps: impl Fn(&[&str]) -> Caps) -> Vec<Module> {
-    subsets(pass.features)
+    check_pass_with(pass, &[], caps)
+}
+
+/// [`check_pass`] for a description that holds only with the features `fixed` on (say, a
+/// variant of a pass whose bindings differ under a feature): every combination of the
+/// pass's other features, each with `fixed` added.
+#[track_caller]
+pub fn check_pass_with<P>(
+    pass: &Pass<P>,
+    fixed: &[&str],
+    caps: impl Fn(&[&str]) -> Caps,
+) -> Vec<Module> {
+    if let Some(f) = fixed.iter().find(|f| !pass.features.contains(f)) {
+        panic!(
+            "pass `{}`: fixed feature `{f}` is not one of its features",
+            pass.name
+        );
+    }
+    let free: Vec<&str> = pass
+        .features
+        .iter()
+        .copied()
+        .filter(|f| !fixed.contains(f))
+        .collect();
+    subsets(&free)
         .into_iter()
-        .map(|features| {
+        .map(|mut features| {
+            features.extend_from_slice(fixed);
             let src = pass
                 .source(&features)
                 .unwrap_or_else(|e| panic!("pass `{}` with {features:?}: {e}", pass.name));
@@ -347,6 +372,20 @@ fn count(@builtin(global_invocation_id) id: vec3<u32>) {
     fn a_matching_description_passes_under_every_feature_set() {
         static P: Pass = pass!(GOOD, Size::Override("T_WIDTH"));
         assert_eq!(check_pass(&P, |_| Caps::CORE).len(), 2);
+    }
+
+    /// A fixed feature is on in every checked combination (one module per subset of the
+    /// others), and one the pass does not declare is refused.
+    #[test]
+    fn fixed_features_are_on_in_every_combination() {
+        static P: Pass = pass!(GOOD, Size::Override("T_WIDTH"));
+        let modules = check_pass_with(&P, &["twice"], |f| {
+            assert!(f.contains(&"twice"), "{f:?}");
+            Caps::CORE
+        });
+        assert_eq!(modules.len(), 1);
+        let unknown = std::panic::catch_unwind(|| check_pass_with(&P, &["thrice"], |_| Caps::CORE));
+        assert!(unknown.is_err());
     }
 
     fn problems(p: &Pass) -> Vec<String> {

@@ -16,7 +16,7 @@ pub(crate) const BASELINE: Pass = Pass {
     name: "baseline depth-equal geometry pass",
     module: "gpu::baseline",
     library: LIBRARY,
-    features: &[],
+    features: &["kz2_gbuffer"],
     groups: &[SCENE_GROUP],
     entries: &[
         Entry::draw("vs_baseline", Stage::Vertex),
@@ -35,13 +35,14 @@ pub(crate) struct Baseline {
 }
 
 impl Baseline {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+    /// The pipelines writing the G-buffer of `layout`.
+    pub(crate) fn new(device: &wgpu::Device, layout: deferred::GBufferLayout) -> Result<Self> {
         let layouts = Layouts::new(device, &BASELINE);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(BASELINE.name),
-            source: wgpu::ShaderSource::Wgsl(BASELINE.source(&[])?.into()),
+            source: wgpu::ShaderSource::Wgsl(BASELINE.source(gbuffer::features(layout))?.into()),
         });
-        let targets = gbuffer::color_targets();
+        let targets = gbuffer::color_targets(layout);
         let make = |fragment: &str| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(BASELINE.name),

@@ -19,9 +19,10 @@ use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
 use super::lighting::GpuLocalLights;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
-use crate::gbuffer::LOAD_BINDINGS;
+use crate::gbuffer::{KZ2_LOAD_BINDINGS, LOAD_BINDINGS};
 use crate::resources::rows::FrameUniforms;
 use crate::timing::GpuTimer;
+use deferred::GBufferLayout;
 
 /// One light drawn as a volume (WGSL `GpuLightVolume`), 32 bytes.
 #[repr(C)]
@@ -75,6 +76,19 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
         Entry::draw("fs_shade", Stage::Fragment),
     ],
     zeroed: &[],
+};
+
+/// [`LIGHT_VOLUMES`] reading KZ2's G-buffer preset (with feature `kz2_gbuffer`).
+pub(crate) const LIGHT_VOLUMES_KZ2: Pass = Pass {
+    groups: &[
+        LIGHT_VOLUMES.groups[0],
+        Group {
+            name: "gbuffer",
+            bindings: &KZ2_LOAD_BINDINGS,
+        },
+    ],
+    features: &["kz2_gbuffer"],
+    ..LIGHT_VOLUMES
 };
 
 /// The unit volume mesh: an icosahedron subdivided once (42 vertices, 80 faces, wound
@@ -244,6 +258,7 @@ impl VolumeTargets {
 /// The pass's pipelines and the unit mesh.
 pub(crate) struct LightVolumes {
     layouts: Layouts,
+    load: &'static [Binding; 4],
     copy_depth: wgpu::RenderPipeline,
     mark: wgpu::RenderPipeline,
     shade: wgpu::RenderPipeline,
@@ -262,12 +277,19 @@ pub(crate) struct Groups {
 }
 
 impl LightVolumes {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+    /// The pipelines over the G-buffer of `layout`.
+    pub(crate) fn new(device: &wgpu::Device, layout: GBufferLayout) -> Result<Self> {
         use wgpu::util::DeviceExt;
-        let layouts = Layouts::new(device, &LIGHT_VOLUMES);
+        let (description, load) = match layout {
+            GBufferLayout::Kz2 => (&LIGHT_VOLUMES_KZ2, &KZ2_LOAD_BINDINGS),
+            GBufferLayout::Octahedral => (&LIGHT_VOLUMES, &LOAD_BINDINGS),
+        };
+        let layouts = Layouts::new(device, description);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(LIGHT_VOLUMES.name),
-            source: wgpu::ShaderSource::Wgsl(LIGHT_VOLUMES.source(&[])?.into()),
+            source: wgpu::ShaderSource::Wgsl(
+                description.source(crate::gbuffer::features(layout))?.into(),
+            ),
         });
         let accumulation = accumulation_format(device);
         let depth_format = depth_stencil_format(device);
@@ -413,6 +435,7 @@ impl LightVolumes {
         });
         Ok(Self {
             layouts,
+            load,
             copy_depth,
             mark,
             shade,
@@ -453,7 +476,7 @@ impl LightVolumes {
             gbuffer: self.layouts.bind_group(
                 device,
                 "gbuffer",
-                &crate::gbuffer::resources(&LOAD_BINDINGS, &targets.gbuffer_views),
+                &crate::gbuffer::resources(self.load, &targets.gbuffer_views),
             )?,
         })
     }
@@ -530,6 +553,7 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHT_VOLUMES, |_| Caps::CORE);
+        shadercheck::check_pass_with(&LIGHT_VOLUMES_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, LIGHT_VOLUMES.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

@@ -11,12 +11,13 @@ use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
 use super::lights::LightBuffers;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
-use crate::gbuffer::LOAD_BINDINGS;
+use crate::gbuffer::{KZ2_LOAD_BINDINGS, LOAD_BINDINGS};
 use crate::resources::rows::FrameUniforms;
 use crate::resources::targets::Targets;
 use crate::timing::GpuTimer;
 use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
+use deferred::GBufferLayout;
 
 /// What lighting needs of the local lights besides the lights (WGSL `GpuLocalLights`),
 /// 80 bytes.
@@ -91,8 +92,22 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
+/// [`LIGHTING`] reading KZ2's G-buffer preset (with feature `kz2_gbuffer`).
+pub(crate) const LIGHTING_KZ2: Pass<[u32; 2]> = Pass {
+    groups: &[
+        LIGHTING.groups[0],
+        Group {
+            name: "gbuffer",
+            bindings: &KZ2_LOAD_BINDINGS,
+        },
+    ],
+    features: &["kz2_gbuffer", "all_lights", "light_volumes"],
+    ..LIGHTING
+};
+
 /// The lighting pipelines: without and with the stencil volumes' accumulation.
 pub(crate) struct Lighting {
+    load: &'static [Binding; 4],
     pass: ComputePass<[u32; 2]>,
     with_volumes: Option<ComputePass<[u32; 2]>>,
 }
@@ -106,21 +121,26 @@ pub(crate) struct Groups {
 impl Lighting {
     /// For `paths`: tiled, or every light at every pixel; the variant adding the volumes'
     /// accumulation where some light may take a volume.
-    pub(crate) fn new(device: &wgpu::Device, paths: crate::LightPaths) -> Result<Self> {
-        let features: &[&str] = if paths == crate::LightPaths::EveryPixel {
-            &["all_lights"]
-        } else {
-            &[]
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        paths: crate::LightPaths,
+        layout: GBufferLayout,
+    ) -> Result<Self> {
+        let (pass, load) = match layout {
+            GBufferLayout::Kz2 => (&LIGHTING_KZ2, &KZ2_LOAD_BINDINGS),
+            GBufferLayout::Octahedral => (&LIGHTING, &LOAD_BINDINGS),
         };
+        let mut features = crate::gbuffer::features(layout).to_vec();
+        if paths == crate::LightPaths::EveryPixel {
+            features.push("all_lights");
+        }
+        let mut volume_features = crate::gbuffer::features(layout).to_vec();
+        volume_features.push("light_volumes");
         Ok(Self {
-            pass: ComputePass::new(device, &LIGHTING, features, &[])?,
+            load,
+            pass: ComputePass::new(device, pass, &features, &[])?,
             with_volumes: if paths.volumes() {
-                Some(ComputePass::new(
-                    device,
-                    &LIGHTING,
-                    &["light_volumes"],
-                    &[],
-                )?)
+                Some(ComputePass::new(device, pass, &volume_features, &[])?)
             } else {
                 None
             },
@@ -170,7 +190,7 @@ impl Lighting {
             gbuffer: self.pass.bind_group(
                 device,
                 "gbuffer",
-                &crate::gbuffer::resources(&LOAD_BINDINGS, &targets.gbuffer_views),
+                &crate::gbuffer::resources(self.load, &targets.gbuffer_views),
             )?,
         })
     }
@@ -207,9 +227,7 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHTING, |_| Caps::CORE);
-        for features in [&["all_lights"][..], &["light_volumes"]] {
-            shadercheck::assert_composed(LIBRARY, LIGHTING.module, features, Caps::CORE);
-        }
+        shadercheck::check_pass_with(&LIGHTING_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, LIGHTING.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

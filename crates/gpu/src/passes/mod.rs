@@ -129,23 +129,24 @@ pub(crate) struct Pipelines {
 
 impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
-    /// width) and `light_paths`.
+    /// width), `light_paths` and the G-buffer layout.
     pub(crate) fn new(
         device: &wgpu::Device,
         paths: &ActivePaths,
         wave_width: u32,
         light_paths: crate::LightPaths,
+        gbuffer: deferred::GBufferLayout,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id)?,
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
-            resolve: resolve::Resolve::new(device, wave_width)?,
-            baseline: baseline::Baseline::new(device)?,
-            lighting: lighting::Lighting::new(device, light_paths)?,
+            resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
+            baseline: baseline::Baseline::new(device, gbuffer)?,
+            lighting: lighting::Lighting::new(device, light_paths, gbuffer)?,
             lights: lights::LocalLights::new(device)?,
             light_volumes: if light_paths.volumes() {
-                Some(light_volumes::LightVolumes::new(device)?)
+                Some(light_volumes::LightVolumes::new(device, gbuffer)?)
             } else {
                 None
             },

@@ -11,9 +11,10 @@ use tiling::{PassDispatch, WaveCommand};
 use super::laydown::SCENE_GROUP;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
-use crate::gbuffer::STORE_BINDINGS;
+use crate::gbuffer::{KZ2_STORE_BINDINGS, STORE_BINDINGS};
 use crate::resources::rows::{GpuMesh, GpuMicroBatch};
 use crate::timing::GpuTimer;
+use deferred::GBufferLayout;
 
 /// Bytes of the per-pass uniform (the pass index in `x`), bound at a dynamic offset.
 pub(crate) const PASS_UNIFORM_BYTES: u64 = 16;
@@ -70,9 +71,33 @@ pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-/// The resolve's pipelines, for one wave width.
+/// [`RESOLVE`] writing KZ2's G-buffer preset (with feature `kz2_gbuffer`).
+pub(crate) const RESOLVE_KZ2: Pass<[u32; 2]> = Pass {
+    groups: &[
+        RESOLVE.groups[0],
+        RESOLVE.groups[1],
+        Group {
+            name: "gbuffer",
+            bindings: &KZ2_STORE_BINDINGS,
+        },
+        RESOLVE.groups[3],
+    ],
+    features: &["kz2_gbuffer"],
+    ..RESOLVE
+};
+
+/// The resolve's description for a G-buffer layout.
+pub(crate) fn resolve_pass(layout: GBufferLayout) -> &'static Pass<[u32; 2]> {
+    match layout {
+        GBufferLayout::Kz2 => &RESOLVE_KZ2,
+        GBufferLayout::Octahedral => &RESOLVE,
+    }
+}
+
+/// The resolve's pipelines, for one wave width and G-buffer layout.
 pub(crate) struct Resolve {
     pass: ComputePass<[u32; 2]>,
+    store: &'static [Binding; 4],
     /// Indices into `pass.steps`.
     waves: usize,
     full_screen: usize,
@@ -89,18 +114,26 @@ pub(crate) struct Groups {
 }
 
 impl Resolve {
-    /// The pipelines for wave commands of `wave_width` lanes.
-    pub(crate) fn new(device: &wgpu::Device, wave_width: u32) -> Result<Self> {
+    /// The pipelines for wave commands of `wave_width` lanes, writing `layout`.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        wave_width: u32,
+        layout: GBufferLayout,
+    ) -> Result<Self> {
         let pass = ComputePass::new(
             device,
-            &RESOLVE,
-            &[],
+            resolve_pass(layout),
+            crate::gbuffer::features(layout),
             &[("RESOLVE_WAVE_WIDTH", f64::from(wave_width))],
         )?;
         Ok(Self {
             waves: pass.step_index("resolve_waves")?,
             full_screen: pass.step_index("resolve_fullscreen")?,
             pass,
+            store: match layout {
+                GBufferLayout::Kz2 => &KZ2_STORE_BINDINGS,
+                GBufferLayout::Octahedral => &STORE_BINDINGS,
+            },
         })
     }
 
@@ -113,7 +146,7 @@ impl Resolve {
         Ok(self.pass.bind_group(
             device,
             "gbuffer",
-            &crate::gbuffer::resources(&STORE_BINDINGS, views),
+            &crate::gbuffer::resources(self.store, views),
         )?)
     }
 
@@ -251,5 +284,8 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&super::RESOLVE, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass_with(&super::RESOLVE_KZ2, &["kz2_gbuffer"], |_| {
+            shadercheck::Caps::CORE
+        });
     }
 }

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Per-frame constants (WGSL `FrameUniforms`): 384 bytes. See `wgsl/frame.wgsl` for the
+/// Per-frame constants (WGSL `FrameUniforms`): 448 bytes. See `wgsl/frame.wgsl` for the
 /// spaces: positions are camera-relative, stored origin-relative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -40,8 +40,11 @@ pub(crate) struct FrameUniforms {
     /// Origin-relative position to the baked sun map's clip space (KZ2's pre-rendered sun
     /// shadow); all zero when there is none.
     pub baked_sun: [[f32; 4]; 4],
+    /// Camera-relative world to view space: the camera's rotation (the KZ2 G-buffer
+    /// stores view-space normals).
+    pub view_rotation: [[f32; 4]; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 384);
+const _: () = assert!(size_of::<FrameUniforms>() == 448);
 
 /// One instance (WGSL `GpuInstance`): object-to-origin-relative transform rows and its
 /// place in the vis buffer. 64 bytes.
@@ -263,6 +266,7 @@ mod tests {
                 frame_index,
                 time,
                 baked_sun,
+                view_rotation,
             }),
         );
         // The Rust rows array is three WGSL members.

@@ -65,14 +65,15 @@ fn texture(
 }
 
 impl Targets {
-    /// The targets for `width` × `height` pixels, the sun's shadow maps of `shadows`, and
-    /// with `light_volumes` the stencil volumes' targets.
+    /// The targets for `width` × `height` pixels, the sun's shadow maps of `shadows`, with
+    /// `light_volumes` the stencil volumes' targets, and the G-buffer of `gbuffer_layout`.
     pub(crate) fn new(
         device: &wgpu::Device,
         width: u32,
         height: u32,
         shadows: Option<crate::shadows::ShadowConfig>,
         light_volumes: bool,
+        gbuffer_layout: deferred::GBufferLayout,
     ) -> Self {
         use wgpu::TextureUsages as U;
         let (depth, depth_view) = texture(
@@ -99,7 +100,7 @@ impl Targets {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let (gbuffer, gbuffer_views) = gbuffer::color_formats()
+        let (gbuffer, gbuffer_views) = gbuffer::color_formats(gbuffer_layout)
             .into_iter()
             .enumerate()
             .map(|(i, f)| {

@@ -45,5 +45,5 @@ fn fs_baseline(in: BaselineOut) -> GBufferOut {
 
 fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
     let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.relative);
-    return gbuffer_fragment(s);
+    return gbuffer_fragment(s, frame.view_rotation);
 }

@@ -37,6 +37,8 @@ struct FrameUniforms {
     // origin-relative position -> the baked sun map's clip (x, y in [-1, 1], depth 0
     // nearest the sun); all zero without one
     baked_sun: mat4x4<f32>,
+    // camera-relative world -> view space (the camera's rotation)
+    view_rotation: mat4x4<f32>,
 }
 
 // One instance: object-to-origin-relative 3x4 transform (rows), and where it sits in the

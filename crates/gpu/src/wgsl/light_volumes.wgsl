@@ -74,7 +74,7 @@ fn fs_shade(in: VolumeVertex) -> @location(0) vec4<f32> {
     if (!(d > 0.0) || in.light >= count) {
         return vec4<f32>(0.0);
     }
-    let s = gbuffer_surface(pixel);
+    let s = gbuffer_surface(pixel, frame.view_rotation);
     let p = light_shading_position(frame.inv_view_proj, frame.viewport.zw, pixel, d);
     let at = light_shading_point(local.view_rotation, p, s);
     return vec4<f32>(light_shading_local(lights[in.light], at, s), 0.0);

@@ -134,7 +134,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     var s: DeferredSurface;
     var at = LightShadingPoint(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0));
     if (lit) {
-        s = gbuffer_surface(pixel);
+        s = gbuffer_surface(pixel, frame.view_rotation);
         let p = light_shading_position(frame.inv_view_proj, frame.viewport.zw, pixel, d);
         at = light_shading_point(local.view_rotation, p, s);
         let v = normalize(-p);

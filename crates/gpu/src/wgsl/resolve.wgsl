@@ -73,7 +73,7 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
     let word = textureLoad(vis_texture, vec2<i32>(id.xy), 0).x;
     let r = resolve_pixel(id.xy, word);
     if r.ok {
-        gbuffer_store(id.xy, r.surface);
+        gbuffer_store(id.xy, r.surface, frame.view_rotation);
     }
 }
 
@@ -104,6 +104,6 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
     let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
     let r = resolve_pixel(pixel, word);
     if r.ok {
-        gbuffer_store(pixel, r.surface);
+        gbuffer_store(pixel, r.surface, frame.view_rotation);
     }
 }
