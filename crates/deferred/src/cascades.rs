@@ -58,8 +58,12 @@ pub struct CascadeParams {
     pub far: f64,
     /// Practical-split blend: 0 uniform, 1 logarithmic; typically 0.5-0.9.
     pub lambda: f64,
-    /// Shadow-map texels per side, > 1.
+    /// Shadow-map texels per side of the finest slice, > 1.
     pub resolution: u32,
+    /// KZ2's per-slice resolution: slice `i` has `resolution / resolution_divisor[i]`
+    /// texels per side (at least 2), its texel grid and snapping at that size. 1 keeps the
+    /// full resolution.
+    pub resolution_divisor: [u32; MAX_CASCADES],
     /// Radii are rounded up to a multiple of this (metres), e.g. 1/16, > 0.
     pub radius_step: f64,
     /// The light-space depth of the centre is snapped to a multiple of this (metres), > 0.
@@ -70,6 +74,17 @@ pub struct CascadeParams {
     pub anchor: DVec3,
 }
 
+impl CascadeParams {
+    /// Texels per side of slice `i`: `resolution / resolution_divisor[i]` (the full
+    /// resolution past [`MAX_CASCADES`] or for a zero divisor, which validation refuses).
+    pub fn slice_resolution(&self, i: usize) -> u32 {
+        match self.resolution_divisor.get(i) {
+            Some(&d) if d > 0 => self.resolution / d,
+            _ => self.resolution,
+        }
+    }
+}
+
 impl Default for CascadeParams {
     fn default() -> Self {
         CascadeParams {
@@ -78,6 +93,7 @@ impl Default for CascadeParams {
             far: 200.0,
             lambda: 0.75,
             resolution: 2048,
+            resolution_divisor: [1; MAX_CASCADES],
             radius_step: 1.0 / 16.0,
             depth_step: 1.0 / 16.0,
             caster_margin: 50.0,
@@ -94,7 +110,7 @@ pub struct Cascade {
     /// Half the orthographic box's width (metres): the slice sphere's radius, padded by
     /// half a texel and rounded up.
     pub radius: f64,
-    /// World-space size of one shadow texel, `2 radius / resolution`.
+    /// World-space size of one shadow texel, `2 radius / (the slice's resolution)`.
     pub texel_size: f64,
     /// The snapped box centre in world space.
     pub center: DVec3,
@@ -224,7 +240,6 @@ impl StableCascades {
         let tan_y = math::tan64(camera.fov_y * 0.5);
         let tan_x = tan_y * camera.aspect;
         let (right, up, fwd) = light_frame(to_light.normalize());
-        let res = f64::from(params.resolution);
         let zero = Cascade {
             split: [0.0; 2],
             radius: 0.0,
@@ -235,6 +250,7 @@ impl StableCascades {
         let mut cascades = [zero; MAX_CASCADES];
         let forward = camera.forward.normalize();
         for i in 0..n {
+            let res = f64::from(params.slice_resolution(i));
             let (near, far) = (splits[i], splits[i + 1]);
             let (c, r) = slice_bounding_sphere(near, far, tan_x, tan_y);
             // Pad by half a texel of the padded box: R - R / res >= r.
@@ -305,6 +321,12 @@ fn check(camera: &CascadeCamera, to_light: DVec3, p: &CascadeParams) -> Result<(
     }
     if p.resolution < 2 {
         return bad("resolution", f64::from(p.resolution));
+    }
+    for i in 0..(p.count as usize).min(MAX_CASCADES) {
+        let d = p.resolution_divisor[i];
+        if d == 0 || p.resolution / d < 2 {
+            return bad("resolution_divisor", f64::from(d));
+        }
     }
     if !(p.radius_step > 0.0 && p.radius_step.is_finite()) {
         return bad("radius_step", p.radius_step);

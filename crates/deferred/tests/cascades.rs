@@ -24,6 +24,8 @@ fn params() -> CascadeParams {
         count: 4,
         far: 300.0,
         resolution: 1024,
+        // KZ2's per-slice resolutions: the far slices coarser.
+        resolution_divisor: [1, 1, 2, 4, 1, 1, 1, 1],
         ..CascadeParams::default()
     }
 }
@@ -71,7 +73,8 @@ proptest! {
             for k in 0..3 {
                 prop_assert_eq!(c0.world_to_clip.col(k), c1.world_to_clip.col(k));
             }
-            let d = translation(&c1, f64::from(p.resolution)) - translation(c0, f64::from(p.resolution));
+            let res = f64::from(p.slice_resolution(i));
+            let d = translation(&c1, res) - translation(c0, res);
             for v in [d.x, d.y] {
                 prop_assert!((v - v.round()).abs() < 1e-6 * (1.0 + pos.0.abs().max(pos.2.abs()) / 100.0), "{v}");
                 prop_assert!(v.round().abs() <= 1.0, "{v}");
@@ -224,4 +227,24 @@ fn select_picks_the_first_cascade_beyond_the_distance() {
     assert_eq!(set.select(301.0), None);
     let g = c[2].gpu(DVec3::new(5.0, 0.0, 0.0));
     assert_eq!(g.split_far, c[2].split[1] as f32);
+}
+
+/// Slice `i` has `resolution / resolution_divisor[i]` texels across its box, and a zero
+/// divisor (or one leaving under 2 texels) is refused.
+#[test]
+fn each_slice_has_its_own_resolution() {
+    let p = params();
+    let set = StableCascades::fit(&camera(DVec3::ZERO, DVec3::NEG_Z), sun(), &p).unwrap();
+    for (i, c) in set.cascades().iter().enumerate() {
+        let texels = 2.0 * c.radius / c.texel_size;
+        assert!(
+            (texels - f64::from(1024 / p.resolution_divisor[i])).abs() < 1e-9,
+            "{i}: {texels}"
+        );
+    }
+    for bad in [0, 1024] {
+        let mut q = params();
+        q.resolution_divisor[3] = bad;
+        assert!(StableCascades::fit(&camera(DVec3::ZERO, DVec3::NEG_Z), sun(), &q).is_err());
+    }
 }

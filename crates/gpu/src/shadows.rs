@@ -27,8 +27,13 @@ pub(crate) const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth
 pub struct ShadowConfig {
     /// Depth slices (cascades), 1 to 8.
     pub cascades: u32,
-    /// Texels per side of each slice's map, 64 to 8192.
+    /// Texels per side of the finest slice's map (and of the depth array's layers), 64 to
+    /// 8192.
     pub resolution: u32,
+    /// KZ2's per-slice resolution: slice `k` renders `resolution / resolution_divisor[k]`
+    /// texels per side (1, 2 or 4; at least 64 texels), in the corner of its layer; its
+    /// stable texel grid is that size's.
+    pub resolution_divisor: [u32; MAX_CASCADES],
     /// View distance where shadows end (metres), above the camera's near plane.
     pub far: f32,
     /// Practical-split blend of the slice distances, in `[0, 1]` (0 uniform, 1
@@ -50,6 +55,7 @@ impl Default for ShadowConfig {
         Self {
             cascades: 4,
             resolution: 2048,
+            resolution_divisor: [1, 1, 1, 2, 2, 2, 2, 2],
             far: 120.0,
             lambda: 0.75,
             pcf_radius: [2, 1, 1, 0, 0, 0, 0, 0],
@@ -59,6 +65,11 @@ impl Default for ShadowConfig {
 }
 
 impl ShadowConfig {
+    /// Texels per side of slice `k`.
+    pub fn slice_resolution(&self, k: usize) -> u32 {
+        self.resolution / self.resolution_divisor.get(k).copied().unwrap_or(1).max(1)
+    }
+
     /// Checks the ranges above.
     ///
     /// # Errors
@@ -74,6 +85,16 @@ impl ShadowConfig {
                 f64::from(self.resolution),
                 "64 to 8192 texels",
             );
+        }
+        for k in 0..self.cascades as usize {
+            let d = self.resolution_divisor[k];
+            if !matches!(d, 1 | 2 | 4) || self.resolution / d < 64 {
+                return bad(
+                    "ShadowConfig::resolution_divisor",
+                    f64::from(d),
+                    "1, 2 or 4, leaving at least 64 texels per slice",
+                );
+            }
         }
         if !(self.far.is_finite() && self.far > 0.0) {
             return bad(
@@ -113,6 +134,7 @@ impl ShadowConfig {
             far: f64::from(self.far),
             lambda: f64::from(self.lambda),
             resolution: self.resolution,
+            resolution_divisor: self.resolution_divisor,
             ..CascadeParams::default()
         };
         let cam = CascadeCamera {
@@ -139,7 +161,7 @@ impl ShadowConfig {
     }
 }
 
-/// What lighting reads of the sun's shadows (WGSL `GpuSunShadow`), 688 bytes.
+/// What lighting reads of the sun's shadows (WGSL `GpuSunShadow`), 720 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub(crate) struct GpuSunShadow {
@@ -147,14 +169,16 @@ pub(crate) struct GpuSunShadow {
     pub cascades: [DeferredCascade; MAX_CASCADES],
     /// Cascades in use (0: no real-time sun shadow).
     pub count: u32,
-    /// Texels per side of each map.
+    /// Texels per side of the depth array's layers.
     pub resolution: u32,
     /// Zero.
     pub pad: [u32; 2],
     /// Per slice: its PCF radius in texels ([`ShadowConfig::pcf_radius`]).
     pub pcf_radius: [u32; MAX_CASCADES],
+    /// Per slice: texels per side of its map (the corner of its layer it renders into).
+    pub slice_texels: [u32; MAX_CASCADES],
 }
-const _: () = assert!(size_of::<GpuSunShadow>() == 688);
+const _: () = assert!(size_of::<GpuSunShadow>() == 720);
 
 impl Default for GpuSunShadow {
     fn default() -> Self {
@@ -174,6 +198,7 @@ impl GpuSunShadow {
         s.count = cascades.cascades().len() as u32;
         s.resolution = resolution;
         s.pcf_radius = config.pcf_radius.map(|r| r.min(MAX_PCF_RADIUS));
+        s.slice_texels = std::array::from_fn(|k| config.slice_resolution(k));
         s
     }
 }

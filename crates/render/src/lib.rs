@@ -180,6 +180,10 @@ pub struct Args {
     /// not move: with a still camera the cache skips them all).
     #[arg(long)]
     pub no_shadow_cache: bool,
+    /// Every sun slice at the full shadow resolution (default: KZ2's per-slice
+    /// resolutions, the last slice at half).
+    #[arg(long)]
+    pub uniform_shadow_resolution: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -289,13 +293,20 @@ fn shadow_views(
         return Ok(());
     };
     let maps = renderer.read_shadow_maps()?;
-    let resolution = gpu::ShadowConfig::default().resolution;
+    let Some(config) = renderer.config().shadows else {
+        return Ok(());
+    };
+    let resolution = config.resolution;
     let step = resolution.div_ceil(512);
+    let slices: Vec<String> = (0..config.cascades as usize)
+        .map(|k| config.slice_resolution(k).to_string())
+        .collect();
     let file = args.out.join(format!("{name}_debug_shadow_atlas.png"));
     gpu::debug::shadow_atlas(&maps, resolution, step).write_png(&file)?;
     report.image_named(
         &format!(
-            "sun shadow maps, nearest slice first ({resolution} texels, 1 in {step} shown; black nearest the sun)"
+            "sun shadow maps, nearest slice first ({} texels, each in the corner of a {resolution}-texel layer; 1 in {step} shown; black nearest the sun)",
+            slices.join(" / ")
         ),
         &file,
     );
@@ -447,6 +458,11 @@ pub fn run(args: &Args) -> Result<()> {
         },
         shadows: (!args.no_shadows).then(|| gpu::ShadowConfig {
             cache: !args.no_shadow_cache,
+            resolution_divisor: if args.uniform_shadow_resolution {
+                [1; 8]
+            } else {
+                gpu::ShadowConfig::default().resolution_divisor
+            },
             ..gpu::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,

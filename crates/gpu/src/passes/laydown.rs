@@ -293,6 +293,12 @@ impl Laydown {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            // KZ2's per-slice resolution: the slice's map in the corner of its layer.
+            let texels = maps
+                .config
+                .map_or(1, |c| c.slice_resolution(i))
+                .min(maps.texture.width()) as f32;
+            pass.set_viewport(0.0, 0.0, texels, texels, 0.0, 1.0);
             pass.set_bind_group(0, group, &[]);
             pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
             // Static instances may fade: the alpha-tested pipeline dithers them.

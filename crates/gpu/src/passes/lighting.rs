@@ -248,7 +248,8 @@ mod tests {
                 count,
                 resolution,
                 pad,
-                pcf_radius
+                pcf_radius,
+                slice_texels
             }),
         );
         assert_eq!(

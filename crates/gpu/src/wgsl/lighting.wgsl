@@ -16,7 +16,7 @@
 #import deferred::shadow
 #import gpu::light_shading
 
-// Rust: gpu::shadows::GpuSunShadow (688 bytes).
+// Rust: gpu::shadows::GpuSunShadow (720 bytes).
 struct GpuSunShadow {
     cascades: array<DeferredCascade, 8>,
     // cascades in use; 0: no real-time sun shadow
@@ -26,6 +26,8 @@ struct GpuSunShadow {
     pad: vec2<u32>,
     // per slice: its PCF radius in texels, at most GPU_MAX_PCF_RADIUS
     pcf_radius: array<vec4<u32>, 2>,
+    // per slice: texels per side of its map, in the corner of its layer
+    slice_texels: array<vec4<u32>, 2>,
 }
 
 // Rust: shadows::MAX_PCF_RADIUS.
@@ -71,7 +73,9 @@ fn lighting_sun_visibility(p: vec3<f32>, n: vec3<f32>, dist: f32) -> f32 {
     }
     let c = sun_shadow.cascades[k];
     let coord = deferred_shadow_coord(c, p + n * (1.5 * c.texel_size));
-    let size = vec2<i32>(textureDimensions(shadow_map));
+    // The slice's own resolution (KZ2: per slice), within its layer.
+    let layer = vec2<i32>(textureDimensions(shadow_map));
+    let size = min(vec2<i32>(i32(sun_shadow.slice_texels[k / 4u][k % 4u])), layer);
     if (!(all(coord.xy >= vec2<f32>(0.0)) && all(coord.xy < vec2<f32>(1.0)) && coord.z <= 1.0)) {
         return 1.0;
     }
