@@ -232,8 +232,8 @@ pub fn max_density(scene: DemoScene, seed: u64) -> f32 {
 /// Adds `count` local lights in KZ2's manner to `lighting`: lamps 0.5-3 m above the
 /// ground plane `y = center.y`, scattered over the square of half-size `half_extent`
 /// metres around `center`; two in three are point lights of 2-7 m radius, the rest spots
-/// of 4-10 m pointing down at 25-50° half-angles; warm and cool colours. Deterministic in
-/// `seed`.
+/// of 4-10 m pointing down at 25-50° half-angles, every other spot casting shadows; warm
+/// and cool colours. Deterministic in `seed`.
 pub fn scatter_lights(
     lighting: &mut Lighting,
     center: Vec3,
@@ -263,6 +263,8 @@ pub fn scatter_lights(
                 color: color * 2.0,
                 radius: rng.range(4.0, 10.0),
                 half_angle: rng.range(25.0, 50.0).to_radians(),
+                // Every other spot casts shadows (KZ2: some lights shadowed).
+                shadow: i % 6 == 2,
             });
         } else {
             lighting.point_lights.push(PointLight {

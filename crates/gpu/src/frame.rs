@@ -153,6 +153,10 @@ pub struct SpotLight {
     /// Half-angle of the cone (radians), in `(0, π/2)`; the edge softens over the outer
     /// quarter of its cosine range.
     pub half_angle: f32,
+    /// Casts shadows: the renderer gives it a shadow map while it covers enough of the
+    /// screen ([`SpotShadowConfig`](crate::SpotShadowConfig): KZ2's fade, a limited number
+    /// of maps, largest lights first); otherwise it lights unshadowed.
+    pub shadow: bool,
 }
 
 /// Sun, sky and lights.
@@ -385,13 +389,14 @@ pub fn local_light_rows(lighting: &Lighting, camera: &Camera) -> Vec<DeferredLig
         .iter()
         .map(|l| DeferredLight::point(at(l.position), l.radius, l.color));
     let spots = lighting.spot_lights.iter().map(|l| {
-        DeferredLight::spot(
+        let row = DeferredLight::spot(
             at(l.position),
             rotation.transform_vector3(l.direction.normalize_or(Vec3::NEG_Z)),
             l.radius,
             l.half_angle,
             l.color,
-        )
+        );
+        if l.shadow { row.with_shadow() } else { row }
     });
     points.chain(spots).collect()
 }
@@ -427,6 +432,7 @@ mod tests {
                 color: Vec3::ONE,
                 radius: 6.0,
                 half_angle: 0.4,
+                shadow: false,
             }],
             ..Lighting::default()
         };
@@ -616,6 +622,7 @@ mod tests {
             color: Vec3::ONE,
             radius: 5.0,
             half_angle: 0.5,
+            shadow: false,
         };
         let spot_field = |s: SpotLight| match (Lighting {
             spot_lights: vec![spot, s],

@@ -75,6 +75,7 @@ mod renderer;
 mod resources;
 mod scene;
 mod shadows;
+mod spot_shadows;
 mod statics;
 mod stats;
 mod timing;
@@ -107,6 +108,7 @@ pub use scene::{
     MeshId, Scene, ShaderKind, StaticSetup,
 };
 pub use shadows::ShadowConfig;
+pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
 pub use statics::{
     StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticView, scene_from_query,
     static_view_desc,

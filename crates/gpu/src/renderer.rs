@@ -122,6 +122,9 @@ pub struct RendererConfig {
     /// and freed when the GPU has finished the frame. Default: KZ2's 22 MiB in 256 KiB
     /// blocks.
     pub upload_pool: framealloc::PoolConfig,
+    /// Shadow maps for the spot lights that cast shadows (KZ2's fade, the largest first);
+    /// `None`: every spot lights unshadowed.
+    pub spot_shadows: Option<crate::SpotShadowConfig>,
     /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
     /// (1024² texels), rendered when the scene or the sun
     /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
@@ -156,6 +159,9 @@ impl RendererConfig {
         if let Some(s) = &self.shadows {
             s.validate()?;
         }
+        if let Some(s) = &self.spot_shadows {
+            s.validate()?;
+        }
         Ok(())
     }
 }
@@ -170,6 +176,7 @@ impl Default for RendererConfig {
             mip_bias: 0.0,
             light_paths: LightPaths::Tiled,
             shadows: Some(crate::ShadowConfig::default()),
+            spot_shadows: Some(crate::SpotShadowConfig::default()),
             baked_sun: true,
             upload_pool: framealloc::PoolConfig::KZ2,
             frames_in_flight: 2,
@@ -223,6 +230,9 @@ pub struct LightPathCounts {
     /// Of `volumes`, those drawn from inside (the eye in the mesh or the mesh reaching the
     /// near plane): back faces alone, no stencil.
     pub volumes_from_inside: u32,
+    /// Spot lights that rendered a shadow map (shadow-casting, not faded out, among the
+    /// largest [`SpotShadowConfig::maps`](crate::SpotShadowConfig::maps)).
+    pub spot_shadow_maps: u32,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -372,6 +382,7 @@ impl Renderer {
                 config.shadows,
                 config.light_paths.volumes(),
                 config.gbuffer,
+                config.spot_shadows,
             );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
@@ -537,7 +548,7 @@ impl Renderer {
             previous,
         );
         self.bake_sun(scene, frame, &mut uniforms);
-        uniforms.local_light_count = self.upload_lights(frame)?;
+        uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
@@ -1200,6 +1211,7 @@ impl Renderer {
             tiled: self.tiled_lights.len() as u32,
             volumes: self.volume_draws.len() as u32,
             volumes_from_inside: self.volume_draws.iter().filter(|d| d.inside).count() as u32,
+            spot_shadow_maps: self.targets.spot_shadows.active,
         }
     }
 
@@ -1443,7 +1455,7 @@ impl Renderer {
     /// buffers when they are short. Splits the lights between the tiles and the stencil
     /// volumes as [`RendererConfig::light_paths`] says: the tiled ones first in the light
     /// buffer (their count is returned, for the frame uniforms), the volumes' after them.
-    fn upload_lights(&mut self, frame: &FrameInput) -> Result<u32> {
+    fn upload_lights(&mut self, frame: &FrameInput, uniforms: &FrameUniforms) -> Result<u32> {
         use crate::passes::light_volumes::{GpuLightVolume, VolumeDraw};
         use deferred::lights::{LightClassifier, LightPath};
         let (width, height) = (self.config.width, self.config.height);
@@ -1467,8 +1479,9 @@ impl Renderer {
             })
         })?
         .gpu(glam::Vec2::new(width as f32, height as f32));
-        let all = local_light_rows(&frame.lighting, camera);
+        let mut all = local_light_rows(&frame.lighting, camera);
         let classifier = LightClassifier::default();
+        self.upload_spot_shadows(&mut all, &projection, uniforms);
         let volume = |l: &deferred::DeferredLight| match self.config.light_paths {
             LightPaths::Tiled | LightPaths::EveryPixel => false,
             LightPaths::Volumes => true,
@@ -1573,6 +1586,55 @@ impl Renderer {
             }),
         );
         Ok(count)
+    }
+
+    /// KZ2's shadowed spots: picks this frame's maps (fade by coverage, largest first),
+    /// writes each chosen light's slot into its row, and uploads each map's frame uniforms
+    /// (`uniforms` drawn from the light) and the rows lighting reads.
+    fn upload_spot_shadows(
+        &mut self,
+        rows: &mut [deferred::DeferredLight],
+        projection: &deferred::DeferredProjection,
+        uniforms: &FrameUniforms,
+    ) {
+        use crate::spot_shadows::{GpuSpotShadow, assign_maps};
+        let maps = &mut self.targets.spot_shadows;
+        let Some(config) = maps.config else {
+            maps.active = 0;
+            return;
+        };
+        let classifier = deferred::lights::LightClassifier {
+            fade: config.fade,
+            ..deferred::lights::LightClassifier::default()
+        };
+        let chosen = assign_maps(rows, &config, |l| {
+            let c = classifier.classify(projection, l);
+            (c.coverage, c.shadow)
+        });
+        let view_rotation = glam::Mat4::from_cols_array_2d(&uniforms.view_rotation);
+        let mut gpu_rows = Vec::with_capacity(chosen.len().max(1));
+        for (slot, map) in chosen.iter().enumerate() {
+            let mut u = *uniforms;
+            u.view_proj = (map.view_to_clip * view_rotation).to_cols_array_2d();
+            self.uploads.write(
+                &maps.frames,
+                slot as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
+                bytemuck::bytes_of(&u),
+            );
+            let light = rows
+                .iter()
+                .find(|l| {
+                    l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT == slot as u32 + 1
+                })
+                .copied()
+                .unwrap_or_default();
+            gpu_rows.push(GpuSpotShadow::new(map, &light, config.resolution));
+        }
+        if !gpu_rows.is_empty() {
+            self.uploads
+                .write(&maps.rows, 0, bytemuck::cast_slice(&gpu_rows));
+        }
+        maps.active = chosen.len() as u32;
     }
 
     /// Replaces the classification phases' `override`s and skips entry points, for timing

@@ -372,7 +372,12 @@ impl ShadowMaps {
 
 /// A square [`SHADOW_FORMAT`] texture of `layers` layers, for rendering, sampling and
 /// read-back.
-fn depth_texture(device: &wgpu::Device, label: &str, size: u32, layers: u32) -> wgpu::Texture {
+pub(crate) fn depth_texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: u32,
+    layers: u32,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {

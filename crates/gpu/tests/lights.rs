@@ -66,7 +66,13 @@ fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool
         assert_eq!(tiles.depths, cpu_depths, "{path:?}: tile depth ranges");
         // Pass 2: the CPU twin on the same tiles and lights.
         let lights = local_light_rows(&frame.lighting, &frame.camera);
-        assert_eq!(tiles.lights, lights, "every light is tiled, in order");
+        // Every light is tiled, in order (the renderer keeps a spot's shadow-map slot in
+        // the flags' bits 8-15).
+        let strip = |l: &deferred::DeferredLight| deferred::DeferredLight {
+            flags: l.flags & 0xff,
+            ..*l
+        };
+        assert_eq!(tiles.lights.iter().map(strip).collect::<Vec<_>>(), lights);
         let proj = Perspective::try_new(
             frame.camera.fov_y,
             W as f32 / H as f32,
@@ -223,12 +229,13 @@ fn lit_image_equals_an_f64_reference() {
     });
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
-    // Without the sun's shadow maps (their test is tests/shadows.rs): the reference
-    // evaluates the lighting terms alone.
+    // Without the sun's and the spots' shadow maps (their tests are tests/shadows.rs):
+    // the reference evaluates the lighting terms alone.
     let mut r = common::renderer_with(RendererConfig {
         width: W,
         height: H,
         shadows: None,
+        spot_shadows: None,
         ..RendererConfig::default()
     });
     let prepared = r.prepare(&scene).unwrap();

@@ -326,3 +326,81 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
         assert!(skipped > 8, "{skipped}");
     }
 }
+
+/// KZ2's shadowed spot lights: lamps over the forest floor with `shadow` on get maps
+/// (largest on screen first), and their light only ever loses to the maps: no pixel is
+/// brighter than with the same lamps unshadowed, and the leaves and trunks under them cast
+/// shadows (some pixels darker). Faded out (every lamp below the fade's coverage), no map
+/// is drawn and the image is the unshadowed one exactly.
+#[test]
+fn shadowed_spots_only_darken_and_fade_out() {
+    use gpu::{SpotLight, SpotShadowConfig};
+    let (scene, mut frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    frame.lighting.sun_color *= 0.05;
+    frame.lighting.ambient *= 0.3;
+    let eye = frame.camera.position;
+    let target = frame.camera.target;
+    for (k, t) in [0.3f32, 0.5, 0.7].into_iter().enumerate() {
+        let at = eye.lerp(target, t) + Vec3::new(k as f32 - 1.0, 4.0, 0.0);
+        frame.lighting.spot_lights.push(SpotLight {
+            position: at,
+            direction: Vec3::new(0.1, -1.0, 0.05),
+            color: Vec3::new(30.0, 24.0, 16.0),
+            radius: 14.0,
+            half_angle: 0.7,
+            shadow: true,
+        });
+    }
+    let mut unshadowed = frame.clone();
+    for s in &mut unshadowed.lighting.spot_lights {
+        s.shadow = false;
+    }
+    let make = |spot_shadows| {
+        common::renderer_with(RendererConfig {
+            width: 240,
+            height: 136,
+            shadows: common::test_shadows(),
+            spot_shadows,
+            ..RendererConfig::default()
+        })
+    };
+    let mut r = make(Some(SpotShadowConfig::default()));
+    let p = r.prepare(&scene).unwrap();
+    r.render(&p, &unshadowed, RenderPath::Deferred).unwrap();
+    let plain = r.read_output().unwrap();
+    assert_eq!(r.light_path_counts().spot_shadow_maps, 0);
+    r.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let shadowed = r.read_output().unwrap();
+    assert_eq!(r.light_path_counts().spot_shadow_maps, 3);
+    let (mut darker, mut brighter) = (0, 0);
+    for (a, b) in shadowed.pixels.iter().zip(&plain.pixels) {
+        darker += usize::from((0..3).any(|k| a[k] < b[k]));
+        brighter += usize::from((0..3).any(|k| a[k] > b[k]));
+    }
+    eprintln!(
+        "{darker} pixels darker, {brighter} brighter of {}",
+        plain.pixels.len()
+    );
+    assert_eq!(brighter, 0);
+    assert!(darker * 50 > plain.pixels.len(), "{darker}");
+    // KZ2's fade: below the fade's coverage, no map and the unshadowed shader.
+    let mut faded = make(Some(SpotShadowConfig {
+        // Coverage never passes 1.
+        fade: deferred::lights::ShadowFade {
+            full: 2.0,
+            zero: 1.5,
+        },
+        ..SpotShadowConfig::default()
+    }));
+    let pf = faded.prepare(&scene).unwrap();
+    faded.render(&pf, &frame, RenderPath::Deferred).unwrap();
+    assert_eq!(faded.light_path_counts().spot_shadow_maps, 0);
+    assert_eq!(
+        common::differing_pixels(&faded.read_output().unwrap(), &plain),
+        0
+    );
+}

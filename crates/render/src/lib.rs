@@ -184,6 +184,9 @@ pub struct Args {
     /// resolutions, the last slice at half).
     #[arg(long)]
     pub uniform_shadow_resolution: bool,
+    /// No spot shadow maps: shadow-casting spots light unshadowed.
+    #[arg(long)]
+    pub no_spot_shadows: bool,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -466,6 +469,7 @@ pub fn run(args: &Args) -> Result<()> {
             ..gpu::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,
+        spot_shadows: (!args.no_spot_shadows).then(gpu::SpotShadowConfig::default),
         gbuffer: match args.gbuffer {
             GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
             GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,

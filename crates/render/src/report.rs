@@ -96,12 +96,13 @@ impl Report {
     /// How the lights were drawn: tiles, stencil volumes (and of those, from inside).
     pub fn light_paths(&mut self, c: gpu::LightPathCounts) {
         self.row(
-            "lights by tiles / by stencil volumes (drawn from inside)",
+            "lights by tiles / by stencil volumes (drawn from inside) / spot shadow maps",
             format!(
-                "{} / {} ({})",
+                "{} / {} ({}) / {}",
                 group_digits(u64::from(c.tiled)),
                 group_digits(u64::from(c.volumes)),
-                group_digits(u64::from(c.volumes_from_inside))
+                group_digits(u64::from(c.volumes_from_inside)),
+                c.spot_shadow_maps
             ),
         );
     }

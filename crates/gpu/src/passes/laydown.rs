@@ -312,6 +312,48 @@ impl Laydown {
         }
     }
 
+    /// Records this frame's spot shadow maps (KZ2's shadowed local lights): every caster
+    /// of the scene drawn from each chosen light, one layer each.
+    pub(crate) fn record_spot_shadows(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let maps = &f.targets.spot_shadows;
+        for (view, group) in maps
+            .layer_views
+            .iter()
+            .zip(&f.scene.spot_shadow_scene)
+            .take(maps.active as usize)
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("spot shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.render("spot shadow maps"),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, group, &[]);
+            pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
+            record_draws(
+                &mut pass,
+                f,
+                &self.shadow_opaque,
+                &self.shadow_alpha,
+                &self.shadow_alpha,
+            );
+        }
+    }
+
     /// Records KZ2's pre-rendered sun map: every caster of the scene's own batches into
     /// `target`, through the bake group (whose frame holds the bake's matrix).
     pub(crate) fn record_bake(

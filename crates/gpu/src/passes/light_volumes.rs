@@ -61,6 +61,17 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
                 Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
                 Binding::new("lights", Kind::read(size_of::<DeferredLight>())),
                 Binding::new("volumes", Kind::read(size_of::<GpuLightVolume>())),
+                Binding::new(
+                    "spot_shadow_map",
+                    Kind::Texture {
+                        sample: Sample::Depth,
+                        dim: shader::Dim::D2Array,
+                    },
+                ),
+                Binding::new(
+                    "spot_shadows",
+                    Kind::read(size_of::<crate::spot_shadows::GpuSpotShadow>()),
+                ),
             ],
         },
         Group {
@@ -471,6 +482,14 @@ impl LightVolumes {
                     ("local", local.as_entire_binding()),
                     ("lights", lights.as_entire_binding()),
                     ("volumes", volumes.as_entire_binding()),
+                    (
+                        "spot_shadow_map",
+                        wgpu::BindingResource::TextureView(&targets.spot_shadows.array_view),
+                    ),
+                    (
+                        "spot_shadows",
+                        targets.spot_shadows.rows.as_entire_binding(),
+                    ),
                 ],
             )?,
             gbuffer: self.layouts.bind_group(

@@ -76,6 +76,17 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
                     "light_accumulation",
                     Kind::texture_2d(Sample::Float { filterable: false }),
                 ),
+                Binding::new(
+                    "spot_shadow_map",
+                    Kind::Texture {
+                        sample: Sample::Depth,
+                        dim: Dim::D2Array,
+                    },
+                ),
+                Binding::new(
+                    "spot_shadows",
+                    Kind::read(size_of::<crate::spot_shadows::GpuSpotShadow>()),
+                ),
             ],
         },
         Group {
@@ -185,6 +196,14 @@ impl Lighting {
                             &targets.light_volumes.accumulation_view,
                         ),
                     ),
+                    (
+                        "spot_shadow_map",
+                        wgpu::BindingResource::TextureView(&targets.spot_shadows.array_view),
+                    ),
+                    (
+                        "spot_shadows",
+                        targets.spot_shadows.rows.as_entire_binding(),
+                    ),
                 ],
             )?,
             gbuffer: self.pass.bind_group(
@@ -251,6 +270,22 @@ mod tests {
                 pcf_radius,
                 slice_texels
             }),
+        );
+        assert_struct_layout(
+            &m,
+            "GpuSpotShadow",
+            size_of::<crate::spot_shadows::GpuSpotShadow>(),
+            &members!(crate::spot_shadows::GpuSpotShadow {
+                view_to_clip,
+                strength,
+                texel_per_metre,
+                resolution,
+                pad
+            }),
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_LIGHT_SHADOW_SLOT_SHIFT"),
+            Some(crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT)
         );
         assert_eq!(
             shadercheck::const_u32(&m, "GPU_MAX_PCF_RADIUS"),

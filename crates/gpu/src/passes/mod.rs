@@ -264,6 +264,7 @@ impl Pipelines {
             Recording::Classification => return self.classify.record(e, f, timer),
         }
         self.laydown.record_shadows(e, f, timer);
+        self.laydown.record_spot_shadows(e, f, timer);
         if let Some(v) = &self.light_volumes {
             v.record(e, f, timer);
         }

@@ -109,6 +109,8 @@ pub struct PreparedScene {
     pub(crate) laydown: laydown::Groups,
     /// The scene group once per sun-shadow cascade (its `frame` the cascade's).
     pub(crate) shadow_scene: Vec<wgpu::BindGroup>,
+    /// Per spot shadow map: the scene group drawing with that map's frame uniforms.
+    pub(crate) spot_shadow_scene: Vec<wgpu::BindGroup>,
     /// The scene group of the baked sun map's pass.
     pub(crate) bake_scene: wgpu::BindGroup,
     /// The batch instances' bounds, origin-relative (`None` without instances).
@@ -460,6 +462,17 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                     let mut group = scene_group.clone();
                     group[0].1 = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                         buffer: &c.targets.shadows.frames,
+                        offset: u64::from(i) * crate::shadows::CASCADE_FRAME_STRIDE,
+                        size: wgpu::BufferSize::new(size_of::<rows::FrameUniforms>() as u64),
+                    });
+                    p.laydown.scene_group(device, &group)
+                })
+                .collect::<Result<_>>()?,
+            spot_shadow_scene: (0..c.targets.spot_shadows.layers())
+                .map(|i| {
+                    let mut group = scene_group.clone();
+                    group[0].1 = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &c.targets.spot_shadows.frames,
                         offset: u64::from(i) * crate::shadows::CASCADE_FRAME_STRIDE,
                         size: wgpu::BufferSize::new(size_of::<rows::FrameUniforms>() as u64),
                     });

@@ -34,6 +34,8 @@ pub(crate) struct Targets {
     pub output_view: wgpu::TextureView,
     /// The sun's shadow maps (one 1x1 layer when shadows are off).
     pub shadows: crate::shadows::ShadowMaps,
+    /// The spot lights' shadow maps (one 1x1 layer without them).
+    pub spot_shadows: crate::spot_shadows::SpotShadowMaps,
     /// The stencil light volumes' accumulation and depth-stencil (1x1 without volumes).
     pub light_volumes: crate::passes::light_volumes::VolumeTargets,
 }
@@ -66,7 +68,8 @@ fn texture(
 
 impl Targets {
     /// The targets for `width` × `height` pixels, the sun's shadow maps of `shadows`, with
-    /// `light_volumes` the stencil volumes' targets, and the G-buffer of `gbuffer_layout`.
+    /// `light_volumes` the stencil volumes' targets, the G-buffer of `gbuffer_layout`, and
+    /// the spot shadow maps of `spot_shadows`.
     pub(crate) fn new(
         device: &wgpu::Device,
         width: u32,
@@ -74,6 +77,7 @@ impl Targets {
         shadows: Option<crate::shadows::ShadowConfig>,
         light_volumes: bool,
         gbuffer_layout: deferred::GBufferLayout,
+        spot_shadows: Option<crate::SpotShadowConfig>,
     ) -> Self {
         use wgpu::TextureUsages as U;
         let (depth, depth_view) = texture(
@@ -135,6 +139,7 @@ impl Targets {
             output,
             output_view,
             shadows: crate::shadows::ShadowMaps::new(device, shadows),
+            spot_shadows: crate::spot_shadows::SpotShadowMaps::new(device, spot_shadows),
             light_volumes: crate::passes::light_volumes::VolumeTargets::new(
                 device,
                 width,

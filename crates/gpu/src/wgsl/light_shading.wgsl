@@ -90,3 +90,51 @@ fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurfa
     let nll = max(dot(at.n, ll), 0.0);
     return l.color * falloff * (at.diffuse * nll + s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04));
 }
+
+// Rust: spot_shadows::LIGHT_SHADOW_SLOT_SHIFT: a light row's flags carry its spot shadow
+// map's slot + 1 from this bit (0: no map).
+const GPU_LIGHT_SHADOW_SLOT_SHIFT: u32 = 8u;
+
+// Rust: spot_shadows::GpuSpotShadow (80 bytes).
+struct GpuSpotShadow {
+    // view space -> the map's clip space (depth 0 at the light's near plane)
+    view_to_clip: mat4x4<f32>,
+    // KZ2's fade: 1 full shadow, towards 0 lit
+    strength: f32,
+    // texel size per metre of distance from the light (normal offset)
+    texel_per_metre: f32,
+    resolution: u32,
+    pad: u32,
+}
+
+// The shadow-map slot + 1 of light `l` (0: no map this frame).
+fn light_shading_shadow_slot(l: DeferredLight) -> u32 {
+    return l.flags >> GPU_LIGHT_SHADOW_SLOT_SHIFT;
+}
+
+// Visibility of light `l` at `at` through its map (layer `layer` of `map`, row `s`): a 3x3
+// PCF of `depth <= stored`, the point pushed 1.5 texels along its normal, blended towards
+// lit by the fade. 1 off the map (outside the cone, where the light gives nothing anyway).
+fn light_shading_spot_visibility(map: texture_depth_2d_array, s: GpuSpotShadow, layer: u32, l: DeferredLight, at: LightShadingPoint) -> f32 {
+    let dist = length(l.position - at.p);
+    let pushed = at.p + at.n * (1.5 * s.texel_per_metre * dist);
+    let clip = s.view_to_clip * vec4<f32>(pushed, 1.0);
+    if (!(clip.w > 0.0)) {
+        return 1.0;
+    }
+    let ndc = clip.xyz / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if (!(all(uv >= vec2<f32>(0.0)) && all(uv < vec2<f32>(1.0)) && ndc.z <= 1.0)) {
+        return 1.0;
+    }
+    let size = min(vec2<i32>(i32(s.resolution)), vec2<i32>(textureDimensions(map)));
+    let centre = vec2<i32>(uv * vec2<f32>(size));
+    var lit = 0.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let t = clamp(centre + vec2<i32>(dx, dy), vec2<i32>(0), size - 1);
+            lit += select(0.0, 1.0, ndc.z <= textureLoad(map, t, i32(layer), 0));
+        }
+    }
+    return mix(1.0, lit / 9.0, clamp(s.strength, 0.0, 1.0));
+}

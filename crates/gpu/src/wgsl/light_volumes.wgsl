@@ -29,6 +29,9 @@ struct GpuLightVolume {
 @group(0) @binding(2) var<uniform> local: GpuLocalLights;
 @group(0) @binding(3) var<storage, read> lights: array<DeferredLight>;
 @group(0) @binding(4) var<storage, read> volumes: array<GpuLightVolume>;
+// The shadowed spots' maps and rows (spot_shadows.rs).
+@group(0) @binding(5) var spot_shadow_map: texture_depth_2d_array;
+@group(0) @binding(6) var<storage, read> spot_shadows: array<GpuSpotShadow>;
 // Group 1: the G-buffer (gpu::gbuffer_load).
 
 // One triangle covering the viewport.
@@ -77,5 +80,12 @@ fn fs_shade(in: VolumeVertex) -> @location(0) vec4<f32> {
     let s = gbuffer_surface(pixel, frame.view_rotation);
     let p = light_shading_position(frame.inv_view_proj, frame.viewport.zw, pixel, d);
     let at = light_shading_point(local.view_rotation, p, s);
-    return vec4<f32>(light_shading_local(lights[in.light], at, s), 0.0);
+    let l = lights[in.light];
+    var c = light_shading_local(l, at, s);
+    // KZ2's shadowed lights: through the light's map, as lighting does.
+    let slot = light_shading_shadow_slot(l);
+    if (slot > 0u && slot <= arrayLength(&spot_shadows) && any(c > vec3<f32>(0.0))) {
+        c *= light_shading_spot_visibility(spot_shadow_map, spot_shadows[slot - 1u], slot - 1u, l, at);
+    }
+    return vec4<f32>(c, 0.0);
 }

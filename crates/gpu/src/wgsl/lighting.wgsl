@@ -44,6 +44,9 @@ const GPU_MAX_PCF_RADIUS: u32 = 2u;
 @group(0) @binding(8) var output: texture_storage_2d<rgba8unorm, write>;
 // The stencil light volumes' sum (read with feature `light_volumes`).
 @group(0) @binding(9) var light_accumulation: texture_2d<f32>;
+// The shadowed spots' maps and rows (spot_shadows.rs).
+@group(0) @binding(10) var spot_shadow_map: texture_depth_2d_array;
+@group(0) @binding(11) var<storage, read> spot_shadows: array<GpuSpotShadow>;
 // Group 1: the G-buffer (gpu::gbuffer_load).
 
 // Narkowicz's ACES fit.
@@ -102,6 +105,16 @@ var<workgroup> lighting_dir_cos: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
 var<workgroup> lighting_color_flags: array<vec4<f32>, DEFERRED_MAX_LIGHTS_PER_TILE>;
 var<workgroup> lighting_tile_count: u32;
 #endif
+
+// Local light `l` at `at`, shadowed through its spot map if it has one this frame.
+fn lighting_local_light(l: DeferredLight, at: LightShadingPoint, s: DeferredSurface) -> vec3<f32> {
+    let c = light_shading_local(l, at, s);
+    let slot = light_shading_shadow_slot(l);
+    if (slot == 0u || slot > arrayLength(&spot_shadows) || !any(c > vec3<f32>(0.0))) {
+        return c;
+    }
+    return c * light_shading_spot_visibility(spot_shadow_map, spot_shadows[slot - 1u], slot - 1u, l, at);
+}
 
 @compute @workgroup_size(16, 16)
 fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
@@ -164,7 +177,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
         for (var i = 0u; i < light_count; i++) {
             let l = lights[i];
             if (light_shading_in_sphere(vec4<f32>(l.position, l.range), at.p)) {
-                color += light_shading_local(l, at, s);
+                color += lighting_local_light(l, at, s);
             }
         }
     }
@@ -179,7 +192,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
             let dc = lighting_dir_cos[k];
             let cf = lighting_color_flags[k];
             let l = DeferredLight(pr.xyz, pr.w, dc.xyz, dc.w, cf.xyz, bitcast<u32>(cf.w));
-            color += light_shading_local(l, at, s);
+            color += lighting_local_light(l, at, s);
         }
     }
 #endif
