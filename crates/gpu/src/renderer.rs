@@ -114,6 +114,10 @@ pub struct RendererConfig {
     /// pixel). Both render the same scene; the KZ2 preset rounds more (BENCHMARKS.md has
     /// the image difference). The depth target stays `Depth32Float` in both.
     pub gbuffer: deferred::GBufferLayout,
+    /// Shadow views (sun slices, spot maps) draw only the casters whose chunk of instances
+    /// (64 consecutive instances of a batch, in Morton order) meets the view; off, every
+    /// caster (the maps are the same: the test compares them).
+    pub cull_shadow_casters: bool,
     /// Frames [`Renderer::submit`] lets run ahead of the GPU before it waits for the
     /// oldest (at least 1; default 2: one recording while one renders).
     pub frames_in_flight: u32,
@@ -180,6 +184,7 @@ impl Default for RendererConfig {
             baked_sun: true,
             upload_pool: framealloc::PoolConfig::KZ2,
             frames_in_flight: 2,
+            cull_shadow_casters: true,
             gbuffer: deferred::GBufferLayout::Octahedral,
         }
     }
@@ -265,6 +270,10 @@ pub struct Renderer {
     uploads: Uploads,
     /// The last frame's camera rotation (camera-relative world to view).
     view_rotation: glam::Mat4,
+    /// This frame's shadow views' caster culling.
+    casters: crate::shadows::CasterCulls,
+    /// This frame's scene origin minus camera position (metres).
+    origin_offset: glam::Vec3,
     /// Submissions of frames not waited for, oldest first.
     in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
     /// This frame's stencil volume draws.
@@ -460,6 +469,8 @@ impl Renderer {
                 uploads,
                 in_flight: Default::default(),
                 view_rotation: glam::Mat4::IDENTITY,
+                casters: Default::default(),
+                origin_offset: glam::Vec3::ZERO,
                 volume_draws: Vec::new(),
                 cascades: None,
                 timer,
@@ -553,6 +564,7 @@ impl Renderer {
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         self.view_rotation = frame.camera.view_rotation();
+        self.origin_offset = glam::Vec4::from(uniforms.origin_offset).truncate();
         let aspect = self.config.width as f32 / self.config.height as f32;
         self.previous = Some((
             scene.id,
@@ -598,6 +610,8 @@ impl Renderer {
                         groups: &self.groups,
                         static_query,
                         volumes: &self.volume_draws,
+                        casters: &self.casters,
+                        origin_offset: self.origin_offset,
                     }
                 };
             }
@@ -1308,6 +1322,8 @@ impl Renderer {
                 groups: &self.groups,
                 static_query: false,
                 volumes: &[],
+                casters: &self.casters,
+                origin_offset: self.origin_offset,
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);
@@ -1394,9 +1410,14 @@ impl Renderer {
         let aspect = self.config.width as f32 / self.config.height as f32;
         let cascades = config.fit(&frame.camera, aspect, frame.lighting.sun_direction)?;
         let origin = frame.camera.position.as_dvec3();
+        self.casters.slices.clear();
         for (i, c) in cascades.cascades().iter().enumerate() {
             let mut u = *uniforms;
-            u.view_proj = c.relative_matrix(origin).to_cols_array_2d();
+            let m = c.relative_matrix(origin);
+            if self.config.cull_shadow_casters {
+                self.casters.slices.push(crate::shadows::clip_planes(m));
+            }
+            u.view_proj = m.to_cols_array_2d();
             self.uploads.write(
                 &maps.frames,
                 i as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
@@ -1613,9 +1634,14 @@ impl Renderer {
         });
         let view_rotation = glam::Mat4::from_cols_array_2d(&uniforms.view_rotation);
         let mut gpu_rows = Vec::with_capacity(chosen.len().max(1));
+        self.casters.spots.clear();
         for (slot, map) in chosen.iter().enumerate() {
             let mut u = *uniforms;
-            u.view_proj = (map.view_to_clip * view_rotation).to_cols_array_2d();
+            let m = map.view_to_clip * view_rotation;
+            if self.config.cull_shadow_casters {
+                self.casters.spots.push(crate::shadows::clip_planes(m));
+            }
+            u.view_proj = m.to_cols_array_2d();
             self.uploads.write(
                 &maps.frames,
                 slot as u64 * crate::shadows::CASCADE_FRAME_STRIDE,

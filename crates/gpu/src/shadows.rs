@@ -203,6 +203,40 @@ impl GpuSunShadow {
     }
 }
 
+/// The six planes of the clip volume of `m` (a camera-relative matrix with depth in
+/// `[0, 1]`), normalised, pointing inwards: left, right, bottom, top, near, far.
+pub(crate) fn clip_planes(m: glam::Mat4) -> [glam::Vec4; 6] {
+    let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
+    [
+        r[3] + r[0],
+        r[3] - r[0],
+        r[3] + r[1],
+        r[3] - r[1],
+        r[2],
+        r[3] - r[2],
+    ]
+    .map(|p| {
+        let n = p.truncate().length();
+        if n > 0.0 { p / n } else { p }
+    })
+}
+
+/// Whether the sphere of `center` and `radius` meets the volume of `planes` (conservative:
+/// a sphere outside near a corner may still count as meeting it).
+pub(crate) fn sphere_meets(planes: &[glam::Vec4; 6], center: glam::Vec3, radius: f32) -> bool {
+    planes
+        .iter()
+        .all(|p| p.truncate().dot(center) + p.w >= -radius)
+}
+
+/// What the shadow passes cull their casters with this frame: per sun slice and per spot
+/// map, the clip planes of its camera-relative matrix (empty: draw every caster).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct CasterCulls {
+    pub slices: Vec<[glam::Vec4; 6]>,
+    pub spots: Vec<[glam::Vec4; 6]>,
+}
+
 /// Texels per side of the baked sun map (KZ2's pre-rendered sun shadow: low resolution,
 /// the real-time slices add the detail).
 pub(crate) const BAKED_SUN_RESOLUTION: u32 = 1024;

@@ -90,8 +90,9 @@ struct Hit {
 fn cpu_raster(
     scene: &Scene,
     camera: &Camera,
-    mbs: &[MicroBatchInfo],
+    prepared: &gpu::PreparedScene,
 ) -> Vec<(Option<Hit>, f64, bool)> {
+    let mbs: &[MicroBatchInfo] = &prepared.tiling_plan().micro_batches;
     let aspect = f64::from(W) / f64::from(H);
     let vp = camera.view_projection(aspect as f32).as_dmat4();
     // Per pixel: best hit, the depth of the runner-up, and whether an edge passes within a
@@ -102,7 +103,10 @@ fn cpu_raster(
         let batch = &scene.batches[mb.batch as usize];
         let mesh = &scene.meshes[batch.mesh.0];
         let bits = PrimitiveBits::for_count(mesh.primitive_count() as u32).unwrap();
-        for (i, t) in batch.instances.iter().enumerate() {
+        // The plan's position i holds the batch's instance order[i].
+        let order = prepared.instance_order(mb.batch as usize).unwrap();
+        for (i, &k) in order.iter().enumerate() {
+            let t = &batch.instances[k as usize];
             let (micro_batch, field) = visbuf::split_instance(mb.first_id, i as u32, bits);
             let m = glam::DAffine3::from_mat4(glam::Mat4::from(*t).as_dmat4());
             for (tri, c) in mesh.indices.chunks_exact(3).enumerate() {
@@ -226,7 +230,7 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
         };
         let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
         let prepared = renderer.prepare(&scene).unwrap();
-        let reference = cpu_raster(&scene, &frame.camera, &prepared.tiling_plan().micro_batches);
+        let reference = cpu_raster(&scene, &frame.camera, &prepared);
         let (vis, _depth) = renderer.render_laydown(&prepared, &frame).unwrap();
         let (mut checked, mut covered) = (0, 0);
         for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {

@@ -404,3 +404,44 @@ fn shadowed_spots_only_darken_and_fade_out() {
         0
     );
 }
+
+/// Caster culling per shadow view (chunks of 64 Morton-ordered instances tested against
+/// each slice's and each spot map's clip volume) leaves every map as drawing every caster
+/// does: the sun's maps bit for bit, and the image (which reads the spot maps too).
+#[test]
+fn culling_casters_per_shadow_view_changes_no_texel() {
+    let (scene, mut frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    let target = frame.camera.target;
+    demo::scatter_lights(&mut frame.lighting, target, 25.0, 120, 3);
+    let make = |cull_shadow_casters| {
+        common::renderer_with(RendererConfig {
+            width: 200,
+            height: 112,
+            shadows: common::test_shadows(),
+            cull_shadow_casters,
+            ..RendererConfig::default()
+        })
+    };
+    let (mut culled, mut every) = (make(true), make(false));
+    let (pc, pe) = (
+        culled.prepare(&scene).unwrap(),
+        every.prepare(&scene).unwrap(),
+    );
+    culled.render(&pc, &frame, RenderPath::Deferred).unwrap();
+    every.render(&pe, &frame, RenderPath::Deferred).unwrap();
+    assert!(culled.light_path_counts().spot_shadow_maps > 0);
+    let (a, b) = (
+        culled.read_shadow_maps().unwrap(),
+        every.read_shadow_maps().unwrap(),
+    );
+    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+        let differ = x.iter().zip(y).filter(|(p, q)| p != q).count();
+        assert_eq!(differ, 0, "slice {k}: {differ} texels differ");
+    }
+    let (ia, ib) = (culled.read_output().unwrap(), every.read_output().unwrap());
+    assert_eq!(common::differing_pixels(&ia, &ib), 0);
+}

@@ -184,6 +184,9 @@ pub struct Args {
     /// resolutions, the last slice at half).
     #[arg(long)]
     pub uniform_shadow_resolution: bool,
+    /// Shadow views draw every caster (no culling of instance chunks per view).
+    #[arg(long)]
+    pub no_caster_culling: bool,
     /// No spot shadow maps: shadow-casting spots light unshadowed.
     #[arg(long)]
     pub no_spot_shadows: bool,
@@ -470,6 +473,7 @@ pub fn run(args: &Args) -> Result<()> {
         }),
         baked_sun: !args.no_baked_sun,
         spot_shadows: (!args.no_spot_shadows).then(gpu::SpotShadowConfig::default),
+        cull_shadow_casters: !args.no_caster_culling,
         gbuffer: match args.gbuffer {
             GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
             GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,

@@ -302,12 +302,13 @@ impl Laydown {
             pass.set_bind_group(0, group, &[]);
             pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
             // Static instances may fade: the alpha-tested pipeline dithers them.
-            record_draws(
+            record_draws_culled(
                 &mut pass,
                 f,
                 &self.shadow_opaque,
                 &self.shadow_alpha,
                 &self.shadow_alpha,
+                f.casters.slices.get(i),
             );
         }
     }
@@ -321,11 +322,12 @@ impl Laydown {
         timer: &mut GpuTimer,
     ) {
         let maps = &f.targets.spot_shadows;
-        for (view, group) in maps
+        for (k, (view, group)) in maps
             .layer_views
             .iter()
             .zip(&f.scene.spot_shadow_scene)
             .take(maps.active as usize)
+            .enumerate()
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("spot shadow map"),
@@ -344,12 +346,13 @@ impl Laydown {
             });
             pass.set_bind_group(0, group, &[]);
             pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
-            record_draws(
+            record_draws_culled(
                 &mut pass,
                 f,
                 &self.shadow_opaque,
                 &self.shadow_alpha,
                 &self.shadow_alpha,
+                f.casters.spots.get(k),
             );
         }
     }
@@ -502,7 +505,24 @@ pub(crate) fn record_draws(
     alpha: &wgpu::RenderPipeline,
     statics: &wgpu::RenderPipeline,
 ) {
-    draw_planned(pass, f.scene, opaque, alpha);
+    record_draws_culled(pass, f, opaque, alpha, statics, None);
+}
+
+/// [`record_draws`] for a shadow view: with `planes` (camera-relative clip planes, see
+/// [`crate::shadows::clip_planes`]), only the planned draws' chunks whose spheres meet the
+/// view (consecutive visible chunks merged into one draw).
+pub(crate) fn record_draws_culled(
+    pass: &mut wgpu::RenderPass<'_>,
+    f: &FrameContext<'_>,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+    statics: &wgpu::RenderPipeline,
+    planes: Option<&[glam::Vec4; 6]>,
+) {
+    match planes {
+        Some(planes) => draw_planned_culled(pass, f.scene, opaque, alpha, planes, f.origin_offset),
+        None => draw_planned(pass, f.scene, opaque, alpha),
+    }
     if f.static_query
         && let Some(b) = &f.scene.statics
     {
@@ -530,6 +550,59 @@ fn draw_planned(
                 d.base_vertex as i32,
                 d.first_instance..d.first_instance + d.instance_count,
             );
+        }
+    }
+}
+
+/// The scene's planned draws as [`draw_planned`], each reduced to its chunks whose
+/// spheres (origin-relative, moved by `offset` to camera-relative) meet `planes`.
+fn draw_planned_culled(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &crate::resources::PreparedScene,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+    planes: &[glam::Vec4; 6],
+    offset: glam::Vec3,
+) {
+    pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    for alpha_pass in [false, true] {
+        pass.set_pipeline(if alpha_pass { alpha } else { opaque });
+        for d in scene
+            .draws
+            .iter()
+            .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
+        {
+            let chunks = scene
+                .chunks
+                .get(d.first_chunk as usize..(d.first_chunk + d.chunk_count) as usize)
+                .unwrap_or(&[]);
+            let mut run: Option<(u32, u32)> = None;
+            let mut flush = |run: &mut Option<(u32, u32)>| {
+                if let Some((first, count)) = run.take() {
+                    pass.draw_indexed(
+                        d.first_index..d.first_index + d.index_count,
+                        d.base_vertex as i32,
+                        first..first + count,
+                    );
+                }
+            };
+            for c in chunks {
+                if crate::shadows::sphere_meets(planes, c.center + offset, c.radius) {
+                    run = match run {
+                        Some((first, count)) if first + count == c.first_instance => {
+                            Some((first, count + c.instance_count))
+                        }
+                        other => {
+                            let mut other = other;
+                            flush(&mut other);
+                            Some((c.first_instance, c.instance_count))
+                        }
+                    };
+                } else {
+                    flush(&mut run);
+                }
+            }
+            flush(&mut run);
         }
     }
 }

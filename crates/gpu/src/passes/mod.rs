@@ -181,6 +181,10 @@ pub(crate) struct FrameContext<'a> {
     pub static_query: bool,
     /// This frame's stencil light volumes (empty: lighting reads no accumulation).
     pub volumes: &'a [light_volumes::VolumeDraw],
+    /// The shadow views' caster culling (empty lists: every caster).
+    pub casters: &'a crate::shadows::CasterCulls,
+    /// Scene origin minus camera position (origin-relative to camera-relative), metres.
+    pub origin_offset: glam::Vec3,
 }
 
 /// What a command buffer records.

@@ -105,6 +105,8 @@ pub struct PreparedScene {
     pub(crate) geometry: Geometry,
     pub(crate) tiling: tiling::Plan,
     pub(crate) draws: Vec<Draw>,
+    /// The draws' chunks (bounded runs of instances), culled by shadow views.
+    pub(crate) chunks: Vec<plan::DrawChunk>,
     pub(crate) index_buffer: wgpu::Buffer,
     pub(crate) laydown: laydown::Groups,
     /// The scene group once per sun-shadow cascade (its `frame` the cascade's).
@@ -126,6 +128,8 @@ pub struct PreparedScene {
     pub(crate) static_capacities: Vec<u32>,
     /// The static setups' GPU table (index = handle): slots, IDs, primitive bits.
     pub(crate) static_table: Vec<GpuStaticSetup>,
+    /// Per batch: the scene's instance index at each planned position.
+    pub(crate) instance_order: Vec<Vec<u32>>,
     _kept: Vec<wgpu::Buffer>,
     _albedo: wgpu::Texture,
 }
@@ -137,8 +141,18 @@ impl PreparedScene {
     }
 
     /// `tiling`'s plan: micro batches, the MicroBatchInfoTable, passes and batch groups.
+    /// Its instance indices are planned positions: see [`PreparedScene::instance_order`].
     pub fn tiling_plan(&self) -> &tiling::Plan {
         &self.tiling
+    }
+
+    /// The planned order of batch `batch`'s instances: position `k` of the batch in the
+    /// plan (its micro batches, the vis IDs' instance fields, the instance table) is
+    /// `scene.batches[batch].instances[order[k]]`. The renderer plans a batch's instances
+    /// along a Morton curve, so consecutive ones lie close together. `None` for a batch
+    /// the scene does not have.
+    pub fn instance_order(&self, batch: usize) -> Option<&[u32]> {
+        self.instance_order.get(batch).map(Vec::as_slice)
     }
 }
 
@@ -281,13 +295,60 @@ fn reserve_static(
     Ok(setups)
 }
 
+/// Per batch, its instances' order along a Morton curve over the scene's instance
+/// positions (21 bits per axis); the given order where the positions are degenerate.
+fn spatial_order(scene: &Scene) -> Vec<Vec<u32>> {
+    let all = scene
+        .batches
+        .iter()
+        .flat_map(|b| b.instances.iter().map(|t| Vec3::from(t.translation)));
+    let (lo, hi) = all.fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    let quantizer = morton::Quantizer3::new(lo, hi, morton::BITS3_U64).ok();
+    scene
+        .batches
+        .iter()
+        .map(|b| {
+            let identity = || (0..b.instances.len() as u32).collect();
+            let Some(q) = &quantizer else {
+                return identity();
+            };
+            let keys: Option<Vec<u64>> = b
+                .instances
+                .iter()
+                .map(|t| {
+                    q.quantize(Vec3::from(t.translation))
+                        .ok()
+                        .map(|c| morton::encode3_u64(c.x, c.y, c.z))
+                })
+                .collect();
+            keys.and_then(|k| morton::sort_permutation(&k).ok())
+                .unwrap_or_else(identity)
+        })
+        .collect()
+}
+
 /// Validates `scene`, encodes it, plans it with `tiling`, uploads it and makes every pass's
 /// bind groups.
 pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedScene> {
     scene.validate()?;
     let device = c.device;
     let geometry = Geometry::build(&scene.meshes, c.path)?;
-    let positions = scene.instance_positions();
+    // Each batch's instances in Morton order: consecutive instances (micro batches and
+    // their draw chunks) stay close together, so shadow views can cull chunks.
+    let order = spatial_order(scene);
+    let positions: Vec<Vec<[f32; 3]>> = scene
+        .batches
+        .iter()
+        .zip(&order)
+        .map(|(b, o)| {
+            o.iter()
+                .map(|&i| b.instances[i as usize].translation.to_array())
+                .collect()
+        })
+        .collect();
     let batches = scene.tiling_batches(&positions, |m| {
         let m = geometry.meshes[m];
         tiling::Geometry {
@@ -302,7 +363,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
     let planned = tiling_plan.micro_batches.len();
     let origin = origin(scene);
-    let mut plan = Plan::new(scene, &geometry, &tiling_plan.micro_batches, origin);
+    let mut plan = Plan::new(scene, &geometry, &tiling_plan.micro_batches, origin, &order);
     let static_setups = reserve_static(scene, &geometry, &mut tiling_plan, &config)?;
     if !static_setups.is_empty() && !c.indirect_first_instance {
         return Err(Error::MissingFeature {
@@ -483,6 +544,8 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             classification,
             resolve,
             draws: plan.draws,
+            chunks: plan.chunks,
+            instance_order: order,
             statics: (!static_setups.is_empty())
                 .then(|| StaticBuffers::new(device, &static_setups, c.multi_draw_count)),
             instances: instances.clone(),
