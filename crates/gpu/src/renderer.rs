@@ -900,11 +900,7 @@ impl Renderer {
         frame: &FrameInput,
         path: RenderPath,
     ) -> Result<FrameOutput> {
-        let what = match path {
-            RenderPath::Deferred => Recording::Deferred,
-            RenderPath::Baseline => Recording::Baseline,
-            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
-        };
+        let what = Recording::of(path);
         self.run(scene, frame, path.name(), what, None, true)
     }
 
@@ -924,11 +920,7 @@ impl Renderer {
         frame: &FrameInput,
         path: RenderPath,
     ) -> Result<FrameOutput> {
-        let what = match path {
-            RenderPath::Deferred => Recording::Deferred,
-            RenderPath::Baseline => Recording::Baseline,
-            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
-        };
+        let what = Recording::of(path);
         self.run(scene, frame, path.name(), what, None, false)
     }
 
@@ -972,11 +964,7 @@ impl Renderer {
         path: RenderPath,
         statics: &mut StaticView<'_>,
     ) -> Result<FrameOutput> {
-        let what = match path {
-            RenderPath::Deferred => Recording::Deferred,
-            RenderPath::Baseline => Recording::Baseline,
-            RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
-        };
+        let what = Recording::of(path);
         self.run(scene, frame, path.name(), what, Some(statics), true)
     }
 
@@ -1412,17 +1400,16 @@ impl Renderer {
         let origin = frame.camera.position.as_dvec3();
         self.casters.slices.clear();
         for (i, c) in cascades.cascades().iter().enumerate() {
-            let mut u = *uniforms;
-            let m = c.relative_matrix(origin);
-            if self.config.cull_shadow_casters {
-                self.casters.slices.push(crate::shadows::clip_planes(m));
-            }
-            u.view_proj = m.to_cols_array_2d();
-            self.uploads.write(
+            let planes = shadow_view(
+                &mut self.uploads,
                 &maps.frames,
-                i as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
-                bytemuck::bytes_of(&u),
+                i,
+                uniforms,
+                c.relative_matrix(origin),
             );
+            if self.config.cull_shadow_casters {
+                self.casters.slices.push(planes);
+            }
         }
         self.uploads.write(
             &maps.sun,
@@ -1636,17 +1623,11 @@ impl Renderer {
         let mut gpu_rows = Vec::with_capacity(chosen.len().max(1));
         self.casters.spots.clear();
         for (slot, map) in chosen.iter().enumerate() {
-            let mut u = *uniforms;
             let m = map.view_to_clip * view_rotation;
+            let planes = shadow_view(&mut self.uploads, &maps.frames, slot, uniforms, m);
             if self.config.cull_shadow_casters {
-                self.casters.spots.push(crate::shadows::clip_planes(m));
+                self.casters.spots.push(planes);
             }
-            u.view_proj = m.to_cols_array_2d();
-            self.uploads.write(
-                &maps.frames,
-                slot as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
-                bytemuck::bytes_of(&u),
-            );
             let light = rows
                 .iter()
                 .find(|l| {
@@ -1676,6 +1657,25 @@ impl Renderer {
 
 /// The first limit of `needed` that `available` falls short of (wgpu's own comparison of
 /// every limit), as an error naming it.
+/// Uploads the frame uniforms of shadow view `index` (`uniforms` drawn through `m`, a
+/// camera-relative matrix) into `frames` and returns the view's clip planes.
+fn shadow_view(
+    uploads: &mut Uploads,
+    frames: &wgpu::Buffer,
+    index: usize,
+    uniforms: &FrameUniforms,
+    m: glam::Mat4,
+) -> [glam::Vec4; 6] {
+    let mut u = *uniforms;
+    u.view_proj = m.to_cols_array_2d();
+    uploads.write(
+        frames,
+        index as u64 * crate::shadows::CASCADE_FRAME_STRIDE,
+        bytemuck::bytes_of(&u),
+    );
+    crate::shadows::clip_planes(m)
+}
+
 fn check_limits(needed: &wgpu::Limits, available: &wgpu::Limits) -> Result<()> {
     let mut first = None;
     needed.check_limits_with_fail_fn(available, true, |limit, needed, available| {

@@ -343,22 +343,7 @@ impl ShadowMaps {
     pub(crate) fn new(device: &wgpu::Device, config: Option<ShadowConfig>) -> Self {
         let (size, layers) = config.map_or((1, 1), |c| (c.resolution, c.cascades));
         let texture = depth_texture(device, "sun shadow maps", size, layers);
-        let layer_views = (0..layers)
-            .map(|i| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("sun shadow map layer"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: i,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("sun shadow maps"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let (layer_views, array_view) = layer_views(&texture, layers);
         let frames = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sun shadow cascade frames"),
             size: CASCADE_FRAME_STRIDE * u64::from(layers),
@@ -402,6 +387,31 @@ impl ShadowMaps {
     pub(crate) fn cascades(&self) -> u32 {
         self.config.map_or(0, |c| c.cascades)
     }
+}
+
+/// One 2D view per layer of `texture` (`layers` of them: render attachments) and one
+/// view of the whole array (sampled).
+pub(crate) fn layer_views(
+    texture: &wgpu::Texture,
+    layers: u32,
+) -> (Vec<wgpu::TextureView>, wgpu::TextureView) {
+    let layer_views = (0..layers)
+        .map(|i| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some("shadow map layer"),
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: i,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("shadow maps"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    (layer_views, array_view)
 }
 
 /// A square [`SHADOW_FORMAT`] texture of `layers` layers, for rendering, sampling and

@@ -17,7 +17,21 @@ use deferred::DeferredLight;
 use deferred::lights::ShadowFade;
 use glam::{Mat4, Vec3};
 
+use shader::{Binding, Dim, Kind, Sample};
+
 use crate::error::{Error, Result};
+
+/// The maps as lighting and the light volumes bind them.
+pub(crate) const MAP_BINDING: Binding = Binding::new(
+    "spot_shadow_map",
+    Kind::Texture {
+        sample: Sample::Depth,
+        dim: Dim::D2Array,
+    },
+);
+/// The maps' rows (`GpuSpotShadow`) as lighting and the light volumes bind them.
+pub(crate) const ROWS_BINDING: Binding =
+    Binding::new("spot_shadows", Kind::read(size_of::<GpuSpotShadow>()));
 
 /// Bit position of the shadow-map slot (+ 1) in a light row's flags (WGSL
 /// `GPU_LIGHT_SHADOW_SLOT_SHIFT`).
@@ -186,22 +200,7 @@ impl SpotShadowMaps {
     pub(crate) fn new(device: &wgpu::Device, config: Option<SpotShadowConfig>) -> Self {
         let (size, layers) = config.map_or((1, 1), |c| (c.resolution, c.maps));
         let texture = crate::shadows::depth_texture(device, "spot shadow maps", size, layers);
-        let layer_views = (0..layers)
-            .map(|i| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("spot shadow map"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: i,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("spot shadow maps"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let (layer_views, array_view) = crate::shadows::layer_views(&texture, layers);
         let frames = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("spot shadow frames"),
             size: crate::shadows::CASCADE_FRAME_STRIDE * u64::from(layers),
@@ -222,6 +221,17 @@ impl SpotShadowMaps {
             rows,
             active: 0,
         }
+    }
+
+    /// The two bindings ([`MAP_BINDING`], [`ROWS_BINDING`]) over these maps.
+    pub(crate) fn resources(&self) -> [(&'static str, wgpu::BindingResource<'_>); 2] {
+        [
+            (
+                MAP_BINDING.name,
+                wgpu::BindingResource::TextureView(&self.array_view),
+            ),
+            (ROWS_BINDING.name, self.rows.as_entire_binding()),
+        ]
     }
 
     /// Layers (maps a frame may render).

@@ -278,39 +278,37 @@ impl Laydown {
             if !maps.dirty.get(i).copied().unwrap_or(true) {
                 continue;
             }
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(SHADOW_LABELS[i]),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.render(SHADOW_LABELS[i]),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = shadow_pass(encoder, view, SHADOW_LABELS[i], timer);
             // KZ2's per-slice resolution: the slice's map in the corner of its layer.
             let texels = maps
                 .config
                 .map_or(1, |c| c.slice_resolution(i))
                 .min(maps.texture.width()) as f32;
             pass.set_viewport(0.0, 0.0, texels, texels, 0.0, 1.0);
-            pass.set_bind_group(0, group, &[]);
-            pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
-            // Static instances may fade: the alpha-tested pipeline dithers them.
-            record_draws_culled(
-                &mut pass,
-                f,
-                &self.shadow_opaque,
-                &self.shadow_alpha,
-                &self.shadow_alpha,
-                f.casters.slices.get(i),
-            );
+            self.draw_shadow_view(&mut pass, f, group, f.casters.slices.get(i));
         }
+    }
+
+    /// One shadow view's casters through its scene group (whose frame uniforms hold the
+    /// view's matrix), culled by `planes` where given; static instances may fade, so they
+    /// take the alpha-tested pipeline, which dithers them.
+    fn draw_shadow_view(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        f: &FrameContext<'_>,
+        group: &wgpu::BindGroup,
+        planes: Option<&[glam::Vec4; 6]>,
+    ) {
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
+        record_draws_culled(
+            pass,
+            f,
+            &self.shadow_opaque,
+            &self.shadow_alpha,
+            &self.shadow_alpha,
+            planes,
+        );
     }
 
     /// Records this frame's spot shadow maps (KZ2's shadowed local lights): every caster
@@ -329,31 +327,8 @@ impl Laydown {
             .take(maps.active as usize)
             .enumerate()
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("spot shadow map"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.render("spot shadow maps"),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, group, &[]);
-            pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
-            record_draws_culled(
-                &mut pass,
-                f,
-                &self.shadow_opaque,
-                &self.shadow_alpha,
-                &self.shadow_alpha,
-                f.casters.spots.get(k),
-            );
+            let mut pass = shadow_pass(encoder, view, "spot shadow maps", timer);
+            self.draw_shadow_view(&mut pass, f, group, f.casters.spots.get(k));
         }
     }
 
@@ -528,6 +503,31 @@ pub(crate) fn record_draws_culled(
     {
         super::static_place::record_static_draws(pass, b, statics, statics, false);
     }
+}
+
+/// A depth-only pass into one shadow-map layer, cleared to 1 (farthest from the light),
+/// timed under `label`.
+fn shadow_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    label: &'static str,
+    timer: &mut GpuTimer,
+) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: timer.render(label),
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
 }
 
 /// The scene's planned draws (its batches), opaque first, then alpha-tested.

@@ -61,17 +61,8 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
                 Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
                 Binding::new("lights", Kind::read(size_of::<DeferredLight>())),
                 Binding::new("volumes", Kind::read(size_of::<GpuLightVolume>())),
-                Binding::new(
-                    "spot_shadow_map",
-                    Kind::Texture {
-                        sample: Sample::Depth,
-                        dim: shader::Dim::D2Array,
-                    },
-                ),
-                Binding::new(
-                    "spot_shadows",
-                    Kind::read(size_of::<crate::spot_shadows::GpuSpotShadow>()),
-                ),
+                crate::spot_shadows::MAP_BINDING,
+                crate::spot_shadows::ROWS_BINDING,
             ],
         },
         Group {
@@ -233,21 +224,7 @@ impl VolumeTargets {
         use wgpu::TextureUsages as U;
         let (w, h) = if enabled { (width, height) } else { (1, 1) };
         let make = |label, format, usage| {
-            let t = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            });
-            t.create_view(&Default::default())
+            crate::resources::targets::texture(device, label, w, h, format, usage).1
         };
         let accumulation_view = make(
             "light accumulation",
@@ -482,15 +459,10 @@ impl LightVolumes {
                     ("local", local.as_entire_binding()),
                     ("lights", lights.as_entire_binding()),
                     ("volumes", volumes.as_entire_binding()),
-                    (
-                        "spot_shadow_map",
-                        wgpu::BindingResource::TextureView(&targets.spot_shadows.array_view),
-                    ),
-                    (
-                        "spot_shadows",
-                        targets.spot_shadows.rows.as_entire_binding(),
-                    ),
-                ],
+                ]
+                .into_iter()
+                .chain(targets.spot_shadows.resources())
+                .collect::<Vec<_>>(),
             )?,
             gbuffer: self.layouts.bind_group(
                 device,

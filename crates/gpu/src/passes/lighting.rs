@@ -76,17 +76,8 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
                     "light_accumulation",
                     Kind::texture_2d(Sample::Float { filterable: false }),
                 ),
-                Binding::new(
-                    "spot_shadow_map",
-                    Kind::Texture {
-                        sample: Sample::Depth,
-                        dim: Dim::D2Array,
-                    },
-                ),
-                Binding::new(
-                    "spot_shadows",
-                    Kind::read(size_of::<crate::spot_shadows::GpuSpotShadow>()),
-                ),
+                crate::spot_shadows::MAP_BINDING,
+                crate::spot_shadows::ROWS_BINDING,
             ],
         },
         Group {
@@ -196,15 +187,10 @@ impl Lighting {
                             &targets.light_volumes.accumulation_view,
                         ),
                     ),
-                    (
-                        "spot_shadow_map",
-                        wgpu::BindingResource::TextureView(&targets.spot_shadows.array_view),
-                    ),
-                    (
-                        "spot_shadows",
-                        targets.spot_shadows.rows.as_entire_binding(),
-                    ),
-                ],
+                ]
+                .into_iter()
+                .chain(targets.spot_shadows.resources())
+                .collect::<Vec<_>>(),
             )?,
             gbuffer: self.pass.bind_group(
                 device,

@@ -205,6 +205,15 @@ pub(crate) enum Recording {
 }
 
 impl Recording {
+    /// What a frame of `path` records.
+    pub(crate) fn of(path: crate::RenderPath) -> Self {
+        match path {
+            crate::RenderPath::Deferred => Recording::Deferred,
+            crate::RenderPath::Baseline => Recording::Baseline,
+            crate::RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
+        }
+    }
+
     /// Whether it ends with the sun's shadow maps, the light tiles and lighting.
     pub(crate) fn lights(self) -> bool {
         matches!(

@@ -40,7 +40,8 @@ pub(crate) struct Targets {
     pub light_volumes: crate::passes::light_volumes::VolumeTargets,
 }
 
-fn texture(
+/// A single-sample 2D texture of `width` × `height` and its default view.
+pub(crate) fn texture(
     device: &wgpu::Device,
     label: &str,
     width: u32,
