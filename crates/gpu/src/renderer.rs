@@ -1523,6 +1523,7 @@ impl Renderer {
             self.volume_draws.push(VolumeDraw {
                 volume: k as u32,
                 inside: nearest <= camera.near * 1.001,
+                shadowed: l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT != 0,
             });
         }
         let mut rows = tiled.clone();

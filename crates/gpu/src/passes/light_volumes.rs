@@ -44,6 +44,8 @@ pub(crate) struct VolumeDraw {
     pub volume: u32,
     /// Back faces alone, no stencil (the front faces may be clipped by the near plane).
     pub inside: bool,
+    /// The light has a spot shadow map this frame: the shading permutation that reads it.
+    pub shadowed: bool,
 }
 
 /// The pass: the depth copy and the volumes (group `volume`), over the G-buffer.
@@ -51,7 +53,7 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
     name: "light volumes",
     module: "gpu::light_volumes",
     library: LIBRARY,
-    features: &[],
+    features: &["spot_shadows"],
     groups: &[
         Group {
             name: "volume",
@@ -89,7 +91,7 @@ pub(crate) const LIGHT_VOLUMES_KZ2: Pass = Pass {
             bindings: &KZ2_LOAD_BINDINGS,
         },
     ],
-    features: &["kz2_gbuffer"],
+    features: &["kz2_gbuffer", "spot_shadows"],
     ..LIGHT_VOLUMES
 };
 
@@ -249,8 +251,9 @@ pub(crate) struct LightVolumes {
     load: &'static [Binding; 4],
     copy_depth: wgpu::RenderPipeline,
     mark: wgpu::RenderPipeline,
-    shade: wgpu::RenderPipeline,
-    inside: wgpu::RenderPipeline,
+    /// Shading from outside and from inside, each without and with the spot shadow code.
+    shade: [wgpu::RenderPipeline; 2],
+    inside: [wgpu::RenderPipeline; 2],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -273,12 +276,19 @@ impl LightVolumes {
             GBufferLayout::Octahedral => (&LIGHT_VOLUMES, &LOAD_BINDINGS),
         };
         let layouts = Layouts::new(device, description);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(LIGHT_VOLUMES.name),
-            source: wgpu::ShaderSource::Wgsl(
-                description.source(crate::gbuffer::features(layout))?.into(),
-            ),
-        });
+        // KZ2's light-shader permutations: the shading without and with a spot's shadow map.
+        let compile = |shadowed: bool| -> Result<wgpu::ShaderModule> {
+            let mut features = crate::gbuffer::features(layout).to_vec();
+            if shadowed {
+                features.push("spot_shadows");
+            }
+            Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(LIGHT_VOLUMES.name),
+                source: wgpu::ShaderSource::Wgsl(description.source(&features)?.into()),
+            }))
+        };
+        let plain_module = compile(false)?;
+        let shadow_module = compile(true)?;
         let accumulation = accumulation_format(device);
         let depth_format = depth_stencil_format(device);
         let additive = wgpu::BlendComponent {
@@ -321,7 +331,8 @@ impl LightVolumes {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3],
         })];
-        let make = |label: &str,
+        let make = |module: &wgpu::ShaderModule,
+                    label: &str,
                     vertex: &str,
                     fragment: &str,
                     cull: Option<wgpu::Face>,
@@ -338,7 +349,7 @@ impl LightVolumes {
                 label: Some(label),
                 layout: Some(layouts.pipeline_layout()),
                 vertex: wgpu::VertexState {
-                    module: &module,
+                    module,
                     entry_point: Some(vertex),
                     compilation_options: Default::default(),
                     buffers,
@@ -356,7 +367,7 @@ impl LightVolumes {
                 }),
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &module,
+                    module,
                     entry_point: Some(fragment),
                     compilation_options: Default::default(),
                     targets,
@@ -368,6 +379,7 @@ impl LightVolumes {
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as S;
         let copy_depth = make(
+            &plain_module,
             "light volumes: depth copy",
             "vs_full_screen",
             "fs_copy_depth",
@@ -379,6 +391,7 @@ impl LightVolumes {
         );
         // Reversed Z: "behind the scene" is Less, "in front of or at it" GreaterEqual.
         let mark = make(
+            &plain_module,
             "light volumes: stencil mark",
             "vs_volume",
             "fs_mark",
@@ -388,26 +401,32 @@ impl LightVolumes {
             stencil(stencil_face(C::Always, S::Replace, S::Keep)),
             &no_colour,
         );
-        let shade = make(
-            "light volumes: shade",
-            "vs_volume",
-            "fs_shade",
-            Some(wgpu::Face::Back),
-            false,
-            C::GreaterEqual,
-            stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
-            &add_colour,
-        );
-        let inside = make(
-            "light volumes: shade from inside",
-            "vs_volume",
-            "fs_shade",
-            Some(wgpu::Face::Front),
-            false,
-            C::Less,
-            keep,
-            &add_colour,
-        );
+        let shade = [&plain_module, &shadow_module].map(|m| {
+            make(
+                m,
+                "light volumes: shade",
+                "vs_volume",
+                "fs_shade",
+                Some(wgpu::Face::Back),
+                false,
+                C::GreaterEqual,
+                stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+                &add_colour,
+            )
+        });
+        let inside = [&plain_module, &shadow_module].map(|m| {
+            make(
+                m,
+                "light volumes: shade from inside",
+                "vs_volume",
+                "fs_shade",
+                Some(wgpu::Face::Front),
+                false,
+                C::Less,
+                keep.clone(),
+                &add_colour,
+            )
+        });
         let (positions, indices) = unit_volume_mesh();
         let reach = unit_volume_reach(&positions);
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -523,13 +542,14 @@ impl LightVolumes {
         let n = self.index_count;
         for d in f.volumes {
             let instance = d.volume..d.volume + 1;
+            let permutation = usize::from(d.shadowed);
             if d.inside {
-                pass.set_pipeline(&self.inside);
+                pass.set_pipeline(&self.inside[permutation]);
                 pass.draw_indexed(0..n, 0, instance);
             } else {
                 pass.set_pipeline(&self.mark);
                 pass.draw_indexed(0..n, 0, instance.clone());
-                pass.set_pipeline(&self.shade);
+                pass.set_pipeline(&self.shade[permutation]);
                 pass.draw_indexed(0..n, 0, instance);
             }
         }

@@ -80,6 +80,12 @@ fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurfa
         return vec3<f32>(0.0);
     }
     let ll = to_light / dist;
+    // Facing away: both terms below carry this factor, so the light gives exactly zero;
+    // skipping the GGX term here changes no pixel.
+    let nll = max(dot(at.n, ll), 0.0);
+    if (nll <= 0.0) {
+        return vec3<f32>(0.0);
+    }
     let r2 = dist * dist / (l.range * l.range);
     let window = clamp(1.0 - r2 * r2, 0.0, 1.0);
     var falloff = window * window / (dist * dist + 1.0);
@@ -87,7 +93,6 @@ fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurfa
         // Soft edge over the outer quarter of the cone's cosine range.
         falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
     }
-    let nll = max(dot(at.n, ll), 0.0);
     return l.color * falloff * (at.diffuse * nll + s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04));
 }
 

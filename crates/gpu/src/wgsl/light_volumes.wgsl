@@ -8,7 +8,8 @@
 //   no stencil.
 // Shading is gpu::light_shading's, added into `light_accumulation` (blend One + One), which
 // the compute lighting adds to each pixel. The shading is zero outside the light, so the
-// mesh only has to cover it.
+// mesh only has to cover it. Feature `spot_shadows`: the permutation for lights with a
+// spot shadow map (KZ2's light-shader permutations).
 
 #import gpu::frame
 #import gpu::gbuffer_load
@@ -82,10 +83,12 @@ fn fs_shade(in: VolumeVertex) -> @location(0) vec4<f32> {
     let at = light_shading_point(local.view_rotation, p, s);
     let l = lights[in.light];
     var c = light_shading_local(l, at, s);
-    // KZ2's shadowed lights: through the light's map, as lighting does.
+#if spot_shadows
+    // KZ2's permutation for a light with a shadow map: through the map, as lighting does.
     let slot = light_shading_shadow_slot(l);
     if (slot > 0u && slot <= arrayLength(&spot_shadows) && any(c > vec3<f32>(0.0))) {
         c *= light_shading_spot_visibility(spot_shadow_map, spot_shadows[slot - 1u], slot - 1u, l, at);
     }
+#endif
     return vec4<f32>(c, 0.0);
 }
