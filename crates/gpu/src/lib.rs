@@ -1,9 +1,12 @@
 //! The complete wgpu renderer of the workspace: visibility-buffer laydown, GPU
 //! classification into loose-tile wave commands, compute material resolve into a G-buffer,
 //! deferred lighting (KZ2's sun slices as stable cascaded shadow maps with a baked sun
-//! term, tiled point and spot lights), and HZD's depth-equal baseline that it replaces. Every format and
-//! algorithm comes from the small crates; this crate owns devices, buffers, pipelines and
-//! passes.
+//! term; point and spot lights through 16x16 tiles or stencil light volumes
+//! ([`LightPaths`]), shadow-casting spots ([`SpotShadowConfig`]); the octahedral or KZ2's
+//! G-buffer), and HZD's depth-equal baseline that it replaces. Every per-frame upload is
+//! sub-allocated from `framealloc`'s pool, so frames can be submitted without waiting
+//! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
+//! crate owns devices, buffers, pipelines and passes.
 //!
 //! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
 //! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun, point
