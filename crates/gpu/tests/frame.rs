@@ -301,6 +301,26 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
     assert!(r.upload_stats().free_blocks as u64 >= BLOCKS - one.blocks.len() as u64);
 }
 
+/// Uploads larger than a block (the 300 lights' 14 400 bytes in 4 KiB blocks) are split
+/// across blocks, each piece copied to its place: the image equals a roomy pool's.
+#[test]
+fn uploads_larger_than_a_block_are_split_across_blocks() {
+    let (mut small, p, frame) = upload_rig(PoolConfig::new(64 * 4096, 4096));
+    small.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let stats = small.upload_stats().clone();
+    assert!(stats.blocks.len() >= 5, "{stats:?}");
+    assert!(
+        stats.writes > 11,
+        "the lights split into several copies: {stats:?}"
+    );
+    let (mut roomy, rp, _) = upload_rig(PoolConfig::KZ2);
+    roomy.render(&rp, &frame, RenderPath::Deferred).unwrap();
+    assert_eq!(
+        common::differing_pixels(&small.read_output().unwrap(), &roomy.read_output().unwrap()),
+        0
+    );
+}
+
 /// A pool smaller than one frame's uploads is an error naming its size, every time (never
 /// a panic); a pool layout framealloc rejects is a configuration error.
 #[test]
