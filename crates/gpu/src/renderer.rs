@@ -1629,14 +1629,7 @@ impl Renderer {
             if self.config.cull_shadow_casters {
                 self.casters.spots.push(planes);
             }
-            let light = rows
-                .iter()
-                .find(|l| {
-                    l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT == slot as u32 + 1
-                })
-                .copied()
-                .unwrap_or_default();
-            gpu_rows.push(GpuSpotShadow::new(map, &light, config.resolution));
+            gpu_rows.push(GpuSpotShadow::new(map, config.resolution));
         }
         if !gpu_rows.is_empty() {
             self.uploads

@@ -1,8 +1,9 @@
 //! The sun's shadows: KZ2's depth slices as stable cascaded shadow maps
 //! (`deferred::StableCascades`: world-aligned, texel-snapped, rotation-invariant slice
 //! spheres), fitted on the CPU in f64 every frame, rendered into one layer each of a depth
-//! array by the depth-prepass geometry (every caster of the scene's own batches), and
-//! sampled by lighting with a 3x3 PCF.
+//! array (each slice at its own resolution, in its layer's corner) by the depth-prepass
+//! geometry (the chunks of the scene's own batches that meet the slice's clip volume),
+//! and sampled by lighting with each slice's PCF radius.
 //!
 //! Conventions: shadow clip depth in `[0, 1]`, 0 nearest the sun (cleared to 1, tested
 //! `Less`); the matrices take camera-relative positions, as every pass's do.

@@ -3,9 +3,10 @@
 //! the screen after KZ2's fade ([`deferred::lights::ShadowFade`]) get one layer of a depth
 //! array, largest on screen first, up to [`SpotShadowConfig::maps`]; the rest light
 //! unshadowed (KZ2: the cheaper non-shadow shader once faded). Each map is a perspective
-//! view from the light down its axis, drawn by the depth-prepass geometry (every caster, as
-//! the sun's slices), and lighting (tiled and volume paths alike) filters it with a 3x3
-//! PCF, blended towards lit by the fade.
+//! view from the light down its axis, drawn by the depth-prepass geometry (the casters
+//! whose instance chunks meet its clip volume, as for the sun's slices), and lighting
+//! (tiled and volume paths alike) filters it with a 3x3 PCF, blended towards lit by the
+//! fade.
 //!
 //! Conventions: map depth in `[0, 1]`, 0 at the light's near plane (cleared to 1, tested
 //! `Less`), as the sun's maps; the renderer keeps a light's map slot in its
@@ -109,9 +110,11 @@ pub(crate) struct GpuSpotShadow {
 }
 const _: () = assert!(size_of::<GpuSpotShadow>() == 80);
 
-/// One map of this frame: its light's row index and its matrices.
+/// One map of this frame: its light (the row, slot included) and its matrix.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SpotShadow {
+    /// The light's row, its slot in the flags.
+    pub light: DeferredLight,
     /// View space to the map's clip space.
     pub view_to_clip: Mat4,
     /// Fade strength.
@@ -158,6 +161,7 @@ pub(crate) fn assign_maps(
             let row = &mut rows[i];
             row.flags |= (slot as u32 + 1) << LIGHT_SHADOW_SLOT_SHIFT;
             SpotShadow {
+                light: *row,
                 view_to_clip: spot_view_to_clip(row, config.resolution),
                 strength,
             }
@@ -167,8 +171,8 @@ pub(crate) fn assign_maps(
 
 impl GpuSpotShadow {
     /// The row of `map` at `resolution` texels.
-    pub(crate) fn new(map: &SpotShadow, light: &DeferredLight, resolution: u32) -> Self {
-        let half = light.cos_outer.clamp(1e-3, 1.0).acos();
+    pub(crate) fn new(map: &SpotShadow, resolution: u32) -> Self {
+        let half = map.light.cos_outer.clamp(1e-3, 1.0).acos();
         Self {
             view_to_clip: map.view_to_clip.to_cols_array_2d(),
             strength: map.strength,

@@ -256,8 +256,9 @@ impl Laydown {
         Ok(self.layouts.bind_group(device, "scene", scene)?)
     }
 
-    /// Records the sun's shadow maps, one render pass per cascade: every caster of the
-    /// scene's own batches (opaque, then alpha-tested), drawn with the cascade's frame
+    /// Records the sun's shadow maps, one render pass per cascade: the casters of the
+    /// scene's own batches whose chunks meet the cascade's clip volume (every one with
+    /// `cull_shadow_casters` off; opaque, then alpha-tested), drawn with the cascade's frame
     /// uniforms, then, in a frame with a static query, the camera query's static draw
     /// lists (static instances outside the camera's view cast nothing yet: that needs the
     /// static query's shadow view per cascade).
@@ -311,8 +312,8 @@ impl Laydown {
         );
     }
 
-    /// Records this frame's spot shadow maps (KZ2's shadowed local lights): every caster
-    /// of the scene drawn from each chosen light, one layer each.
+    /// Records this frame's spot shadow maps (KZ2's shadowed local lights): the scene's
+    /// casters meeting each chosen light's view, drawn from the light, one layer each.
     pub(crate) fn record_spot_shadows(
         &self,
         encoder: &mut wgpu::CommandEncoder,

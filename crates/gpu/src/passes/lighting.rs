@@ -1,9 +1,11 @@
 //! Deferred lighting in compute (`gpu::lighting`): KZ2's sun (its slice of the shadow
-//! maps, 3x3 PCF, and the G-buffer's baked term), ambient and local lights over the
-//! G-buffer, tone mapped into the sRGB-encoded output image. The same pass ends
-//! both the deferred and the baseline frames. Local lights come from each tile's list
-//! ([`super::lights`]); feature `all_lights` tests every light at every pixel instead (the
-//! reference the tiled image equals, and the baseline of its measurements).
+//! maps with the slice's PCF radius, and the G-buffer's baked term), ambient and local
+//! lights over the G-buffer, tone mapped into the sRGB-encoded output image. The same pass
+//! ends both the deferred and the baseline frames. Local lights come from each tile's list
+//! ([`super::lights`]), shadowed spots through their maps ([`crate::spot_shadows`]);
+//! feature `all_lights` tests every light at every pixel instead (the reference the tiled
+//! image equals, and the baseline of its measurements); feature `light_volumes` adds the
+//! stencil volumes' accumulation ([`super::light_volumes`]).
 
 use shader::pipeline::ComputePass;
 use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
