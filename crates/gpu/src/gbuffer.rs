@@ -41,13 +41,13 @@ const fn storage(layout: GBufferLayout, i: usize) -> Kind {
     })
 }
 
-const fn sampled(layout: GBufferLayout, i: usize) -> Kind {
+const fn sampled(layout: GBufferLayout, i: usize, dim: Dim) -> Kind {
     Kind::Texture {
         sample: match layout.color_formats()[i] {
             TargetFormat::Rgba8Uint => Sample::Uint,
             _ => Sample::Float { filterable: false },
         },
-        dim: Dim::D2,
+        dim,
     }
 }
 
@@ -60,12 +60,12 @@ const fn store_bindings(layout: GBufferLayout) -> [Binding; 4] {
     ]
 }
 
-const fn load_bindings(layout: GBufferLayout) -> [Binding; 4] {
+const fn load_bindings(layout: GBufferLayout, dim: Dim) -> [Binding; 4] {
     [
-        Binding::new("gbuffer_tex0", sampled(layout, 0)),
-        Binding::new("gbuffer_tex1", sampled(layout, 1)),
-        Binding::new("gbuffer_tex2", sampled(layout, 2)),
-        Binding::new("gbuffer_tex3", sampled(layout, 3)),
+        Binding::new("gbuffer_tex0", sampled(layout, 0, dim)),
+        Binding::new("gbuffer_tex1", sampled(layout, 1, dim)),
+        Binding::new("gbuffer_tex2", sampled(layout, 2, dim)),
+        Binding::new("gbuffer_tex3", sampled(layout, 3, dim)),
     ]
 }
 
@@ -74,9 +74,15 @@ pub(crate) const STORE_BINDINGS: [Binding; 4] = store_bindings(GBufferLayout::Oc
 /// The same for the KZ2 preset (feature `kz2_gbuffer`).
 pub(crate) const KZ2_STORE_BINDINGS: [Binding; 4] = store_bindings(GBufferLayout::Kz2);
 /// RT0..RT3 as lighting reads them (`gpu::gbuffer_load`), octahedral layout.
-pub(crate) const LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Octahedral);
+pub(crate) const LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Octahedral, Dim::D2);
 /// The same for the KZ2 preset (feature `kz2_gbuffer`).
-pub(crate) const KZ2_LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Kz2);
+pub(crate) const KZ2_LOAD_BINDINGS: [Binding; 4] = load_bindings(GBufferLayout::Kz2, Dim::D2);
+/// The baseline's multisampled G-buffer (feature `msaa`), octahedral layout.
+pub(crate) const MSAA_LOAD_BINDINGS: [Binding; 4] =
+    load_bindings(GBufferLayout::Octahedral, Dim::D2Multisampled);
+/// The same for the KZ2 preset (features `msaa`, `kz2_gbuffer`).
+pub(crate) const KZ2_MSAA_LOAD_BINDINGS: [Binding; 4] =
+    load_bindings(GBufferLayout::Kz2, Dim::D2Multisampled);
 
 /// The WGSL feature of `layout`'s G-buffer modules (none for the octahedral layout).
 pub(crate) fn features(layout: GBufferLayout) -> &'static [&'static str] {

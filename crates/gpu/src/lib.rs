@@ -101,8 +101,8 @@ pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 pub use passes::classify::ClassificationVariant;
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 pub use renderer::{
-    FrameOutput, LightPathCounts, LightPaths, LightTiles, RenderPath, Renderer, RendererConfig,
-    WARM_UP,
+    FrameOutput, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting, RenderPath,
+    Renderer, RendererConfig, WARM_UP,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};

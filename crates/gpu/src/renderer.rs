@@ -87,6 +87,24 @@ impl LightPaths {
     }
 }
 
+/// MSAA samples per pixel of the baseline path with [`RendererConfig::msaa`] on: 4, the
+/// count wgpu guarantees for every G-buffer format.
+pub const MSAA_SAMPLES: u32 = 4;
+
+/// How the baseline path lights its 4x multisampled G-buffer ([`RendererConfig::msaa`]).
+/// Both give the same image but where the PCF split rounds (edge pixels' shadows).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MsaaLighting {
+    /// KZ2's tricks: a pixel whose samples hold one surface (equal G-buffer words, depths
+    /// within 1% of each other) is lit once with the full PCF kernel; the others, the
+    /// edges, are appended to a list (wave-aggregated) and lit per sample by a second,
+    /// indirect dispatch, each sample filtering with its own disjoint part of the PCF taps
+    /// ([`deferred::msaa::split_taps`]): the pixel's average sees the whole kernel once.
+    Kz2,
+    /// Every sample of every pixel lit with the full kernel: the measurement baseline.
+    EverySample,
+}
+
 /// Renderer options.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RendererConfig {
@@ -134,6 +152,15 @@ pub struct RendererConfig {
     /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
     /// the sun's shader. Off: the term is 1 everywhere.
     pub baked_sun: bool,
+    /// KZ2's MSAA on the baseline path ([`RenderPath::Baseline`]): its depth prepass and
+    /// G-buffer pass render [`MSAA_SAMPLES`] samples a pixel, lighting resolves them into
+    /// the output image (the average of the samples' tone-mapped colours). `None`: single
+    /// sample. The visibility-buffer paths stay single-sample (a vis word names one
+    /// triangle a pixel), and so do the static query's HiZ and the stencil volumes:
+    /// MSAA needs a light path without volumes, and static frames on the baseline path
+    /// are refused with it. [`Renderer::read_depth`] and [`Renderer::read_gbuffer`] read
+    /// the single-sample targets.
+    pub msaa: Option<MsaaLighting>,
 }
 
 impl RendererConfig {
@@ -166,6 +193,13 @@ impl RendererConfig {
         if let Some(s) = &self.spot_shadows {
             s.validate()?;
         }
+        if self.msaa.is_some() && self.light_paths.volumes() {
+            return bad(
+                "RendererConfig::msaa",
+                f64::from(MSAA_SAMPLES),
+                "off with a light path that has stencil volumes (they are single-sample)",
+            );
+        }
         Ok(())
     }
 }
@@ -186,6 +220,7 @@ impl Default for RendererConfig {
             frames_in_flight: 2,
             cull_shadow_casters: true,
             gbuffer: deferred::GBufferLayout::Octahedral,
+            msaa: None,
         }
     }
 }
@@ -392,6 +427,7 @@ impl Renderer {
                 config.light_paths.volumes(),
                 config.gbuffer,
                 config.spot_shadows,
+                config.msaa.is_some(),
             );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
@@ -416,6 +452,7 @@ impl Renderer {
                 wave_width.lanes(),
                 config.light_paths,
                 config.gbuffer,
+                config.msaa,
             )?;
             let local = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("local lights"),
@@ -589,6 +626,14 @@ impl Renderer {
         mut statics: Option<&mut StaticView<'_>>,
         wait: bool,
     ) -> Result<FrameOutput> {
+        if statics.is_some() && what == Recording::Baseline && self.targets.msaa.is_some() {
+            return Error::config(
+                "RendererConfig::msaa",
+                f64::from(MSAA_SAMPLES),
+                "off for static frames on the baseline path (the static query's HiZ reads \
+                 the single-sample depth)",
+            );
+        }
         let device = self.device.clone();
         let t0 = Instant::now();
         let view = scoped(&device, || {
@@ -612,6 +657,7 @@ impl Renderer {
                         volumes: &self.volume_draws,
                         casters: &self.casters,
                         origin_offset: self.origin_offset,
+                        msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
                     }
                 };
             }
@@ -1249,6 +1295,32 @@ impl Renderer {
         })
     }
 
+    /// Reads back the edge pixels of the last MSAA baseline frame under
+    /// [`MsaaLighting::Kz2`]: row-major pixel indices, ascending (the pixels whose samples
+    /// hold more than one surface, lit per sample). Empty without MSAA or after a frame
+    /// that lit every sample.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_msaa_edges(&self) -> Result<Vec<u32>> {
+        let Some(t) = &self.targets.msaa else {
+            return Ok(Vec::new());
+        };
+        let header = read_buffer(&self.device, &self.queue, &t.edges, 0, 16)?;
+        let pixels = u64::from(self.targets.width) * u64::from(self.targets.height);
+        let count = u64::from(bytemuck::pod_read_unaligned::<[u32; 4]>(&header)[3]).min(pixels);
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let words = read_buffer(&self.device, &self.queue, &t.edges, 16, count * 4)?;
+        let mut edges: Vec<u32> = bytemuck::pod_collect_to_vec::<u8, u32>(&words)
+            .into_iter()
+            .map(|w| (w >> 16) * self.targets.width + (w & 0xffff))
+            .collect();
+        edges.sort_unstable();
+        Ok(edges)
+    }
+
     /// Reads the vis buffer of the last frame back (row-major words, `visbuf`'s layout;
     /// `VIS_NONE` where nothing was drawn).
     ///
@@ -1312,6 +1384,7 @@ impl Renderer {
                 volumes: &[],
                 casters: &self.casters,
                 origin_offset: self.origin_offset,
+                msaa: false,
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);

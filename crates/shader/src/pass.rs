@@ -175,6 +175,9 @@ pub enum Dim {
     D2Array,
     /// `texture_3d`.
     D3,
+    /// `texture_multisampled_2d` / `texture_depth_multisampled_2d` (read with
+    /// `textureLoad(t, texel, sample)`).
+    D2Multisampled,
 }
 
 /// Storage texel formats the workspace's passes use (WGSL names in the docs).

@@ -22,7 +22,7 @@ pub fn texture_format(f: Format) -> wgpu::TextureFormat {
 
 fn view_dimension(d: Dim) -> wgpu::TextureViewDimension {
     match d {
-        Dim::D2 => wgpu::TextureViewDimension::D2,
+        Dim::D2 | Dim::D2Multisampled => wgpu::TextureViewDimension::D2,
         Dim::D2Array => wgpu::TextureViewDimension::D2Array,
         Dim::D3 => wgpu::TextureViewDimension::D3,
     }
@@ -78,7 +78,7 @@ pub fn layout_entries(
                         Sample::Depth => wgpu::TextureSampleType::Depth,
                     },
                     view_dimension: view_dimension(dim),
-                    multisampled: false,
+                    multisampled: dim == Dim::D2Multisampled,
                 },
                 Kind::StorageTexture { format, dim } => wgpu::BindingType::StorageTexture {
                     access: wgpu::StorageTextureAccess::WriteOnly,

@@ -163,9 +163,19 @@ fn kind_of(m: &Module, layouter: &Layouter, g: &naga::GlobalVariable, want: Kind
                 arrayed,
                 class,
             } => {
-                let dim = dim_of(dim, arrayed)?;
+                let dim = match class {
+                    ImageClass::Sampled { multi: true, .. } | ImageClass::Depth { multi: true }
+                        if dim == ImageDimension::D2 && !arrayed =>
+                    {
+                        Dim::D2Multisampled
+                    }
+                    ImageClass::Sampled { multi: true, .. } | ImageClass::Depth { multi: true } => {
+                        return None;
+                    }
+                    _ => dim_of(dim, arrayed)?,
+                };
                 match class {
-                    ImageClass::Sampled { kind, multi: false } => Some(Kind::Texture {
+                    ImageClass::Sampled { kind, .. } => Some(Kind::Texture {
                         sample: match kind {
                             ScalarKind::Float => match want {
                                 Kind::Texture {
@@ -180,7 +190,7 @@ fn kind_of(m: &Module, layouter: &Layouter, g: &naga::GlobalVariable, want: Kind
                         },
                         dim,
                     }),
-                    ImageClass::Depth { multi: false } => Some(Kind::Texture {
+                    ImageClass::Depth { .. } => Some(Kind::Texture {
                         sample: Sample::Depth,
                         dim,
                     }),

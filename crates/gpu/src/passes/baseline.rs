@@ -32,18 +32,25 @@ pub(crate) struct Baseline {
     layouts: Layouts,
     pipeline: wgpu::RenderPipeline,
     fade_pipeline: wgpu::RenderPipeline,
+    /// Both at [`crate::MSAA_SAMPLES`] samples, with MSAA on.
+    msaa: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
 }
 
 impl Baseline {
-    /// The pipelines writing the G-buffer of `layout`.
-    pub(crate) fn new(device: &wgpu::Device, layout: deferred::GBufferLayout) -> Result<Self> {
+    /// The pipelines writing the G-buffer of `layout`; with `msaa`, the multisampled ones
+    /// too.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        layout: deferred::GBufferLayout,
+        msaa: bool,
+    ) -> Result<Self> {
         let layouts = Layouts::new(device, &BASELINE);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(BASELINE.name),
             source: wgpu::ShaderSource::Wgsl(BASELINE.source(gbuffer::features(layout))?.into()),
         });
         let targets = gbuffer::color_targets(layout);
-        let make = |fragment: &str| {
+        let make = |fragment: &str, count: u32| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(BASELINE.name),
                 layout: Some(layouts.pipeline_layout()),
@@ -59,7 +66,13 @@ impl Baseline {
                     depth_compare: Some(wgpu::CompareFunction::Equal),
                     ..depth_write_state()
                 }),
-                multisample: wgpu::MultisampleState::default(),
+                // MSAA: the fragment shader runs once a pixel per triangle and its output
+                // goes to every covered sample, so a pixel inside one triangle has equal
+                // samples (what lighting's edge test relies on).
+                multisample: wgpu::MultisampleState {
+                    count,
+                    ..Default::default()
+                },
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fragment),
@@ -70,12 +83,19 @@ impl Baseline {
                 cache: None,
             })
         };
-        let pipeline = make("fs_baseline");
-        let fade_pipeline = make("fs_baseline_fade");
+        let pipeline = make("fs_baseline", 1);
+        let fade_pipeline = make("fs_baseline_fade", 1);
+        let msaa = msaa.then(|| {
+            (
+                make("fs_baseline", crate::MSAA_SAMPLES),
+                make("fs_baseline_fade", crate::MSAA_SAMPLES),
+            )
+        });
         Ok(Self {
             layouts,
             pipeline,
             fade_pipeline,
+            msaa,
         })
     }
 
@@ -95,9 +115,17 @@ impl Baseline {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = f
-            .targets
-            .gbuffer_views
+        // The baseline's MSAA frame: the multisampled targets and pipelines.
+        let (views, depth, pipeline, fade) = match (f.msaa, &f.targets.msaa, &self.msaa) {
+            (true, Some(t), Some((p, fade))) => (&t.gbuffer_views, &t.depth_view, p, fade),
+            _ => (
+                &f.targets.gbuffer_views,
+                &f.targets.depth_view,
+                &self.pipeline,
+                &self.fade_pipeline,
+            ),
+        };
+        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = views
             .iter()
             .map(|v| {
                 Some(wgpu::RenderPassColorAttachment {
@@ -115,7 +143,7 @@ impl Baseline {
             label: Some("baseline depth-equal geometry pass"),
             color_attachments: &colors,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &f.targets.depth_view,
+                view: depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
@@ -128,13 +156,7 @@ impl Baseline {
         });
         pass.set_bind_group(0, &f.scene.baseline, &[]);
         // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
-        record_draws(
-            &mut pass,
-            f,
-            &self.pipeline,
-            &self.pipeline,
-            &self.fade_pipeline,
-        );
+        record_draws(&mut pass, f, pipeline, pipeline, fade);
     }
 }
 

@@ -144,6 +144,9 @@ pub(crate) struct Laydown {
     vis_alpha: wgpu::RenderPipeline,
     depth_opaque: wgpu::RenderPipeline,
     depth_alpha: wgpu::RenderPipeline,
+    /// The depth prepass at [`crate::MSAA_SAMPLES`] samples (opaque, alpha-tested), with
+    /// MSAA on.
+    depth_msaa: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     shadow_opaque: wgpu::RenderPipeline,
     shadow_alpha: wgpu::RenderPipeline,
 }
@@ -155,7 +158,8 @@ pub(crate) struct Groups {
 }
 
 impl Laydown {
-    pub(crate) fn new(device: &wgpu::Device, path: PrimitiveIdPath) -> Result<Self> {
+    /// The pipelines of `path`; with `msaa`, the multisampled depth prepass's too.
+    pub(crate) fn new(device: &wgpu::Device, path: PrimitiveIdPath, msaa: bool) -> Result<Self> {
         let pass = pass(path);
         let layouts = Layouts::new(device, pass);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -168,34 +172,45 @@ impl Laydown {
         } else {
             "vs_payload"
         };
+        let make_samples = |label: &str,
+                            vs: &str,
+                            fs: Option<&str>,
+                            vis: bool,
+                            depth: wgpu::DepthStencilState,
+                            count: u32| {
+            let targets = [Some(wgpu::ColorTargetState {
+                format: VIS_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: primitive_state(),
+                depth_stencil: Some(depth),
+                multisample: wgpu::MultisampleState {
+                    count,
+                    ..Default::default()
+                },
+                fragment: fs.map(|entry| wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    targets: if vis { &targets } else { &[] },
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
         let make_with =
             |label: &str, vs: &str, fs: Option<&str>, vis: bool, depth: wgpu::DepthStencilState| {
-                let targets = [Some(wgpu::ColorTargetState {
-                    format: VIS_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })];
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(layouts.pipeline_layout()),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some(vs),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: primitive_state(),
-                    depth_stencil: Some(depth),
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: fs.map(|entry| wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(entry),
-                        compilation_options: Default::default(),
-                        targets: if vis { &targets } else { &[] },
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                make_samples(label, vs, fs, vis, depth, 1)
             };
         let make = |label: &str, vs: &str, fs: Option<&str>, vis: bool| {
             make_with(label, vs, fs, vis, depth_write_state())
@@ -224,6 +239,22 @@ impl Laydown {
                 Some("fs_depth_alpha"),
                 false,
             ),
+            depth_msaa: msaa.then(|| {
+                let ms = |label: &str, fs| {
+                    make_samples(
+                        label,
+                        "vs_main",
+                        fs,
+                        false,
+                        depth_write_state(),
+                        crate::MSAA_SAMPLES,
+                    )
+                };
+                (
+                    ms("prepass depth opaque msaa", None),
+                    ms("prepass depth alpha msaa", Some("fs_depth_alpha")),
+                )
+            }),
             layouts,
         })
     }
@@ -415,15 +446,20 @@ impl Laydown {
         } else {
             "depth prepass"
         };
+        // The baseline's MSAA frame: the multisampled depth and pipelines.
+        let (view, opaque, alpha) = match (f.msaa, &f.targets.msaa, &self.depth_msaa) {
+            (true, Some(t), Some((o, a))) => (&t.depth_view, o, a),
+            _ => (&f.targets.depth_view, &self.depth_opaque, &self.depth_alpha),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
             color_attachments: &[],
-            depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, late)),
+            depth_stencil_attachment: Some(depth_attachment(view, late)),
             timestamp_writes: timer.render(label),
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.draw(&mut pass, f, &self.depth_opaque, &self.depth_alpha, late);
+        self.draw(&mut pass, f, opaque, alpha, late);
     }
 
     fn draw(

@@ -8,7 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use deferred::lights::{DeferredLight, DeferredTileDepth, MAX_LIGHTS_PER_TILE, tile_counts};
 use deferred::pass::{LIGHT_CULL_PASS, LightCullCounters, LightCullParams};
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample};
+use shader::{Binding, Dim, Entry, Group, Kind, Pass, Sample};
 
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
@@ -54,6 +54,27 @@ pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
         [tx.saturating_mul(TILE_AREA), ty]
     })],
     zeroed: &[],
+};
+
+/// [`TILE_DEPTH`] over the baseline's multisampled depth (feature `msaa`): each tile's
+/// range covers every sample.
+pub(crate) const TILE_DEPTH_MSAA: Pass<[u32; 2]> = Pass {
+    groups: &[Group {
+        name: "tiles",
+        bindings: &[
+            TILE_DEPTH.groups[0].bindings[0],
+            Binding::new(
+                "depth_texture",
+                Kind::Texture {
+                    sample: Sample::Depth,
+                    dim: Dim::D2Multisampled,
+                },
+            ),
+            TILE_DEPTH.groups[0].bindings[2],
+        ],
+    }],
+    features: &["msaa"],
+    ..TILE_DEPTH
 };
 
 /// The light buffers of one target size: the lights (grown as needed), the per-tile depth
@@ -126,12 +147,15 @@ impl LightBuffers {
 /// The two passes' pipelines.
 pub(crate) struct LocalLights {
     tile_depth: ComputePass<[u32; 2]>,
+    /// Over the multisampled depth, with MSAA on.
+    tile_depth_msaa: Option<ComputePass<[u32; 2]>>,
     cull: ComputePass<LightCullParams>,
 }
 
 /// Their bind groups over one set of [`LightBuffers`].
 pub(crate) struct Groups {
     tile_depth: wgpu::BindGroup,
+    tile_depth_msaa: Option<wgpu::BindGroup>,
     cull: wgpu::BindGroup,
     /// The counters, cleared before each culling pass.
     counters: wgpu::Buffer,
@@ -140,9 +164,14 @@ pub(crate) struct Groups {
 }
 
 impl LocalLights {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+    pub(crate) fn new(device: &wgpu::Device, msaa: bool) -> Result<Self> {
         Ok(Self {
             tile_depth: ComputePass::new(device, &TILE_DEPTH, &[], &[])?,
+            tile_depth_msaa: if msaa {
+                Some(ComputePass::new(device, &TILE_DEPTH_MSAA, &["msaa"], &[])?)
+            } else {
+                None
+            },
             cull: ComputePass::new(device, &LIGHT_CULL_PASS, &[], &[])?,
         })
     }
@@ -166,6 +195,21 @@ impl LocalLights {
                     ("tile_depths", b.tile_depths.as_entire_binding()),
                 ],
             )?,
+            tile_depth_msaa: match (&self.tile_depth_msaa, &targets.msaa) {
+                (Some(p), Some(t)) => Some(p.bind_group(
+                    device,
+                    "tiles",
+                    &[
+                        ("params", b.tile_params.as_entire_binding()),
+                        (
+                            "depth_texture",
+                            wgpu::BindingResource::TextureView(&t.depth_view),
+                        ),
+                        ("tile_depths", b.tile_depths.as_entire_binding()),
+                    ],
+                )?),
+                _ => None,
+            },
             cull: self.cull.bind_group(
                 device,
                 "cull",
@@ -197,11 +241,11 @@ impl LocalLights {
                 label: Some("light tile depth"),
                 timestamp_writes: timer.compute("light tile depth"),
             });
-            self.tile_depth.record(
-                &mut pass,
-                &[&g.tile_depth],
-                &[f.targets.width, f.targets.height],
-            );
+            let size = [f.targets.width, f.targets.height];
+            match (f.msaa, &self.tile_depth_msaa, &g.tile_depth_msaa) {
+                (true, Some(p), Some(group)) => p.record(&mut pass, &[group], &size),
+                _ => self.tile_depth.record(&mut pass, &[&g.tile_depth], &size),
+            }
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("light culling"),
@@ -223,6 +267,7 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&TILE_DEPTH, |_| Caps::CORE);
+        shadercheck::check_pass_with(&TILE_DEPTH_MSAA, &["msaa"], |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, TILE_DEPTH.module, &[], Caps::CORE);
         assert_struct_layout(
             &m,

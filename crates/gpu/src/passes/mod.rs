@@ -136,15 +136,22 @@ impl Pipelines {
         wave_width: u32,
         light_paths: crate::LightPaths,
         gbuffer: deferred::GBufferLayout,
+        msaa: Option<crate::MsaaLighting>,
     ) -> Result<Self> {
         Ok(Self {
-            laydown: laydown::Laydown::new(device, paths.primitive_id)?,
+            laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
-            baseline: baseline::Baseline::new(device, gbuffer)?,
-            lighting: lighting::Lighting::new(device, light_paths, gbuffer)?,
-            lights: lights::LocalLights::new(device)?,
+            baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
+            lighting: lighting::Lighting::new(
+                device,
+                light_paths,
+                gbuffer,
+                msaa,
+                paths.subgroup_size.is_some(),
+            )?,
+            lights: lights::LocalLights::new(device, msaa.is_some())?,
             light_volumes: if light_paths.volumes() {
                 Some(light_volumes::LightVolumes::new(device, gbuffer)?)
             } else {
@@ -185,6 +192,9 @@ pub(crate) struct FrameContext<'a> {
     pub casters: &'a crate::shadows::CasterCulls,
     /// Scene origin minus camera position (origin-relative to camera-relative), metres.
     pub origin_offset: glam::Vec3,
+    /// The baseline's MSAA frame: its depth prepass, G-buffer pass, light tiles and
+    /// lighting use the multisampled targets (`targets.msaa`).
+    pub msaa: bool,
 }
 
 /// What a command buffer records.

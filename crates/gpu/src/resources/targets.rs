@@ -38,6 +38,76 @@ pub(crate) struct Targets {
     pub spot_shadows: crate::spot_shadows::SpotShadowMaps,
     /// The stencil light volumes' accumulation and depth-stencil (1x1 without volumes).
     pub light_volumes: crate::passes::light_volumes::VolumeTargets,
+    /// The baseline path's 4x multisampled depth and G-buffer, with MSAA on.
+    pub msaa: Option<MsaaTargets>,
+}
+
+/// The baseline's multisampled targets ([`crate::MSAA_SAMPLES`] samples a pixel) and
+/// the list of edge pixels lighting appends to.
+pub(crate) struct MsaaTargets {
+    /// The views (each keeps its texture alive).
+    pub depth_view: wgpu::TextureView,
+    pub gbuffer_views: Vec<wgpu::TextureView>,
+    /// WGSL `GpuMsaaEdges`: the edge pass's indirect dispatch (3 words), the edge count,
+    /// then one word per edge pixel (`x | y << 16`), room for every pixel.
+    pub edges: wgpu::Buffer,
+    /// The edge pass's indirect arguments, copied out of `edges` (a dispatch cannot read
+    /// its arguments from a buffer it binds for writing).
+    pub edge_dispatch: wgpu::Buffer,
+}
+
+impl MsaaTargets {
+    fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        layout: deferred::GBufferLayout,
+    ) -> Self {
+        use wgpu::TextureUsages as U;
+        let make = |label: &str, format| {
+            let t = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: crate::MSAA_SAMPLES,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            t.create_view(&Default::default())
+        };
+        let depth_view = make("msaa depth", DEPTH_FORMAT);
+        let gbuffer_views = gbuffer::color_formats(layout)
+            .into_iter()
+            .enumerate()
+            .map(|(i, f)| make(&format!("msaa gbuffer rt{i}"), f))
+            .collect();
+        let edges = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("msaa edge pixels"),
+            size: 16 + u64::from(width) * u64::from(height) * 4,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let edge_dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("msaa edge dispatch"),
+            size: 12,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            depth_view,
+            gbuffer_views,
+            edges,
+            edge_dispatch,
+        }
+    }
 }
 
 /// A single-sample 2D texture of `width` × `height` and its default view.
@@ -70,7 +140,9 @@ pub(crate) fn texture(
 impl Targets {
     /// The targets for `width` × `height` pixels, the sun's shadow maps of `shadows`, with
     /// `light_volumes` the stencil volumes' targets, the G-buffer of `gbuffer_layout`, and
-    /// the spot shadow maps of `spot_shadows`.
+    /// the spot shadow maps of `spot_shadows`, and with `msaa` the baseline's
+    /// multisampled targets.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         device: &wgpu::Device,
         width: u32,
@@ -79,6 +151,7 @@ impl Targets {
         light_volumes: bool,
         gbuffer_layout: deferred::GBufferLayout,
         spot_shadows: Option<crate::SpotShadowConfig>,
+        msaa: bool,
     ) -> Self {
         use wgpu::TextureUsages as U;
         let (depth, depth_view) = texture(
@@ -147,6 +220,7 @@ impl Targets {
                 height,
                 light_volumes,
             ),
+            msaa: msaa.then(|| MsaaTargets::new(device, width, height, gbuffer_layout)),
         }
     }
 }

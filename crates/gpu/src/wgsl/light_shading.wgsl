@@ -16,13 +16,19 @@ struct GpuLocalLights {
 
 const LIGHT_SHADING_PI: f32 = 3.14159265;
 
-// Camera-relative position of the centre of `pixel` at reversed-Z depth `d`, with the
-// frame's `inv_view_proj` and `texel` (1 / viewport size, FrameUniforms::viewport.zw).
-fn light_shading_position(inv_view_proj: mat4x4<f32>, texel: vec2<f32>, pixel: vec2<u32>, d: f32) -> vec3<f32> {
-    let uv = (vec2<f32>(pixel) + 0.5) * texel;
+// Camera-relative position of the image point `xy` (pixels from the top-left corner) at
+// reversed-Z depth `d`, with the frame's `inv_view_proj` and `texel` (1 / viewport size,
+// FrameUniforms::viewport.zw).
+fn light_shading_position_at(inv_view_proj: mat4x4<f32>, texel: vec2<f32>, xy: vec2<f32>, d: f32) -> vec3<f32> {
+    let uv = xy * texel;
     let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
     let p = inv_view_proj * ndc;
     return p.xyz / p.w;
+}
+
+// The same at the centre of `pixel`.
+fn light_shading_position(inv_view_proj: mat4x4<f32>, texel: vec2<f32>, pixel: vec2<u32>, d: f32) -> vec3<f32> {
+    return light_shading_position_at(inv_view_proj, texel, vec2<f32>(pixel) + 0.5, d);
 }
 
 // GGX normal distribution with Schlick Fresnel and a Smith-style visibility term.
