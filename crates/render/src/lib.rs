@@ -85,6 +85,20 @@ pub enum GBufferArg {
     Kz2,
 }
 
+/// `--msaa`: KZ2's 4x MSAA on the baseline path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MsaaArg {
+    /// Single sample.
+    Off,
+    /// KZ2's tricks: interior pixels lit once, edge pixels per sample with split PCF taps.
+    Kz2,
+    /// Every sample lit (the tricks' baseline).
+    EverySample,
+    /// Both, one after the other on the same frames: the baseline path under `kz2`, then
+    /// again under `every-sample`.
+    Compare,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -190,6 +204,9 @@ pub struct Args {
     /// No spot shadow maps: shadow-casting spots light unshadowed.
     #[arg(long)]
     pub no_spot_shadows: bool,
+    /// KZ2's 4x MSAA on the baseline path (the deferred path stays single-sample).
+    #[arg(long, value_enum, default_value = "off")]
+    pub msaa: MsaaArg,
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -478,7 +495,24 @@ pub fn run(args: &Args) -> Result<()> {
             GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
             GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
         },
+        msaa: match args.msaa {
+            MsaaArg::Off => None,
+            MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::MsaaLighting::Kz2),
+            MsaaArg::EverySample => Some(gpu::MsaaLighting::EverySample),
+        },
         ..RendererConfig::default()
+    };
+    // `--msaa compare`: a second renderer lighting every sample.
+    let mut every_sample = match args.msaa {
+        MsaaArg::Compare => Some(Renderer::new(
+            &ctx.device,
+            &ctx.queue,
+            RendererConfig {
+                msaa: Some(gpu::MsaaLighting::EverySample),
+                ..config.clone()
+            },
+        )?),
+        _ => None,
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
     for (k, &scene_kind) in args.scenes().iter().enumerate() {
@@ -486,7 +520,7 @@ pub fn run(args: &Args) -> Result<()> {
             println!();
         }
         println!("== {} ==", scene_kind.name());
-        render_scene(args, &ctx, &mut renderer, scene_kind)?;
+        render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), scene_kind)?;
     }
     if args.city() {
         if !args.scenes().is_empty() {
@@ -689,6 +723,7 @@ fn render_scene(
     args: &Args,
     ctx: &gpu::GpuContext,
     renderer: &mut Renderer,
+    mut every_sample: Option<&mut Renderer>,
     scene_kind: DemoScene,
 ) -> Result<()> {
     let t0 = std::time::Instant::now();
@@ -725,6 +760,17 @@ fn render_scene(
         report.image(path, &file);
         report.timings(path, &frames);
         let name = scene_kind.name();
+        if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
+            let edges = renderer.read_msaa_edges()?;
+            if renderer.config().msaa == Some(gpu::MsaaLighting::Kz2) {
+                report.msaa_edges(edges.len(), (args.width * args.height) as usize);
+            }
+            if let Some(r) = every_sample.as_deref_mut() {
+                let p = r.prepare(&scene)?;
+                let t = r.render_frames(&p, &frame, path, args.frames)?;
+                report.timings_named("baseline, MSAA every sample", &t);
+            }
+        }
         if path == RenderPath::Deferred {
             // The same frames submitted back to back: the uploads of each in its own
             // blocks of the framealloc pool, no CPU wait between frames.

@@ -12,7 +12,7 @@ use gpu::{
 /// Everything printed after a run.
 pub struct Report {
     lines: Vec<(String, String)>,
-    timings: Vec<(RenderPath, FrameOutput)>,
+    timings: Vec<(String, FrameOutput)>,
     images: Vec<(String, PathBuf)>,
 }
 
@@ -311,7 +311,25 @@ impl Report {
 
     /// GPU and wall times of a path.
     pub fn timings(&mut self, path: RenderPath, t: &FrameOutput) {
-        self.timings.push((path, t.clone()));
+        self.timings.push((path.name().to_string(), t.clone()));
+    }
+
+    /// GPU and wall times of a named variant of a path.
+    pub fn timings_named(&mut self, name: &str, t: &FrameOutput) {
+        self.timings.push((name.to_string(), t.clone()));
+    }
+
+    /// KZ2's MSAA edge pixels of the baseline frame just rendered.
+    pub fn msaa_edges(&mut self, edges: usize, pixels: usize) {
+        self.row(
+            "MSAA 4x edge pixels (lit per sample)",
+            format!(
+                "{} of {} ({:.1}%)",
+                group_digits(edges as u64),
+                group_digits(pixels as u64),
+                100.0 * edges as f64 / pixels.max(1) as f64
+            ),
+        );
     }
 
     /// An output image of a path.
@@ -378,8 +396,7 @@ impl fmt::Display for Report {
         for (path, t) in &self.timings {
             writeln!(
                 f,
-                "\n{} path, GPU times (timestamp queries, mean over the measured frames after a 0.5 s warm-up):",
-                path.name()
+                "\n{path} path, GPU times (timestamp queries, mean over the measured frames after a 0.5 s warm-up):",
             )?;
             let total: f64 = t.gpu.iter().map(|x| x.ms).sum();
             for x in &t.gpu {
