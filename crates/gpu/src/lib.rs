@@ -3,7 +3,9 @@
 //! deferred lighting (KZ2's sun slices as stable cascaded shadow maps with a baked sun
 //! term; point and spot lights through 16x16 tiles or stencil light volumes
 //! ([`LightPaths`]), shadow-casting spots ([`SpotShadowConfig`]); the octahedral or KZ2's
-//! G-buffer), and HZD's depth-equal baseline that it replaces. Every per-frame upload is
+//! G-buffer), and HZD's depth-equal baseline that it replaces (single-sample, or 4x MSAA
+//! lit with KZ2's tricks: [`MsaaLighting`]; the visibility-buffer path stays
+//! single-sample, one triangle a pixel). Every per-frame upload is
 //! sub-allocated from `framealloc`'s pool, so frames can be submitted without waiting
 //! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
 //! crate owns devices, buffers, pipelines and passes.
