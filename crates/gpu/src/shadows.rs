@@ -20,6 +20,9 @@ use crate::frame::Camera;
 /// Largest [`ShadowConfig::pcf_radius`].
 pub(crate) const MAX_PCF_RADIUS: u32 = 2;
 
+/// Largest [`ShadowConfig::static_size_threshold`], texels.
+pub(crate) const MAX_STATIC_SIZE_THRESHOLD: f32 = 64.0;
+
 /// Shadow-map depth format.
 pub(crate) const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -49,6 +52,13 @@ pub struct ShadowConfig {
     /// KZ2's stability turned into skipped passes. Frames with a static query always
     /// re-render (their static casters change per frame). Off: every slice every frame.
     pub cache: bool,
+    /// KZ2's removal of small objects from shadow maps, for static content: in a frame
+    /// with a static query, each re-rendered slice runs the query's shadow view over its
+    /// volume, which leaves out the casters whose bounding sphere's projected diameter is
+    /// below this many of the slice's texels (so a caster may be in a fine slice and out
+    /// of a coarse one); the baked sun map applies it in its own texels. 0 keeps every
+    /// caster; finite, 0 to 64. Planned batches are drawn whole.
+    pub static_size_threshold: f32,
 }
 
 impl Default for ShadowConfig {
@@ -61,6 +71,10 @@ impl Default for ShadowConfig {
             lambda: 0.75,
             pcf_radius: [2, 1, 1, 0, 0, 0, 0, 0],
             cache: true,
+            // Below a texel and a half a caster darkens a texel or two of a map whose
+            // lookups are filtered anyway (KZ2: "these objects usually don't contribute
+            // to the shadow too much").
+            static_size_threshold: 1.5,
         }
     }
 }
@@ -106,6 +120,13 @@ impl ShadowConfig {
         }
         if !(0.0..=1.0).contains(&self.lambda) {
             return bad("ShadowConfig::lambda", f64::from(self.lambda), "[0, 1]");
+        }
+        if !(0.0..=MAX_STATIC_SIZE_THRESHOLD).contains(&self.static_size_threshold) {
+            return bad(
+                "ShadowConfig::static_size_threshold",
+                f64::from(self.static_size_threshold),
+                "finite, 0 to 64 texels",
+            );
         }
         if let Some(&r) = self.pcf_radius.iter().find(|&&r| r > MAX_PCF_RADIUS) {
             return bad(
@@ -222,6 +243,51 @@ pub(crate) fn clip_planes(m: glam::Mat4) -> [glam::Vec4; 6] {
     })
 }
 
+/// The static query's camera for an orthographic sun view whose world-to-clip matrix is
+/// `world_to_clip` (f64, depth 0 nearest the sun), seen from `position` (world, metres; it
+/// sets the query's snapped floating origin) looking away from the sun `to_sun` in
+/// `deferred`'s light frame (the cascades' axes). The projection is the matrix's own, so
+/// the query's frustum planes and size test see exactly the map's volume and texels.
+pub(crate) fn sun_query_camera(
+    world_to_clip: glam::DMat4,
+    position: DVec3,
+    to_sun: DVec3,
+) -> staticscene::Camera {
+    let (right, up, fwd) = deferred::cascades::light_frame(to_sun.normalize_or(DVec3::Y));
+    let rotation = glam::DQuat::from_mat3(&glam::DMat3::from_cols(right, up, -fwd));
+    // Projection = world_to_clip after view-to-world: the query composes it back with its
+    // view (f64 both) and rounds once.
+    let view_to_world = glam::DMat4::from_rotation_translation(rotation, position);
+    staticscene::Camera {
+        position,
+        rotation,
+        projection: (world_to_clip * view_to_world).as_mat4(),
+        reversed_depth: false,
+    }
+}
+
+/// The static query's shadow view of a sun map (a slice, or the bake) of `texels` per
+/// side: [`sun_query_camera`], the sun-shadow filter, LODs chosen from the player camera's
+/// `lod_position` with its `lod_scale` (so shadows show the LODs the camera sees), and
+/// KZ2's size threshold in the map's texels. No fade, no occlusion (`ViewDesc::shadow`).
+pub(crate) fn sun_query_view(
+    camera: staticscene::Camera,
+    texels: u32,
+    lod_position: DVec3,
+    lod_scale: f32,
+    size_threshold: f32,
+) -> staticscene::ViewDesc {
+    let mut view = staticscene::ViewDesc::shadow(
+        camera,
+        [texels, texels],
+        staticscene::FILTER_SUN_SHADOW,
+        lod_position,
+    );
+    view.lod_scale = lod_scale;
+    view.size_threshold_px = size_threshold;
+    view
+}
+
 /// Whether the sphere of `center` and `radius` meets the volume of `planes` (conservative:
 /// a sphere outside near a corner may still count as meeting it).
 pub(crate) fn sphere_meets(planes: &[glam::Vec4; 6], center: glam::Vec3, radius: f32) -> bool {
@@ -302,8 +368,9 @@ pub(crate) struct ShadowMaps {
     pub stand_in_view: wgpu::TextureView,
     /// The bake pass's frame uniforms.
     pub baked_frame: wgpu::Buffer,
-    /// The scene and sun (bits) the baked map was rendered for.
-    pub baked_for: Option<(u64, [u32; 3])>,
+    /// The scene, sun (bits) and, with static casters, the hash of the active static
+    /// tiles' ids the baked map was rendered for.
+    pub baked_for: Option<(u64, [u32; 3], Option<u64>)>,
     /// Per slice: the scene and world-space matrix (f64 bits) its map holds.
     pub rendered: Vec<Option<SliceKey>>,
     /// Per slice: this frame's key, and whether the frame renders the slice.
