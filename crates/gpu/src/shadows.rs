@@ -2,8 +2,10 @@
 //! (`deferred::StableCascades`: world-aligned, texel-snapped, rotation-invariant slice
 //! spheres), fitted on the CPU in f64 every frame, rendered into one layer each of a depth
 //! array (each slice at its own resolution, in its layer's corner) by the depth-prepass
-//! geometry (the chunks of the scene's own batches that meet the slice's clip volume),
-//! and sampled by lighting with each slice's PCF radius.
+//! geometry (the chunks of the scene's own batches that meet the slice's clip volume;
+//! in a frame with a static query, the static casters of the slice's own shadow view of
+//! the query, KZ2's shadow query with size threshold: [`sun_query_view`]), and sampled by
+//! lighting with each slice's PCF radius.
 //!
 //! Conventions: shadow clip depth in `[0, 1]`, 0 nearest the sun (cleared to 1, tested
 //! `Less`); the matrices take camera-relative positions, as every pass's do.
@@ -547,6 +549,62 @@ mod tests {
         let mut wide = d;
         wide.pcf_radius[3] = 3;
         assert_eq!(field(wide), "ShadowConfig::pcf_radius");
+        for t in [-0.5, 65.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(
+                field(ShadowConfig {
+                    static_size_threshold: t,
+                    ..d
+                }),
+                "ShadowConfig::static_size_threshold"
+            );
+        }
+    }
+
+    /// The static query's camera of a slice reproduces the slice's matrix (the query's
+    /// floating space through its clip matrix equals the world matrix, in f64 terms up to
+    /// f32 rounding), and its size test's pixels per unit are the slice's texels per metre.
+    #[test]
+    fn a_slices_query_view_is_its_map() {
+        let config = ShadowConfig::default();
+        let camera = Camera {
+            position: glam::Vec3::new(1234.4, 17.0, -560.2),
+            ..Camera::look_at(glam::Vec3::ZERO, glam::Vec3::new(1.0, -0.2, -3.0))
+        };
+        let camera = Camera {
+            target: camera.position + glam::Vec3::new(1.0, -0.2, -3.0),
+            ..camera
+        };
+        let sun = glam::Vec3::new(0.3, 0.8, -0.4);
+        let cascades = config.fit(&camera, 16.0 / 9.0, sun).unwrap();
+        for (k, c) in cascades.cascades().iter().enumerate() {
+            let q = sun_query_camera(c.world_to_clip, c.center, sun.as_dvec3());
+            let texels = config.slice_resolution(k);
+            let view = sun_query_view(q, texels, camera.position.as_dvec3(), 1.0, 2.0);
+            let params = staticscene::QueryParams::new(&view).unwrap();
+            let origin = params.origin().as_dvec3();
+            let m = params.clip_from_floating();
+            for p in [
+                c.center,
+                c.center + DVec3::new(c.radius * 0.7, -3.0, 0.2 * c.radius),
+                c.center - DVec3::new(0.1, c.radius * 0.5, c.radius * 0.9),
+            ] {
+                let want = c.world_to_clip.project_point3(p);
+                let got = m.project_point3((p - origin).as_vec3()).as_dvec3();
+                assert!((want - got).abs().max_element() < 1e-5, "{k}: {want} {got}");
+            }
+            let per_metre = 1.0 / c.texel_size;
+            assert!(
+                (f64::from(params.viewport[3]) / per_metre - 1.0).abs() < 1e-5,
+                "{k}: {} px per unit, {per_metre} texels per metre",
+                params.viewport[3]
+            );
+            assert!(params.has(staticscene::QUERY_FLAG_SHADOW));
+            assert!(params.has(staticscene::QUERY_FLAG_SIZE));
+            assert_eq!(
+                params.filter_mask,
+                u32::from(staticscene::FILTER_SUN_SHADOW)
+            );
+        }
     }
 
     /// The bake's box holds the scene: its bounds' corners land inside clip x, y in

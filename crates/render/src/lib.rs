@@ -190,6 +190,25 @@ pub struct Args {
     /// No spot shadow maps: shadow-casting spots light unshadowed.
     #[arg(long)]
     pub no_spot_shadows: bool,
+    /// KZ2's size threshold of the city's static shadow query, in each sun slice's texels:
+    /// static casters whose bounding sphere spans fewer are left out of that slice (and,
+    /// in the bake's texels, of the baked sun map); 0 keeps every caster (0 to 64). The
+    /// report lists each slice's static casters and those dropped.
+    #[arg(long, default_value_t = gpu::ShadowConfig::default().static_size_threshold, value_parser = parse_size_threshold)]
+    pub shadow_size_threshold: f32,
+}
+
+/// A shadow size threshold given on the command line: finite, 0 to 64 texels.
+fn parse_size_threshold(s: &str) -> Result<f32, String> {
+    let t: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..=64.0).contains(&t) {
+        Ok(t)
+    } else {
+        Err(format!("{s} is not between 0 and 64 texels"))
+    }
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -469,6 +488,7 @@ pub fn run(args: &Args) -> Result<()> {
             } else {
                 gpu::ShadowConfig::default().resolution_divisor
             },
+            static_size_threshold: args.shadow_size_threshold,
             ..gpu::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,
@@ -586,6 +606,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
+            report.static_shadows(s);
         }
         if path == RenderPath::Deferred {
             let classified = renderer.read_classification(&prepared)?;
