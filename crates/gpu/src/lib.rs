@@ -115,8 +115,8 @@ pub use scene::{
 pub use shadows::ShadowConfig;
 pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
 pub use statics::{
-    StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticView, scene_from_query,
-    static_view_desc,
+    StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticShadowStats, StaticView,
+    scene_from_query, static_view_desc,
 };
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;

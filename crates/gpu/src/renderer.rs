@@ -22,12 +22,11 @@ use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
 use crate::resources::readback::read_buffer;
 use crate::resources::readback::read_texture;
 use crate::resources::rows::FrameUniforms;
-use crate::resources::rows::GpuStaticParams;
 use crate::resources::targets::Targets;
 use crate::resources::uploads::{UploadSink, UploadStats, Uploads};
 use crate::resources::{PrepareContext, PreparedScene, prepare};
 use crate::scene::Scene;
-use crate::statics::{StaticFrameStats, StaticOcclusion, StaticView};
+use crate::statics::{StaticFrameStats, StaticOcclusion, StaticShadowStats, StaticView};
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
 use crate::timing::{GpuTimer, Timing};
 
@@ -322,14 +321,25 @@ pub struct Renderer {
     /// for (`None` after a frame without a static query):
     /// [`StaticOcclusion::PreviousFrame`]'s HiZ, for frames of the same scene.
     depth_camera: Option<(u64, staticscene::Camera)>,
+    /// Per sun slice: whether this frame's static query placed the slice's own static
+    /// casters (its shadow view).
+    static_slices: Vec<bool>,
+    /// The last bake's static shadow view, until a frame's statistics report it.
+    bake_stats: Option<StaticShadowStats>,
 }
 
-/// A frame's static query as recorded: the prepared view, and whether its second pass
-/// (two-pass occlusion) is still to record after the first geometry pass.
+/// A frame's static query as recorded: the prepared view, whether its second pass
+/// (two-pass occlusion) is still to record after the first geometry pass, and the shadow
+/// views of the sun slices (slice, texels per side, view).
 struct StaticFrame {
     view: PreparedView,
     two_pass: bool,
+    shadows: Vec<(u32, u32, PreparedView)>,
 }
+
+/// Labels of the static shadow views' passes (timed together, all views summed).
+const STATIC_SHADOW_QUERY: &str = "static shadow query";
+const STATIC_SHADOW_PLACEMENT: &str = "static shadow placement";
 
 impl Renderer {
     /// The device features the renderer cannot run without: none (each optional one
@@ -485,7 +495,8 @@ impl Renderer {
                     })
                     .transpose()?,
             };
-            let timer = GpuTimer::new(device, queue, 48);
+            // The frame's passes, and up to 8 slices' static shadow query and placement.
+            let timer = GpuTimer::new(device, queue, 64);
             let uploads = Uploads::new(device, config.upload_pool)?;
             Ok(Self {
                 device: device.clone(),
@@ -514,6 +525,8 @@ impl Renderer {
                 frame_index: 0,
                 previous: None,
                 depth_camera: None,
+                static_slices: Vec::new(),
+                bake_stats: None,
             })
         })
     }
@@ -559,6 +572,7 @@ impl Renderer {
                     .device
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
+                baked_sun: self.config.baked_sun,
             },
             scene,
         )
@@ -578,8 +592,9 @@ impl Renderer {
         &mut self,
         scene: &PreparedScene,
         frame: &FrameInput,
-        static_frame: bool,
+        statics: Option<&mut StaticView<'_>>,
     ) -> Result<()> {
+        let static_frame = statics.is_some();
         frame.validate()?;
         self.check_scene(scene)?;
         let previous = self
@@ -595,7 +610,7 @@ impl Renderer {
             self.frame_index,
             previous,
         );
-        self.bake_sun(scene, frame, &mut uniforms);
+        self.bake_sun(scene, frame, &mut uniforms, statics)?;
         uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
         self.uploads
@@ -638,11 +653,14 @@ impl Renderer {
         let t0 = Instant::now();
         let view = scoped(&device, || {
             let static_frame = statics.is_some();
-            self.upload_frame(scene, frame, static_frame)?;
+            self.static_slices.clear();
+            self.upload_frame(scene, frame, statics.as_deref_mut())?;
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
             let view = match statics.as_deref_mut() {
-                Some(v) => Some(self.record_static(&mut encoder, scene, v)?),
+                Some(v) => {
+                    Some(self.record_static(&mut encoder, scene, v, what.lights(), frame)?)
+                }
                 None => None,
             };
             let static_query = view.is_some();
@@ -656,6 +674,7 @@ impl Renderer {
                         static_query,
                         volumes: &self.volume_draws,
                         casters: &self.casters,
+                        static_slices: &self.static_slices,
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
                     }
@@ -754,6 +773,8 @@ impl Renderer {
         encoder: &mut wgpu::CommandEncoder,
         scene: &PreparedScene,
         v: &mut StaticView<'_>,
+        sun_shadows: bool,
+        frame: &FrameInput,
     ) -> Result<StaticFrame> {
         let b = Self::static_buffers(scene)?;
         let size = (self.config.width, self.config.height);
@@ -802,27 +823,135 @@ impl Renderer {
         if depth_hiz && second.is_none() {
             self.record_hiz(encoder, v.query)?;
         }
-        // Whole metres both: exact in f64, and in f32 below 2^24 m.
-        let origin = glam::DVec3::new(
-            f64::from(params.origin[0]),
-            f64::from(params.origin[1]),
-            f64::from(params.origin[2]),
-        );
-        let offset = (origin - scene.summary.origin.as_dvec3()).as_vec3();
-        let constants = GpuStaticParams {
-            offset: offset.extend(0.0).to_array(),
-            setup_count: b.setup_count,
-            row_width: shader::MAX_WORKGROUPS_X,
-            alpha_base: b.opaque,
-            debug_base: b.debug_base,
-        };
+        let offset = Self::query_offset(scene, &params);
         self.uploads
-            .write(&b.params, 0, bytemuck::bytes_of(&constants));
+            .write(&b.params, 0, bytemuck::bytes_of(&b.params(offset)));
         self.record_query_and_place(encoder, scene, v.query, &view, false)?;
+        let shadows = if sun_shadows {
+            self.record_static_shadows(encoder, scene, v, frame)?
+        } else {
+            Vec::new()
+        };
         Ok(StaticFrame {
             view,
             two_pass: second.is_some(),
+            shadows,
         })
+    }
+
+    /// The static query's shadow view of each sun slice this frame re-renders (KZ2's
+    /// shadow query with size threshold, HZD's orthographic sun query): the slice's
+    /// volume seen from the sun, LODs from the camera view's LOD point, casters below
+    /// [`ShadowConfig::static_size_threshold`](crate::ShadowConfig) of the slice's texels
+    /// dropped; each placed into the slice's own rows and draw lists, which its shadow
+    /// pass draws instead of the camera's. Recorded after the camera view's placement
+    /// (the views share nothing it reads), one view's query and placement after the
+    /// other's (they share the query's shadow outputs).
+    fn record_static_shadows(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &PreparedScene,
+        v: &mut StaticView<'_>,
+        frame: &FrameInput,
+    ) -> Result<Vec<(u32, u32, PreparedView)>> {
+        let maps = &self.targets.shadows;
+        let (Some(config), Some(cascades)) = (maps.config, &self.cascades) else {
+            return Ok(Vec::new());
+        };
+        let to_sun = frame.lighting.sun_direction.as_dvec3();
+        let mut slices = Vec::new();
+        let mut params = Vec::new();
+        for (k, c) in cascades.cascades().iter().enumerate() {
+            if k >= scene.static_shadows.len() || !maps.dirty.get(k).copied().unwrap_or(true) {
+                continue;
+            }
+            let texels = config.slice_resolution(k);
+            let camera = crate::shadows::sun_query_camera(c.world_to_clip, c.center, to_sun);
+            let view = crate::shadows::sun_query_view(
+                camera,
+                texels,
+                v.view.lod_position,
+                v.view.lod_scale,
+                config.static_size_threshold,
+            );
+            params.push(staticscene::QueryParams::new(&view)?);
+            slices.push((k as u32, texels));
+        }
+        if params.is_empty() {
+            return Ok(Vec::new());
+        }
+        let views = v.query.prepare_shadow_views(
+            &self.device,
+            &mut self.uploads,
+            v.scene,
+            &params,
+            &v.options,
+        )?;
+        self.static_slices = vec![false; cascades.cascades().len()];
+        let mut out = Vec::with_capacity(views.len());
+        for ((view, p), (k, texels)) in views.into_iter().zip(&params).zip(slices) {
+            let set = &scene.static_shadows[k as usize];
+            let offset = Self::query_offset(scene, p);
+            self.uploads.write(
+                &set.buffers.params,
+                0,
+                bytemuck::bytes_of(&set.buffers.params(offset)),
+            );
+            Self::record_view_and_place(
+                &self.device,
+                &self.pipelines,
+                &mut self.timer,
+                encoder,
+                v.query,
+                &view,
+                (&set.buffers, &set.instances),
+                (STATIC_SHADOW_QUERY, STATIC_SHADOW_PLACEMENT),
+            )?;
+            self.static_slices[k as usize] = true;
+            out.push((k, texels, view));
+        }
+        Ok(out)
+    }
+
+    /// The query's floating origin minus the scene's origin (whole metres both: exact in
+    /// f64, and in f32 below 2^24 m).
+    fn query_offset(scene: &PreparedScene, params: &staticscene::QueryParams) -> glam::Vec3 {
+        let o = params.origin;
+        let origin = glam::DVec3::new(f64::from(o[0]), f64::from(o[1]), f64::from(o[2]));
+        (origin - scene.summary.origin.as_dvec3()).as_vec3()
+    }
+
+    /// Records a prepared shadow view's query and its placement into `buffers` and their
+    /// rows, timed under `labels` (query, placement).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "the renderer's parts borrowed apart, beside the encoder"
+    )]
+    fn record_view_and_place(
+        device: &wgpu::Device,
+        pipelines: &Pipelines,
+        timer: &mut GpuTimer,
+        encoder: &mut wgpu::CommandEncoder,
+        query: &StaticQuery,
+        view: &PreparedView,
+        (buffers, rows): (&StaticBuffers, &wgpu::Buffer),
+        (query_label, place_label): (&'static str, &'static str),
+    ) -> Result<()> {
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(query_label),
+                timestamp_writes: timer.compute(query_label),
+            });
+            query.record_view(&mut pass, view, false);
+        }
+        let group =
+            pipelines
+                .static_place
+                .group(device, buffers, rows, &query.view_outputs(view))?;
+        pipelines
+            .static_place
+            .record_labelled(encoder, buffers, &group, timer, false, place_label);
+        Ok(())
     }
 
     /// Two-pass occlusion after the first geometry pass: the HiZ of its depth, the query's
@@ -890,12 +1019,20 @@ impl Renderer {
 
     /// Reads the query's and the placement's counters after a frame with a static query.
     fn read_static_stats(
-        &self,
+        &mut self,
         scene: &PreparedScene,
         v: &StaticView<'_>,
         frame: StaticFrame,
     ) -> Result<StaticFrameStats> {
         let view = frame.view;
+        let shadow_slices = frame
+            .shadows
+            .iter()
+            .map(|(k, texels, sv)| {
+                let set = &scene.static_shadows[*k as usize];
+                self.read_shadow_stats(scene, v.query, sv, &set.buffers, (*k, *texels))
+            })
+            .collect::<Result<Vec<_>>>()?;
         let counters = v.query.read_counters(&self.device, &self.queue, false)?;
         let second = if frame.two_pass {
             Some(v.query.read_counters(&self.device, &self.queue, true)?)
@@ -929,6 +1066,45 @@ impl Renderer {
             bad_batches: w(STATIC_COUNTER_BAD_BATCHES),
             draws: [w(STATIC_COUNTER_DRAWS), w(STATIC_COUNTER_DRAWS + 1)],
             skipped_tiles: view.plan.skipped_tiles,
+            shadow_slices,
+            baked: self.bake_stats.take(),
+        })
+    }
+
+    /// Reads what a static shadow view's query and placement did (after its submission).
+    fn read_shadow_stats(
+        &self,
+        scene: &PreparedScene,
+        query: &StaticQuery,
+        view: &PreparedView,
+        b: &StaticBuffers,
+        (slice, texels): (u32, u32),
+    ) -> Result<StaticShadowStats> {
+        let counters = query.read_view_counters(&self.device, &self.queue, view)?;
+        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(
+            &self.device,
+            &self.queue,
+            &b.counters,
+            0,
+            4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
+        )?);
+        let w = |i: u32| words[i as usize];
+        Ok(StaticShadowStats {
+            slice,
+            texels,
+            query: counters.stats(&view.plan.stats),
+            threads: view.threads,
+            instances: counters.instances,
+            batches: counters.batches,
+            placed: (0..b.setup_count)
+                .map(|s| {
+                    let cap = scene.static_capacities[s as usize];
+                    u64::from(w(STATIC_COUNTER_PLACED + s).min(cap))
+                })
+                .sum(),
+            over_capacity: w(STATIC_COUNTER_OVER_CAPACITY),
+            bad_batches: w(STATIC_COUNTER_BAD_BATCHES),
+            draws: [w(STATIC_COUNTER_DRAWS), w(STATIC_COUNTER_DRAWS + 1)],
         })
     }
 
@@ -1383,6 +1559,7 @@ impl Renderer {
                 static_query: false,
                 volumes: &[],
                 casters: &self.casters,
+                static_slices: &[],
                 origin_offset: self.origin_offset,
                 msaa: false,
             };
@@ -1410,43 +1587,162 @@ impl Renderer {
         classification_statistics(scene, gpu)
     }
 
-    /// KZ2's pre-rendered sun shadow: the baked map of `scene`'s batches for this frame's
-    /// sun, rendered (in a submission of its own) when the scene or the sun direction
-    /// changed, its matrix put into `uniforms`. Off (`RendererConfig::baked_sun`), or for a
-    /// scene without batch instances, the matrix stays zero: no baked shadow.
+    /// KZ2's pre-rendered sun shadow: the baked map of `scene`'s batches, and in a frame
+    /// with a static query of its static casters, for this frame's sun, rendered (in a
+    /// submission of its own) when the scene, the sun direction or the set of active
+    /// static tiles changed, its matrix put into `uniforms`. Off
+    /// (`RendererConfig::baked_sun`), or for a scene with nothing to cast, the matrix stays
+    /// zero: no baked shadow.
+    ///
+    /// The static casters come from the static query's shadow view over the bake's
+    /// orthographic box (the size threshold in the bake's texels), placed into slice 0's
+    /// rows and lists before the frame's own work reuses them. Not every static instance
+    /// drawn: the reserved slots hold a frame's visible instances (each setup's capacity),
+    /// not the whole world, and every LOD level of every instance would overlap; the query
+    /// picks one LOD per instance (from the camera's LOD point at bake time: the map keeps
+    /// those LODs until it is re-baked, a texel-sized difference at its resolution) and
+    /// drops what is too small for its texels.
     fn bake_sun(
         &mut self,
         scene: &PreparedScene,
         frame: &FrameInput,
         uniforms: &mut FrameUniforms,
-    ) {
-        let (true, Some(bounds)) = (self.config.baked_sun, scene.bounds) else {
-            return;
+        mut statics: Option<&mut StaticView<'_>>,
+    ) -> Result<()> {
+        if !self.config.baked_sun {
+            return Ok(());
+        }
+        // The static casters' bounds (origin-relative) and which tiles they came from.
+        let origin = scene.summary.origin.as_dvec3();
+        let static_part = statics
+            .as_deref()
+            .filter(|_| !scene.static_shadows.is_empty())
+            .map(|v| {
+                let mut bounds: Option<(glam::Vec3, glam::Vec3)> = None;
+                let mut ids = std::collections::hash_map::DefaultHasher::new();
+                for t in v.scene.tiles() {
+                    std::hash::Hash::hash(&t.id().0, &mut ids);
+                    let cull = t.cull();
+                    if cull.filter & staticscene::FILTER_SUN_SHADOW == 0
+                        || !(cull.bounds.min.cmple(cull.bounds.max).all())
+                    {
+                        continue;
+                    }
+                    let anchor = t.anchor().as_dvec3() - origin;
+                    let lo = (anchor + cull.bounds.min.as_dvec3()).as_vec3();
+                    let hi = (anchor + cull.bounds.max.as_dvec3()).as_vec3();
+                    bounds = Some(match bounds {
+                        Some((a, b)) => (a.min(lo), b.max(hi)),
+                        None => (lo, hi),
+                    });
+                }
+                (bounds, std::hash::Hasher::finish(&ids))
+            });
+        let static_bounds = static_part.and_then(|(b, _)| b);
+        let bounds = match (scene.bounds, static_bounds) {
+            (Some((a, b)), Some((c, d))) => (a.min(c), b.max(d)),
+            (Some(b), None) | (None, Some(b)) => b,
+            (None, None) => return Ok(()),
         };
         let sun = frame.lighting.sun_direction.normalize_or(glam::Vec3::Y);
         let matrix = crate::shadows::baked_sun_matrix(bounds, sun);
         uniforms.baked_sun = matrix.to_cols_array_2d();
-        let key = (scene.id, sun.to_array().map(f32::to_bits));
-        let maps = &mut self.targets.shadows;
-        if maps.baked_for == Some(key) {
-            return;
+        let key = (
+            scene.id,
+            sun.to_array().map(f32::to_bits),
+            static_part.map(|(_, tiles)| tiles),
+        );
+        if self.targets.shadows.baked_for == Some(key) {
+            return Ok(());
         }
         let mut bake = *uniforms;
         bake.view_proj = matrix.to_cols_array_2d();
         bake.origin_offset = [0.0; 4];
         bake.baked_sun = [[0.0; 4]; 4];
-        self.queue
-            .write_buffer(&maps.baked_frame, 0, bytemuck::bytes_of(&bake));
+        self.queue.write_buffer(
+            &self.targets.shadows.baked_frame,
+            0,
+            bytemuck::bytes_of(&bake),
+        );
         let mut encoder = self
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("baked sun map"),
             });
-        self.pipelines
-            .laydown
-            .record_bake(&mut encoder, scene, &maps.baked_view);
+        // The static casters' shadow view: uploads straight to the queue (they land before
+        // this submission, which runs before the frame's uploads overwrite set 0).
+        let mut placed = None;
+        if let (Some(v), Some(set)) = (statics.as_deref_mut(), scene.static_shadows.first())
+            && static_part.is_some()
+            && let Some(group) = &set.bake_group
+        {
+            // World to the bake's clip space, f64: the matrix takes origin-relative points.
+            let world_to_clip = matrix.as_dmat4() * glam::DMat4::from_translation(-origin);
+            let centre = origin + ((bounds.0 + bounds.1) * 0.5).as_dvec3();
+            let camera = crate::shadows::sun_query_camera(world_to_clip, centre, sun.as_dvec3());
+            let threshold = self
+                .config
+                .shadows
+                .unwrap_or_default()
+                .static_size_threshold;
+            let view = crate::shadows::sun_query_view(
+                camera,
+                crate::shadows::BAKED_SUN_RESOLUTION,
+                v.view.lod_position,
+                v.view.lod_scale,
+                threshold,
+            );
+            let params = staticscene::QueryParams::new(&view)?;
+            let mut queue = self.queue.clone();
+            let mut views = v.query.prepare_shadow_views(
+                &self.device,
+                &mut queue,
+                v.scene,
+                std::slice::from_ref(&params),
+                &v.options,
+            )?;
+            let prepared = views.pop().ok_or(Error::Length {
+                what: "static shadow views prepared for the bake",
+                got: 0,
+                expected: 1,
+            })?;
+            let offset = Self::query_offset(scene, &params);
+            self.queue.write_buffer(
+                &set.buffers.params,
+                0,
+                bytemuck::bytes_of(&set.buffers.params(offset)),
+            );
+            // Untimed: the bake is its own submission, outside the frame's timings.
+            Self::record_view_and_place(
+                &self.device,
+                &self.pipelines,
+                &mut GpuTimer::inert(),
+                &mut encoder,
+                v.query,
+                &prepared,
+                (&set.buffers, &set.instances),
+                ("baked sun static query", "baked sun static placement"),
+            )?;
+            placed = Some((prepared, &set.buffers, group));
+        }
+        self.pipelines.laydown.record_bake(
+            &mut encoder,
+            scene,
+            &self.targets.shadows.baked_view,
+            placed.as_ref().map(|(_, b, g)| (*b, *g)),
+        );
         self.queue.submit([encoder.finish()]);
-        maps.baked_for = Some(key);
+        self.targets.shadows.baked_for = Some(key);
+        if let (Some((view, b, _)), Some(v)) = (&placed, statics.as_deref()) {
+            self.bake_stats = Some(self.read_shadow_stats(
+                scene,
+                v.query,
+                view,
+                b,
+                (0, crate::shadows::BAKED_SUN_RESOLUTION),
+            )?);
+        }
+        Ok(())
     }
 
     /// Fits the sun's cascades to this frame's camera and uploads each cascade's frame

@@ -2,8 +2,10 @@
 //! (`deferred::StableCascades`: world-aligned, texel-snapped, rotation-invariant slice
 //! spheres), fitted on the CPU in f64 every frame, rendered into one layer each of a depth
 //! array (each slice at its own resolution, in its layer's corner) by the depth-prepass
-//! geometry (the chunks of the scene's own batches that meet the slice's clip volume),
-//! and sampled by lighting with each slice's PCF radius.
+//! geometry (the chunks of the scene's own batches that meet the slice's clip volume;
+//! in a frame with a static query, the static casters of the slice's own shadow view of
+//! the query, KZ2's shadow query with size threshold: [`sun_query_view`]), and sampled by
+//! lighting with each slice's PCF radius.
 //!
 //! Conventions: shadow clip depth in `[0, 1]`, 0 nearest the sun (cleared to 1, tested
 //! `Less`); the matrices take camera-relative positions, as every pass's do.
@@ -19,6 +21,9 @@ use crate::frame::Camera;
 
 /// Largest [`ShadowConfig::pcf_radius`].
 pub(crate) const MAX_PCF_RADIUS: u32 = 2;
+
+/// Largest [`ShadowConfig::static_size_threshold`], texels.
+pub(crate) const MAX_STATIC_SIZE_THRESHOLD: f32 = 64.0;
 
 /// Shadow-map depth format.
 pub(crate) const SHADOW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -49,6 +54,13 @@ pub struct ShadowConfig {
     /// KZ2's stability turned into skipped passes. Frames with a static query always
     /// re-render (their static casters change per frame). Off: every slice every frame.
     pub cache: bool,
+    /// KZ2's removal of small objects from shadow maps, for static content: in a frame
+    /// with a static query, each re-rendered slice runs the query's shadow view over its
+    /// volume, which leaves out the casters whose bounding sphere's projected diameter is
+    /// below this many of the slice's texels (so a caster may be in a fine slice and out
+    /// of a coarse one); the baked sun map applies it in its own texels. 0 keeps every
+    /// caster; finite, 0 to 64. Planned batches are drawn whole.
+    pub static_size_threshold: f32,
 }
 
 impl Default for ShadowConfig {
@@ -61,6 +73,10 @@ impl Default for ShadowConfig {
             lambda: 0.75,
             pcf_radius: [2, 1, 1, 0, 0, 0, 0, 0],
             cache: true,
+            // Below a texel and a half a caster darkens a texel or two of a map whose
+            // lookups are filtered anyway (KZ2: "these objects usually don't contribute
+            // to the shadow too much").
+            static_size_threshold: 1.5,
         }
     }
 }
@@ -106,6 +122,13 @@ impl ShadowConfig {
         }
         if !(0.0..=1.0).contains(&self.lambda) {
             return bad("ShadowConfig::lambda", f64::from(self.lambda), "[0, 1]");
+        }
+        if !(0.0..=MAX_STATIC_SIZE_THRESHOLD).contains(&self.static_size_threshold) {
+            return bad(
+                "ShadowConfig::static_size_threshold",
+                f64::from(self.static_size_threshold),
+                "finite, 0 to 64 texels",
+            );
         }
         if let Some(&r) = self.pcf_radius.iter().find(|&&r| r > MAX_PCF_RADIUS) {
             return bad(
@@ -222,6 +245,51 @@ pub(crate) fn clip_planes(m: glam::Mat4) -> [glam::Vec4; 6] {
     })
 }
 
+/// The static query's camera for an orthographic sun view whose world-to-clip matrix is
+/// `world_to_clip` (f64, depth 0 nearest the sun), seen from `position` (world, metres; it
+/// sets the query's snapped floating origin) looking away from the sun `to_sun` in
+/// `deferred`'s light frame (the cascades' axes). The projection is the matrix's own, so
+/// the query's frustum planes and size test see exactly the map's volume and texels.
+pub(crate) fn sun_query_camera(
+    world_to_clip: glam::DMat4,
+    position: DVec3,
+    to_sun: DVec3,
+) -> staticscene::Camera {
+    let (right, up, fwd) = deferred::cascades::light_frame(to_sun.normalize_or(DVec3::Y));
+    let rotation = glam::DQuat::from_mat3(&glam::DMat3::from_cols(right, up, -fwd));
+    // Projection = world_to_clip after view-to-world: the query composes it back with its
+    // view (f64 both) and rounds once.
+    let view_to_world = glam::DMat4::from_rotation_translation(rotation, position);
+    staticscene::Camera {
+        position,
+        rotation,
+        projection: (world_to_clip * view_to_world).as_mat4(),
+        reversed_depth: false,
+    }
+}
+
+/// The static query's shadow view of a sun map (a slice, or the bake) of `texels` per
+/// side: [`sun_query_camera`], the sun-shadow filter, LODs chosen from the player camera's
+/// `lod_position` with its `lod_scale` (so shadows show the LODs the camera sees), and
+/// KZ2's size threshold in the map's texels. No fade, no occlusion (`ViewDesc::shadow`).
+pub(crate) fn sun_query_view(
+    camera: staticscene::Camera,
+    texels: u32,
+    lod_position: DVec3,
+    lod_scale: f32,
+    size_threshold: f32,
+) -> staticscene::ViewDesc {
+    let mut view = staticscene::ViewDesc::shadow(
+        camera,
+        [texels, texels],
+        staticscene::FILTER_SUN_SHADOW,
+        lod_position,
+    );
+    view.lod_scale = lod_scale;
+    view.size_threshold_px = size_threshold;
+    view
+}
+
 /// Whether the sphere of `center` and `radius` meets the volume of `planes` (conservative:
 /// a sphere outside near a corner may still count as meeting it).
 pub(crate) fn sphere_meets(planes: &[glam::Vec4; 6], center: glam::Vec3, radius: f32) -> bool {
@@ -302,8 +370,9 @@ pub(crate) struct ShadowMaps {
     pub stand_in_view: wgpu::TextureView,
     /// The bake pass's frame uniforms.
     pub baked_frame: wgpu::Buffer,
-    /// The scene and sun (bits) the baked map was rendered for.
-    pub baked_for: Option<(u64, [u32; 3])>,
+    /// The scene, sun (bits) and, with static casters, the hash of the active static
+    /// tiles' ids the baked map was rendered for.
+    pub baked_for: Option<(u64, [u32; 3], Option<u64>)>,
     /// Per slice: the scene and world-space matrix (f64 bits) its map holds.
     pub rendered: Vec<Option<SliceKey>>,
     /// Per slice: this frame's key, and whether the frame renders the slice.
@@ -480,6 +549,62 @@ mod tests {
         let mut wide = d;
         wide.pcf_radius[3] = 3;
         assert_eq!(field(wide), "ShadowConfig::pcf_radius");
+        for t in [-0.5, 65.0, f32::NAN, f32::INFINITY] {
+            assert_eq!(
+                field(ShadowConfig {
+                    static_size_threshold: t,
+                    ..d
+                }),
+                "ShadowConfig::static_size_threshold"
+            );
+        }
+    }
+
+    /// The static query's camera of a slice reproduces the slice's matrix (the query's
+    /// floating space through its clip matrix equals the world matrix, in f64 terms up to
+    /// f32 rounding), and its size test's pixels per unit are the slice's texels per metre.
+    #[test]
+    fn a_slices_query_view_is_its_map() {
+        let config = ShadowConfig::default();
+        let camera = Camera {
+            position: glam::Vec3::new(1234.4, 17.0, -560.2),
+            ..Camera::look_at(glam::Vec3::ZERO, glam::Vec3::new(1.0, -0.2, -3.0))
+        };
+        let camera = Camera {
+            target: camera.position + glam::Vec3::new(1.0, -0.2, -3.0),
+            ..camera
+        };
+        let sun = glam::Vec3::new(0.3, 0.8, -0.4);
+        let cascades = config.fit(&camera, 16.0 / 9.0, sun).unwrap();
+        for (k, c) in cascades.cascades().iter().enumerate() {
+            let q = sun_query_camera(c.world_to_clip, c.center, sun.as_dvec3());
+            let texels = config.slice_resolution(k);
+            let view = sun_query_view(q, texels, camera.position.as_dvec3(), 1.0, 2.0);
+            let params = staticscene::QueryParams::new(&view).unwrap();
+            let origin = params.origin().as_dvec3();
+            let m = params.clip_from_floating();
+            for p in [
+                c.center,
+                c.center + DVec3::new(c.radius * 0.7, -3.0, 0.2 * c.radius),
+                c.center - DVec3::new(0.1, c.radius * 0.5, c.radius * 0.9),
+            ] {
+                let want = c.world_to_clip.project_point3(p);
+                let got = m.project_point3((p - origin).as_vec3()).as_dvec3();
+                assert!((want - got).abs().max_element() < 1e-5, "{k}: {want} {got}");
+            }
+            let per_metre = 1.0 / c.texel_size;
+            assert!(
+                (f64::from(params.viewport[3]) / per_metre - 1.0).abs() < 1e-5,
+                "{k}: {} px per unit, {per_metre} texels per metre",
+                params.viewport[3]
+            );
+            assert!(params.has(staticscene::QUERY_FLAG_SHADOW));
+            assert!(params.has(staticscene::QUERY_FLAG_SIZE));
+            assert_eq!(
+                params.filter_mask,
+                u32::from(staticscene::FILTER_SUN_SHADOW)
+            );
+        }
     }
 
     /// The bake's box holds the scene: its bounds' corners land inside clip x, y in

@@ -90,6 +90,42 @@ pub struct StaticFrameStats {
     pub draws: [u32; 2],
     /// Active tiles of the CPU scene not activated on the GPU (skipped).
     pub skipped_tiles: Vec<TileId>,
+    /// Per sun slice the frame re-rendered, what the static query's shadow view over
+    /// the slice's volume sent to its map (in slice order; empty with sun shadows off or
+    /// in a frame that draws no lighting).
+    pub shadow_slices: Vec<StaticShadowStats>,
+    /// The baked sun map's shadow view, in a frame that re-baked the map (the scene, the
+    /// sun or the static tiles changed).
+    pub baked: Option<StaticShadowStats>,
+}
+
+/// What one of the static query's shadow views (a sun slice, or the baked map) sent to
+/// its shadow map: KZ2's "shadow query with size threshold" in counts.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StaticShadowStats {
+    /// The slice (0 nearest the camera); 0 for the baked map.
+    pub slice: u32,
+    /// Texels per side of the view's map (the size threshold is in these).
+    pub texels: u32,
+    /// The pre-cull's and the pass's statistics: `rejected_size` counts the casters KZ2's
+    /// size threshold dropped ([`ShadowConfig::static_size_threshold`](crate::ShadowConfig)),
+    /// `rejected_frustum` those outside the view's volume, `visible` the casters sent.
+    pub query: QueryStats,
+    /// Threads the view's query dispatched.
+    pub threads: u64,
+    /// Caster instances the query appended.
+    pub instances: u32,
+    /// Batches the query appended.
+    pub batches: u32,
+    /// Instances placed into the view's own rows and drawn into its map.
+    pub placed: u64,
+    /// Instances dropped past their setup's capacity (a shadow view's ranks share the
+    /// setups' capacities with the camera's: size them for the largest view).
+    pub over_capacity: u32,
+    /// Batches the placement dropped.
+    pub bad_batches: u32,
+    /// Indirect draws: opaque list, alpha-tested list.
+    pub draws: [u32; 2],
 }
 
 /// HZD's mode, where the CPU consumes the query: `scene` with its static setups replaced

@@ -54,6 +54,17 @@ impl GpuTimer {
         }
     }
 
+    /// A timer that records nothing (passes submitted outside a measured frame).
+    pub(crate) fn inert() -> Self {
+        Self {
+            query_set: None,
+            resolve: None,
+            labels: Vec::new(),
+            capacity: 0,
+            period_ns: 1.0,
+        }
+    }
+
     fn next(&mut self, label: &'static str) -> Option<(&wgpu::QuerySet, u32)> {
         let qs = self.query_set.as_ref()?;
         let i = self.labels.len() as u32;

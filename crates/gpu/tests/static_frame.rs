@@ -58,10 +58,11 @@ impl Rig {
         Rig::sized(W, H)
     }
 
-    /// A rig whose renderer draws no sun shadow maps. Their static casters are the camera
-    /// query's static draw lists (the static query's shadow view per cascade is not built
-    /// yet), so an occluded building would lose its shadow: the occlusion tests compare
-    /// what occlusion draws, without them.
+    /// A rig whose renderer draws no sun shadow maps: for the tests that compare what the
+    /// camera view draws with a twin of the camera's visible set (the slices' static
+    /// casters come from their own shadow views, which see the buildings beside the street
+    /// that the camera's set lacks; tests/static_shadows.rs compares those), and for the
+    /// occlusion tests, which compare what occlusion draws.
     fn without_sun_shadows(width: u32, height: u32) -> Rig {
         let mut rig = Rig::sized(width, height);
         rig.r = common::renderer_with(gpu::RendererConfig {
@@ -160,7 +161,7 @@ fn twin_scene(city: &City, cpu: &mut gpu::staticscene::Scene, params: &QueryPara
 
 #[test]
 fn the_city_from_the_gpu_query_equals_the_twins_visible_set_drawn_as_batches() {
-    let mut rig = Rig::new();
+    let mut rig = Rig::without_sun_shadows(W, H);
     let mut twin = rig.cpu.clone();
     let camera = rig.city.frame.camera;
     // No fade: the first frame would dither every instance in (the planned twin is opaque).
@@ -524,7 +525,7 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
 #[test]
 fn hzds_read_back_mode_draws_what_the_gpu_driven_frame_draws() {
     let c = ctx();
-    let mut rig = Rig::new();
+    let mut rig = Rig::without_sun_shadows(W, H);
     let camera = rig.city.frame.camera;
     // No fade: the planned batches are drawn opaque.
     let desc = still_lod_desc(&camera);

@@ -207,6 +207,25 @@ pub struct Args {
     /// KZ2's 4x MSAA on the baseline path (the deferred path stays single-sample).
     #[arg(long, value_enum, default_value = "off")]
     pub msaa: MsaaArg,
+    /// KZ2's size threshold of the city's static shadow query, in each sun slice's texels:
+    /// static casters whose bounding sphere spans fewer are left out of that slice (and,
+    /// in the bake's texels, of the baked sun map); 0 keeps every caster (0 to 64). The
+    /// report lists each slice's static casters and those dropped.
+    #[arg(long, default_value_t = gpu::ShadowConfig::default().static_size_threshold, value_parser = parse_size_threshold)]
+    pub shadow_size_threshold: f32,
+}
+
+/// A shadow size threshold given on the command line: finite, 0 to 64 texels.
+fn parse_size_threshold(s: &str) -> Result<f32, String> {
+    let t: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.0..=64.0).contains(&t) {
+        Ok(t)
+    } else {
+        Err(format!("{s} is not between 0 and 64 texels"))
+    }
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -486,6 +505,7 @@ pub fn run(args: &Args) -> Result<()> {
             } else {
                 gpu::ShadowConfig::default().resolution_divisor
             },
+            static_size_threshold: args.shadow_size_threshold,
             ..gpu::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,
@@ -550,6 +570,12 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     report.cpu_ms("city build, tiles built and activated (CPU)", build_ms);
     report.cpu_ms("prepare: meshes, reservations, upload (CPU)", prepare_ms);
     let paths: &[RenderPath] = match args.path {
+        // The MSAA baseline takes no static frames (its HiZ would read single-sample
+        // depth): the city's frames stay on the deferred path.
+        _ if renderer.config().msaa.is_some() => {
+            eprintln!("--msaa: the city's static frames render the deferred path only");
+            &[RenderPath::Deferred]
+        }
         PathArg::Deferred => &[RenderPath::Deferred],
         PathArg::Baseline => &[RenderPath::Baseline],
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
@@ -620,6 +646,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         }
         if let (Some(s), true) = (&frames.statics, images.is_empty()) {
             report.static_query(s, cpu.instance_count() as u64);
+            report.static_shadows(s);
         }
         if path == RenderPath::Deferred {
             let classified = renderer.read_classification(&prepared)?;

@@ -250,6 +250,43 @@ impl Report {
         );
     }
 
+    /// What the static query's shadow views sent to the sun's maps: per re-rendered slice
+    /// (and the baked map, in a frame that re-baked it), its static casters, those KZ2's
+    /// size threshold dropped, and its indirect draws.
+    pub fn static_shadows(&mut self, s: &gpu::StaticFrameStats) {
+        let rows = s
+            .shadow_slices
+            .iter()
+            .map(|v| (format!("slice {}", v.slice), v))
+            .chain(s.baked.iter().map(|v| ("baked map".to_string(), v)));
+        for (what, v) in rows {
+            self.row(
+                &format!(
+                    "static shadows, {what} ({} texels): casters / dropped by size / outside",
+                    v.texels
+                ),
+                format!(
+                    "{} / {} / {} of {} after the pre-cull; {} placed, draws {} + {}{}",
+                    group_digits(u64::from(v.instances)),
+                    group_digits(v.query.rejected_size),
+                    group_digits(v.query.rejected_frustum),
+                    group_digits(v.query.instances),
+                    group_digits(v.placed),
+                    v.draws[0],
+                    v.draws[1],
+                    if v.over_capacity + v.bad_batches > 0 {
+                        format!(
+                            " ({} over capacity, {} bad batches)",
+                            v.over_capacity, v.bad_batches
+                        )
+                    } else {
+                        String::new()
+                    }
+                ),
+            );
+        }
+    }
+
     /// The classification counters and the talk's ratios.
     pub fn classification(&mut self, s: &ClassificationStats) {
         self.row("vis pixels", group_digits(s.vis_pixels));

@@ -5,6 +5,7 @@
 use shader::pipeline::Layouts;
 use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
 
+use super::static_place::StaticBuffers;
 use super::{FrameContext, LIBRARY};
 use crate::context::PrimitiveIdPath;
 use crate::error::Result;
@@ -290,9 +291,10 @@ impl Laydown {
     /// Records the sun's shadow maps, one render pass per cascade: the casters of the
     /// scene's own batches whose chunks meet the cascade's clip volume (every one with
     /// `cull_shadow_casters` off; opaque, then alpha-tested), drawn with the cascade's frame
-    /// uniforms, then, in a frame with a static query, the camera query's static draw
-    /// lists (static instances outside the camera's view cast nothing yet: that needs the
-    /// static query's shadow view per cascade).
+    /// uniforms, then, in a frame with a static query, the static casters of the slice's
+    /// own shadow view (the static query over the slice's volume with KZ2's size
+    /// threshold, placed into the slice's own rows and draw lists), or, for a slice
+    /// without one, the camera query's lists.
     pub(crate) fn record_shadows(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -317,30 +319,53 @@ impl Laydown {
                 .map_or(1, |c| c.slice_resolution(i))
                 .min(maps.texture.width()) as f32;
             pass.set_viewport(0.0, 0.0, texels, texels, 0.0, 1.0);
-            self.draw_shadow_view(&mut pass, f, group, f.casters.slices.get(i));
+            let statics = match f.scene.static_shadows.get(i) {
+                Some(set) if f.static_slices.get(i).copied().unwrap_or(false) => {
+                    set.slice_group.as_ref().map(|g| (&set.buffers, g))
+                }
+                _ => None,
+            };
+            self.draw_shadow_view(&mut pass, f, group, f.casters.slices.get(i), statics);
         }
     }
 
     /// One shadow view's casters through its scene group (whose frame uniforms hold the
-    /// view's matrix), culled by `planes` where given; static instances may fade, so they
-    /// take the alpha-tested pipeline, which dithers them.
+    /// view's matrix): the planned ones culled by `planes` where given, then the static
+    /// ones: `statics`' lists through its group (the view's own shadow query: rows of its
+    /// own, same frame uniforms), else, in a frame with a static query, the camera
+    /// query's lists. Static instances may fade, so they take the alpha-tested pipeline,
+    /// which dithers them (a shadow view's own instances never fade: no effect).
     fn draw_shadow_view(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         f: &FrameContext<'_>,
         group: &wgpu::BindGroup,
         planes: Option<&[glam::Vec4; 6]>,
+        statics: Option<(&StaticBuffers, &wgpu::BindGroup)>,
     ) {
         pass.set_bind_group(0, group, &[]);
         pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
-        record_draws_culled(
-            pass,
-            f,
-            &self.shadow_opaque,
-            &self.shadow_alpha,
-            &self.shadow_alpha,
-            planes,
-        );
+        let (opaque, alpha) = (&self.shadow_opaque, &self.shadow_alpha);
+        match planes {
+            Some(planes) => {
+                draw_planned_culled(pass, f.scene, opaque, alpha, planes, f.origin_offset);
+            }
+            None => draw_planned(pass, f.scene, opaque, alpha),
+        }
+        match statics {
+            Some((b, own)) => {
+                pass.set_bind_group(0, own, &[]);
+                pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+                super::static_place::record_static_draws(pass, b, alpha, alpha, false);
+            }
+            None => {
+                if f.static_query
+                    && let Some(b) = &f.scene.statics
+                {
+                    super::static_place::record_static_draws(pass, b, alpha, alpha, false);
+                }
+            }
+        }
     }
 
     /// Records this frame's spot shadow maps (KZ2's shadowed local lights): the scene's
@@ -360,17 +385,19 @@ impl Laydown {
             .enumerate()
         {
             let mut pass = shadow_pass(encoder, view, "spot shadow maps", timer);
-            self.draw_shadow_view(&mut pass, f, group, f.casters.spots.get(k));
+            self.draw_shadow_view(&mut pass, f, group, f.casters.spots.get(k), None);
         }
     }
 
     /// Records KZ2's pre-rendered sun map: every caster of the scene's own batches into
-    /// `target`, through the bake group (whose frame holds the bake's matrix).
+    /// `target`, through the bake group (whose frame holds the bake's matrix), then, with
+    /// `statics`, the static casters its shadow view placed (lists and their group).
     pub(crate) fn record_bake(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &crate::resources::PreparedScene,
         target: &wgpu::TextureView,
+        statics: Option<(&StaticBuffers, &wgpu::BindGroup)>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("baked sun map"),
@@ -390,6 +417,12 @@ impl Laydown {
         pass.set_bind_group(0, &scene.bake_scene, &[]);
         pass.set_bind_group(1, &scene.laydown.payloads, &[]);
         draw_planned(&mut pass, scene, &self.shadow_opaque, &self.shadow_alpha);
+        if let Some((b, group)) = statics {
+            pass.set_bind_group(0, group, &[]);
+            pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+            let alpha = &self.shadow_alpha;
+            super::static_place::record_static_draws(&mut pass, b, alpha, alpha, false);
+        }
     }
 
     /// Records the depth + visibility laydown; `late`: its second geometry pass of two-pass
@@ -517,24 +550,7 @@ pub(crate) fn record_draws(
     alpha: &wgpu::RenderPipeline,
     statics: &wgpu::RenderPipeline,
 ) {
-    record_draws_culled(pass, f, opaque, alpha, statics, None);
-}
-
-/// [`record_draws`] for a shadow view: with `planes` (camera-relative clip planes, see
-/// [`crate::shadows::clip_planes`]), only the planned draws' chunks whose spheres meet the
-/// view (consecutive visible chunks merged into one draw).
-pub(crate) fn record_draws_culled(
-    pass: &mut wgpu::RenderPass<'_>,
-    f: &FrameContext<'_>,
-    opaque: &wgpu::RenderPipeline,
-    alpha: &wgpu::RenderPipeline,
-    statics: &wgpu::RenderPipeline,
-    planes: Option<&[glam::Vec4; 6]>,
-) {
-    match planes {
-        Some(planes) => draw_planned_culled(pass, f.scene, opaque, alpha, planes, f.origin_offset),
-        None => draw_planned(pass, f.scene, opaque, alpha),
-    }
+    draw_planned(pass, f.scene, opaque, alpha);
     if f.static_query
         && let Some(b) = &f.scene.statics
     {

@@ -190,6 +190,10 @@ pub(crate) struct FrameContext<'a> {
     pub volumes: &'a [light_volumes::VolumeDraw],
     /// The shadow views' caster culling (empty lists: every caster).
     pub casters: &'a crate::shadows::CasterCulls,
+    /// Per sun slice: whether the static query's shadow view of the slice placed its
+    /// static casters this frame (into the scene's `static_shadows` set of the slice);
+    /// the slice draws those instead of the camera query's lists.
+    pub static_slices: &'a [bool],
     /// Scene origin minus camera position (origin-relative to camera-relative), metres.
     pub origin_offset: glam::Vec3,
     /// The baseline's MSAA frame: its depth prepass, G-buffer pass, light tiles and

@@ -105,6 +105,26 @@ pub(crate) struct PreparedView {
     pub cap: u64,
     /// A shadow view: recorded with the shadow variant.
     shadow: bool,
+    /// A shadow view of [`StaticQuery::prepare_shadow_views`]: its counters and the
+    /// outputs it writes (`None`: the camera view's, the query's own fields).
+    own: Option<ViewOutputs>,
+}
+
+/// The counters and outputs one shadow view writes.
+struct ViewOutputs {
+    counters: wgpu::Buffer,
+    instances: wgpu::Buffer,
+    batches: wgpu::Buffer,
+}
+
+/// One shadow view's uniform block, job tables and counters. A frame records several
+/// shadow views, and every upload lands before the frame runs, so each has its own; their
+/// outputs are shared (each view's placement consumes them before the next view's query).
+struct ShadowViewBuffers {
+    params: wgpu::Buffer,
+    job_list: wgpu::Buffer,
+    wave_jobs: wgpu::Buffer,
+    counters: wgpu::Buffer,
 }
 
 /// The GPU static query: the pass, the tile pool and the per-view buffers.
@@ -133,6 +153,11 @@ pub struct StaticQuery {
     counters_second: wgpu::Buffer,
     out_instances: wgpu::Buffer,
     out_batches: wgpu::Buffer,
+    /// Per shadow view of a frame ([`StaticQuery::prepare_shadow_views`]).
+    shadow_views: Vec<ShadowViewBuffers>,
+    /// The shadow views' outputs, one view after the other.
+    shadow_out_instances: wgpu::Buffer,
+    shadow_out_batches: wgpu::Buffer,
     timer: GpuTimer,
 }
 
@@ -193,6 +218,9 @@ impl StaticQuery {
             counters_second: empty_storage(device, "static query counters (second pass)", 256)?,
             out_instances: empty_storage(device, "static query instances", 256)?,
             out_batches: empty_storage(device, "static query batches", 256)?,
+            shadow_views: Vec::new(),
+            shadow_out_instances: empty_storage(device, "static shadow query instances", 256)?,
+            shadow_out_batches: empty_storage(device, "static shadow query batches", 256)?,
             timer: GpuTimer::new(device, queue, 1),
         };
         q.set_hiz(device, queue, None)?;
@@ -490,7 +518,161 @@ impl StaticQuery {
             threads,
             cap,
             shadow,
+            own: None,
         })
+    }
+
+    /// The pre-cull of each of a frame's shadow views (`params`, each with
+    /// `QUERY_FLAG_SHADOW`, from `ViewDesc::shadow`) on `scene`, and the uploads and bind
+    /// groups of their dispatches: each view its own uniforms, job tables and counters,
+    /// all of them one output pair grown to the largest view's threads. Record each view
+    /// and its placement before the next view's query (they share the outputs). Shadow
+    /// views write no fade or camera state, and their pre-cull leaves the scene's fade
+    /// bookkeeping alone, so the camera view's query is unaffected by them.
+    ///
+    /// # Errors
+    /// [`Error::Config`](crate::Error::Config) for params without `QUERY_FLAG_SHADOW`;
+    /// [`Error::DeviceLimit`](crate::Error::DeviceLimit) when an output passes
+    /// `max_storage_buffer_binding_size`.
+    pub(crate) fn prepare_shadow_views(
+        &mut self,
+        device: &wgpu::Device,
+        uploads: &mut dyn UploadSink,
+        scene: &mut staticscene::Scene,
+        params: &[QueryParams],
+        options: &QueryOptions,
+    ) -> Result<Vec<PreparedView>> {
+        if params
+            .iter()
+            .any(|p| !p.has(staticscene::QUERY_FLAG_SHADOW))
+        {
+            return Err(crate::Error::Config {
+                field: "static shadow view (QueryParams::flags)",
+                value: 0.0,
+                allowed: "views with QUERY_FLAG_SHADOW (ViewDesc::shadow)",
+            });
+        }
+        let pool = &self.pool;
+        let plans: Vec<GpuPlan> = params
+            .iter()
+            .map(|p| scene.plan_gpu(p, options, |id| pool.slots(id)))
+            .collect();
+        while self.shadow_views.len() < params.len() {
+            self.shadow_views.push(ShadowViewBuffers {
+                params: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("static shadow query params"),
+                    size: size_of::<QueryParams>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                job_list: empty_storage(device, "static shadow query jobs", 4096)?,
+                wave_jobs: empty_storage(device, "static shadow query wave jobs", 4096)?,
+                counters: empty_storage(device, "static shadow query counters", 256)?,
+            });
+        }
+        // Every thread of the largest view may output one instance and one header.
+        let cap = plans
+            .iter()
+            .map(GpuPlan::instances)
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let inst_bytes = cap * size_of::<DrawableSetupInstance>() as u64;
+        if self.shadow_out_instances.size() < inst_bytes {
+            self.shadow_out_instances =
+                empty_storage(device, "static shadow query instances", inst_bytes)?;
+            self.shadow_out_batches = empty_storage(
+                device,
+                "static shadow query batches",
+                cap * size_of::<DrawableSetupBatch>() as u64,
+            )?;
+        }
+        let mut views = Vec::with_capacity(plans.len());
+        for ((plan, p), k) in plans.into_iter().zip(params).zip(0..) {
+            let b = &mut self.shadow_views[k];
+            let jobs = plan.job_list();
+            let job_bytes = jobs.len() as u64 * 4;
+            if b.job_list.size() < job_bytes {
+                b.job_list = empty_storage(device, "static shadow query jobs", job_bytes * 2)?;
+            }
+            let wave_jobs = plan.wave_jobs();
+            let table_bytes = wave_jobs.len() as u64 * 4;
+            if b.wave_jobs.size() < table_bytes {
+                b.wave_jobs =
+                    empty_storage(device, "static shadow query wave jobs", table_bytes * 2)?;
+            }
+            uploads.write(&b.params, 0, bytemuck::bytes_of(p));
+            uploads.write(&b.job_list, 0, bytemuck::cast_slice(&jobs));
+            uploads.write(&b.wave_jobs, 0, bytemuck::cast_slice(&wave_jobs));
+            uploads.write(
+                &b.counters,
+                0,
+                bytemuck::bytes_of(&QueryCounters::default()),
+            );
+            let group = self.shadow_pass.bind_group(
+                device,
+                "query",
+                &[
+                    ("params", b.params.as_entire_binding()),
+                    ("job_list", b.job_list.as_entire_binding()),
+                    ("wave_jobs", b.wave_jobs.as_entire_binding()),
+                    ("instances", self.pool.instances.buffer.as_entire_binding()),
+                    ("records", self.pool.records.buffer.as_entire_binding()),
+                    ("hiz", self.hiz.as_entire_binding()),
+                    ("state", self.pool.state.buffer.as_entire_binding()),
+                    ("counters", b.counters.as_entire_binding()),
+                    (
+                        "out_instances",
+                        self.shadow_out_instances.as_entire_binding(),
+                    ),
+                    ("out_batches", self.shadow_out_batches.as_entire_binding()),
+                ],
+            )?;
+            let threads = plan.instances();
+            views.push(PreparedView {
+                group,
+                second: None,
+                plan,
+                threads,
+                cap,
+                shadow: true,
+                own: Some(ViewOutputs {
+                    counters: b.counters.clone(),
+                    instances: self.shadow_out_instances.clone(),
+                    batches: self.shadow_out_batches.clone(),
+                }),
+            });
+        }
+        Ok(views)
+    }
+
+    /// The buffers a prepared view's (first or only) pass writes: a shadow view's own, or
+    /// the camera view's.
+    pub(crate) fn view_outputs<'a>(&'a self, view: &'a PreparedView) -> QueryOutputs<'a> {
+        match &view.own {
+            Some(o) => QueryOutputs {
+                counters: &o.counters,
+                instances: &o.instances,
+                batches: &o.batches,
+            },
+            None => self.outputs(false),
+        }
+    }
+
+    /// Reads a prepared view's counters back (after its submission).
+    pub(crate) fn read_view_counters(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        view: &PreparedView,
+    ) -> Result<QueryCounters> {
+        Ok(bytemuck::pod_read_unaligned(&read_buffer(
+            device,
+            queue,
+            self.view_outputs(view).counters,
+            0,
+            size_of::<QueryCounters>() as u64,
+        )?))
     }
 
     /// Records a prepared view's dispatch: its first (or only) pass, or with `second`

@@ -114,6 +114,10 @@ pub(crate) struct StaticBuffers {
     pub debug: wgpu::Buffer,
     /// The first reserved slot.
     pub debug_base: u32,
+    /// Whether the placement writes debug words (the camera view's buffers only).
+    pub debug_words: bool,
+    /// One past the last reserved slot.
+    pub slot_end: u64,
     pub setup_count: u32,
     pub opaque: u32,
     pub alpha: u32,
@@ -179,10 +183,79 @@ impl StaticBuffers {
                 U::STORAGE,
             ),
             debug_base,
+            debug_words: true,
+            slot_end: debug_end,
             setup_count: setups.len() as u32,
             opaque,
             alpha,
             with_count,
+        }
+    }
+
+    /// A shadow view's buffers beside these (the camera view's): the same setup table,
+    /// its own constants, counters, dispatch and draw lists, and no debug words (a
+    /// 16-byte stand-in the placement never writes: its `debug_base` is `u32::MAX`).
+    pub(crate) fn for_shadow_view(&self, device: &wgpu::Device) -> Self {
+        use wgpu::BufferUsages as U;
+        let make = |label: &str, size: u64, usage: U| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16).next_multiple_of(4),
+                usage: usage | U::COPY_DST | U::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            setups: self.setups.clone(),
+            params: make(
+                "static shadow params",
+                size_of::<GpuStaticParams>() as u64,
+                U::UNIFORM,
+            ),
+            counters: make(
+                "static shadow counters",
+                self.counters.size(),
+                U::STORAGE | U::INDIRECT,
+            ),
+            place_dispatch: make("static shadow place dispatch", 12, U::STORAGE),
+            place_indirect: make("static shadow place indirect", 12, U::INDIRECT),
+            draws: make(
+                "static shadow draws",
+                self.draws.size(),
+                U::STORAGE | U::INDIRECT,
+            ),
+            debug: make("static shadow debug stand-in", 16, U::STORAGE),
+            debug_words: false,
+            debug_base: self.debug_base,
+            slot_end: self.slot_end,
+            setup_count: self.setup_count,
+            opaque: self.opaque,
+            alpha: self.alpha,
+            with_count: self.with_count,
+        }
+    }
+
+    /// Reserved slots (rows of a shadow view's own instance buffer).
+    pub(crate) fn reserved_slots(&self) -> u64 {
+        self.slot_end - u64::from(self.debug_base)
+    }
+
+    /// The placement's constants for a query whose floating origin is `offset` (metres)
+    /// from the scene's origin: rows in the scene's instance table with debug words, or,
+    /// for shadow-view buffers, in the view's own rows (slot `debug_base` first) without.
+    pub(crate) fn params(&self, offset: glam::Vec3) -> GpuStaticParams {
+        GpuStaticParams {
+            offset: offset.extend(0.0).to_array(),
+            setup_count: self.setup_count,
+            row_width: shader::MAX_WORKGROUPS_X,
+            alpha_base: self.opaque,
+            debug_base: if self.debug_words {
+                self.debug_base
+            } else {
+                u32::MAX
+            },
+            row_base: if self.debug_words { 0 } else { self.debug_base },
+            ..GpuStaticParams::default()
         }
     }
 }
@@ -239,6 +312,24 @@ impl StaticPlace {
         timer: &mut GpuTimer,
         late: bool,
     ) {
+        let label = if late {
+            "static placement (late)"
+        } else {
+            "static placement"
+        };
+        self.record_labelled(encoder, b, group, timer, late, label);
+    }
+
+    /// [`StaticPlace::record`] timed under `label` (a shadow view's placement).
+    pub(crate) fn record_labelled(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        b: &StaticBuffers,
+        group: &wgpu::BindGroup,
+        timer: &mut GpuTimer,
+        late: bool,
+        label: &'static str,
+    ) {
         if late {
             encoder.clear_buffer(
                 &b.counters,
@@ -264,11 +355,6 @@ impl StaticPlace {
             }
         }
         encoder.copy_buffer_to_buffer(&b.place_dispatch, 0, &b.place_indirect, 0, 12);
-        let label = if late {
-            "static placement (late)"
-        } else {
-            "static placement"
-        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(label),
             timestamp_writes: timer.compute(label),

@@ -128,6 +128,10 @@ pub struct PreparedScene {
     pub(crate) static_capacities: Vec<u32>,
     /// The static setups' GPU table (index = handle): slots, IDs, primitive bits.
     pub(crate) static_table: Vec<GpuStaticSetup>,
+    /// With static setups: per sun slice (at least one with the baked map on), the static
+    /// query's shadow view's placement, rows and groups; set 0 also serves the bake, whose
+    /// submission runs before the frame's.
+    pub(crate) static_shadows: Vec<StaticShadowSet>,
     /// Per batch: the scene's instance index at each planned position.
     pub(crate) instance_order: Vec<Vec<u32>>,
     _kept: Vec<wgpu::Buffer>,
@@ -171,6 +175,23 @@ pub(crate) struct PrepareContext<'a> {
     pub multi_draw_count: bool,
     /// Whether indirect draws may start past instance 0 (static setups need it).
     pub indirect_first_instance: bool,
+    /// Whether the renderer bakes KZ2's pre-rendered sun map.
+    pub baked_sun: bool,
+}
+
+/// One sun shadow view's static content (a slice's, and the baked map's in set 0): the
+/// placement's buffers and draw lists of the static query's shadow view, its own instance
+/// rows (the reserved slots, first slot first: the camera view's rows, which the resolve
+/// reads by vis ID, are never written by a shadow view), and the scene groups that draw
+/// them with the slice's frame uniforms and with the bake's.
+pub(crate) struct StaticShadowSet {
+    pub buffers: StaticBuffers,
+    /// `GpuInstance` rows of the reserved slots (slot `buffers.debug_base` first).
+    pub instances: wgpu::Buffer,
+    /// Group 0 over `instances` with slice `k`'s frame uniforms (`None` past the slices).
+    pub slice_group: Option<wgpu::BindGroup>,
+    /// Group 0 over `instances` with the bake's frame uniforms (set 0 only).
+    pub bake_group: Option<wgpu::BindGroup>,
 }
 
 /// The floating origin of `scene`: its instances' bounds centre snapped to 1 m (zero for
@@ -512,6 +533,51 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             added_vertices: geometry.added_vertices.iter().map(|&a| u64::from(a)).sum(),
             origin,
         };
+        let statics = (!static_setups.is_empty())
+            .then(|| StaticBuffers::new(device, &static_setups, c.multi_draw_count));
+        let cascades = c.targets.shadows.cascades();
+        let static_shadows = match &statics {
+            Some(camera) => (0..cascades.max(u32::from(c.baked_sun)))
+                .map(|k| {
+                    let buffers = camera.for_shadow_view(device);
+                    let rows = buffers.reserved_slots().max(1);
+                    let instances = static_pool::empty_storage(
+                        device,
+                        "static shadow instances",
+                        rows * size_of::<GpuInstance>() as u64,
+                    )?;
+                    let mut group = scene_group.clone();
+                    group[2].1 = instances.as_entire_binding();
+                    let slice_group =
+                        (k < cascades)
+                            .then(|| {
+                                group[0].1 = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                                    buffer: &c.targets.shadows.frames,
+                                    offset: u64::from(k) * crate::shadows::CASCADE_FRAME_STRIDE,
+                                    size: wgpu::BufferSize::new(
+                                        size_of::<rows::FrameUniforms>() as u64
+                                    ),
+                                });
+                                p.laydown.scene_group(device, &group)
+                            })
+                            .transpose()?;
+                    let bake = (k == 0 && c.baked_sun)
+                        .then(|| {
+                            let mut bindings = bake_group.clone();
+                            bindings[2].1 = instances.as_entire_binding();
+                            p.laydown.scene_group(device, &bindings)
+                        })
+                        .transpose()?;
+                    Ok(StaticShadowSet {
+                        buffers,
+                        instances,
+                        slice_group,
+                        bake_group: bake,
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?,
+            None => Vec::new(),
+        };
         Ok(PreparedScene {
             id: c.id,
             summary,
@@ -546,8 +612,8 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             draws: plan.draws,
             chunks: plan.chunks,
             instance_order: order,
-            statics: (!static_setups.is_empty())
-                .then(|| StaticBuffers::new(device, &static_setups, c.multi_draw_count)),
+            statics,
+            static_shadows,
             instances: instances.clone(),
             static_capacities: scene.static_setups.iter().map(|s| s.capacity).collect(),
             static_table: static_setups.clone(),

@@ -197,7 +197,7 @@ pub(crate) struct GpuStaticSetup {
 }
 const _: () = assert!(size_of::<GpuStaticSetup>() == 48);
 
-/// The placement's per-frame constants (WGSL `GpuStaticParams`), 32 bytes.
+/// The placement's per-view constants (WGSL `GpuStaticParams`), 48 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct GpuStaticParams {
@@ -209,10 +209,22 @@ pub(crate) struct GpuStaticParams {
     pub row_width: u32,
     /// First draw of the alpha-tested list (the opaque setups' count).
     pub alpha_base: u32,
-    /// The first reserved slot: slot `s`'s debug word is `debug[s - debug_base]`.
+    /// The first reserved slot: slot `s`'s debug word is `debug[s - debug_base]`
+    /// (`u32::MAX`: no debug words, as for shadow views).
     pub debug_base: u32,
+    /// The slot of the instance buffer's first row: slot `s` is written to row
+    /// `s - row_base` and drawn as instance `s - row_base` (0: the scene's instance table,
+    /// for the camera view; the first reserved slot: a shadow view's own rows, which hold
+    /// the reserved slots only).
+    pub row_base: u32,
+    /// Zero.
+    pub pad0: u32,
+    /// Zero.
+    pub pad1: u32,
+    /// Zero.
+    pub pad2: u32,
 }
-const _: () = assert!(size_of::<GpuStaticParams>() == 32);
+const _: () = assert!(size_of::<GpuStaticParams>() == 48);
 
 #[cfg(test)]
 mod tests {
@@ -362,7 +374,11 @@ mod tests {
                 setup_count,
                 row_width,
                 alpha_base,
-                debug_base
+                debug_base,
+                row_base,
+                pad0,
+                pad1,
+                pad2
             }),
         );
     }

@@ -46,8 +46,17 @@ struct GpuStaticParams {
     row_width: u32,
     // First draw of the alpha-tested list in `draws` (the opaque setups' count).
     alpha_base: u32,
-    // The first reserved slot: slot s's debug word is debug[s - debug_base].
+    // The first reserved slot: slot s's debug word is debug[s - debug_base] (0xffffffff:
+    // no debug words, as for shadow views).
     debug_base: u32,
+    // The slot of `instances`' first row: slot s is row s - row_base, and draws name that
+    // row as their first instance (0 for the camera view, whose rows are the scene's
+    // instance table; the first reserved slot for a shadow view, whose own rows hold the
+    // reserved slots only, so its placement never touches the camera's rows).
+    row_base: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
 }
 
 // counters[GPU_STATIC_COUNTER_DRAWS + list]: draws appended per list (the count buffer).
@@ -139,7 +148,7 @@ fn gpu_static_place(wid: vec3<u32>, li: u32, late: bool) {
         return;
     }
     let slot = s.first_slot + rank;
-    if slot >= arrayLength(&instances) {
+    if slot < params.row_base || slot - params.row_base >= arrayLength(&instances) {
         return;
     }
     let src = query_instances[gpu_static_wg_source + li].local_to_floating.rows;
@@ -152,7 +161,7 @@ fn gpu_static_place(wid: vec3<u32>, li: u32, late: bool) {
     out.instance_field = id.y;
     out.primitive_bits = s.primitive_bits | gpu_static_fade_bits(query_instances[gpu_static_wg_source + li].state);
     out.material = s.material;
-    instances[slot] = out;
+    instances[slot - params.row_base] = out;
     let d = slot - min(params.debug_base, slot);
     if slot >= params.debug_base && d < arrayLength(&debug) {
         let st = query_instances[gpu_static_wg_source + li].state;
@@ -187,7 +196,7 @@ fn gpu_static_fade_bits(st: StaticsceneInstanceState) -> u32 {
 // Appends setup i's draw of its instances [first, end) to list `list` of draw block
 // `block` (0: full lists, 1: late lists).
 fn gpu_static_append_draw(s: GpuStaticSetup, block: u32, first: u32, end: u32) {
-    if first >= end || s.list > 1u {
+    if first >= end || s.list > 1u || s.first_slot < params.row_base {
         return;
     }
     let d = atomicAdd(&counters[select(GPU_STATIC_COUNTER_DRAWS, GPU_STATIC_COUNTER_LATE_DRAWS, block == 1u) + s.list], 1u);
@@ -199,7 +208,7 @@ fn gpu_static_append_draw(s: GpuStaticSetup, block: u32, first: u32, end: u32) {
     draws[at + 1u] = end - first;
     draws[at + 2u] = s.first_index;
     draws[at + 3u] = s.base_vertex;
-    draws[at + 4u] = s.first_slot + first;
+    draws[at + 4u] = s.first_slot - params.row_base + first;
 }
 
 // Whether setup i is in the table (one invocation per setup, rounded up to workgroups).
