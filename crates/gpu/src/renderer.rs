@@ -1524,6 +1524,7 @@ impl Renderer {
                 volume: k as u32,
                 inside: nearest <= camera.near * 1.001,
                 shadowed: l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT != 0,
+                specular: l.has_specular(),
             });
         }
         let mut rows = tiled.clone();

@@ -6,9 +6,12 @@
 //! target (one full-screen triangle). Per light (camera outside its mesh): back faces
 //! behind the scene mark stencil, front faces in front of the scene where stencil is set
 //! shade and clear it; with the eye inside (or the mesh reaching the near plane), back
-//! faces behind the scene shade alone.
+//! faces behind the scene shade alone. KZ2's light-shader permutations: each light's shade
+//! pipeline is compiled without the spot shadow code unless the light has a map this frame,
+//! and without the specular term for lights that have none ([`PointLight::specular`]).
 //!
 //! [`LightPaths`]: crate::LightPaths
+//! [`PointLight::specular`]: crate::PointLight::specular
 
 use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
@@ -46,6 +49,8 @@ pub(crate) struct VolumeDraw {
     pub inside: bool,
     /// The light has a spot shadow map this frame: the shading permutation that reads it.
     pub shadowed: bool,
+    /// The light has a specular term: else the permutation compiled without it.
+    pub specular: bool,
 }
 
 /// The pass: the depth copy and the volumes (group `volume`), over the G-buffer.
@@ -53,7 +58,7 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
     name: "light volumes",
     module: "gpu::light_volumes",
     library: LIBRARY,
-    features: &["spot_shadows"],
+    features: &["spot_shadows", "no_specular"],
     groups: &[
         Group {
             name: "volume",
@@ -91,7 +96,7 @@ pub(crate) const LIGHT_VOLUMES_KZ2: Pass = Pass {
             bindings: &KZ2_LOAD_BINDINGS,
         },
     ],
-    features: &["kz2_gbuffer", "spot_shadows"],
+    features: &["kz2_gbuffer", "spot_shadows", "no_specular"],
     ..LIGHT_VOLUMES
 };
 
@@ -251,9 +256,11 @@ pub(crate) struct LightVolumes {
     load: &'static [Binding; 4],
     copy_depth: wgpu::RenderPipeline,
     mark: wgpu::RenderPipeline,
-    /// Shading from outside and from inside, each without and with the spot shadow code.
-    shade: [wgpu::RenderPipeline; 2],
-    inside: [wgpu::RenderPipeline; 2],
+    /// Shading from outside and from inside, KZ2's light-shader permutations: indexed
+    /// `[specular][shadowed]`, without and with the specular term, without and with the
+    /// spot shadow code.
+    shade: [[wgpu::RenderPipeline; 2]; 2],
+    inside: [[wgpu::RenderPipeline; 2]; 2],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -276,19 +283,27 @@ impl LightVolumes {
             GBufferLayout::Octahedral => (&LIGHT_VOLUMES, &LOAD_BINDINGS),
         };
         let layouts = Layouts::new(device, description);
-        // KZ2's light-shader permutations: the shading without and with a spot's shadow map.
-        let compile = |shadowed: bool| -> Result<wgpu::ShaderModule> {
+        // KZ2's light-shader permutations: the shading without and with a spot's shadow
+        // map, without and with the specular term.
+        let compile = |specular: bool, shadowed: bool| -> Result<wgpu::ShaderModule> {
             let mut features = crate::gbuffer::features(layout).to_vec();
             if shadowed {
                 features.push("spot_shadows");
+            }
+            if !specular {
+                features.push("no_specular");
             }
             Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(LIGHT_VOLUMES.name),
                 source: wgpu::ShaderSource::Wgsl(description.source(&features)?.into()),
             }))
         };
-        let plain_module = compile(false)?;
-        let shadow_module = compile(true)?;
+        // [specular][shadowed]; the mark and the depth copy shade nothing: the first.
+        let modules = [
+            [compile(false, false)?, compile(false, true)?],
+            [compile(true, false)?, compile(true, true)?],
+        ];
+        let plain_module = &modules[1][0];
         let accumulation = accumulation_format(device);
         let depth_format = depth_stencil_format(device);
         let additive = wgpu::BlendComponent {
@@ -379,7 +394,7 @@ impl LightVolumes {
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as S;
         let copy_depth = make(
-            &plain_module,
+            plain_module,
             "light volumes: depth copy",
             "vs_full_screen",
             "fs_copy_depth",
@@ -391,7 +406,7 @@ impl LightVolumes {
         );
         // Reversed Z: "behind the scene" is Less, "in front of or at it" GreaterEqual.
         let mark = make(
-            &plain_module,
+            plain_module,
             "light volumes: stencil mark",
             "vs_volume",
             "fs_mark",
@@ -401,31 +416,35 @@ impl LightVolumes {
             stencil(stencil_face(C::Always, S::Replace, S::Keep)),
             &no_colour,
         );
-        let shade = [&plain_module, &shadow_module].map(|m| {
-            make(
-                m,
-                "light volumes: shade",
-                "vs_volume",
-                "fs_shade",
-                Some(wgpu::Face::Back),
-                false,
-                C::GreaterEqual,
-                stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
-                &add_colour,
-            )
+        let shade = modules.each_ref().map(|m| {
+            m.each_ref().map(|m| {
+                make(
+                    m,
+                    "light volumes: shade",
+                    "vs_volume",
+                    "fs_shade",
+                    Some(wgpu::Face::Back),
+                    false,
+                    C::GreaterEqual,
+                    stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+                    &add_colour,
+                )
+            })
         });
-        let inside = [&plain_module, &shadow_module].map(|m| {
-            make(
-                m,
-                "light volumes: shade from inside",
-                "vs_volume",
-                "fs_shade",
-                Some(wgpu::Face::Front),
-                false,
-                C::Less,
-                keep.clone(),
-                &add_colour,
-            )
+        let inside = modules.each_ref().map(|m| {
+            m.each_ref().map(|m| {
+                make(
+                    m,
+                    "light volumes: shade from inside",
+                    "vs_volume",
+                    "fs_shade",
+                    Some(wgpu::Face::Front),
+                    false,
+                    C::Less,
+                    keep.clone(),
+                    &add_colour,
+                )
+            })
         });
         let (positions, indices) = unit_volume_mesh();
         let reach = unit_volume_reach(&positions);
@@ -542,14 +561,14 @@ impl LightVolumes {
         let n = self.index_count;
         for d in f.volumes {
             let instance = d.volume..d.volume + 1;
-            let permutation = usize::from(d.shadowed);
+            let (specular, shadowed) = (usize::from(d.specular), usize::from(d.shadowed));
             if d.inside {
-                pass.set_pipeline(&self.inside[permutation]);
+                pass.set_pipeline(&self.inside[specular][shadowed]);
                 pass.draw_indexed(0..n, 0, instance);
             } else {
                 pass.set_pipeline(&self.mark);
                 pass.draw_indexed(0..n, 0, instance.clone());
-                pass.set_pipeline(&self.shade[permutation]);
+                pass.set_pipeline(&self.shade[specular][shadowed]);
                 pass.draw_indexed(0..n, 0, instance);
             }
         }
@@ -564,6 +583,20 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHT_VOLUMES, |_| Caps::CORE);
+        // KZ2's no-specular permutation: the shading calls no GGX term; the other one
+        // calls it, behind the light's flag.
+        let shading = |features: &[&str]| {
+            let src = LIGHT_VOLUMES.source(features).unwrap();
+            let start = src.find("fn light_shading_local(").unwrap();
+            let end = src[start..].find("\n}").unwrap();
+            src[start..start + end].to_string()
+        };
+        assert!(!shading(&["no_specular"]).contains("light_shading_specular("));
+        let with = shading(&[]);
+        assert!(
+            with.contains("light_shading_specular(")
+                && with.contains("deferred_light_has_specular(l)")
+        );
         shadercheck::check_pass_with(&LIGHT_VOLUMES_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, LIGHT_VOLUMES.module, &[], Caps::CORE);
         assert_struct_layout(
