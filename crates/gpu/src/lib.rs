@@ -100,6 +100,8 @@ pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
+#[doc(hidden)]
+pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, LightPathCounts, LightPaths, LightTiles, RenderPath, Renderer, RendererConfig,
     WARM_UP,

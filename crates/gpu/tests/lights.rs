@@ -494,3 +494,104 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
     }
     out
 }
+
+/// KZ2's conditional rendering, emulated: three shadow-casting spots on the volume path,
+/// one over the forest floor, one under the ground (its volume wholly behind the terrain:
+/// "behind the pillar") and one high in the air pointing up (it lights no surface: "the
+/// air in the hallway"). With the emulation, the hidden two's tests count no pixel and
+/// the GPU zeroes their maps' caster draws and their volume draws, while the lit one keeps
+/// both; the image equals the image without the emulation bit for bit, and the image
+/// without the hidden lights at all.
+#[test]
+fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
+    use glam::Vec3;
+    use gpu::SpotLight;
+    let (scene, mut frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    frame.lighting.sun_color *= 0.05;
+    frame.lighting.ambient *= 0.3;
+    let eye = frame.camera.position;
+    let target = frame.camera.target;
+    let spot = |position: Vec3, direction: Vec3, radius: f32| SpotLight {
+        position,
+        direction,
+        color: Vec3::new(30.0, 24.0, 16.0),
+        radius,
+        half_angle: 0.7,
+        shadow: true,
+        specular: true,
+    };
+    let lit = spot(
+        eye.lerp(target, 0.5) + Vec3::new(0.0, 4.0, 0.0),
+        Vec3::new(0.1, -1.0, 0.05),
+        14.0,
+    );
+    let buried = spot(target - Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 5.0);
+    let aloft = spot(
+        eye.lerp(target, 1.5) + Vec3::new(0.0, 12.0, 0.0),
+        Vec3::Y,
+        10.0,
+    );
+    frame.lighting.spot_lights = vec![lit, buried, aloft];
+    let make = |conditional_volumes| {
+        common::renderer_with(RendererConfig {
+            width: 240,
+            height: 136,
+            shadows: common::test_shadows(),
+            light_paths: LightPaths::Volumes,
+            conditional_volumes,
+            ..RendererConfig::default()
+        })
+    };
+    let mut on = make(true);
+    let mut off = make(false);
+    let p_on = on.prepare(&scene).unwrap();
+    let p_off = off.prepare(&scene).unwrap();
+    on.render(&p_on, &frame, RenderPath::Deferred).unwrap();
+    let with = on.read_output().unwrap();
+    off.render(&p_off, &frame, RenderPath::Deferred).unwrap();
+    let without = off.read_output().unwrap();
+    let counts = on.light_path_counts();
+    eprintln!("with: {counts:?}; without: {:?}", off.light_path_counts());
+    assert_eq!(counts.spot_shadow_maps, 3, "{counts:?}");
+    assert_eq!(counts.volumes_tested, 3, "{counts:?}");
+    assert_eq!(off.light_path_counts().volumes_tested, 0);
+    let differ = common::differing_pixels(&with, &without);
+    assert_eq!(differ, 0, "{differ} pixels differ with the emulation");
+    // The GPU's decisions, per spot (matched by their view-space positions).
+    let rows = local_light_rows(&frame.lighting, &frame.camera);
+    let tested = on.read_conditional_volumes().unwrap();
+    assert_eq!(tested.len(), 3);
+    for (i, row) in rows.iter().filter(|r| r.is_spot()).enumerate() {
+        let t = tested
+            .iter()
+            .find(|t| t.light.position == row.position)
+            .unwrap_or_else(|| panic!("light {i} not tested"));
+        eprintln!("light {i}: {t:?}");
+        assert!(t.caster_rows > 0 || i == 2, "light {i}: no casters to skip");
+        if i == 0 {
+            assert!(t.samples > 0, "lit light {i}: {t:?}");
+            assert_eq!(t.volume_instances, 1);
+            assert_eq!(t.caster_count, t.caster_rows);
+            assert!(t.caster_instances > 0);
+        } else {
+            assert_eq!(t.samples, 0, "hidden light {i}: {t:?}");
+            assert_eq!(t.volume_instances, 0);
+            assert_eq!((t.caster_count, t.caster_instances), (0, 0));
+        }
+    }
+    // The hidden lights light nothing: the image without them is the same.
+    let mut alone = frame.clone();
+    alone.lighting.spot_lights.truncate(1);
+    off.render(&p_off, &alone, RenderPath::Deferred).unwrap();
+    let only_lit = off.read_output().unwrap();
+    assert_eq!(common::differing_pixels(&with, &only_lit), 0);
+    // And the lit one does light the frame.
+    alone.lighting.spot_lights.clear();
+    off.render(&p_off, &alone, RenderPath::Deferred).unwrap();
+    let dark = off.read_output().unwrap();
+    assert!(common::differing_pixels(&with, &dark) * 50 > with.pixels.len());
+}

@@ -19,6 +19,7 @@ use glam::Vec3;
 use shader::pipeline::Layouts;
 use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
 
+use super::conditional::{DRAW_BYTES, MAX_TESTS};
 use super::lighting::GpuLocalLights;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
@@ -47,8 +48,9 @@ pub(crate) struct VolumeDraw {
     pub volume: u32,
     /// Back faces alone, no stencil (the front faces may be clipped by the near plane).
     pub inside: bool,
-    /// The light has a spot shadow map this frame: the shading permutation that reads it.
-    pub shadowed: bool,
+    /// The light's spot shadow map this frame (its slot), if it has one: the shading
+    /// permutation that reads it.
+    pub map: Option<u32>,
     /// The light has a specular term: else the permutation compiled without it.
     pub specular: bool,
 }
@@ -261,6 +263,12 @@ pub(crate) struct LightVolumes {
     /// spot shadow code.
     shade: [[wgpu::RenderPipeline; 2]; 2],
     inside: [[wgpu::RenderPipeline; 2]; 2],
+    /// The test pass's (no colour target): the depth copy, the mark, the counted front
+    /// faces (the shade's tests, stencil reset as it does), the counted inside draw.
+    test_copy: wgpu::RenderPipeline,
+    test_mark: wgpu::RenderPipeline,
+    test_count: wgpu::RenderPipeline,
+    test_inside: wgpu::RenderPipeline,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -446,6 +454,53 @@ impl LightVolumes {
                 )
             })
         });
+        // KZ2's conditional rendering emulated: the same draws with the same tests, depth
+        // and stencil only, so that an occlusion query counts exactly the pixels the
+        // shading would run on.
+        let test_copy = make(
+            plain_module,
+            "light volume tests: depth copy",
+            "vs_full_screen",
+            "fs_copy_depth",
+            None,
+            true,
+            C::Always,
+            keep.clone(),
+            &[],
+        );
+        let test_mark = make(
+            plain_module,
+            "light volume tests: stencil mark",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            stencil(stencil_face(C::Always, S::Replace, S::Keep)),
+            &[],
+        );
+        let test_count = make(
+            plain_module,
+            "light volume tests: count",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Back),
+            false,
+            C::GreaterEqual,
+            stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+            &[],
+        );
+        let test_inside = make(
+            plain_module,
+            "light volume tests: count from inside",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            keep.clone(),
+            &[],
+        );
         let (positions, indices) = unit_volume_mesh();
         let reach = unit_volume_reach(&positions);
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -466,11 +521,20 @@ impl LightVolumes {
             mark,
             shade,
             inside,
+            test_copy,
+            test_mark,
+            test_count,
+            test_inside,
             vertices,
             indices,
             index_count,
             reach,
         })
+    }
+
+    /// Indices of the unit volume mesh (every volume draw's count).
+    pub(crate) fn index_count(&self) -> u32 {
+        self.index_count
     }
 
     /// The groups: the frame's uniforms, depth target and lights, the volume rows, and the
@@ -510,8 +574,74 @@ impl LightVolumes {
         })
     }
 
+    /// Records the test pass of KZ2's conditional rendering ([`super::conditional`]): the
+    /// depth copy into the depth-stencil target (kept for [`LightVolumes::record`]), then
+    /// per tested light the draws its shading would make, its shading draw inside
+    /// occlusion query `test`. Records nothing without tests.
+    pub(crate) fn record_tests(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let (Some(g), Some(c)) = (&f.groups.light_volumes, f.conditional) else {
+            return;
+        };
+        if c.plan.tests.is_empty() {
+            return;
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("light volume tests"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &f.targets.light_volumes.depth_stencil_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+            }),
+            timestamp_writes: timer.render("light volume tests"),
+            occlusion_query_set: Some(&c.queries),
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &g.volume, &[]);
+        pass.set_bind_group(1, &g.gbuffer, &[]);
+        pass.set_pipeline(&self.test_copy);
+        pass.draw(0..3, 0..1);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
+        pass.set_stencil_reference(1);
+        let n = self.index_count;
+        for (test, &draw) in c.plan.tests.iter().enumerate().take(MAX_TESTS as usize) {
+            let Some(d) = f.volumes.get(draw as usize) else {
+                // A plan never points past the draws; an empty query counts nothing.
+                pass.begin_occlusion_query(test as u32);
+                pass.end_occlusion_query();
+                continue;
+            };
+            let instance = d.volume..d.volume + 1;
+            if d.inside {
+                pass.set_pipeline(&self.test_inside);
+            } else {
+                pass.set_pipeline(&self.test_mark);
+                pass.draw_indexed(0..n, 0, instance.clone());
+                pass.set_pipeline(&self.test_count);
+            }
+            pass.begin_occlusion_query(test as u32);
+            pass.draw_indexed(0..n, 0, instance);
+            pass.end_occlusion_query();
+        }
+    }
+
     /// Records the depth copy and `draws` into the accumulation target (cleared first).
-    /// Records nothing without draws (lighting then does not read the accumulation).
+    /// Records nothing without draws (lighting then does not read the accumulation). With
+    /// KZ2's conditional rendering emulated and lights tested this frame, the depth copy is
+    /// the test pass's, and each tested light is drawn through the arguments its test
+    /// wrote (no instance where it covers no pixel).
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -524,6 +654,7 @@ impl LightVolumes {
         if f.volumes.is_empty() {
             return;
         }
+        let tested = f.conditional.filter(|c| !c.plan.tests.is_empty());
         let t = &f.targets.light_volumes;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("light volumes"),
@@ -539,7 +670,11 @@ impl LightVolumes {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_stencil_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: if tested.is_some() {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(0.0)
+                    },
                     store: wgpu::StoreOp::Discard,
                 }),
                 stencil_ops: Some(wgpu::Operations {
@@ -553,23 +688,34 @@ impl LightVolumes {
         });
         pass.set_bind_group(0, &g.volume, &[]);
         pass.set_bind_group(1, &g.gbuffer, &[]);
-        pass.set_pipeline(&self.copy_depth);
-        pass.draw(0..3, 0..1);
+        if tested.is_none() {
+            pass.set_pipeline(&self.copy_depth);
+            pass.draw(0..3, 0..1);
+        }
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.set_stencil_reference(1);
         let n = self.index_count;
-        for d in f.volumes {
+        for (k, d) in f.volumes.iter().enumerate() {
             let instance = d.volume..d.volume + 1;
-            let (specular, shadowed) = (usize::from(d.specular), usize::from(d.shadowed));
+            let (specular, shadowed) = (usize::from(d.specular), usize::from(d.map.is_some()));
+            // A tested light: its test's arguments, one instance or none.
+            let args = tested.and_then(|c| {
+                let test = (*c.plan.draw_test.get(k)?)?;
+                (test < MAX_TESTS).then_some((c, u64::from(test) * DRAW_BYTES))
+            });
+            let draw = |pass: &mut wgpu::RenderPass<'_>| match args {
+                Some((c, offset)) => pass.draw_indexed_indirect(&c.volume_args, offset),
+                None => pass.draw_indexed(0..n, 0, instance.clone()),
+            };
             if d.inside {
                 pass.set_pipeline(&self.inside[specular][shadowed]);
-                pass.draw_indexed(0..n, 0, instance);
+                draw(&mut pass);
             } else {
                 pass.set_pipeline(&self.mark);
-                pass.draw_indexed(0..n, 0, instance.clone());
+                draw(&mut pass);
                 pass.set_pipeline(&self.shade[specular][shadowed]);
-                pass.draw_indexed(0..n, 0, instance);
+                draw(&mut pass);
             }
         }
     }
