@@ -275,6 +275,9 @@ pub struct ConditionalLight {
     pub caster_rows: u32,
     pub caster_count: u32,
     pub caster_instances: u64,
+    /// The static query's draws its map draws (the placement's counts, or 0 where
+    /// skipped; 0 in a frame without static content).
+    pub static_count: u32,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -1295,7 +1298,7 @@ impl Renderer {
     /// A device or mapping error.
     #[doc(hidden)]
     pub fn read_conditional_volumes(&self) -> Result<Vec<ConditionalLight>> {
-        use passes::conditional::{DRAW_WORDS, MapDraw};
+        use passes::conditional::{COUNT_WORDS, DRAW_WORDS, MapDraw};
         let Some(c) = &self.conditional else {
             return Ok(Vec::new());
         };
@@ -1309,7 +1312,7 @@ impl Renderer {
         };
         let samples = words(&c.resolved, n * 8)?;
         let volumes = words(&c.volume_args, n * 4 * u64::from(DRAW_WORDS))?;
-        let counts = words(&c.counts, n * 8)?;
+        let counts = words(&c.counts, n * 4 * u64::from(COUNT_WORDS))?;
         let casters = if c.casters > 0 {
             words(
                 &c.caster_args,
@@ -1318,7 +1321,7 @@ impl Renderer {
         } else {
             Vec::new()
         };
-        let w = DRAW_WORDS as usize;
+        let (w, cw) = (DRAW_WORDS as usize, COUNT_WORDS as usize);
         Ok((0..n as usize)
             .map(|t| {
                 let (first, rows) = c
@@ -1342,7 +1345,8 @@ impl Renderer {
                     samples: u64::from(samples[2 * t]) | u64::from(samples[2 * t + 1]) << 32,
                     volume_instances: volumes[t * w + 1],
                     caster_rows: rows as u32,
-                    caster_count: counts[2 * t] + counts[2 * t + 1],
+                    caster_count: counts[cw * t] + counts[cw * t + 1],
+                    static_count: counts[cw * t + 2] + counts[cw * t + 3],
                     caster_instances: (first..first + rows)
                         .filter_map(|r| casters.get(r * w + 1))
                         .map(|&i| u64::from(i))
@@ -1580,6 +1584,29 @@ impl Renderer {
     pub fn read_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
         let maps = &self.targets.shadows;
         (0..maps.cascades())
+            .map(|layer| {
+                let bytes = crate::resources::readback::read_texture_layer(
+                    &self.device,
+                    &self.queue,
+                    &maps.texture,
+                    wgpu::TextureAspect::DepthOnly,
+                    4,
+                    layer,
+                )?;
+                Ok(bytemuck::pod_collect_to_vec(&bytes))
+            })
+            .collect()
+    }
+
+    /// Reads the last frame's spot shadow maps back, one `resolution`² depth layer per map
+    /// in slot order (0 at the light's near plane, 1 where nothing casts): a test aid.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    #[doc(hidden)]
+    pub fn read_spot_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
+        let maps = &self.targets.spot_shadows;
+        (0..maps.active.min(maps.layers()))
             .map(|layer| {
                 let bytes = crate::resources::readback::read_texture_layer(
                     &self.device,

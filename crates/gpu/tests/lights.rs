@@ -573,6 +573,12 @@ fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
         eprintln!("light {i}: {t:?}");
         assert!(t.caster_rows > 0 || i == 2, "light {i}: no casters to skip");
         if i == 0 {
+            // Its map, drawn through the indirect arguments, is the directly drawn one (both
+            // renderers give the lights the same slots).
+            let slot = (t.light.flags >> 8) as usize - 1;
+            let map = &on.read_spot_shadow_maps().unwrap()[slot];
+            assert!(map.iter().any(|&d| d < 1.0), "the lit light's map is empty");
+            assert!(map == &off.read_spot_shadow_maps().unwrap()[slot]);
             assert!(t.samples > 0, "lit light {i}: {t:?}");
             assert_eq!(t.volume_instances, 1);
             assert_eq!(t.caster_count, t.caster_rows);

@@ -18,8 +18,9 @@
 //! round trip. The image does not change: the shading of a light that covers no pixel adds
 //! nothing, and its map is read by nothing else (a light on the tiles keeps its direct
 //! draws). Lights on the volume path with a map but no volume draw (wholly behind the near
-//! plane) are skipped by the CPU. The static query's draw lists in those maps stay
-//! unconditional (their counts come from the placement).
+//! plane) are skipped by the CPU. The static query's draw lists in those maps are drawn
+//! with the placement's counts, or zero, where the device has `MULTI_DRAW_INDIRECT_COUNT`
+//! (else unconditionally: their lists have no per-light copy).
 //!
 //! [`LightVolumes::record_tests`]: super::light_volumes::LightVolumes::record_tests
 
@@ -35,6 +36,9 @@ use crate::timing::GpuTimer;
 pub(crate) const DRAW_WORDS: u32 = 5;
 /// Bytes of one `DrawIndexedIndirect`.
 pub(crate) const DRAW_BYTES: u64 = DRAW_WORDS as u64 * 4;
+/// Count words per tested light (WGSL `GPU_CONDITIONAL_COUNT_WORDS`): its map's opaque
+/// and alpha-tested caster rows, then the static lists' opaque and alpha-tested draws.
+pub(crate) const COUNT_WORDS: u32 = 4;
 /// The most lights tested per frame: one per spot shadow map.
 pub(crate) const MAX_TESTS: u32 = crate::spot_shadows::MAX_SPOT_SHADOW_MAPS;
 
@@ -98,6 +102,7 @@ pub(crate) const CONDITIONAL: Pass<u32> = Pass {
             Binding::new("queries", Kind::read(8)),
             Binding::new("tests", Kind::read(size_of::<GpuConditionalTest>())),
             Binding::new("caster_rows", Kind::read(size_of::<GpuCasterDraw>())),
+            Binding::new("static_counts", Kind::read(4)),
             Binding::new("caster_args", Kind::read_write(4)),
             Binding::new("volume_args", Kind::read_write(4)),
             Binding::new("counts", Kind::read_write(4)),
@@ -150,6 +155,8 @@ pub(crate) struct ConditionalBuffers {
     pub params: wgpu::Buffer,
     pub tests: wgpu::Buffer,
     pub caster_rows: wgpu::Buffer,
+    /// The static lists' two counts, copied in per frame.
+    pub static_counts: wgpu::Buffer,
     pub caster_args: wgpu::Buffer,
     pub volume_args: wgpu::Buffer,
     pub counts: wgpu::Buffer,
@@ -212,6 +219,7 @@ impl Conditional {
             u64::from(capacity) * size_of::<GpuCasterDraw>() as u64,
             U::STORAGE | U::COPY_DST,
         );
+        let static_counts = buffer("conditional static counts", 8, U::STORAGE | U::COPY_DST);
         let indirect = U::STORAGE | U::INDIRECT | U::COPY_SRC;
         let caster_args = buffer(
             "conditional caster draws",
@@ -219,7 +227,11 @@ impl Conditional {
             indirect,
         );
         let volume_args = buffer("conditional volume draws", tests * DRAW_BYTES, indirect);
-        let counts = buffer("conditional caster counts", tests * 8, indirect);
+        let counts = buffer(
+            "conditional caster counts",
+            tests * 4 * u64::from(COUNT_WORDS),
+            indirect,
+        );
         let group = self.pass.bind_group(
             device,
             "conditional",
@@ -228,6 +240,7 @@ impl Conditional {
                 ("queries", resolved.as_entire_binding()),
                 ("tests", test_rows.as_entire_binding()),
                 ("caster_rows", caster_rows.as_entire_binding()),
+                ("static_counts", static_counts.as_entire_binding()),
                 ("caster_args", caster_args.as_entire_binding()),
                 ("volume_args", volume_args.as_entire_binding()),
                 ("counts", counts.as_entire_binding()),
@@ -239,6 +252,7 @@ impl Conditional {
             params,
             tests: test_rows,
             caster_rows,
+            static_counts,
             caster_args,
             volume_args,
             counts,
@@ -268,6 +282,22 @@ impl Conditional {
             return;
         }
         encoder.resolve_query_set(&b.queries, 0..tests.min(MAX_TESTS), &b.resolved, 0);
+        // The static lists' counts as the placement left them (full lists), or none.
+        match f
+            .scene
+            .statics
+            .as_ref()
+            .filter(|s| f.static_query && s.with_count)
+        {
+            Some(s) => encoder.copy_buffer_to_buffer(
+                &s.counters,
+                4 * u64::from(super::static_place::STATIC_COUNTER_DRAWS),
+                &b.static_counts,
+                0,
+                8,
+            ),
+            None => encoder.clear_buffer(&b.static_counts, 0, None),
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("conditional volumes"),
             timestamp_writes: timer.compute("conditional volumes"),
@@ -315,6 +345,10 @@ mod tests {
         assert_eq!(
             shadercheck::const_u32(&m, "GPU_CONDITIONAL_DRAW_WORDS"),
             Some(DRAW_WORDS)
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_CONDITIONAL_COUNT_WORDS"),
+            Some(COUNT_WORDS)
         );
         assert_struct_layout(
             &m,

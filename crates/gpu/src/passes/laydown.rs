@@ -324,7 +324,7 @@ impl Laydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        use super::conditional::{MapDraw, draw_rows};
+        use super::conditional::{COUNT_WORDS, DRAW_BYTES, MapDraw, draw_rows};
         let maps = &f.targets.spot_shadows;
         for (k, (view, group)) in maps
             .layer_views
@@ -358,7 +358,7 @@ impl Laydown {
                         f.scene.index_buffer.slice(..),
                         wgpu::IndexFormat::Uint32,
                     );
-                    let word = 2 * u64::from(test);
+                    let word = u64::from(COUNT_WORDS) * u64::from(test);
                     pass.set_pipeline(&self.shadow_opaque);
                     draw_rows(&mut pass, c, first, opaque, word);
                     pass.set_pipeline(&self.shadow_alpha);
@@ -366,13 +366,28 @@ impl Laydown {
                     if f.static_query
                         && let Some(b) = &f.scene.statics
                     {
-                        super::static_place::record_static_draws(
-                            &mut pass,
-                            b,
-                            &self.shadow_alpha,
-                            &self.shadow_alpha,
-                            false,
-                        );
+                        if c.with_count && b.with_count {
+                            // The full lists with this light's copies of their counts.
+                            for (list, first, count) in [(2, 0, b.opaque), (3, b.opaque, b.alpha)] {
+                                if count > 0 {
+                                    pass.multi_draw_indexed_indirect_count(
+                                        &b.draws,
+                                        u64::from(first) * DRAW_BYTES,
+                                        &c.counts,
+                                        4 * (word + list),
+                                        count,
+                                    );
+                                }
+                            }
+                        } else {
+                            super::static_place::record_static_draws(
+                                &mut pass,
+                                b,
+                                &self.shadow_alpha,
+                                &self.shadow_alpha,
+                                false,
+                            );
+                        }
                     }
                 }
             }

@@ -43,17 +43,24 @@ struct GpuCasterDraw {
 
 // Rust: passes::conditional::DRAW_WORDS: words of one DrawIndexedIndirect.
 const GPU_CONDITIONAL_DRAW_WORDS: u32 = 5u;
+// Rust: passes::conditional::COUNT_WORDS: count words per tested light.
+const GPU_CONDITIONAL_COUNT_WORDS: u32 = 4u;
 
 @group(0) @binding(0) var<uniform> params: GpuConditionalParams;
 // Per test: the occlusion query's 64-bit sample count (low word, high word).
 @group(0) @binding(1) var<storage, read> queries: array<vec2<u32>>;
 @group(0) @binding(2) var<storage, read> tests: array<GpuConditionalTest>;
 @group(0) @binding(3) var<storage, read> caster_rows: array<GpuCasterDraw>;
+// The static query's full draw lists' counts this frame (opaque, alpha-tested; zeros in a
+// frame without one), copied from the placement's counters.
+@group(0) @binding(4) var<storage, read> static_counts: array<u32>;
 // Outputs: DrawIndexedIndirect per caster row, per tested light's volume, and per tested
-// light two counts (opaque, alpha-tested) for multi_draw_indexed_indirect_count.
-@group(0) @binding(4) var<storage, read_write> caster_args: array<u32>;
-@group(0) @binding(5) var<storage, read_write> volume_args: array<u32>;
-@group(0) @binding(6) var<storage, read_write> counts: array<u32>;
+// light GPU_CONDITIONAL_COUNT_WORDS counts for multi_draw_indexed_indirect_count: its
+// map's opaque and alpha-tested caster rows, and the static lists' opaque and
+// alpha-tested draws.
+@group(0) @binding(5) var<storage, read_write> caster_args: array<u32>;
+@group(0) @binding(6) var<storage, read_write> volume_args: array<u32>;
+@group(0) @binding(7) var<storage, read_write> counts: array<u32>;
 
 fn conditional_test_count() -> u32 {
     return min(params.tests, min(arrayLength(&queries), arrayLength(&tests)));
@@ -82,9 +89,14 @@ fn conditional_args(@builtin(global_invocation_id) id: vec3<u32>) {
             volume_args[i * w + 3u] = 0u;
             volume_args[i * w + 4u] = t.volume;
         }
-        if (2u * i + 2u <= arrayLength(&counts)) {
-            counts[2u * i] = select(0u, t.opaque, visible);
-            counts[2u * i + 1u] = select(0u, t.alpha, visible);
+        let c = GPU_CONDITIONAL_COUNT_WORDS;
+        if ((i + 1u) * c <= arrayLength(&counts)) {
+            counts[i * c] = select(0u, t.opaque, visible);
+            counts[i * c + 1u] = select(0u, t.alpha, visible);
+            // The draw calls bound these by the lists' capacities.
+            let n = arrayLength(&static_counts);
+            counts[i * c + 2u] = select(0u, static_counts[0u], visible && n >= 1u);
+            counts[i * c + 3u] = select(0u, static_counts[min(1u, n - 1u)], visible && n >= 2u);
         }
     }
     let casters = min(params.casters, min(arrayLength(&caster_rows), arrayLength(&caster_args) / w));
