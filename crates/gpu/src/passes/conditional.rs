@@ -391,4 +391,76 @@ mod tests {
             size_of::<wgpu::util::DrawIndexedIndirectArgs>() as u64
         );
     }
+
+    /// On a device: a counted test keeps its volume draw, its casters and the static
+    /// counts, an uncounted one zeroes them (a count in the high word counts), a caster
+    /// row naming a test that does not exist is zeroed, and constants claiming more tests
+    /// and rows than the buffers hold write nothing past them.
+    #[test]
+    fn arguments_follow_the_counts_and_stay_in_bounds() {
+        use testkit::device::{Data, run_pass};
+        let queries: [u32; 6] = [5, 0, 0, 0, 0, 1];
+        let test = |volume, opaque, alpha| GpuConditionalTest {
+            volume,
+            opaque,
+            alpha,
+            pad: 0,
+        };
+        let tests = [test(7, 2, 1), test(8, 1, 0), test(9, 0, 0)];
+        let rows: Vec<GpuCasterDraw> = [0, 0, 1, 2, 99]
+            .into_iter()
+            .enumerate()
+            .map(|(i, test)| GpuCasterDraw {
+                index_count: 3 * (i as u32 + 1),
+                instance_count: 10 + i as u32,
+                first_index: 100 + i as u32,
+                base_vertex: -(i as i32),
+                first_instance: 1000 + i as u32,
+                test,
+                pad: [0; 2],
+            })
+            .collect();
+        let params = GpuConditionalParams {
+            tests: 100,
+            casters: 100,
+            volume_indices: 240,
+            pad: 0,
+        };
+        let out = run_pass(
+            &CONDITIONAL,
+            &[],
+            &[],
+            &100,
+            &[
+                ("params", Data::Bytes(bytemuck::bytes_of(&params))),
+                ("queries", Data::Words(&queries)),
+                ("tests", Data::rows(&tests)),
+                ("caster_rows", Data::rows(&rows)),
+                ("static_counts", Data::Words(&[11, 12])),
+                ("caster_args", Data::Zeros(5 * DRAW_WORDS as usize)),
+                ("volume_args", Data::Zeros(3 * DRAW_WORDS as usize)),
+                ("counts", Data::Zeros(3 * COUNT_WORDS as usize)),
+            ],
+        );
+        assert_eq!(
+            out.read::<u32>("volume_args", 15),
+            [240, 1, 0, 0, 7, 240, 0, 0, 0, 8, 240, 1, 0, 0, 9]
+        );
+        assert_eq!(
+            out.read::<u32>("counts", 12),
+            [2, 1, 11, 12, 0, 0, 0, 0, 0, 0, 11, 12]
+        );
+        let args = out.read::<u32>("caster_args", 25);
+        for (i, (r, a)) in rows.iter().zip(args.chunks_exact(5)).enumerate() {
+            let kept = [0, 2].contains(&r.test);
+            let want = [
+                r.index_count,
+                if kept { r.instance_count } else { 0 },
+                r.first_index,
+                r.base_vertex as u32,
+                r.first_instance,
+            ];
+            assert_eq!(a, want, "row {i}");
+        }
+    }
 }
