@@ -56,6 +56,10 @@ pub const KZ2_VOLUME_COVERAGE: f32 = 0.2;
 pub const LIGHT_FLAG_SHADOW: u32 = 1;
 /// [`DeferredLight::flags`] bit: the light is a spot (the cone fields are used).
 pub const LIGHT_FLAG_SPOT: u32 = 2;
+/// [`DeferredLight::flags`] bit: the light has no specular term, diffuse alone (KZ2's
+/// no-specular light-shader permutation). Set rather than clear so that a zeroed row
+/// keeps its specular term.
+pub const LIGHT_FLAG_NO_SPECULAR: u32 = 4;
 
 /// A point or spot light in view space, as the WGSL struct `DeferredLight` (48 bytes;
 /// `array<DeferredLight>` has a 48-byte stride).
@@ -73,7 +77,8 @@ pub struct DeferredLight {
     pub cos_outer: f32,
     /// Linear RGB intensity.
     pub color: [f32; 3],
-    /// [`LIGHT_FLAG_SHADOW`], [`LIGHT_FLAG_SPOT`].
+    /// [`LIGHT_FLAG_SHADOW`], [`LIGHT_FLAG_SPOT`], [`LIGHT_FLAG_NO_SPECULAR`] (bits 0-7
+    /// are this crate's; a renderer may keep its own data above them).
     pub flags: u32,
 }
 const _: () = assert!(size_of::<DeferredLight>() == 48);
@@ -113,6 +118,17 @@ impl DeferredLight {
     pub fn with_shadow(mut self) -> Self {
         self.flags |= LIGHT_FLAG_SHADOW;
         self
+    }
+
+    /// The same light without its specular term (diffuse alone).
+    pub fn without_specular(mut self) -> Self {
+        self.flags |= LIGHT_FLAG_NO_SPECULAR;
+        self
+    }
+
+    /// Whether it has a specular term ([`LIGHT_FLAG_NO_SPECULAR`] clear).
+    pub fn has_specular(&self) -> bool {
+        self.flags & LIGHT_FLAG_NO_SPECULAR == 0
     }
 
     /// Whether it is a spot light.

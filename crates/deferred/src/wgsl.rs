@@ -108,6 +108,7 @@ mod tests {
             ("DEFERRED_MAX_LIGHTS_PER_TILE", MAX_LIGHTS_PER_TILE),
             ("DEFERRED_LIGHT_FLAG_SHADOW", LIGHT_FLAG_SHADOW),
             ("DEFERRED_LIGHT_FLAG_SPOT", LIGHT_FLAG_SPOT),
+            ("DEFERRED_LIGHT_FLAG_NO_SPECULAR", LIGHT_FLAG_NO_SPECULAR),
         ] {
             assert_eq!(const_u32(&m, name), Some(value), "WGSL const {name}");
         }

@@ -591,6 +591,7 @@ mod tests {
             position: Vec3::new(0.0, 1.0, z),
             color: Vec3::ONE,
             radius,
+            specular: true,
         };
         frame.lighting.point_lights = vec![point(-30.0, 1.0), point(0.5, 3.0), point(20.0, 1.0)];
         let base = Rgba8Image::new(64, 36, [0, 0, 0, 255]);

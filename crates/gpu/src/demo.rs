@@ -265,12 +265,14 @@ pub fn scatter_lights(
                 half_angle: rng.range(25.0, 50.0).to_radians(),
                 // Every other spot casts shadows (KZ2: some lights shadowed).
                 shadow: i % 6 == 2,
+                specular: true,
             });
         } else {
             lighting.point_lights.push(PointLight {
                 position,
                 color,
                 radius: rng.range(2.0, 7.0),
+                specular: true,
             });
         }
     }
@@ -885,11 +887,13 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
                 position: camera.target + Vec3::new(-3.0, 1.5, 4.0),
                 color: Vec3::new(4.0, 2.2, 0.8),
                 radius: 9.0,
+                specular: true,
             },
             PointLight {
                 position: camera.target + Vec3::new(5.0, 1.0, 12.0),
                 color: Vec3::new(0.8, 2.0, 4.0),
                 radius: 10.0,
+                specular: true,
             },
         ],
         ..Lighting::default()

@@ -137,6 +137,10 @@ pub struct PointLight {
     pub color: Vec3,
     /// Distance at which the light fades to zero (metres), finite and > 0.
     pub radius: f32,
+    /// Has a specular term (GGX over the surface's specular intensity and roughness);
+    /// `false`: diffuse alone, KZ2's no-specular light shader (the stencil-volume path
+    /// draws it with a pipeline compiled without the term, the compute lighting branches).
+    pub specular: bool,
 }
 
 /// A spot light: a cone from `position` along `direction`, to `radius` metres.
@@ -157,6 +161,8 @@ pub struct SpotLight {
     /// screen ([`SpotShadowConfig`](crate::SpotShadowConfig): KZ2's fade, a limited number
     /// of maps, largest lights first); otherwise it lights unshadowed.
     pub shadow: bool,
+    /// Has a specular term, as [`PointLight::specular`].
+    pub specular: bool,
 }
 
 /// Sun, sky and lights.
@@ -379,15 +385,19 @@ pub(crate) fn frame_uniforms(
 }
 
 /// The local lights of `lighting` in the view space of `camera` (right-handed, looking
-/// down −Z, as `deferred::lights` takes them): the point lights, then the spot lights.
+/// down −Z, as `deferred::lights` takes them): the point lights, then the spot lights,
+/// flagged spot, shadow-casting and without specular as each says.
 #[must_use]
 pub fn local_light_rows(lighting: &Lighting, camera: &Camera) -> Vec<DeferredLight> {
+    let specular = |row: DeferredLight, on: bool| if on { row } else { row.without_specular() };
     let rotation = camera.view_rotation();
     let at = |p: Vec3| rotation.transform_vector3(p - camera.position);
-    let points = lighting
-        .point_lights
-        .iter()
-        .map(|l| DeferredLight::point(at(l.position), l.radius, l.color));
+    let points = lighting.point_lights.iter().map(|l| {
+        specular(
+            DeferredLight::point(at(l.position), l.radius, l.color),
+            l.specular,
+        )
+    });
     let spots = lighting.spot_lights.iter().map(|l| {
         let row = DeferredLight::spot(
             at(l.position),
@@ -396,7 +406,7 @@ pub fn local_light_rows(lighting: &Lighting, camera: &Camera) -> Vec<DeferredLig
             l.half_angle,
             l.color,
         );
-        if l.shadow { row.with_shadow() } else { row }
+        specular(if l.shadow { row.with_shadow() } else { row }, l.specular)
     });
     points.chain(spots).collect()
 }
@@ -425,6 +435,7 @@ mod tests {
                 position: Vec3::new(12.0, 3.0, -9.0),
                 color: Vec3::ONE,
                 radius: 4.0,
+                specular: true,
             }],
             spot_lights: vec![SpotLight {
                 position: Vec3::new(9.0, 5.0, -2.0),
@@ -433,10 +444,12 @@ mod tests {
                 radius: 6.0,
                 half_angle: 0.4,
                 shadow: false,
+                specular: false,
             }],
             ..Lighting::default()
         };
         let rows = local_light_rows(&lighting, &cam);
+        assert!(rows[0].has_specular() && !rows[1].has_specular());
         let view = cam.view().as_dmat4();
         assert_eq!(rows.len(), 2);
         for (row, world) in rows
@@ -558,6 +571,7 @@ mod tests {
             position: Vec3::ZERO,
             color: Vec3::ONE,
             radius: 5.0,
+            specular: true,
         };
         let field = |l: Lighting| match l.validate() {
             Err(FrameError::OutOfRange { field, .. }) => field,
@@ -623,6 +637,7 @@ mod tests {
             radius: 5.0,
             half_angle: 0.5,
             shadow: false,
+            specular: true,
         };
         let spot_field = |s: SpotLight| match (Lighting {
             spot_lights: vec![spot, s],

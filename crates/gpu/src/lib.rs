@@ -2,10 +2,14 @@
 //! classification into loose-tile wave commands, compute material resolve into a G-buffer,
 //! deferred lighting (KZ2's sun slices as stable cascaded shadow maps with a baked sun
 //! term; point and spot lights through 16x16 tiles or stencil light volumes
-//! ([`LightPaths`]), shadow-casting spots ([`SpotShadowConfig`]); the octahedral or KZ2's
-//! G-buffer), and HZD's depth-equal baseline that it replaces (single-sample, or 4x MSAA
-//! lit with KZ2's tricks: [`MsaaLighting`]; the visibility-buffer path stays
-//! single-sample, one triangle a pixel). Every per-frame upload is
+//! ([`LightPaths`]) with KZ2's light-shader permutations (with or without specular,
+//! [`PointLight::specular`], and spot shadow code), shadow-casting spots
+//! ([`SpotShadowConfig`]) whose maps and shading the GPU skips when their volume covers
+//! no pixel (KZ2's conditional rendering emulated with indirect draws,
+//! [`RendererConfig::conditional_volumes`]); the octahedral or KZ2's G-buffer), and HZD's
+//! depth-equal baseline that it replaces (single-sample, or 4x MSAA lit with KZ2's
+//! tricks: [`MsaaLighting`]; the visibility-buffer path stays single-sample, one triangle
+//! a pixel). Every per-frame upload is
 //! sub-allocated from `framealloc`'s pool, so frames can be submitted without waiting
 //! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
 //! crate owns devices, buffers, pipelines and passes.
@@ -102,6 +106,8 @@ pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
+#[doc(hidden)]
+pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting, RenderPath,
     Renderer, RendererConfig, WARM_UP,

@@ -160,6 +160,15 @@ pub struct RendererConfig {
     /// are refused with it. [`Renderer::read_depth`] and [`Renderer::read_gbuffer`] read
     /// the single-sample targets.
     pub msaa: Option<MsaaLighting>,
+    /// KZ2's conditional rendering, emulated with indirect draws: a light on the
+    /// stencil-volume path that owns a spot shadow map first counts the pixels its shading
+    /// would cover (an occlusion query over a test draw of its volume), and a compute pass
+    /// turns the count into the indirect arguments of its map's caster draws and of its
+    /// volume draws, so a light behind a wall or lighting only air draws neither, with no
+    /// CPU round trip. The image is the same either way. Takes effect with a light path
+    /// that has volumes on a device with `INDIRECT_FIRST_INSTANCE` (else the draws are
+    /// direct); default on.
+    pub conditional_volumes: bool,
 }
 
 impl RendererConfig {
@@ -220,6 +229,7 @@ impl Default for RendererConfig {
             cull_shadow_casters: true,
             gbuffer: deferred::GBufferLayout::Octahedral,
             msaa: None,
+            conditional_volumes: true,
         }
     }
 }
@@ -270,8 +280,38 @@ pub struct LightPathCounts {
     /// near plane): back faces alone, no stencil.
     pub volumes_from_inside: u32,
     /// Spot lights that rendered a shadow map (shadow-casting, not faded out, among the
-    /// largest [`SpotShadowConfig::maps`](crate::SpotShadowConfig::maps)).
+    /// largest [`SpotShadowConfig::maps`](crate::SpotShadowConfig::maps)), or had one to
+    /// render: see the next two.
     pub spot_shadow_maps: u32,
+    /// Of `volumes`, those tested for KZ2's conditional rendering
+    /// ([`RendererConfig::conditional_volumes`]): lights with a spot map, whose map and
+    /// shading the GPU skips if their test counts no pixel.
+    pub volumes_tested: u32,
+    /// Of `spot_shadow_maps`, those the CPU skipped under
+    /// [`RendererConfig::conditional_volumes`]: their light takes the volume path but has
+    /// no volume draw (wholly behind the near plane).
+    pub spot_shadow_maps_skipped: u32,
+}
+
+/// One light the last frame tested for KZ2's conditional rendering, as the GPU decided
+/// ([`Renderer::read_conditional_volumes`]): a test and measurement aid.
+#[doc(hidden)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ConditionalLight {
+    /// Its row (view space; its spot map's slot + 1 in `flags` bits 8-15).
+    pub light: deferred::DeferredLight,
+    /// What its occlusion query counted (non-zero: some pixel is shaded).
+    pub samples: u64,
+    /// Instances of its volume draws' indirect arguments: 1, or 0 where skipped.
+    pub volume_instances: u32,
+    /// Its map's caster draws: rows the CPU culled, the count words' total (0 where
+    /// skipped), and the instances their arguments hold (0 where skipped).
+    pub caster_rows: u32,
+    pub caster_count: u32,
+    pub caster_instances: u64,
+    /// The static query's draws its map draws (the placement's counts, or 0 where
+    /// skipped; 0 in a frame without static content).
+    pub static_count: u32,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -312,6 +352,12 @@ pub struct Renderer {
     in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
     /// This frame's stencil volume draws.
     volume_draws: Vec<passes::light_volumes::VolumeDraw>,
+    /// This frame's spot-map slots of the lights on the volume path (drawn or not).
+    volume_map_slots: Vec<u32>,
+    /// This frame's lights on the volume path (`GpuLightVolume` order).
+    volume_rows: Vec<deferred::DeferredLight>,
+    /// KZ2's conditional rendering emulated: buffers and this frame's plan.
+    conditional: Option<passes::conditional::ConditionalBuffers>,
     /// The sun's cascades of the last frame (f64), with shadows on.
     cascades: Option<deferred::cascades::StableCascades>,
     timer: GpuTimer,
@@ -456,6 +502,11 @@ impl Renderer {
                 anisotropy_clamp: 1,
                 ..Default::default()
             });
+            // Indirect draws of volume rows and caster instances need first_instance.
+            let conditional = config.conditional_volumes
+                && device
+                    .features()
+                    .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
             let pipelines = Pipelines::new(
                 device,
                 &paths,
@@ -463,7 +514,13 @@ impl Renderer {
                 config.light_paths,
                 config.gbuffer,
                 config.msaa,
+                conditional,
             )?;
+            let conditional = pipelines
+                .conditional
+                .as_ref()
+                .map(|c| c.buffers(device, 64))
+                .transpose()?;
             let local = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("local lights"),
                 size: size_of::<GpuLocalLights>() as u64,
@@ -520,6 +577,9 @@ impl Renderer {
                 casters: Default::default(),
                 origin_offset: glam::Vec3::ZERO,
                 volume_draws: Vec::new(),
+                volume_map_slots: Vec::new(),
+                volume_rows: Vec::new(),
+                conditional,
                 cascades: None,
                 timer,
                 frame_index: 0,
@@ -617,6 +677,7 @@ impl Renderer {
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         self.view_rotation = frame.camera.view_rotation();
         self.origin_offset = glam::Vec4::from(uniforms.origin_offset).truncate();
+        self.plan_conditional(scene)?;
         let aspect = self.config.width as f32 / self.config.height as f32;
         self.previous = Some((
             scene.id,
@@ -675,6 +736,7 @@ impl Renderer {
                         volumes: &self.volume_draws,
                         casters: &self.casters,
                         static_slices: &self.static_slices,
+                        conditional: self.conditional.as_ref(),
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
                     }
@@ -1436,7 +1498,84 @@ impl Renderer {
             volumes: self.volume_draws.len() as u32,
             volumes_from_inside: self.volume_draws.iter().filter(|d| d.inside).count() as u32,
             spot_shadow_maps: self.targets.spot_shadows.active,
+            volumes_tested: self
+                .conditional
+                .as_ref()
+                .map_or(0, |c| c.plan.tests.len() as u32),
+            spot_shadow_maps_skipped: self.conditional.as_ref().map_or(0, |c| {
+                c.plan
+                    .maps
+                    .iter()
+                    .filter(|m| **m == passes::conditional::MapDraw::Skipped)
+                    .count() as u32
+            }),
         }
+    }
+
+    /// Reads back what the last frame's GPU decided for each light tested for KZ2's
+    /// conditional rendering (empty with the emulation off or no light tested): its query's
+    /// count and the indirect arguments of its volume and its map's casters.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    #[doc(hidden)]
+    pub fn read_conditional_volumes(&self) -> Result<Vec<ConditionalLight>> {
+        use passes::conditional::{COUNT_WORDS, DRAW_WORDS, MapDraw};
+        let Some(c) = &self.conditional else {
+            return Ok(Vec::new());
+        };
+        let n = c.plan.tests.len() as u64;
+        if n == 0 {
+            return Ok(Vec::new());
+        }
+        let words = |buffer: &wgpu::Buffer, bytes: u64| -> Result<Vec<u32>> {
+            let b = read_buffer(&self.device, &self.queue, buffer, 0, bytes)?;
+            Ok(bytemuck::pod_collect_to_vec(&b))
+        };
+        let samples = words(&c.resolved, n * 8)?;
+        let volumes = words(&c.volume_args, n * 4 * u64::from(DRAW_WORDS))?;
+        let counts = words(&c.counts, n * 4 * u64::from(COUNT_WORDS))?;
+        let casters = if c.casters > 0 {
+            words(
+                &c.caster_args,
+                u64::from(c.casters) * 4 * u64::from(DRAW_WORDS),
+            )?
+        } else {
+            Vec::new()
+        };
+        let (w, cw) = (DRAW_WORDS as usize, COUNT_WORDS as usize);
+        Ok((0..n as usize)
+            .map(|t| {
+                let (first, rows) = c
+                    .plan
+                    .maps
+                    .iter()
+                    .find_map(|m| match *m {
+                        MapDraw::Indirect {
+                            test,
+                            first,
+                            opaque,
+                            alpha,
+                        } if test as usize == t => {
+                            Some((first as usize, (opaque + alpha) as usize))
+                        }
+                        _ => None,
+                    })
+                    .unwrap_or((0, 0));
+                ConditionalLight {
+                    light: c.plan.lights.get(t).copied().unwrap_or_default(),
+                    samples: u64::from(samples[2 * t]) | u64::from(samples[2 * t + 1]) << 32,
+                    volume_instances: volumes[t * w + 1],
+                    caster_rows: rows as u32,
+                    caster_count: counts[cw * t] + counts[cw * t + 1],
+                    static_count: counts[cw * t + 2] + counts[cw * t + 3],
+                    caster_instances: (first..first + rows)
+                        .filter_map(|r| casters.get(r * w + 1))
+                        .map(|&i| u64::from(i))
+                        .sum(),
+                }
+            })
+            .collect())
     }
 
     /// Reads back the last frame's light tiles: each 16x16 tile's depth range, light count
@@ -1560,6 +1699,7 @@ impl Renderer {
                 volumes: &[],
                 casters: &self.casters,
                 static_slices: &[],
+                conditional: None,
                 origin_offset: self.origin_offset,
                 msaa: false,
             };
@@ -1827,6 +1967,29 @@ impl Renderer {
             .collect()
     }
 
+    /// Reads the last frame's spot shadow maps back, one `resolution`² depth layer per map
+    /// in slot order (0 at the light's near plane, 1 where nothing casts): a test aid.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    #[doc(hidden)]
+    pub fn read_spot_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
+        let maps = &self.targets.spot_shadows;
+        (0..maps.active.min(maps.layers()))
+            .map(|layer| {
+                let bytes = crate::resources::readback::read_texture_layer(
+                    &self.device,
+                    &self.queue,
+                    &maps.texture,
+                    wgpu::TextureAspect::DepthOnly,
+                    4,
+                    layer,
+                )?;
+                Ok(bytemuck::pod_collect_to_vec(&bytes))
+            })
+            .collect()
+    }
+
     /// Uploads the frame's local lights in view space and the light passes' uniforms (the
     /// lights move in view space with the camera, so every frame), growing the light
     /// buffers when they are short. Splits the lights between the tiles and the stencil
@@ -1874,7 +2037,10 @@ impl Renderer {
             .map_or(1.0, |v| v.reach);
         let mut volumes = Vec::with_capacity(volume_lights.len().max(1));
         self.volume_draws.clear();
+        self.volume_map_slots.clear();
         for (k, l) in volume_lights.iter().enumerate() {
+            let map = (l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT).checked_sub(1);
+            self.volume_map_slots.extend(map);
             let (c, r) = l.bounding_sphere();
             volumes.push(GpuLightVolume {
                 sphere: [c.x, c.y, c.z, r],
@@ -1892,11 +2058,13 @@ impl Renderer {
             self.volume_draws.push(VolumeDraw {
                 volume: k as u32,
                 inside: nearest <= camera.near * 1.001,
-                shadowed: l.flags >> crate::spot_shadows::LIGHT_SHADOW_SLOT_SHIFT != 0,
+                map,
+                specular: l.has_specular(),
             });
         }
         let mut rows = tiled.clone();
-        rows.extend(volume_lights);
+        rows.extend_from_slice(&volume_lights);
+        self.volume_rows = volume_lights;
         self.tiled_lights = tiled;
         if rows.is_empty() {
             // A binding holds at least one light; the counts say none are real.
@@ -1964,6 +2132,118 @@ impl Renderer {
             }),
         );
         Ok(count)
+    }
+
+    /// KZ2's conditional rendering emulated: plans this frame's tests (the volume draws of
+    /// lights with a spot map, at most one per map), their maps' caster draws (culled as
+    /// the direct draws are) and the maps the CPU skips, and uploads the tests and the
+    /// caster rows. Nothing with the emulation off.
+    fn plan_conditional(&mut self, scene: &PreparedScene) -> Result<()> {
+        use passes::conditional::{
+            ConditionalPlan, GpuCasterDraw, GpuConditionalParams, GpuConditionalTest, MAX_TESTS,
+            MapDraw,
+        };
+        let (Some(pass), Some(b)) = (&self.pipelines.conditional, &mut self.conditional) else {
+            return Ok(());
+        };
+        let active = self.targets.spot_shadows.active as usize;
+        let mut plan = ConditionalPlan {
+            tests: Vec::new(),
+            draw_test: vec![None; self.volume_draws.len()],
+            maps: vec![MapDraw::Direct; active],
+            lights: Vec::new(),
+        };
+        // A map of a light on the volume path is read by its volume draws alone.
+        for &slot in &self.volume_map_slots {
+            if let Some(m) = plan.maps.get_mut(slot as usize) {
+                *m = MapDraw::Skipped;
+            }
+        }
+        let mut tests = Vec::new();
+        let mut rows = Vec::new();
+        for (k, d) in self.volume_draws.iter().enumerate() {
+            let Some(slot) = d.map.filter(|&s| (s as usize) < active) else {
+                continue;
+            };
+            if tests.len() >= MAX_TESTS as usize {
+                plan.maps[slot as usize] = MapDraw::Direct;
+                continue;
+            }
+            let test = tests.len() as u32;
+            let first = rows.len() as u32;
+            let mut counts = [0u32; 2];
+            for (kind, alpha) in [false, true].into_iter().enumerate() {
+                passes::laydown::for_each_caster(
+                    scene,
+                    self.casters.spots.get(slot as usize),
+                    self.origin_offset,
+                    alpha,
+                    |draw, first_instance, instance_count| {
+                        rows.push(GpuCasterDraw {
+                            index_count: draw.index_count,
+                            instance_count,
+                            first_index: draw.first_index,
+                            base_vertex: draw.base_vertex as i32,
+                            first_instance,
+                            test,
+                            pad: [0; 2],
+                        });
+                        counts[kind] += 1;
+                    },
+                );
+            }
+            tests.push(GpuConditionalTest {
+                volume: d.volume,
+                opaque: counts[0],
+                alpha: counts[1],
+                pad: 0,
+            });
+            plan.tests.push(k as u32);
+            plan.draw_test[k] = Some(test);
+            plan.maps[slot as usize] = MapDraw::Indirect {
+                test,
+                first,
+                opaque: counts[0],
+                alpha: counts[1],
+            };
+        }
+        plan.lights = plan
+            .tests
+            .iter()
+            .map(|&k| {
+                let volume = self.volume_draws[k as usize].volume as usize;
+                self.volume_rows.get(volume).copied().unwrap_or_default()
+            })
+            .collect();
+        if rows.len() > b.capacity as usize {
+            *b = pass.buffers(&self.device, (rows.len() as u32).next_power_of_two())?;
+        }
+        let reach = self
+            .pipelines
+            .light_volumes
+            .as_ref()
+            .map_or(0, |v| v.index_count());
+        self.uploads.write(
+            &b.params,
+            0,
+            bytemuck::bytes_of(&GpuConditionalParams {
+                tests: tests.len() as u32,
+                casters: rows.len() as u32,
+                volume_indices: reach,
+                pad: 0,
+            }),
+        );
+        if !tests.is_empty() {
+            self.uploads
+                .write(&b.tests, 0, bytemuck::cast_slice(&tests));
+        }
+        if !rows.is_empty() {
+            self.uploads
+                .write(&b.caster_rows, 0, bytemuck::cast_slice(&rows));
+        }
+        b.casters = rows.len() as u32;
+        b.plan = plan;
+        Ok(())
     }
 
     /// KZ2's shadowed spots: picks this frame's maps (fade by coverage, largest first),

@@ -188,6 +188,8 @@ impl GpuSpotShadow {
 /// passes draw with, and the rows lighting reads.
 pub(crate) struct SpotShadowMaps {
     pub config: Option<SpotShadowConfig>,
+    /// The depth array (read back by tests).
+    pub texture: wgpu::Texture,
     /// One view per layer (render attachments).
     pub layer_views: Vec<wgpu::TextureView>,
     /// The whole array (lighting samples it).
@@ -219,6 +221,7 @@ impl SpotShadowMaps {
         });
         Self {
             config,
+            texture,
             layer_views,
             array_view,
             frames,

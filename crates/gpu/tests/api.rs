@@ -101,6 +101,7 @@ fn point_lights_change_per_frame() {
             position: frame.camera.target + Vec3::new(i as f32 * 0.3 - 6.0, 1.0, 2.0),
             color: Vec3::new(3.0, 1.0, 0.2),
             radius: 6.0,
+            specular: true,
         })
         .collect();
     let mut dark = frame.clone();
@@ -201,7 +202,8 @@ fn frames_with_wrong_values_are_rejected_by_name() {
         bad(&|f| f.lighting.point_lights = vec![PointLight {
             position: Vec3::ZERO,
             color: Vec3::ONE,
-            radius: f32::NAN
+            radius: f32::NAN,
+            specular: true,
         }]),
         "lighting.point_lights[0].radius"
     );

@@ -149,22 +149,33 @@ fn tiled_lighting_equals_every_light_at_every_pixel() {
 /// KZ2's classification (here with a light holding the eye, drawn from inside, and one
 /// large enough for the volume path), give the tiled image on both frame paths, within
 /// 1 / 255 per channel on at most 0.5% of the pixels (the volumes' sum is added in another
-/// order; their f32 accumulation rounds once more).
+/// order; their f32 accumulation rounds once more). Some lights have no specular term, so
+/// the volumes draw every permutation: with and without specular, with and without a spot
+/// shadow map.
 #[test]
 fn stencil_volumes_give_the_tiled_image() {
     use glam::Vec3;
     let (scene, mut frame) = lit_forest();
+    for (i, p) in frame.lighting.point_lights.iter_mut().enumerate() {
+        p.specular = i % 2 == 1;
+    }
+    // Shadowed spots are every other one: both kinds with and without specular.
+    for (i, s) in frame.lighting.spot_lights.iter_mut().enumerate() {
+        s.specular = i % 4 >= 2;
+    }
     let eye = frame.camera.position;
     let target = frame.camera.target;
     frame.lighting.point_lights.push(PointLight {
         position: eye + Vec3::new(0.4, -0.3, 0.0),
         color: Vec3::new(0.9, 0.6, 0.3),
         radius: 8.0,
+        specular: true,
     });
     frame.lighting.point_lights.push(PointLight {
         position: eye.lerp(target, 0.5) + Vec3::Y,
         color: Vec3::new(0.3, 0.5, 0.9),
         radius: 14.0,
+        specular: true,
     });
     let total = (frame.lighting.point_lights.len() + frame.lighting.spot_lights.len()) as u32;
     let mut tiled = renderer(LightPaths::Tiled, true);
@@ -221,7 +232,75 @@ fn stencil_volumes_give_the_tiled_image() {
 /// within 2 / 255, all but 0.1% within 1 / 255 (lavapipe: worst 1, none over 1).
 #[test]
 fn lit_image_equals_an_f64_reference() {
-    use glam::{DMat4, DVec3, DVec4};
+    let (scene, frame) = reference_forest();
+    let (worst, over1, pixels) = against_f64_reference(&scene, &frame, LightPaths::Tiled);
+    assert!(worst <= 2, "worst {worst}");
+    assert!(over1 * 1000 <= pixels * 3, "{over1}");
+}
+
+/// KZ2's no-specular lights: with every other light (points and spots) diffuse alone, the
+/// image equals the f64 reference that leaves out those lights' specular term, on the
+/// tiles (the compute lighting's branch) and as stencil volumes (the pipelines compiled
+/// without the term), within the tolerances above; and against the image with every
+/// light specular, no channel is brighter by more than 1 / 255 (rounding), and the pixels
+/// the reference says lose at least 3 / 255 are darker.
+#[test]
+fn no_specular_lights_equal_the_f64_reference_without_their_specular_term() {
+    let (scene, specular) = reference_forest();
+    let mut frame = specular.clone();
+    let l = &mut frame.lighting;
+    for (i, p) in l.point_lights.iter_mut().enumerate() {
+        p.specular = i % 2 == 1;
+    }
+    for (i, s) in l.spot_lights.iter_mut().enumerate() {
+        s.specular = i % 2 == 1;
+    }
+    let off = l.point_lights.iter().filter(|p| !p.specular).count()
+        + l.spot_lights.iter().filter(|s| !s.specular).count();
+    assert!(off >= 10, "{off}");
+    for paths in [LightPaths::Tiled, LightPaths::Volumes] {
+        let (worst, over1, pixels) = against_f64_reference(&scene, &frame, paths);
+        eprintln!("{paths:?}: no-specular lights vs f64: worst {worst}, {over1} over 1");
+        assert!(worst <= 2, "{paths:?}: worst {worst}");
+        assert!(over1 * 1000 <= pixels * 3, "{paths:?}: {over1}");
+    }
+    // Against the image with every light specular: the lost term is non-negative.
+    let mut r = reference_renderer(LightPaths::Tiled);
+    let prepared = r.prepare(&scene).unwrap();
+    r.render(&prepared, &specular, RenderPath::Deferred)
+        .unwrap();
+    let with = r.read_output().unwrap();
+    let want_with = f64_reference(&r, &specular);
+    r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
+    let without = r.read_output().unwrap();
+    let want_without = f64_reference(&r, &frame);
+    let (mut brighter, mut expected, mut darker) = (0, 0, 0);
+    for (i, (a, b)) in with.pixels.iter().zip(&without.pixels).enumerate() {
+        // The reference's own loss at this pixel, in 1 / 255 steps.
+        let loss = (0..3)
+            .map(|k| want_with[i][k] - want_without[i][k])
+            .max()
+            .unwrap_or(0);
+        assert!(
+            (0..3).all(|k| want_with[i][k] >= want_without[i][k]),
+            "reference pixel {i}"
+        );
+        brighter += usize::from((0..3).any(|k| b[k] > a[k].saturating_add(1)));
+        if loss >= 3 {
+            expected += 1;
+            darker += usize::from((0..3).any(|k| b[k] < a[k]));
+        }
+    }
+    eprintln!(
+        "no specular: {brighter} pixels brighter by over 1, {darker} of {expected} the reference darkens by 3+ are darker"
+    );
+    assert_eq!(brighter, 0);
+    assert!(expected > 100, "{expected}");
+    assert_eq!(darker, expected);
+}
+
+/// The forest with 40 lights close to the camera's target.
+fn reference_forest() -> (Scene, FrameInput) {
     let (scene, mut frame) = demo::build(&DemoOptions {
         scene: DemoScene::Forest,
         seed: 7,
@@ -229,21 +308,55 @@ fn lit_image_equals_an_f64_reference() {
     });
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
-    // Without the sun's and the spots' shadow maps (their tests are tests/shadows.rs):
-    // the reference evaluates the lighting terms alone.
-    let mut r = common::renderer_with(RendererConfig {
+    (scene, frame)
+}
+
+/// Without the sun's and the spots' shadow maps (their tests are tests/shadows.rs): the
+/// reference evaluates the lighting terms alone.
+fn reference_renderer(light_paths: LightPaths) -> Renderer {
+    common::renderer_with(RendererConfig {
         width: W,
         height: H,
         shadows: None,
         spot_shadows: None,
+        light_paths,
         ..RendererConfig::default()
-    });
-    let prepared = r.prepare(&scene).unwrap();
-    r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
+    })
+}
+
+/// Renders `frame` with `light_paths` and compares it with [`f64_reference`]: the worst
+/// channel difference, the channels off by more than 1, and the pixel count.
+fn against_f64_reference(
+    scene: &Scene,
+    frame: &FrameInput,
+    light_paths: LightPaths,
+) -> (i32, usize, usize) {
+    let mut r = reference_renderer(light_paths);
+    let prepared = r.prepare(scene).unwrap();
+    r.render(&prepared, frame, RenderPath::Deferred).unwrap();
     let image = r.read_output().unwrap();
+    let want = f64_reference(&r, frame);
+    let (mut over1, mut worst) = (0usize, 0i32);
+    for (got, want) in image.pixels.iter().zip(&want) {
+        for (k, w) in want.iter().enumerate() {
+            let e = (i32::from(got[k]) - w).abs();
+            worst = worst.max(e);
+            over1 += usize::from(e > 1);
+        }
+    }
+    eprintln!(
+        "{light_paths:?}: lit image vs f64: worst {worst} / 255, {over1} channels off by more than 1"
+    );
+    (worst, over1, image.pixels.len())
+}
+
+/// An f64 CPU evaluation of `frame`'s lighting (sun, ambient, every point and spot light,
+/// each light's specular term only where it has one, ACES, sRGB) on the G-buffer and depth
+/// of `r`'s last frame: per pixel, RGB in 1 / 255 steps.
+fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
+    use glam::{DMat4, DVec3, DVec4};
     let surfaces = r.read_gbuffer().unwrap();
     let depth = r.read_depth().unwrap();
-
     let cam = &frame.camera;
     let aspect = f64::from(W) / f64::from(H);
     let view = DMat4::look_at_rh(
@@ -262,6 +375,7 @@ fn lit_image_equals_an_f64_reference() {
         range: f64,
         dir: Option<(DVec3, f64)>,
         color: DVec3,
+        specular: bool,
     }
     let at = |p: glam::Vec3| (p - cam.position).as_dvec3();
     let mut lights: Vec<Local> = l
@@ -272,6 +386,7 @@ fn lit_image_equals_an_f64_reference() {
             range: f64::from(p.radius),
             dir: None,
             color: p.color.as_dvec3(),
+            specular: p.specular,
         })
         .collect();
     lights.extend(l.spot_lights.iter().map(|s| Local {
@@ -282,6 +397,7 @@ fn lit_image_equals_an_f64_reference() {
             f64::from(s.half_angle.cos()),
         )),
         color: s.color.as_dvec3(),
+        specular: s.specular,
     }));
     let spec = |n: DVec3, v: DVec3, l: DVec3, rough: f64, f0: f64| {
         let h = (v + l).normalize();
@@ -310,7 +426,7 @@ fn lit_image_equals_an_f64_reference() {
             1.055 * c.powf(1.0 / 2.4) - 0.055
         }
     };
-    let (mut over1, mut worst) = (0usize, 0i32);
+    let mut out = Vec::with_capacity((W * H) as usize);
     for y in 0..H {
         for x in 0..W {
             let i = (y * W + x) as usize;
@@ -361,22 +477,127 @@ fn lit_image_equals_an_f64_reference() {
                             (-ll).dot(dir),
                         );
                     }
+                    let specular_term = if light.specular {
+                        specular * spec(n, v, ll, rough, 0.04)
+                    } else {
+                        0.0
+                    };
                     color += light.color
                         * falloff
-                        * (diffuse * n.dot(ll).max(0.0)
-                            + DVec3::splat(specular * spec(n, v, ll, rough, 0.04)));
+                        * (diffuse * n.dot(ll).max(0.0) + DVec3::splat(specular_term));
                 }
             }
-            let want =
-                [color.x, color.y, color.z].map(|c| (srgb(tonemap(c)) * 255.0).round() as i32);
-            for (k, w) in want.iter().enumerate() {
-                let e = (i32::from(image.pixels[i][k]) - w).abs();
-                worst = worst.max(e);
-                over1 += usize::from(e > 1);
-            }
+            out.push(
+                [color.x, color.y, color.z].map(|c| (srgb(tonemap(c)) * 255.0).round() as i32),
+            );
         }
     }
-    eprintln!("lit image vs f64: worst {worst} / 255, {over1} channels off by more than 1");
-    assert!(worst <= 2, "worst {worst}");
-    assert!(over1 * 1000 <= image.pixels.len() * 3, "{over1}");
+    out
+}
+
+/// KZ2's conditional rendering, emulated: three shadow-casting spots on the volume path,
+/// one over the forest floor, one under the ground (its volume wholly behind the terrain:
+/// "behind the pillar") and one high in the air pointing up (it lights no surface: "the
+/// air in the hallway"). With the emulation, the hidden two's tests count no pixel and
+/// the GPU zeroes their maps' caster draws and their volume draws, while the lit one keeps
+/// both; the image equals the image without the emulation bit for bit, and the image
+/// without the hidden lights at all.
+#[test]
+fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
+    use glam::Vec3;
+    use gpu::SpotLight;
+    let (scene, mut frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Forest,
+        seed: 7,
+        density: 0.25,
+    });
+    frame.lighting.sun_color *= 0.05;
+    frame.lighting.ambient *= 0.3;
+    let eye = frame.camera.position;
+    let target = frame.camera.target;
+    let spot = |position: Vec3, direction: Vec3, radius: f32| SpotLight {
+        position,
+        direction,
+        color: Vec3::new(30.0, 24.0, 16.0),
+        radius,
+        half_angle: 0.7,
+        shadow: true,
+        specular: true,
+    };
+    let lit = spot(
+        eye.lerp(target, 0.5) + Vec3::new(0.0, 4.0, 0.0),
+        Vec3::new(0.1, -1.0, 0.05),
+        14.0,
+    );
+    let buried = spot(target - Vec3::new(0.0, 6.0, 0.0), Vec3::NEG_Y, 5.0);
+    let aloft = spot(
+        eye.lerp(target, 1.5) + Vec3::new(0.0, 12.0, 0.0),
+        Vec3::Y,
+        10.0,
+    );
+    frame.lighting.spot_lights = vec![lit, buried, aloft];
+    let make = |conditional_volumes| {
+        common::renderer_with(RendererConfig {
+            width: 240,
+            height: 136,
+            shadows: common::test_shadows(),
+            light_paths: LightPaths::Volumes,
+            conditional_volumes,
+            ..RendererConfig::default()
+        })
+    };
+    let mut on = make(true);
+    let mut off = make(false);
+    let p_on = on.prepare(&scene).unwrap();
+    let p_off = off.prepare(&scene).unwrap();
+    on.render(&p_on, &frame, RenderPath::Deferred).unwrap();
+    let with = on.read_output().unwrap();
+    off.render(&p_off, &frame, RenderPath::Deferred).unwrap();
+    let without = off.read_output().unwrap();
+    let counts = on.light_path_counts();
+    eprintln!("with: {counts:?}; without: {:?}", off.light_path_counts());
+    assert_eq!(counts.spot_shadow_maps, 3, "{counts:?}");
+    assert_eq!(counts.volumes_tested, 3, "{counts:?}");
+    assert_eq!(off.light_path_counts().volumes_tested, 0);
+    let differ = common::differing_pixels(&with, &without);
+    assert_eq!(differ, 0, "{differ} pixels differ with the emulation");
+    // The GPU's decisions, per spot (matched by their view-space positions).
+    let rows = local_light_rows(&frame.lighting, &frame.camera);
+    let tested = on.read_conditional_volumes().unwrap();
+    assert_eq!(tested.len(), 3);
+    for (i, row) in rows.iter().filter(|r| r.is_spot()).enumerate() {
+        let t = tested
+            .iter()
+            .find(|t| t.light.position == row.position)
+            .unwrap_or_else(|| panic!("light {i} not tested"));
+        eprintln!("light {i}: {t:?}");
+        assert!(t.caster_rows > 0 || i == 2, "light {i}: no casters to skip");
+        if i == 0 {
+            // Its map, drawn through the indirect arguments, is the directly drawn one (both
+            // renderers give the lights the same slots).
+            let slot = (t.light.flags >> 8) as usize - 1;
+            let map = &on.read_spot_shadow_maps().unwrap()[slot];
+            assert!(map.iter().any(|&d| d < 1.0), "the lit light's map is empty");
+            assert!(map == &off.read_spot_shadow_maps().unwrap()[slot]);
+            assert!(t.samples > 0, "lit light {i}: {t:?}");
+            assert_eq!(t.volume_instances, 1);
+            assert_eq!(t.caster_count, t.caster_rows);
+            assert!(t.caster_instances > 0);
+        } else {
+            assert_eq!(t.samples, 0, "hidden light {i}: {t:?}");
+            assert_eq!(t.volume_instances, 0);
+            assert_eq!((t.caster_count, t.caster_instances), (0, 0));
+        }
+    }
+    // The hidden lights light nothing: the image without them is the same.
+    let mut alone = frame.clone();
+    alone.lighting.spot_lights.truncate(1);
+    off.render(&p_off, &alone, RenderPath::Deferred).unwrap();
+    let only_lit = off.read_output().unwrap();
+    assert_eq!(common::differing_pixels(&with, &only_lit), 0);
+    // And the lit one does light the frame.
+    alone.lighting.spot_lights.clear();
+    off.render(&p_off, &alone, RenderPath::Deferred).unwrap();
+    let dark = off.read_output().unwrap();
+    assert!(common::differing_pixels(&with, &dark) * 50 > with.pixels.len());
 }

@@ -353,6 +353,7 @@ fn shadowed_spots_only_darken_and_fade_out() {
             radius: 14.0,
             half_angle: 0.7,
             shadow: true,
+            specular: true,
         });
     }
     let mut unshadowed = frame.clone();

@@ -752,3 +752,78 @@ fn render_static_refuses_a_scene_without_static_setups() {
     let e = r.prepare(&bad).err().expect("a missing mesh is refused");
     assert!(e.to_string().contains("static setup 3"), "{e}");
 }
+
+/// KZ2's conditional rendering emulated in a static frame: two shadow-casting spots on the
+/// volume path over the street, one lighting it and one buried under it. The buried one's
+/// map draws neither its planned casters nor the static query's lists (their counts
+/// zeroed on the GPU, where the device has `MULTI_DRAW_INDIRECT_COUNT`), the lit one's
+/// draws the lists with the placement's counts, and the image equals the one without
+/// the emulation bit for bit.
+#[test]
+fn conditional_volumes_keep_the_static_frame() {
+    let mut rig = Rig::new();
+    let camera = rig.city.frame.camera;
+    let (eye, target) = (camera.position, camera.target);
+    let spot = |position: Vec3, radius: f32| gpu::SpotLight {
+        position,
+        direction: Vec3::new(0.1, -1.0, 0.05),
+        color: Vec3::new(30.0, 24.0, 16.0),
+        radius,
+        half_angle: 0.7,
+        shadow: true,
+        specular: true,
+    };
+    let lighting = &mut rig.city.frame.lighting;
+    lighting.sun_color *= 0.05;
+    lighting.spot_lights = vec![
+        spot(eye.lerp(target, 0.5) + Vec3::new(0.0, 4.0, 0.0), 14.0),
+        // 30 m ahead, 14 m below the eye: under the street.
+        spot(
+            eye + (target - eye).normalize() * 30.0 - Vec3::new(0.0, 14.0, 0.0),
+            5.0,
+        ),
+    ];
+    let desc = still_lod_desc(&camera);
+    let mut images = Vec::new();
+    for conditional_volumes in [true, false] {
+        rig.r = common::renderer_with(gpu::RendererConfig {
+            width: W,
+            height: H,
+            shadows: common::test_shadows(),
+            baked_sun: false,
+            light_paths: gpu::LightPaths::Volumes,
+            conditional_volumes,
+            ..gpu::RendererConfig::default()
+        });
+        rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
+        let (image, _) = rig.frame(desc, camera, RenderPath::Deferred);
+        let counts = rig.r.light_path_counts();
+        let tested = rig.r.read_conditional_volumes().unwrap();
+        eprintln!("conditional {conditional_volumes}: {counts:?}");
+        for t in &tested {
+            eprintln!("  {t:?}");
+        }
+        assert_eq!(counts.spot_shadow_maps, 2, "{counts:?}");
+        if conditional_volumes {
+            assert_eq!(tested.len(), 2);
+            let with_count = ctx()
+                .device
+                .features()
+                .contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT);
+            // Spots in order: the lit one is nearer the eye (view z closer to 0).
+            let (lit, buried) = if tested[0].light.position[1] > tested[1].light.position[1] {
+                (tested[0], tested[1])
+            } else {
+                (tested[1], tested[0])
+            };
+            assert!(lit.samples > 0 && lit.volume_instances == 1, "{lit:?}");
+            assert!(!with_count || lit.static_count > 0, "{lit:?}");
+            assert_eq!((buried.samples, buried.volume_instances), (0, 0));
+            assert_eq!((buried.caster_count, buried.static_count), (0, 0));
+        } else {
+            assert!(tested.is_empty());
+        }
+        images.push(image);
+    }
+    assert_eq!(common::differing_pixels(&images[0], &images[1]), 0);
+}

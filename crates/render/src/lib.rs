@@ -213,6 +213,11 @@ pub struct Args {
     /// report lists each slice's static casters and those dropped.
     #[arg(long, default_value_t = gpu::ShadowConfig::default().static_size_threshold, value_parser = parse_size_threshold)]
     pub shadow_size_threshold: f32,
+    /// Draw the maps and shading of shadowed volume lights directly, even where their
+    /// volume covers no pixel (no emulation of KZ2's conditional rendering: no test pass,
+    /// no indirect arguments); only matters with volumes in `--light-paths`.
+    #[arg(long)]
+    pub no_conditional_volumes: bool,
 }
 
 /// A shadow size threshold given on the command line: finite, 0 to 64 texels.
@@ -277,6 +282,7 @@ fn report_lighting(
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
     report.light_paths(renderer.light_path_counts());
+    report.conditional_volumes(&renderer.read_conditional_volumes()?);
     report.uploads(renderer.upload_stats(), renderer.config().upload_pool);
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
     let (surfaces, depth) = (renderer.read_gbuffer()?, renderer.read_depth()?);
@@ -511,6 +517,7 @@ pub fn run(args: &Args) -> Result<()> {
         baked_sun: !args.no_baked_sun,
         spot_shadows: (!args.no_spot_shadows).then(gpu::SpotShadowConfig::default),
         cull_shadow_casters: !args.no_caster_culling,
+        conditional_volumes: !args.no_conditional_volumes,
         gbuffer: match args.gbuffer {
             GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
             GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,

@@ -96,14 +96,29 @@ impl Report {
     /// How the lights were drawn: tiles, stencil volumes (and of those, from inside).
     pub fn light_paths(&mut self, c: gpu::LightPathCounts) {
         self.row(
-            "lights by tiles / by stencil volumes (drawn from inside) / spot shadow maps",
+            "lights by tiles / by stencil volumes (drawn from inside, tested) / spot shadow maps (skipped by the CPU)",
             format!(
-                "{} / {} ({}) / {}",
+                "{} / {} ({}, {}) / {} ({})",
                 group_digits(u64::from(c.tiled)),
                 group_digits(u64::from(c.volumes)),
                 group_digits(u64::from(c.volumes_from_inside)),
-                c.spot_shadow_maps
+                c.volumes_tested,
+                c.spot_shadow_maps,
+                c.spot_shadow_maps_skipped
             ),
+        );
+    }
+
+    /// What KZ2's emulated conditional rendering decided on the GPU for the tested lights
+    /// (nothing when none was tested).
+    pub fn conditional_volumes(&mut self, tested: &[gpu::ConditionalLight]) {
+        if tested.is_empty() {
+            return;
+        }
+        let skipped = tested.iter().filter(|t| t.volume_instances == 0).count();
+        self.row(
+            "tested volume lights skipped by the GPU (no pixel: neither map nor shading)",
+            format!("{skipped} of {}", tested.len()),
         );
     }
 

@@ -15,6 +15,8 @@ const DEFERRED_TILE_SIZE: u32 = 16u;
 const DEFERRED_MAX_LIGHTS_PER_TILE: u32 = 256u;
 const DEFERRED_LIGHT_FLAG_SHADOW: u32 = 1u;
 const DEFERRED_LIGHT_FLAG_SPOT: u32 = 2u;
+// No specular term: diffuse alone (KZ2's no-specular permutation).
+const DEFERRED_LIGHT_FLAG_NO_SPECULAR: u32 = 4u;
 
 // Rust: deferred::DeferredLight (48 bytes).
 struct DeferredLight {
@@ -67,6 +69,10 @@ fn deferred_tile_frustum(p: DeferredProjection, tile: vec2<u32>, depth: Deferred
 
 fn deferred_light_is_spot(l: DeferredLight) -> bool {
     return (l.flags & DEFERRED_LIGHT_FLAG_SPOT) != 0u;
+}
+
+fn deferred_light_has_specular(l: DeferredLight) -> bool {
+    return (l.flags & DEFERRED_LIGHT_FLAG_NO_SPECULAR) == 0u;
 }
 
 // xyz: centre, w: radius of a sphere around the light's volume.

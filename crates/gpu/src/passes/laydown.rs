@@ -370,12 +370,17 @@ impl Laydown {
 
     /// Records this frame's spot shadow maps (KZ2's shadowed local lights): the scene's
     /// casters meeting each chosen light's view, drawn from the light, one layer each.
+    /// With KZ2's conditional rendering emulated ([`super::conditional`]), a shadowed
+    /// volume light's map draws its planned casters through the arguments its test wrote
+    /// (none where its volume covers no pixel), and a map whose light has no volume draw is
+    /// skipped.
     pub(crate) fn record_spot_shadows(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
+        use super::conditional::{COUNT_WORDS, DRAW_BYTES, MapDraw, draw_rows};
         let maps = &f.targets.spot_shadows;
         for (k, (view, group)) in maps
             .layer_views
@@ -384,8 +389,64 @@ impl Laydown {
             .take(maps.active as usize)
             .enumerate()
         {
-            let mut pass = shadow_pass(encoder, view, "spot shadow maps", timer);
-            self.draw_shadow_view(&mut pass, f, group, f.casters.spots.get(k), None);
+            let plan = f
+                .conditional
+                .and_then(|c| c.plan.maps.get(k).map(|m| (c, *m)));
+            match plan {
+                None | Some((_, MapDraw::Direct)) => {
+                    let mut pass = shadow_pass(encoder, view, "spot shadow maps", timer);
+                    self.draw_shadow_view(&mut pass, f, group, f.casters.spots.get(k), None);
+                }
+                Some((_, MapDraw::Skipped)) => {}
+                Some((
+                    c,
+                    MapDraw::Indirect {
+                        test,
+                        first,
+                        opaque,
+                        alpha,
+                    },
+                )) => {
+                    let mut pass = shadow_pass(encoder, view, "spot shadow maps", timer);
+                    pass.set_bind_group(0, group, &[]);
+                    pass.set_bind_group(1, &f.scene.laydown.payloads, &[]);
+                    pass.set_index_buffer(
+                        f.scene.index_buffer.slice(..),
+                        wgpu::IndexFormat::Uint32,
+                    );
+                    let word = u64::from(COUNT_WORDS) * u64::from(test);
+                    pass.set_pipeline(&self.shadow_opaque);
+                    draw_rows(&mut pass, c, first, opaque, word);
+                    pass.set_pipeline(&self.shadow_alpha);
+                    draw_rows(&mut pass, c, first + opaque, alpha, word + 1);
+                    if f.static_query
+                        && let Some(b) = &f.scene.statics
+                    {
+                        if c.with_count && b.with_count {
+                            // The full lists with this light's copies of their counts.
+                            for (list, first, count) in [(2, 0, b.opaque), (3, b.opaque, b.alpha)] {
+                                if count > 0 {
+                                    pass.multi_draw_indexed_indirect_count(
+                                        &b.draws,
+                                        u64::from(first) * DRAW_BYTES,
+                                        &c.counts,
+                                        4 * (word + list),
+                                        count,
+                                    );
+                                }
+                            }
+                        } else {
+                            super::static_place::record_static_draws(
+                                &mut pass,
+                                b,
+                                &self.shadow_alpha,
+                                &self.shadow_alpha,
+                                false,
+                            );
+                        }
+                    }
+                }
+            }
         }
     }
 
@@ -620,43 +681,68 @@ fn draw_planned_culled(
     pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     for alpha_pass in [false, true] {
         pass.set_pipeline(if alpha_pass { alpha } else { opaque });
-        for d in scene
-            .draws
-            .iter()
-            .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
-        {
-            let chunks = scene
-                .chunks
-                .get(d.first_chunk as usize..(d.first_chunk + d.chunk_count) as usize)
-                .unwrap_or(&[]);
-            let mut run: Option<(u32, u32)> = None;
-            let mut flush = |run: &mut Option<(u32, u32)>| {
-                if let Some((first, count)) = run.take() {
-                    pass.draw_indexed(
-                        d.first_index..d.first_index + d.index_count,
-                        d.base_vertex as i32,
-                        first..first + count,
-                    );
-                }
-            };
-            for c in chunks {
-                if crate::shadows::sphere_meets(planes, c.center + offset, c.radius) {
-                    run = match run {
-                        Some((first, count)) if first + count == c.first_instance => {
-                            Some((first, count + c.instance_count))
-                        }
-                        other => {
-                            let mut other = other;
-                            flush(&mut other);
-                            Some((c.first_instance, c.instance_count))
-                        }
-                    };
-                } else {
-                    flush(&mut run);
-                }
+        for_each_caster(
+            scene,
+            Some(planes),
+            offset,
+            alpha_pass,
+            |d, first, count| {
+                pass.draw_indexed(
+                    d.first_index..d.first_index + d.index_count,
+                    d.base_vertex as i32,
+                    first..first + count,
+                );
+            },
+        );
+    }
+}
+
+/// Calls `draw(d, first_instance, instance_count)` for the scene's planned draws that are
+/// alpha-tested (`alpha_pass`) or opaque, each reduced with `planes` as
+/// [`draw_planned_culled`] does (whole without planes): what a shadow view draws.
+pub(crate) fn for_each_caster(
+    scene: &crate::resources::PreparedScene,
+    planes: Option<&[glam::Vec4; 6]>,
+    offset: glam::Vec3,
+    alpha_pass: bool,
+    mut draw: impl FnMut(&Draw, u32, u32),
+) {
+    for d in scene
+        .draws
+        .iter()
+        .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
+    {
+        let Some(planes) = planes else {
+            draw(d, d.first_instance, d.instance_count);
+            continue;
+        };
+        let chunks = scene
+            .chunks
+            .get(d.first_chunk as usize..(d.first_chunk + d.chunk_count) as usize)
+            .unwrap_or(&[]);
+        let mut run: Option<(u32, u32)> = None;
+        let mut flush = |run: &mut Option<(u32, u32)>| {
+            if let Some((first, count)) = run.take() {
+                draw(d, first, count);
             }
-            flush(&mut run);
+        };
+        for c in chunks {
+            if crate::shadows::sphere_meets(planes, c.center + offset, c.radius) {
+                run = match run {
+                    Some((first, count)) if first + count == c.first_instance => {
+                        Some((first, count + c.instance_count))
+                    }
+                    other => {
+                        let mut other = other;
+                        flush(&mut other);
+                        Some((c.first_instance, c.instance_count))
+                    }
+                };
+            } else {
+                flush(&mut run);
+            }
         }
+        flush(&mut run);
     }
 }
 

@@ -6,9 +6,12 @@
 //! target (one full-screen triangle). Per light (camera outside its mesh): back faces
 //! behind the scene mark stencil, front faces in front of the scene where stencil is set
 //! shade and clear it; with the eye inside (or the mesh reaching the near plane), back
-//! faces behind the scene shade alone.
+//! faces behind the scene shade alone. KZ2's light-shader permutations: each light's shade
+//! pipeline is compiled without the spot shadow code unless the light has a map this frame,
+//! and without the specular term for lights that have none ([`PointLight::specular`]).
 //!
 //! [`LightPaths`]: crate::LightPaths
+//! [`PointLight::specular`]: crate::PointLight::specular
 
 use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
@@ -16,6 +19,7 @@ use glam::Vec3;
 use shader::pipeline::Layouts;
 use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
 
+use super::conditional::{DRAW_BYTES, MAX_TESTS};
 use super::lighting::GpuLocalLights;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
@@ -44,8 +48,11 @@ pub(crate) struct VolumeDraw {
     pub volume: u32,
     /// Back faces alone, no stencil (the front faces may be clipped by the near plane).
     pub inside: bool,
-    /// The light has a spot shadow map this frame: the shading permutation that reads it.
-    pub shadowed: bool,
+    /// The light's spot shadow map this frame (its slot), if it has one: the shading
+    /// permutation that reads it.
+    pub map: Option<u32>,
+    /// The light has a specular term: else the permutation compiled without it.
+    pub specular: bool,
 }
 
 /// The pass: the depth copy and the volumes (group `volume`), over the G-buffer.
@@ -53,7 +60,7 @@ pub(crate) const LIGHT_VOLUMES: Pass = Pass {
     name: "light volumes",
     module: "gpu::light_volumes",
     library: LIBRARY,
-    features: &["spot_shadows"],
+    features: &["spot_shadows", "no_specular"],
     groups: &[
         Group {
             name: "volume",
@@ -91,7 +98,7 @@ pub(crate) const LIGHT_VOLUMES_KZ2: Pass = Pass {
             bindings: &KZ2_LOAD_BINDINGS,
         },
     ],
-    features: &["kz2_gbuffer", "spot_shadows"],
+    features: &["kz2_gbuffer", "spot_shadows", "no_specular"],
     ..LIGHT_VOLUMES
 };
 
@@ -251,9 +258,17 @@ pub(crate) struct LightVolumes {
     load: &'static [Binding; 4],
     copy_depth: wgpu::RenderPipeline,
     mark: wgpu::RenderPipeline,
-    /// Shading from outside and from inside, each without and with the spot shadow code.
-    shade: [wgpu::RenderPipeline; 2],
-    inside: [wgpu::RenderPipeline; 2],
+    /// Shading from outside and from inside, KZ2's light-shader permutations: indexed
+    /// `[specular][shadowed]`, without and with the specular term, without and with the
+    /// spot shadow code.
+    shade: [[wgpu::RenderPipeline; 2]; 2],
+    inside: [[wgpu::RenderPipeline; 2]; 2],
+    /// The test pass's (no colour target): the depth copy, the mark, the counted front
+    /// faces (the shade's tests, stencil reset as it does), the counted inside draw.
+    test_copy: wgpu::RenderPipeline,
+    test_mark: wgpu::RenderPipeline,
+    test_count: wgpu::RenderPipeline,
+    test_inside: wgpu::RenderPipeline,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -276,19 +291,27 @@ impl LightVolumes {
             GBufferLayout::Octahedral => (&LIGHT_VOLUMES, &LOAD_BINDINGS),
         };
         let layouts = Layouts::new(device, description);
-        // KZ2's light-shader permutations: the shading without and with a spot's shadow map.
-        let compile = |shadowed: bool| -> Result<wgpu::ShaderModule> {
+        // KZ2's light-shader permutations: the shading without and with a spot's shadow
+        // map, without and with the specular term.
+        let compile = |specular: bool, shadowed: bool| -> Result<wgpu::ShaderModule> {
             let mut features = crate::gbuffer::features(layout).to_vec();
             if shadowed {
                 features.push("spot_shadows");
+            }
+            if !specular {
+                features.push("no_specular");
             }
             Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(LIGHT_VOLUMES.name),
                 source: wgpu::ShaderSource::Wgsl(description.source(&features)?.into()),
             }))
         };
-        let plain_module = compile(false)?;
-        let shadow_module = compile(true)?;
+        // [specular][shadowed]; the mark and the depth copy shade nothing: the first.
+        let modules = [
+            [compile(false, false)?, compile(false, true)?],
+            [compile(true, false)?, compile(true, true)?],
+        ];
+        let plain_module = &modules[1][0];
         let accumulation = accumulation_format(device);
         let depth_format = depth_stencil_format(device);
         let additive = wgpu::BlendComponent {
@@ -379,7 +402,7 @@ impl LightVolumes {
         use wgpu::CompareFunction as C;
         use wgpu::StencilOperation as S;
         let copy_depth = make(
-            &plain_module,
+            plain_module,
             "light volumes: depth copy",
             "vs_full_screen",
             "fs_copy_depth",
@@ -391,7 +414,7 @@ impl LightVolumes {
         );
         // Reversed Z: "behind the scene" is Less, "in front of or at it" GreaterEqual.
         let mark = make(
-            &plain_module,
+            plain_module,
             "light volumes: stencil mark",
             "vs_volume",
             "fs_mark",
@@ -401,32 +424,83 @@ impl LightVolumes {
             stencil(stencil_face(C::Always, S::Replace, S::Keep)),
             &no_colour,
         );
-        let shade = [&plain_module, &shadow_module].map(|m| {
-            make(
-                m,
-                "light volumes: shade",
-                "vs_volume",
-                "fs_shade",
-                Some(wgpu::Face::Back),
-                false,
-                C::GreaterEqual,
-                stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
-                &add_colour,
-            )
+        let shade = modules.each_ref().map(|m| {
+            m.each_ref().map(|m| {
+                make(
+                    m,
+                    "light volumes: shade",
+                    "vs_volume",
+                    "fs_shade",
+                    Some(wgpu::Face::Back),
+                    false,
+                    C::GreaterEqual,
+                    stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+                    &add_colour,
+                )
+            })
         });
-        let inside = [&plain_module, &shadow_module].map(|m| {
-            make(
-                m,
-                "light volumes: shade from inside",
-                "vs_volume",
-                "fs_shade",
-                Some(wgpu::Face::Front),
-                false,
-                C::Less,
-                keep.clone(),
-                &add_colour,
-            )
+        let inside = modules.each_ref().map(|m| {
+            m.each_ref().map(|m| {
+                make(
+                    m,
+                    "light volumes: shade from inside",
+                    "vs_volume",
+                    "fs_shade",
+                    Some(wgpu::Face::Front),
+                    false,
+                    C::Less,
+                    keep.clone(),
+                    &add_colour,
+                )
+            })
         });
+        // KZ2's conditional rendering emulated: the same draws with the same tests, depth
+        // and stencil only, so that an occlusion query counts exactly the pixels the
+        // shading would run on.
+        let test_copy = make(
+            plain_module,
+            "light volume tests: depth copy",
+            "vs_full_screen",
+            "fs_copy_depth",
+            None,
+            true,
+            C::Always,
+            keep.clone(),
+            &[],
+        );
+        let test_mark = make(
+            plain_module,
+            "light volume tests: stencil mark",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            stencil(stencil_face(C::Always, S::Replace, S::Keep)),
+            &[],
+        );
+        let test_count = make(
+            plain_module,
+            "light volume tests: count",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Back),
+            false,
+            C::GreaterEqual,
+            stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
+            &[],
+        );
+        let test_inside = make(
+            plain_module,
+            "light volume tests: count from inside",
+            "vs_volume",
+            "fs_mark",
+            Some(wgpu::Face::Front),
+            false,
+            C::Less,
+            keep.clone(),
+            &[],
+        );
         let (positions, indices) = unit_volume_mesh();
         let reach = unit_volume_reach(&positions);
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -447,11 +521,20 @@ impl LightVolumes {
             mark,
             shade,
             inside,
+            test_copy,
+            test_mark,
+            test_count,
+            test_inside,
             vertices,
             indices,
             index_count,
             reach,
         })
+    }
+
+    /// Indices of the unit volume mesh (every volume draw's count).
+    pub(crate) fn index_count(&self) -> u32 {
+        self.index_count
     }
 
     /// The groups: the frame's uniforms, depth target and lights, the volume rows, and the
@@ -491,8 +574,74 @@ impl LightVolumes {
         })
     }
 
+    /// Records the test pass of KZ2's conditional rendering ([`super::conditional`]): the
+    /// depth copy into the depth-stencil target (kept for [`LightVolumes::record`]), then
+    /// per tested light the draws its shading would make, its shading draw inside
+    /// occlusion query `test`. Records nothing without tests.
+    pub(crate) fn record_tests(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        let (Some(g), Some(c)) = (&f.groups.light_volumes, f.conditional) else {
+            return;
+        };
+        if c.plan.tests.is_empty() {
+            return;
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("light volume tests"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &f.targets.light_volumes.depth_stencil_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+            }),
+            timestamp_writes: timer.render("light volume tests"),
+            occlusion_query_set: Some(&c.queries),
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &g.volume, &[]);
+        pass.set_bind_group(1, &g.gbuffer, &[]);
+        pass.set_pipeline(&self.test_copy);
+        pass.draw(0..3, 0..1);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
+        pass.set_stencil_reference(1);
+        let n = self.index_count;
+        for (test, &draw) in c.plan.tests.iter().enumerate().take(MAX_TESTS as usize) {
+            let Some(d) = f.volumes.get(draw as usize) else {
+                // A plan never points past the draws; an empty query counts nothing.
+                pass.begin_occlusion_query(test as u32);
+                pass.end_occlusion_query();
+                continue;
+            };
+            let instance = d.volume..d.volume + 1;
+            if d.inside {
+                pass.set_pipeline(&self.test_inside);
+            } else {
+                pass.set_pipeline(&self.test_mark);
+                pass.draw_indexed(0..n, 0, instance.clone());
+                pass.set_pipeline(&self.test_count);
+            }
+            pass.begin_occlusion_query(test as u32);
+            pass.draw_indexed(0..n, 0, instance);
+            pass.end_occlusion_query();
+        }
+    }
+
     /// Records the depth copy and `draws` into the accumulation target (cleared first).
-    /// Records nothing without draws (lighting then does not read the accumulation).
+    /// Records nothing without draws (lighting then does not read the accumulation). With
+    /// KZ2's conditional rendering emulated and lights tested this frame, the depth copy is
+    /// the test pass's, and each tested light is drawn through the arguments its test
+    /// wrote (no instance where it covers no pixel).
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -505,6 +654,7 @@ impl LightVolumes {
         if f.volumes.is_empty() {
             return;
         }
+        let tested = f.conditional.filter(|c| !c.plan.tests.is_empty());
         let t = &f.targets.light_volumes;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("light volumes"),
@@ -520,7 +670,11 @@ impl LightVolumes {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_stencil_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
+                    load: if tested.is_some() {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(0.0)
+                    },
                     store: wgpu::StoreOp::Discard,
                 }),
                 stencil_ops: Some(wgpu::Operations {
@@ -534,23 +688,34 @@ impl LightVolumes {
         });
         pass.set_bind_group(0, &g.volume, &[]);
         pass.set_bind_group(1, &g.gbuffer, &[]);
-        pass.set_pipeline(&self.copy_depth);
-        pass.draw(0..3, 0..1);
+        if tested.is_none() {
+            pass.set_pipeline(&self.copy_depth);
+            pass.draw(0..3, 0..1);
+        }
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.set_stencil_reference(1);
         let n = self.index_count;
-        for d in f.volumes {
+        for (k, d) in f.volumes.iter().enumerate() {
             let instance = d.volume..d.volume + 1;
-            let permutation = usize::from(d.shadowed);
+            let (specular, shadowed) = (usize::from(d.specular), usize::from(d.map.is_some()));
+            // A tested light: its test's arguments, one instance or none.
+            let args = tested.and_then(|c| {
+                let test = (*c.plan.draw_test.get(k)?)?;
+                (test < MAX_TESTS).then_some((c, u64::from(test) * DRAW_BYTES))
+            });
+            let draw = |pass: &mut wgpu::RenderPass<'_>| match args {
+                Some((c, offset)) => pass.draw_indexed_indirect(&c.volume_args, offset),
+                None => pass.draw_indexed(0..n, 0, instance.clone()),
+            };
             if d.inside {
-                pass.set_pipeline(&self.inside[permutation]);
-                pass.draw_indexed(0..n, 0, instance);
+                pass.set_pipeline(&self.inside[specular][shadowed]);
+                draw(&mut pass);
             } else {
                 pass.set_pipeline(&self.mark);
-                pass.draw_indexed(0..n, 0, instance.clone());
-                pass.set_pipeline(&self.shade[permutation]);
-                pass.draw_indexed(0..n, 0, instance);
+                draw(&mut pass);
+                pass.set_pipeline(&self.shade[specular][shadowed]);
+                draw(&mut pass);
             }
         }
     }
@@ -564,6 +729,20 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHT_VOLUMES, |_| Caps::CORE);
+        // KZ2's no-specular permutation: the shading calls no GGX term; the other one
+        // calls it, behind the light's flag.
+        let shading = |features: &[&str]| {
+            let src = LIGHT_VOLUMES.source(features).unwrap();
+            let start = src.find("fn light_shading_local(").unwrap();
+            let end = src[start..].find("\n}").unwrap();
+            src[start..start + end].to_string()
+        };
+        assert!(!shading(&["no_specular"]).contains("light_shading_specular("));
+        let with = shading(&[]);
+        assert!(
+            with.contains("light_shading_specular(")
+                && with.contains("deferred_light_has_specular(l)")
+        );
         shadercheck::check_pass_with(&LIGHT_VOLUMES_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);
         let m = shadercheck::assert_composed(LIBRARY, LIGHT_VOLUMES.module, &[], Caps::CORE);
         assert_struct_layout(

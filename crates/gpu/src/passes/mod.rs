@@ -14,6 +14,7 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | light volume tests | [`light_volumes`], [`conditional`] | KZ2's conditional rendering emulated: shadowed volume lights' pixel counts -> indirect draws of their spot maps and shading |
 //! | light volumes | [`light_volumes`] | KZ2's stencil light volumes (large lights) -> light accumulation |
 //! | light tiles | [`lights`] | depth target -> per-tile depth ranges -> per-tile light lists (`deferred`'s culling pass) |
 //! | lighting | [`lighting`] | sun, ambient, local lights from the tile lists, tone mapping -> output |
@@ -31,6 +32,7 @@ use crate::timing::GpuTimer;
 
 pub(crate) mod baseline;
 pub(crate) mod classify;
+pub(crate) mod conditional;
 pub(crate) mod laydown;
 pub(crate) mod light_volumes;
 pub(crate) mod lighting;
@@ -70,6 +72,7 @@ gpu_modules!(
     LIGHTING = "lighting",
     LIGHT_SHADING = "light_shading",
     LIGHT_VOLUMES = "light_volumes",
+    CONDITIONAL = "conditional",
     VIS_COPY = "vis_copy",
     ZERO = "zero",
     STATIC_PLACE = "static_place",
@@ -98,6 +101,7 @@ pub(crate) fn stage_counts() -> StageCounts {
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
         light_volumes::LIGHT_VOLUMES.stage_counts(),
+        conditional::CONDITIONAL.stage_counts(),
         lights::TILE_DEPTH.stage_counts(),
         deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
@@ -124,12 +128,16 @@ pub(crate) struct Pipelines {
     pub lights: lights::LocalLights,
     /// With a light path that has volumes.
     pub light_volumes: Option<light_volumes::LightVolumes>,
+    /// With volumes and [`RendererConfig::conditional_volumes`](crate::RendererConfig)
+    /// on a device with `INDIRECT_FIRST_INSTANCE`.
+    pub conditional: Option<conditional::Conditional>,
     pub static_place: static_place::StaticPlace,
 }
 
 impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
-    /// width), `light_paths` and the G-buffer layout.
+    /// width), `light_paths`, the G-buffer layout and whether KZ2's conditional rendering
+    /// is emulated (`conditional`: asked for and possible).
     pub(crate) fn new(
         device: &wgpu::Device,
         paths: &ActivePaths,
@@ -137,6 +145,7 @@ impl Pipelines {
         light_paths: crate::LightPaths,
         gbuffer: deferred::GBufferLayout,
         msaa: Option<crate::MsaaLighting>,
+        conditional: bool,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
@@ -158,6 +167,11 @@ impl Pipelines {
                 None
             },
             static_place: static_place::StaticPlace::new(device)?,
+            conditional: if light_paths.volumes() && conditional {
+                Some(conditional::Conditional::new(device)?)
+            } else {
+                None
+            },
         })
     }
 }
@@ -194,6 +208,8 @@ pub(crate) struct FrameContext<'a> {
     /// static casters this frame (into the scene's `static_shadows` set of the slice);
     /// the slice draws those instead of the camera query's lists.
     pub static_slices: &'a [bool],
+    /// KZ2's conditional rendering emulated: this frame's plan and buffers (`None`: off).
+    pub conditional: Option<&'a conditional::ConditionalBuffers>,
     /// Scene origin minus camera position (origin-relative to camera-relative), metres.
     pub origin_offset: glam::Vec3,
     /// The baseline's MSAA frame: its depth prepass, G-buffer pass, light tiles and
@@ -291,6 +307,12 @@ impl Pipelines {
             Recording::Classification => return self.classify.record(e, f, timer),
         }
         self.laydown.record_shadows(e, f, timer);
+        // KZ2's conditional rendering: the shadowed volume lights' pixel counts first, as
+        // indirect arguments of their maps and shading.
+        if let (Some(v), Some(c)) = (&self.light_volumes, &self.conditional) {
+            v.record_tests(e, f, timer);
+            c.record(e, f, timer);
+        }
         self.laydown.record_spot_shadows(e, f, timer);
         if let Some(v) = &self.light_volumes {
             v.record(e, f, timer);

@@ -1,6 +1,8 @@
 // gpu: one local light's shading at one pixel, shared by the compute lighting (tiled and
 // every-light paths) and the stencil light volumes, so both paths compute the same
-// contribution bit for bit where their compilers allow. Lights are in view space.
+// contribution bit for bit where their compilers allow. Lights are in view space. Feature
+// `no_specular`: KZ2's no-specular permutation, the specular term compiled out (without
+// it, the term follows the light's DEFERRED_LIGHT_FLAG_NO_SPECULAR).
 
 #import deferred::gbuffer
 #import deferred::lights
@@ -99,7 +101,18 @@ fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurfa
         // Soft edge over the outer quarter of the cone's cosine range.
         falloff *= smoothstep(l.cos_outer, mix(l.cos_outer, 1.0, 0.25), dot(-ll, l.direction));
     }
-    return l.color * falloff * (at.diffuse * nll + s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04));
+#if no_specular
+    // KZ2's no-specular light shader (the volumes' pipeline for such lights): the term
+    // compiled out; x + 0 is x, so the sum below rounds as the branch's does.
+    let specular = 0.0;
+#else
+    // The light's flag (the compute lighting has one shader for every light).
+    var specular = 0.0;
+    if (deferred_light_has_specular(l)) {
+        specular = s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04);
+    }
+#endif
+    return l.color * falloff * (at.diffuse * nll + specular);
 }
 
 // Rust: spot_shadows::LIGHT_SHADOW_SLOT_SHIFT: a light row's flags carry its spot shadow

@@ -8,8 +8,9 @@
 //   no stencil.
 // Shading is gpu::light_shading's, added into `light_accumulation` (blend One + One), which
 // the compute lighting adds to each pixel. The shading is zero outside the light, so the
-// mesh only has to cover it. Feature `spot_shadows`: the permutation for lights with a
-// spot shadow map (KZ2's light-shader permutations).
+// mesh only has to cover it. KZ2's light-shader permutations: feature `spot_shadows` for
+// lights with a spot shadow map, feature `no_specular` (gpu::light_shading) for lights
+// without a specular term.
 
 #import gpu::frame
 #import gpu::gbuffer_load
