@@ -1952,12 +1952,17 @@ impl Renderer {
     /// A device or mapping error.
     pub fn read_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
         let maps = &self.targets.shadows;
-        (0..maps.cascades())
+        self.read_depth_layers(&maps.texture, maps.cascades())
+    }
+
+    /// Layers `0..layers` of the depth-array `texture`, each row-major.
+    fn read_depth_layers(&self, texture: &wgpu::Texture, layers: u32) -> Result<Vec<Vec<f32>>> {
+        (0..layers)
             .map(|layer| {
                 let bytes = crate::resources::readback::read_texture_layer(
                     &self.device,
                     &self.queue,
-                    &maps.texture,
+                    texture,
                     wgpu::TextureAspect::DepthOnly,
                     4,
                     layer,
@@ -1975,19 +1980,7 @@ impl Renderer {
     #[doc(hidden)]
     pub fn read_spot_shadow_maps(&self) -> Result<Vec<Vec<f32>>> {
         let maps = &self.targets.spot_shadows;
-        (0..maps.active.min(maps.layers()))
-            .map(|layer| {
-                let bytes = crate::resources::readback::read_texture_layer(
-                    &self.device,
-                    &self.queue,
-                    &maps.texture,
-                    wgpu::TextureAspect::DepthOnly,
-                    4,
-                    layer,
-                )?;
-                Ok(bytemuck::pod_collect_to_vec(&bytes))
-            })
-            .collect()
+        self.read_depth_layers(&maps.texture, maps.active.min(maps.layers()))
     }
 
     /// Uploads the frame's local lights in view space and the light passes' uniforms (the

@@ -65,21 +65,9 @@ impl MsaaTargets {
     ) -> Self {
         use wgpu::TextureUsages as U;
         let make = |label: &str, format| {
-            let t = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: crate::MSAA_SAMPLES,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
-                view_formats: &[],
-            });
-            t.create_view(&Default::default())
+            let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
+            let samples = crate::MSAA_SAMPLES;
+            texture_samples(device, label, [width, height], format, usage, samples).1
         };
         let depth_view = make("msaa depth", DEPTH_FORMAT);
         let gbuffer_views = gbuffer::color_formats(layout)
@@ -119,6 +107,18 @@ pub(crate) fn texture(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> (wgpu::Texture, wgpu::TextureView) {
+    texture_samples(device, label, [width, height], format, usage, 1)
+}
+
+/// A 2D texture of `size` pixels at `samples` samples a pixel and its default view.
+fn texture_samples(
+    device: &wgpu::Device,
+    label: &str,
+    [width, height]: [u32; 2],
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    samples: u32,
+) -> (wgpu::Texture, wgpu::TextureView) {
     let t = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -127,7 +127,7 @@ pub(crate) fn texture(
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,
-        sample_count: 1,
+        sample_count: samples,
         dimension: wgpu::TextureDimension::D2,
         format,
         usage,
