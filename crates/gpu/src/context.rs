@@ -120,6 +120,17 @@ pub struct HeadlessOptions {
     /// Turn on the backend's own validation (Vulkan validation layers, where installed) in
     /// addition to wgpu's, which is always on.
     pub backend_validation: bool,
+    /// wgpu's validation of indirect arguments (`InstanceFlags::VALIDATION_INDIRECT_CALL`,
+    /// on by default even in release builds): a compute pass wgpu injects before each
+    /// command buffer's indirect dispatches and draws, turning invalid ones into no-ops.
+    /// The renderer's own indirect arguments are valid by construction (dispatches are
+    /// written as `[min(n, 65 535), ceil(n / 65 535), 1]` with `n` bounded by a buffer's
+    /// length; draws carry index ranges from `prepare` and instance counts bounded by
+    /// their reserved ranges; it binds no instance-rate vertex buffer), so turning it off
+    /// only saves time; BENCHMARKS.md has the figure. Off is refused on D3D12, where
+    /// `@builtin(num_workgroups)` (which the classification reads) would then be 0.
+    /// Default: on (wgpu's default).
+    pub indirect_validation: bool,
 }
 
 impl Default for HeadlessOptions {
@@ -127,6 +138,7 @@ impl Default for HeadlessOptions {
         Self {
             disable_features: wgpu::Features::empty(),
             backend_validation: false,
+            indirect_validation: true,
         }
     }
 }
@@ -179,6 +191,10 @@ pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
     if options.backend_validation {
         desc.flags |= wgpu::InstanceFlags::VALIDATION;
     }
+    desc.flags.set(
+        wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL,
+        options.indirect_validation,
+    );
     let instance = wgpu::Instance::new(desc);
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
         power_preference: wgpu::PowerPreference::HighPerformance,
@@ -201,6 +217,13 @@ pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
 
     let features = adapter.features() & OPTIONAL_FEATURES & !options.disable_features;
     let info = adapter.get_info();
+    if !options.indirect_validation && info.backend == wgpu::Backend::Dx12 {
+        return Error::config(
+            "HeadlessOptions::indirect_validation",
+            0.0,
+            "on with D3D12 (@builtin(num_workgroups) reads 0 there without it)",
+        );
+    }
     let limits = adapter.limits();
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("gpu-driven headless device"),

@@ -48,3 +48,35 @@ fn validation_errors_are_errors_not_panics() {
     .unwrap_err();
     assert!(matches!(err, gpu::Error::Validation(_)), "{err}");
 }
+
+/// Without wgpu's indirect-argument validation the frame is the same: the renderer's
+/// indirect dispatches and draws (the resolve's passes, and a static frame's placement and
+/// draw lists) are valid by construction, so the injected pass only ever costs time.
+#[test]
+fn frames_without_indirect_validation_are_the_same() {
+    use gpu::demo::{self, DemoOptions, DemoScene};
+    use gpu::{RenderPath, Renderer, RendererConfig};
+    let (scene, frame) = demo::build(&DemoOptions {
+        scene: DemoScene::Grass,
+        seed: 5,
+        density: 0.25,
+    });
+    let image = |indirect_validation: bool| {
+        let ctx = gpu::headless(&HeadlessOptions {
+            indirect_validation,
+            ..HeadlessOptions::default()
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+        let config = RendererConfig {
+            width: 160,
+            height: 96,
+            shadows: None,
+            ..RendererConfig::default()
+        };
+        let mut r = Renderer::new(&ctx.device, &ctx.queue, config).unwrap();
+        let p = r.prepare(&scene).unwrap();
+        r.render(&p, &frame, RenderPath::Deferred).unwrap();
+        r.read_output().unwrap()
+    };
+    assert_eq!(image(false).pixels, image(true).pixels);
+}

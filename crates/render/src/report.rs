@@ -371,6 +371,14 @@ impl Report {
         self.timings.push((name.to_string(), t.clone()));
     }
 
+    /// Whether wgpu validated the indirect arguments (its injected pass; on by default).
+    pub fn indirect_validation(&mut self, on: bool) {
+        self.row(
+            "wgpu indirect-argument validation",
+            if on { "on (wgpu's default)" } else { "off" }.to_string(),
+        );
+    }
+
     /// KZ2's MSAA edge pixels of the baseline frame just rendered.
     pub fn msaa_edges(&mut self, edges: usize, pixels: usize) {
         self.row(
