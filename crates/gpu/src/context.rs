@@ -127,9 +127,9 @@ pub struct HeadlessOptions {
     /// written as `[min(n, 65 535), ceil(n / 65 535), 1]` with `n` bounded by a buffer's
     /// length; draws carry index ranges from `prepare` and instance counts bounded by
     /// their reserved ranges; it binds no instance-rate vertex buffer), so turning it off
-    /// only saves time; BENCHMARKS.md has the figure. Off is refused on D3D12, where
-    /// `@builtin(num_workgroups)` (which the classification reads) would then be 0.
-    /// Default: on (wgpu's default).
+    /// only saves time (on the H200 the resolve's per-pass dispatches took 0.03-0.15 ms
+    /// less; BENCHMARKS.md). Default: off. On D3D12 it stays on whatever this says:
+    /// without it `@builtin(num_workgroups)`, which the classification reads, is 0 there.
     pub indirect_validation: bool,
 }
 
@@ -138,7 +138,7 @@ impl Default for HeadlessOptions {
         Self {
             disable_features: wgpu::Features::empty(),
             backend_validation: false,
-            indirect_validation: true,
+            indirect_validation: false,
         }
     }
 }
@@ -182,19 +182,11 @@ pub fn adapter_line(info: &wgpu::AdapterInfo) -> String {
     )
 }
 
-/// Creates a device without a window: the high-performance adapter first, any adapter
-/// (such as lavapipe) otherwise. Requests every optional feature of
-/// [`OPTIONAL_FEATURES`] the adapter has (minus `options.disable_features`) and the
-/// adapter's own limits, and reports the paths they select.
-pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
+/// An instance with `flags` (the environment's settings otherwise) and its
+/// high-performance adapter, or any adapter (such as lavapipe) if it has none.
+fn high_performance_adapter(flags: wgpu::InstanceFlags) -> Result<(wgpu::Instance, wgpu::Adapter)> {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-    if options.backend_validation {
-        desc.flags |= wgpu::InstanceFlags::VALIDATION;
-    }
-    desc.flags.set(
-        wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL,
-        options.indirect_validation,
-    );
+    desc.flags = flags;
     let instance = wgpu::Instance::new(desc);
     let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
         power_preference: wgpu::PowerPreference::HighPerformance,
@@ -214,16 +206,31 @@ pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
     .map_err(|e| Error::NoAdapter {
         reason: e.to_string(),
     })?;
+    Ok((instance, adapter))
+}
+
+/// Creates a device without a window: the high-performance adapter first, any adapter
+/// (such as lavapipe) otherwise. Requests every optional feature of
+/// [`OPTIONAL_FEATURES`] the adapter has (minus `options.disable_features`) and the
+/// adapter's own limits, and reports the paths they select.
+pub fn headless(options: &HeadlessOptions) -> Result<GpuContext> {
+    let mut flags = wgpu::InstanceDescriptor::new_without_display_handle_from_env().flags;
+    if options.backend_validation {
+        flags |= wgpu::InstanceFlags::VALIDATION;
+    }
+    flags.set(
+        wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL,
+        options.indirect_validation,
+    );
+    let (mut instance, mut adapter) = high_performance_adapter(flags)?;
+    if !options.indirect_validation && adapter.get_info().backend == wgpu::Backend::Dx12 {
+        // D3D12 needs the validation for @builtin(num_workgroups).
+        flags |= wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL;
+        (instance, adapter) = high_performance_adapter(flags)?;
+    }
 
     let features = adapter.features() & OPTIONAL_FEATURES & !options.disable_features;
     let info = adapter.get_info();
-    if !options.indirect_validation && info.backend == wgpu::Backend::Dx12 {
-        return Error::config(
-            "HeadlessOptions::indirect_validation",
-            0.0,
-            "on with D3D12 (@builtin(num_workgroups) reads 0 there without it)",
-        );
-    }
     let limits = adapter.limits();
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("gpu-driven headless device"),

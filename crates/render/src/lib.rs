@@ -218,11 +218,11 @@ pub struct Args {
     /// no indirect arguments); only matters with volumes in `--light-paths`.
     #[arg(long)]
     pub no_conditional_volumes: bool,
-    /// Create the device without wgpu's validation of indirect arguments (the compute
-    /// pass it injects before indirect dispatches and draws; the renderer's own arguments
-    /// are valid by construction).
+    /// Create the device with wgpu's validation of indirect arguments (the compute pass
+    /// it injects before indirect dispatches and draws; off by default: the renderer's
+    /// own arguments are valid by construction).
     #[arg(long)]
-    pub no_indirect_validation: bool,
+    pub indirect_validation: bool,
 }
 
 /// A shadow size threshold given on the command line: finite, 0 to 64 texels.
@@ -487,7 +487,7 @@ pub fn run(args: &Args) -> Result<()> {
     }
     let ctx = gpu::headless(&HeadlessOptions {
         disable_features: disable,
-        indirect_validation: !args.no_indirect_validation,
+        indirect_validation: args.indirect_validation,
         ..Default::default()
     })?;
     let primitive_id = match args.primitive_id {
@@ -580,7 +580,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
     let frame = with_lights(args, city.frame.clone(), 60.0);
     let mut report = Report::new(ctx, renderer, &prepared);
-    report.indirect_validation(!args.no_indirect_validation);
+    report.indirect_validation(args.indirect_validation);
     report.cpu_ms("city build, tiles built and activated (CPU)", build_ms);
     report.cpu_ms("prepare: meshes, reservations, upload (CPU)", prepare_ms);
     let paths: &[RenderPath] = match args.path {
@@ -785,7 +785,7 @@ fn render_scene(
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
     };
     let mut report = Report::new(ctx, renderer, &prepared);
-    report.indirect_validation(!args.no_indirect_validation);
+    report.indirect_validation(args.indirect_validation);
     report.cpu_ms("scene build (CPU)", build_ms);
     report.cpu_ms(
         "prepare: encode meshes, micro batches, upload (CPU)",

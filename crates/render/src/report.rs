@@ -371,11 +371,16 @@ impl Report {
         self.timings.push((name.to_string(), t.clone()));
     }
 
-    /// Whether wgpu validated the indirect arguments (its injected pass; on by default).
+    /// Whether wgpu validated the indirect arguments (its injected pass).
     pub fn indirect_validation(&mut self, on: bool) {
         self.row(
             "wgpu indirect-argument validation",
-            if on { "on (wgpu's default)" } else { "off" }.to_string(),
+            if on {
+                "on"
+            } else {
+                "off (the renderer's arguments are valid by construction)"
+            }
+            .to_string(),
         );
     }
 
