@@ -643,3 +643,49 @@ fn broken_hierarchies_references_and_images_are_errors() {
     // Nothing.
     assert!(matches!(import_err(b""), Error::Parse { .. }));
 }
+
+/// The fuzz target's seed corpus, `fuzz/seeds/gltf_import/`: small files covering the
+/// importer's paths (JSON with a data URI and `.glb`; textures, MASK, double-sided, a
+/// texture transform, a camera, u8 indices, no normals, a strip, a mirroring node).
+/// Rewrite them with `cargo test -p gltf_scene --test import -- --ignored write_fuzz_seeds`.
+#[test]
+#[ignore = "writes the fuzz seeds into the source tree"]
+fn write_fuzz_seeds() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/gltf_import");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut rich = small_scene();
+    rich.json["extensionsUsed"] = json!(["KHR_texture_transform"]);
+    rich.json["materials"][0]["alphaMode"] = json!("MASK");
+    rich.json["materials"][0]["doubleSided"] = json!(true);
+    rich.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = json!({ "KHR_texture_transform": { "offset": [0.25, 0.5], "rotation": 0.3, "scale": [2.0, 2.0] } });
+    let cam = rich.push(
+        "cameras",
+        json!({ "type": "perspective", "perspective": { "yfov": 0.9, "znear": 0.1 } }),
+    );
+    let eye = rich.push(
+        "nodes",
+        json!({ "camera": cam, "translation": [0.0, 1.0, 4.0] }),
+    );
+    let p = rich.floats(&[
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.5],
+    ]);
+    let i = rich.indices(&[0, 1, 2, 3], 5121);
+    let strip = rich.push(
+        "meshes",
+        json!({ "primitives": [{ "attributes": { "POSITION": p }, "indices": i, "mode": 5 }] }),
+    );
+    let s = rich.push("nodes", json!({ "mesh": strip, "scale": [1.0, -1.0, 1.0] }));
+    rich.json["scenes"][0]["nodes"] = json!([0, 1, eye, s]);
+    for (name, bytes) in [
+        ("small.glb", small_scene().glb()),
+        ("small.gltf", small_scene().embedded()),
+        ("rich.glb", rich.glb()),
+        ("rich.gltf", rich.embedded()),
+    ] {
+        import(&bytes);
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+}

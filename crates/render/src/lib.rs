@@ -207,6 +207,59 @@ pub struct Args {
     /// KZ2's 4x MSAA on the baseline path (the deferred path stays single-sample).
     #[arg(long, value_enum, default_value = "off")]
     pub msaa: MsaaArg,
+    /// Render this glTF 2.0 file (`.gltf` or `.glb`) instead of the demo scenes (`--scene`
+    /// is ignored): both paths, every debug view, the statistics and the import summary.
+    #[arg(long, value_name = "FILE")]
+    pub gltf: Option<PathBuf>,
+    /// The glTF file's camera: `file` (its first perspective camera, else `auto`), `auto`
+    /// (framing the scene's bounds: gltf_scene::framing_camera) or the eye and the point
+    /// looked at, `EX,EY,EZ,TX,TY,TZ` (metres, +Y up).
+    #[arg(long, default_value = "file", value_parser = parse_camera, allow_hyphen_values = true)]
+    pub camera: CameraArg,
+}
+
+/// `--camera`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraArg {
+    /// The file's camera, else `Auto`.
+    File,
+    /// A camera framing the scene's bounds.
+    Auto,
+    /// Eye and target (world, metres).
+    LookAt {
+        /// Eye position.
+        eye: [f32; 3],
+        /// The point looked at.
+        target: [f32; 3],
+    },
+}
+
+/// `file`, `auto`, or six finite numbers (eye, then target) with the eye away from the
+/// target.
+fn parse_camera(s: &str) -> Result<CameraArg, String> {
+    match s.trim() {
+        "file" => return Ok(CameraArg::File),
+        "auto" => return Ok(CameraArg::Auto),
+        _ => {}
+    }
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{s}` is not `file`, `auto` or six comma-separated numbers"))?;
+    let [ex, ey, ez, tx, ty, tz] = v[..] else {
+        return Err(format!(
+            "`{s}`: six numbers (eye x,y,z then target x,y,z), not {}",
+            v.len()
+        ));
+    };
+    let (eye, target) = ([ex, ey, ez], [tx, ty, tz]);
+    if !v.iter().all(|x| x.is_finite()) {
+        return Err(format!("`{s}`: every number must be finite"));
+    }
+    let camera = gpu::Camera::look_at(eye.into(), target.into());
+    camera.validate().map_err(|e| format!("`{s}`: {e}"))?;
+    Ok(CameraArg::LookAt { eye, target })
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -396,8 +449,11 @@ fn positive_density(s: &str) -> Result<f32, String> {
 }
 
 impl Args {
-    /// The demo scenes to render (the city aside: [`Args::city`]).
+    /// The demo scenes to render (the city aside: [`Args::city`]; none with `--gltf`).
     pub fn scenes(&self) -> &'static [DemoScene] {
+        if self.gltf.is_some() {
+            return &[];
+        }
         match self.scene {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
@@ -406,9 +462,9 @@ impl Args {
         }
     }
 
-    /// Whether the city is rendered.
+    /// Whether the city is rendered (not with `--gltf`).
     pub fn city(&self) -> bool {
-        matches!(self.scene, SceneArg::City | SceneArg::All)
+        self.gltf.is_none() && matches!(self.scene, SceneArg::City | SceneArg::All)
     }
 
     /// Checks what clap cannot alone: every scene's density against the talk's limits
@@ -515,12 +571,29 @@ pub fn run(args: &Args) -> Result<()> {
         _ => None,
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
+    if let Some(path) = &args.gltf {
+        return render_gltf(args, &ctx, &mut renderer, every_sample.as_mut(), path);
+    }
     for (k, &scene_kind) in args.scenes().iter().enumerate() {
         if k > 0 {
             println!();
         }
         println!("== {} ==", scene_kind.name());
-        render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), scene_kind)?;
+        let t0 = std::time::Instant::now();
+        let (scene, frame) = demo::build(&DemoOptions {
+            scene: scene_kind,
+            seed: args.seed,
+            density: args.density,
+        });
+        let frame = with_lights(args, frame, 25.0);
+        let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let built = Built {
+            name: scene_kind.name(),
+            scene: &scene,
+            frame: &frame,
+            build: ("scene build (CPU)", build_ms),
+        };
+        render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), &built)?;
     }
     if args.city() {
         if !args.scenes().is_empty() {
@@ -718,24 +791,86 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     Ok(())
 }
 
-/// Builds, prepares and renders one demo scene; writes its images; prints its report.
+/// A scene to render, built or imported.
+struct Built<'a> {
+    /// The images' file-name prefix.
+    name: &'a str,
+    scene: &'a gpu::Scene,
+    frame: &'a gpu::FrameInput,
+    /// What building it is called in the report, and its CPU time (ms).
+    build: (&'a str, f64),
+}
+
+/// Imports a glTF file (`--gltf`), prints the import summary and warnings, picks the
+/// camera (`--camera`), then renders it as a demo scene: images, debug views, report.
+fn render_gltf(
+    args: &Args,
+    ctx: &gpu::GpuContext,
+    renderer: &mut Renderer,
+    every_sample: Option<&mut Renderer>,
+    path: &std::path::Path,
+) -> Result<()> {
+    let t0 = std::time::Instant::now();
+    let imported = gltf_scene::load(path, &gltf_scene::LoadOptions::default())
+        .with_context(|| format!("importing {}", path.display()))?;
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let name = path
+        .file_stem()
+        .map(|s| {
+            s.to_string_lossy()
+                .replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_")
+        })
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "gltf".to_owned());
+    println!("== {name} (glTF) ==");
+    println!("{}", imported.summary);
+    for w in &imported.warnings {
+        println!("  warning: {w}");
+    }
+    let aspect = args.width as f32 / args.height as f32;
+    let auto = || gltf_scene::framing_camera(&imported.scene, aspect);
+    let camera = match args.camera {
+        CameraArg::File => imported.camera.unwrap_or_else(auto),
+        CameraArg::Auto => auto(),
+        CameraArg::LookAt { eye, target } => gpu::Camera::look_at(eye.into(), target.into()),
+    };
+    let which = match (args.camera, imported.camera) {
+        (CameraArg::File, Some(_)) => "the file's",
+        (CameraArg::LookAt { .. }, _) => "--camera's",
+        _ => "framing the scene's bounds",
+    };
+    println!(
+        "  camera ({which}): eye {:.2}, looking at {:.2}, {:.0}° vertical field of view",
+        camera.position,
+        camera.target,
+        camera.fov_y.to_degrees()
+    );
+    // Lights over the square the framed view covers.
+    let half_extent = (0.5 * camera.position.distance(camera.target)).clamp(1.0, 10_000.0);
+    let frame = with_lights(args, gpu::FrameInput::new(camera), half_extent);
+    let built = Built {
+        name: &name,
+        scene: &imported.scene,
+        frame: &frame,
+        build: (
+            "glTF import: parse, decode, build the scene (CPU)",
+            build_ms,
+        ),
+    };
+    render_scene(args, ctx, renderer, every_sample, &built)
+}
+
+/// Prepares and renders one scene; writes its images; prints its report.
 fn render_scene(
     args: &Args,
     ctx: &gpu::GpuContext,
     renderer: &mut Renderer,
     mut every_sample: Option<&mut Renderer>,
-    scene_kind: DemoScene,
+    built: &Built<'_>,
 ) -> Result<()> {
-    let t0 = std::time::Instant::now();
-    let (scene, frame) = demo::build(&DemoOptions {
-        scene: scene_kind,
-        seed: args.seed,
-        density: args.density,
-    });
-    let frame = with_lights(args, frame, 25.0);
-    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let (scene, frame) = (built.scene, built.frame);
     let t1 = std::time::Instant::now();
-    let prepared = renderer.prepare(&scene)?;
+    let prepared = renderer.prepare(scene)?;
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
 
     let paths: &[RenderPath] = match args.path {
@@ -744,7 +879,7 @@ fn render_scene(
         PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
     };
     let mut report = Report::new(ctx, renderer, &prepared);
-    report.cpu_ms("scene build (CPU)", build_ms);
+    report.cpu_ms(built.build.0, built.build.1);
     report.cpu_ms(
         "prepare: encode meshes, micro batches, upload (CPU)",
         prepare_ms,
@@ -753,13 +888,11 @@ fn render_scene(
     for &path in paths {
         let frames = renderer.render_frames(&prepared, &frame, path, args.frames)?;
         let image = renderer.read_output()?;
-        let file = args
-            .out
-            .join(format!("{}_{}.png", scene_kind.name(), path.name()));
+        let file = args.out.join(format!("{}_{}.png", built.name, path.name()));
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
-        let name = scene_kind.name();
+        let name = built.name;
         if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
             let edges = renderer.read_msaa_edges()?;
             if renderer.config().msaa == Some(gpu::MsaaLighting::Kz2) {
@@ -829,7 +962,7 @@ fn render_scene(
     }
     if let [deferred, baseline] = images.as_slice() {
         report.compare(deferred, baseline);
-        let file = args.out.join(format!("{}_diff.png", scene_kind.name()));
+        let file = args.out.join(format!("{}_diff.png", built.name));
         gpu::diff_image(deferred, baseline).write_png(&file)?;
         report.image_named("diff", &file);
     }
