@@ -12,6 +12,12 @@
 //! render::run(&args)?; // writes out/forest_*.png and prints the statistics
 //! # Ok::<(), anyhow::Error>(())
 //! ```
+//!
+//! `--gltf FILE` renders a glTF 2.0 file instead (imported by `gltf_scene` before the
+//! device starts, so a bad file is refused first): the import summary and warnings, then
+//! the same report, images and debug views; `--camera` picks the file's camera (default;
+//! without one, `auto`), `auto` (gltf_scene::framing_camera: the instances' bounds seen
+//! from the front right, above, fitting the narrower field of view) or an eye and target.
 
 use std::path::PathBuf;
 
@@ -505,6 +511,16 @@ fn parse_walk(v: &str) -> Result<f32, String> {
 /// cannot be written, or a GPU classification that differs from its CPU twin.
 pub fn run(args: &Args) -> Result<()> {
     args.check()?;
+    // A glTF file is imported first: its errors come before any device or directory.
+    let imported = match &args.gltf {
+        Some(path) => {
+            let t0 = std::time::Instant::now();
+            let imported = gltf_scene::load(path, &gltf_scene::LoadOptions::default())
+                .with_context(|| format!("importing {}", path.display()))?;
+            Some((path.as_path(), imported, t0.elapsed().as_secs_f64() * 1e3))
+        }
+        None => None,
+    };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let mut disable = wgpu::Features::empty();
@@ -571,8 +587,9 @@ pub fn run(args: &Args) -> Result<()> {
         _ => None,
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
-    if let Some(path) = &args.gltf {
-        return render_gltf(args, &ctx, &mut renderer, every_sample.as_mut(), path);
+    if let Some((path, imported, build_ms)) = &imported {
+        let gltf = (*path, imported, *build_ms);
+        return render_gltf(args, &ctx, &mut renderer, every_sample.as_mut(), gltf);
     }
     for (k, &scene_kind) in args.scenes().iter().enumerate() {
         if k > 0 {
@@ -801,19 +818,16 @@ struct Built<'a> {
     build: (&'a str, f64),
 }
 
-/// Imports a glTF file (`--gltf`), prints the import summary and warnings, picks the
-/// camera (`--camera`), then renders it as a demo scene: images, debug views, report.
+/// A glTF file (`--gltf`) imported (its path, what came of it, the import's CPU time in
+/// ms): prints the import summary and warnings, picks the camera (`--camera`), then renders
+/// it as a demo scene: images, debug views, report.
 fn render_gltf(
     args: &Args,
     ctx: &gpu::GpuContext,
     renderer: &mut Renderer,
     every_sample: Option<&mut Renderer>,
-    path: &std::path::Path,
+    (path, imported, build_ms): (&std::path::Path, &gltf_scene::Imported, f64),
 ) -> Result<()> {
-    let t0 = std::time::Instant::now();
-    let imported = gltf_scene::load(path, &gltf_scene::LoadOptions::default())
-        .with_context(|| format!("importing {}", path.display()))?;
-    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let name = path
         .file_stem()
         .map(|s| {
@@ -886,7 +900,7 @@ fn render_scene(
     );
     let mut images = Vec::new();
     for &path in paths {
-        let frames = renderer.render_frames(&prepared, &frame, path, args.frames)?;
+        let frames = renderer.render_frames(&prepared, frame, path, args.frames)?;
         let image = renderer.read_output()?;
         let file = args.out.join(format!("{}_{}.png", built.name, path.name()));
         image.write_png(&file)?;
@@ -899,8 +913,8 @@ fn render_scene(
                 report.msaa_edges(edges.len(), (args.width * args.height) as usize);
             }
             if let Some(r) = every_sample.as_deref_mut() {
-                let p = r.prepare(&scene)?;
-                let t = r.render_frames(&p, &frame, path, args.frames)?;
+                let p = r.prepare(scene)?;
+                let t = r.render_frames(&p, frame, path, args.frames)?;
                 report.timings_named("baseline, MSAA every sample", &t);
             }
         }
@@ -910,20 +924,20 @@ fn render_scene(
             // Warmed up as render_frames is: writing the image let the clocks fall.
             let warm = std::time::Instant::now();
             while warm.elapsed() < gpu::WARM_UP {
-                renderer.submit(&prepared, &frame, path)?;
+                renderer.submit(&prepared, frame, path)?;
             }
             let t = std::time::Instant::now();
             let mut in_flight = 0;
             let mut cpu_ms = 0.0;
             for _ in 0..args.frames {
-                cpu_ms += renderer.submit(&prepared, &frame, path)?.wall_ms;
+                cpu_ms += renderer.submit(&prepared, frame, path)?.wall_ms;
                 in_flight = in_flight.max(renderer.upload_stats().frames_in_flight);
             }
             renderer.wait()?;
             let n = f64::from(args.frames);
             let pipelined = t.elapsed().as_secs_f64() * 1e3 / n;
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
-            report_lighting(args, &mut report, renderer, &frame, name)?;
+            report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;
             let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
@@ -951,7 +965,7 @@ fn render_scene(
                     &format!("depth-equal quad overdraw (mean {mean:.2})"),
                     &file,
                 );
-                motion_view(args, &mut report, renderer, &prepared, &frame, name)?;
+                motion_view(args, &mut report, renderer, &prepared, frame, name)?;
             }
             if mismatch.is_some() {
                 print!("{report}");
