@@ -808,18 +808,18 @@ fn import(
     // Textures: base colour images become layers, metallic-roughness images give means.
     let image_of = |i: usize| doc.images().nth(i);
     let mut decoded: HashMap<usize, image::RgbaImage> = HashMap::new();
-    let mut decode = |i: usize| -> Result<(), Error> {
+    // Whether image `i` is (now) decoded.
+    let mut decode = |i: usize| -> Result<bool, Error> {
         if let (false, Some(img)) = (decoded.contains_key(&i), image_of(i)) {
             let rgba = material::decode_image(file, &img, &buffers, base, options)?;
             decoded.insert(i, rgba);
         }
-        Ok(())
+        Ok(decoded.contains_key(&i))
     };
     let mut layer_images: Vec<usize> = Vec::new();
     for m in materials.iter().filter(|m| !m.invisible) {
         if let Some(t) = m.texture {
-            decode(t)?;
-            if !layer_images.contains(&t) {
+            if decode(t)? && !layer_images.contains(&t) {
                 layer_images.push(t);
             }
         }
@@ -829,16 +829,17 @@ fn import(
     }
     let cap = options.max_layer_size.max(1);
     let cap = 1u32 << cap.ilog2();
+    let layer_sources: Vec<&image::RgbaImage> =
+        layer_images.iter().filter_map(|i| decoded.get(i)).collect();
     let size = material::layer_size(
-        layer_images
+        layer_sources
             .iter()
-            .map(|i| decoded[i].width().max(decoded[i].height())),
+            .map(|img| img.width().max(img.height())),
         cap,
     );
     let mut layers: Vec<AlbedoLayer> = Vec::new();
     let mut resampled = 0;
-    for i in &layer_images {
-        let img = &decoded[i];
+    for img in layer_sources {
         if img.width() != size || img.height() != size {
             resampled += 1;
         }

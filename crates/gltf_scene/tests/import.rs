@@ -689,3 +689,63 @@ fn write_fuzz_seeds() {
         std::fs::write(dir.join(name), bytes).unwrap();
     }
 }
+
+#[test]
+fn quantized_attributes_and_sparse_accessors_decode_as_the_spec_says() {
+    let mut doc = Doc::new();
+    doc.json["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+    doc.json["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    // POSITION as plain u16 (scaled by the node), NORMAL as normalized i8 (padded to 4
+    // bytes a vertex), TEXCOORD_0 as normalized u8 (padded to 4).
+    let pos: Vec<u8> = [[0u16, 0, 0], [100, 0, 0], [0, 200, 0]]
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()).chain([0, 0]))
+        .collect();
+    let pv = doc.view(&pos, Some(8));
+    let p = doc.push(
+        "accessors",
+        json!({ "bufferView": pv, "componentType": 5123, "count": 3, "type": "VEC3",
+        "min": [0, 0, 0], "max": [100, 200, 0] }),
+    );
+    let nv = doc.view(&[0, 0, 127, 0, 0, 0, 129, 0, 0, 0, 127, 0], Some(4));
+    let n = doc.push("accessors", json!({ "bufferView": nv, "componentType": 5120, "normalized": true, "count": 3, "type": "VEC3" }));
+    let uvv = doc.view(&[0, 255, 0, 0, 51, 0, 0, 0, 0, 102, 0, 0], Some(4));
+    let uv = doc.push("accessors", json!({ "bufferView": uvv, "componentType": 5121, "normalized": true, "count": 3, "type": "VEC2" }));
+    // Indices 0 0 0 with a sparse substitution: entries 1 and 2 become 1 and 2.
+    let iv = doc.view(&[0u8; 6], None);
+    let sparse_i = doc.view(&[1, 0, 2, 0], None);
+    let sparse_v = doc.view(&[1, 0, 2, 0], None);
+    let i = doc.push(
+        "accessors",
+        json!({ "bufferView": iv, "componentType": 5123, "count": 3, "type": "SCALAR",
+        "sparse": { "count": 2, "indices": { "bufferView": sparse_i, "componentType": 5123 },
+                    "values": { "bufferView": sparse_v } } }),
+    );
+    let mesh = doc.push("meshes", json!({ "primitives": [{ "attributes": { "POSITION": p, "NORMAL": n, "TEXCOORD_0": uv }, "indices": i }] }));
+    let node = doc.push(
+        "nodes",
+        json!({ "mesh": mesh, "scale": [0.01, 0.01, 0.01] }),
+    );
+    scene(&mut doc, &[node]);
+    let m = &import(&doc.glb()).scene.meshes[0];
+    assert_eq!(m.indices, [0, 1, 2]);
+    assert_eq!(
+        m.positions,
+        [
+            Vec3::ZERO,
+            Vec3::new(100.0, 0.0, 0.0),
+            Vec3::new(0.0, 200.0, 0.0)
+        ]
+    );
+    // i8 normalized: max(c / 127, -1): 127 -> 1, -127 (129 as i8) -> -1.
+    assert_eq!(m.normals, [Vec3::Z, Vec3::NEG_Z, Vec3::Z]);
+    // u8 normalized: c / 255.
+    assert_eq!(
+        m.uvs,
+        [
+            Vec2::new(0.0, 1.0),
+            Vec2::new(0.2, 0.0),
+            Vec2::new(0.0, 0.4)
+        ]
+    );
+}
