@@ -69,38 +69,49 @@ impl Geometry {
 
     /// MikkTSpace tangents (the glTF 2.0 recommendation), one per triangle corner, then
     /// vertices re-welded: corners of one vertex with different tangents become separate
-    /// vertices. A geometry MikkTSpace rejects gets tangents orthogonal to the normals.
+    /// vertices. MikkTSpace sees only the triangles with three distinct corner positions;
+    /// the others (and all of a geometry it rejects) get tangents orthogonal to their
+    /// normals (`Vec3::any_orthonormal_vector`, handedness +1).
     pub(crate) fn generate_tangents(&mut self) {
         struct Faces<'a> {
             g: &'a Geometry,
+            /// The triangles MikkTSpace sees (indices into `g`'s triangles).
+            tris: Vec<usize>,
             out: Vec<Vec4>,
+        }
+        impl Faces<'_> {
+            fn corner(&self, face: usize, vert: usize) -> usize {
+                self.g.indices[self.tris[face] * 3 + vert] as usize
+            }
         }
         impl mikktspace::Geometry for Faces<'_> {
             fn num_faces(&self) -> usize {
-                self.g.indices.len() / 3
+                self.tris.len()
             }
             fn num_vertices_of_face(&self, _face: usize) -> usize {
                 3
             }
             fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-                self.g.positions[self.g.indices[face * 3 + vert] as usize].to_array()
+                self.g.positions[self.corner(face, vert)].to_array()
             }
             fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-                self.g.normals[self.g.indices[face * 3 + vert] as usize].to_array()
+                self.g.normals[self.corner(face, vert)].to_array()
             }
             fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-                self.g.uvs[self.g.indices[face * 3 + vert] as usize].to_array()
+                self.g.uvs[self.corner(face, vert)].to_array()
             }
             fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-                self.out[face * 3 + vert] = Vec4::from_array(tangent);
+                let at = self.tris[face] * 3 + vert;
+                self.out[at] = Vec4::from_array(tangent);
             }
         }
         let fallback = |n: Vec3| n.any_orthonormal_vector().extend(1.0);
         let mut faces = Faces {
             g: self,
+            tris: self.mikktspace_triangles(),
             out: vec![Vec4::ZERO; self.indices.len()],
         };
-        let ok = !self.indices.is_empty() && mikktspace::generate_tangents(&mut faces);
+        let ok = !faces.tris.is_empty() && mikktspace::generate_tangents(&mut faces);
         let corners = faces.out;
         if !ok {
             self.tangents = self.normals.iter().map(|&n| fallback(n)).collect();
@@ -126,6 +137,24 @@ impl Geometry {
             welded.indices.push(at);
         }
         *self = welded;
+    }
+
+    /// The triangles mikktspace 0.3 can take: three distinct corner positions, coordinates
+    /// within ±1e30. Its port has two faults these avoid: when every triangle is
+    /// degenerate (two corners welded into one) it computes `0 - 1` on a `usize`, and when
+    /// every vertex falls into one cell of its welding grid (a zero extent) it indexes past
+    /// its table; its cell arithmetic also needs finite extents.
+    fn mikktspace_triangles(&self) -> Vec<usize> {
+        let ok = |p: Vec3| p.abs().max_element() <= 1e30;
+        self.indices
+            .chunks_exact(3)
+            .enumerate()
+            .filter(|(_, t)| {
+                let [a, b, c] = [0, 1, 2].map(|k| self.positions[t[k] as usize]);
+                ok(a) && ok(b) && ok(c) && a != b && a != c && b != c
+            })
+            .map(|(i, _)| i)
+            .collect()
     }
 
     /// Appends the back side of every triangle (for a double-sided material: the renderer

@@ -333,6 +333,29 @@ fn validate(file: &str, root: &gltf::json::Root) -> Result<(), Error> {
             });
         }
     }
+    // gltf-json 1.4's check of POSITION's min/max indexes the accessors unchecked: check
+    // every attribute's reference first.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &prim.attributes {
+                if accessor.value() >= root.accessors.len() {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "(invalid)".to_owned(),
+                    };
+                    return Err(Error::Invalid {
+                        file: file.to_owned(),
+                        path: format!("meshes[{m}].primitives[{p}].attributes.{name}"),
+                        problem: format!(
+                            "accessor {} is past the end of the {} accessors",
+                            accessor.value(),
+                            root.accessors.len()
+                        ),
+                    });
+                }
+            }
+        }
+    }
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| {
         let path = path().to_string();
@@ -811,7 +834,7 @@ fn import(
     // Whether image `i` is (now) decoded.
     let mut decode = |i: usize| -> Result<bool, Error> {
         if let (false, Some(img)) = (decoded.contains_key(&i), image_of(i)) {
-            let rgba = material::decode_image(file, &img, &buffers, base, options)?;
+            let rgba = material::decode_image(file, &doc, &img, &buffers, base, options)?;
             decoded.insert(i, rgba);
         }
         Ok(decoded.contains_key(&i))

@@ -12,6 +12,7 @@ use crate::{Error, LoadOptions};
 /// A decoded image: RGBA8, sRGB colour, linear alpha, as glTF stores base colour.
 pub(crate) fn decode_image(
     file: &str,
+    doc: &gltf::Document,
     image: &gltf::Image<'_>,
     buffers: &[Vec<u8>],
     base: Option<&std::path::Path>,
@@ -23,26 +24,34 @@ pub(crate) fn decode_image(
         name: image.name().map(str::to_owned),
         problem,
     };
+    // From the JSON: gltf's `Image::source` unwraps a missing mimeType or uri.
+    let json = &doc.as_json().images[image.index()];
     let owned;
-    let bytes: &[u8] = match image.source() {
-        gltf::image::Source::View { view, .. } => {
-            let buffer = &buffers[view.buffer().index()];
-            match view.offset().checked_add(view.length()) {
-                Some(end) if end <= buffer.len() => &buffer[view.offset()..end],
+    let bytes: &[u8] = match (&json.buffer_view, &json.uri) {
+        (Some(v), _) => {
+            let view = &doc.as_json().buffer_views[v.value()];
+            let (b, offset, len) = (
+                view.buffer.value(),
+                view.byte_offset.map_or(0, |o| o.0 as usize),
+                view.byte_length.0 as usize,
+            );
+            let buffer = &buffers[b];
+            match offset.checked_add(len) {
+                Some(end) if end <= buffer.len() => &buffer[offset..end],
                 _ => {
                     return Err(err(format!(
-                        "buffer view {} reaches past the end of buffer {} ({} bytes)",
-                        view.index(),
-                        view.buffer().index(),
+                        "buffer view {} reaches past the end of buffer {b} ({} bytes)",
+                        v.value(),
                         buffer.len()
                     )));
                 }
             }
         }
-        gltf::image::Source::Uri { uri, .. } => {
+        (None, Some(uri)) => {
             owned = crate::source::read_uri(base, uri).map_err(&err)?;
             &owned
         }
+        (None, None) => return Err(err("it has neither a bufferView nor a uri".to_owned())),
     };
     let format = image::guess_format(bytes)
         .map_err(|_| err("the data is not a PNG, JPEG or WebP image".to_owned()))?;
