@@ -797,3 +797,51 @@ fn mutated_files_never_panic() {
         seeds.len() * ROUNDS
     );
 }
+
+#[test]
+fn inputs_that_made_dependencies_panic_are_imported_or_refused() {
+    // Every triangle degenerate (mikktspace 0.3: `0 - 1` on a usize), and every vertex at
+    // one point (its welding grid indexed past its table): imported, with tangents
+    // orthogonal to the normals.
+    for (pos, idx) in [
+        (
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            vec![0, 0, 1, 2, 2, 1],
+        ),
+        (vec![[2.0, 2.0, 2.0]; 3], vec![0, 1, 2]),
+    ] {
+        let mut doc = Doc::new();
+        let p = doc.floats(&pos);
+        let i = doc.indices(&idx, 5125);
+        let mesh = doc.push(
+            "meshes",
+            json!({ "primitives": [{ "attributes": { "POSITION": p }, "indices": i }] }),
+        );
+        let node = doc.push("nodes", json!({ "mesh": mesh }));
+        scene(&mut doc, &[node]);
+        let m = &import(&doc.glb()).scene.meshes[0];
+        for (t, n) in m.tangents.iter().zip(&m.normals) {
+            assert!(
+                t.truncate().dot(*n).abs() < 1e-6 && (t.truncate().length() - 1.0).abs() < 1e-6
+            );
+        }
+    }
+    // POSITION naming an accessor that does not exist (gltf-json 1.4 indexed it unchecked).
+    let mut doc = small_scene();
+    doc.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99);
+    let e = import_err(&doc.glb());
+    assert_names(
+        &e,
+        &["meshes[0].primitives[0].attributes.POSITION", "accessor 99"],
+    );
+    // An image in a buffer view without its mimeType (gltf's Image::source unwrapped it).
+    let mut doc = small_scene();
+    doc.json["images"][0]
+        .as_object_mut()
+        .unwrap()
+        .remove("mimeType");
+    match load_slice(&doc.glb(), None, &LoadOptions::default()) {
+        Ok(i) => assert_eq!(i.summary.textures, 1),
+        Err(e) => assert_names(&e, &["images"]),
+    }
+}
