@@ -398,6 +398,12 @@ fn check_glb_header(file: &str, bytes: &[u8]) -> Result<(), Error> {
         return Err(parse(format!(".glb version {}, not 2", word(4))));
     }
     let length = word(8) as usize;
+    // gltf 1.4 subtracts 12 from it unchecked.
+    if length < 12 {
+        return Err(parse(format!(
+            ".glb header says {length} bytes, less than the header itself (12)"
+        )));
+    }
     if length > bytes.len() {
         return Err(parse(format!(
             "truncated .glb: its header says {length} bytes, the file has {}",

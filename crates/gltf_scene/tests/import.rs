@@ -826,6 +826,10 @@ fn inputs_that_made_dependencies_panic_are_imported_or_refused() {
             );
         }
     }
+    // A .glb header whose length is under 12 (gltf 1.4 subtracted 12 from it unchecked).
+    let mut glb = small_scene().glb();
+    glb[8..12].copy_from_slice(&11u32.to_le_bytes());
+    assert_names(&import_err(&glb), &["less than the header"]);
     // POSITION naming an accessor that does not exist (gltf-json 1.4 indexed it unchecked).
     let mut doc = small_scene();
     doc.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(99);
