@@ -847,10 +847,11 @@ fn import(
     };
     let mut layer_images: Vec<usize> = Vec::new();
     for m in materials.iter().filter(|m| !m.invisible) {
-        if let Some(t) = m.texture {
-            if decode(t)? && !layer_images.contains(&t) {
-                layer_images.push(t);
-            }
+        if let Some(t) = m.texture
+            && decode(t)?
+            && !layer_images.contains(&t)
+        {
+            layer_images.push(t);
         }
         if let Some(t) = m.metallic_roughness_texture {
             decode(t)?;
