@@ -1,4 +1,5 @@
-//! Replays every committed fuzz crash input (`fuzz/regressions/<target>/*`) and a few
+//! Replays every committed fuzz crash input (`fuzz/regressions/<target>/*`), every seed
+//! (`fuzz/seeds/<target>/*`: valid inputs of a target's format), and a few
 //! thousand deterministic pseudo-random inputs (`testkit::Rng`) through each fuzz target's
 //! body, so the fuzz targets' checks run on stable Rust in every CI run.
 
@@ -18,18 +19,23 @@ fn every_target_has_a_fuzz_binary() {
 }
 
 #[test]
-fn committed_crash_inputs_replay_cleanly() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/regressions");
+fn committed_crash_inputs_and_seeds_replay_cleanly() {
+    let fuzz = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz");
     let mut replayed = 0;
     for (name, body) in fuzzing::TARGETS {
-        let Ok(entries) = std::fs::read_dir(root.join(name)) else {
-            continue;
-        };
-        for entry in entries {
-            let path = entry.expect("readable regressions dir").path();
-            let data = std::fs::read(&path).expect("readable crash input");
-            body(&data);
-            replayed += 1;
+        for dir in [
+            fuzz.join("regressions").join(name),
+            fuzz.join("seeds").join(name),
+        ] {
+            let Ok(entries) = std::fs::read_dir(dir) else {
+                continue;
+            };
+            for entry in entries {
+                let path = entry.expect("readable regressions dir").path();
+                let data = std::fs::read(&path).expect("readable crash input");
+                body(&data);
+                replayed += 1;
+            }
         }
     }
     eprintln!("replayed {replayed} committed fuzz inputs");

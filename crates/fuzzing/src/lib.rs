@@ -18,6 +18,7 @@
 
 mod deferred;
 mod framealloc;
+mod gltf;
 mod morton;
 mod shader;
 mod staticscene;
@@ -27,6 +28,7 @@ mod water;
 mod wave;
 pub use deferred::*;
 pub use framealloc::*;
+pub use gltf::*;
 pub use morton::*;
 pub use shader::*;
 pub use staticscene::*;
@@ -44,6 +46,7 @@ pub const TARGETS: &[(&str, Body)] = &[
     ("deferred_normal_codecs", deferred_normal_codecs),
     ("framealloc_pool_ops", framealloc_pool_ops),
     ("framealloc_stream_ops", framealloc_stream_ops),
+    ("gltf_import", gltf_import),
     ("morton_decode", morton_decode),
     ("morton_roundtrip", morton_roundtrip),
     ("shader_compose", shader_compose),

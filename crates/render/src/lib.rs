@@ -12,6 +12,12 @@
 //! render::run(&args)?; // writes out/forest_*.png and prints the statistics
 //! # Ok::<(), anyhow::Error>(())
 //! ```
+//!
+//! `--gltf FILE` renders a glTF 2.0 file instead (imported by `gltf_scene` before the
+//! device starts, so a bad file is refused first): the import summary and warnings, then
+//! the same report, images and debug views; `--camera` picks the file's camera (default;
+//! without one, `auto`), `auto` (gltf_scene::framing_camera: the instances' bounds seen
+//! from the front right, above, fitting the narrower field of view) or an eye and target.
 
 use std::path::PathBuf;
 
@@ -223,6 +229,15 @@ pub struct Args {
     /// own arguments are valid by construction).
     #[arg(long)]
     pub indirect_validation: bool,
+    /// Render this glTF 2.0 file (`.gltf` or `.glb`) instead of the demo scenes (`--scene`
+    /// is ignored): both paths, every debug view, the statistics and the import summary.
+    #[arg(long, value_name = "FILE")]
+    pub gltf: Option<PathBuf>,
+    /// The glTF file's camera: `file` (its first perspective camera, else `auto`), `auto`
+    /// (framing the scene's bounds: gltf_scene::framing_camera) or the eye and the point
+    /// looked at, `EX,EY,EZ,TX,TY,TZ` (metres, +Y up).
+    #[arg(long, default_value = "file", value_parser = parse_camera, allow_hyphen_values = true)]
+    pub camera: CameraArg,
 }
 
 /// A shadow size threshold given on the command line: finite, 0 to 64 texels.
@@ -236,6 +251,50 @@ fn parse_size_threshold(s: &str) -> Result<f32, String> {
     } else {
         Err(format!("{s} is not between 0 and 64 texels"))
     }
+}
+
+/// `--camera`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraArg {
+    /// The file's camera, else `Auto`.
+    File,
+    /// A camera framing the scene's bounds.
+    Auto,
+    /// Eye and target (world, metres).
+    LookAt {
+        /// Eye position.
+        eye: [f32; 3],
+        /// The point looked at.
+        target: [f32; 3],
+    },
+}
+
+/// `file`, `auto`, or six finite numbers (eye, then target) with the eye away from the
+/// target.
+fn parse_camera(s: &str) -> Result<CameraArg, String> {
+    match s.trim() {
+        "file" => return Ok(CameraArg::File),
+        "auto" => return Ok(CameraArg::Auto),
+        _ => {}
+    }
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{s}` is not `file`, `auto` or six comma-separated numbers"))?;
+    let [ex, ey, ez, tx, ty, tz] = v[..] else {
+        return Err(format!(
+            "`{s}`: six numbers (eye x,y,z then target x,y,z), not {}",
+            v.len()
+        ));
+    };
+    let (eye, target) = ([ex, ey, ez], [tx, ty, tz]);
+    if !v.iter().all(|x| x.is_finite()) {
+        return Err(format!("`{s}`: every number must be finite"));
+    }
+    let camera = gpu::Camera::look_at(eye.into(), target.into());
+    camera.validate().map_err(|e| format!("`{s}`: {e}"))?;
+    Ok(CameraArg::LookAt { eye, target })
 }
 
 /// A light area given on the command line: finite, 1 to 10000 metres.
@@ -426,8 +485,11 @@ fn positive_density(s: &str) -> Result<f32, String> {
 }
 
 impl Args {
-    /// The demo scenes to render (the city aside: [`Args::city`]).
+    /// The demo scenes to render (the city aside: [`Args::city`]; none with `--gltf`).
     pub fn scenes(&self) -> &'static [DemoScene] {
+        if self.gltf.is_some() {
+            return &[];
+        }
         match self.scene {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
@@ -436,9 +498,9 @@ impl Args {
         }
     }
 
-    /// Whether the city is rendered.
+    /// Whether the city is rendered (not with `--gltf`).
     pub fn city(&self) -> bool {
-        matches!(self.scene, SceneArg::City | SceneArg::All)
+        self.gltf.is_none() && matches!(self.scene, SceneArg::City | SceneArg::All)
     }
 
     /// Checks what clap cannot alone: every scene's density against the talk's limits
@@ -479,6 +541,16 @@ fn parse_walk(v: &str) -> Result<f32, String> {
 /// cannot be written, or a GPU classification that differs from its CPU twin.
 pub fn run(args: &Args) -> Result<()> {
     args.check()?;
+    // A glTF file is imported first: its errors come before any device or directory.
+    let imported = match &args.gltf {
+        Some(path) => {
+            let t0 = std::time::Instant::now();
+            let imported = gltf_scene::load(path, &gltf_scene::LoadOptions::default())
+                .with_context(|| format!("importing {}", path.display()))?;
+            Some((path.as_path(), imported, t0.elapsed().as_secs_f64() * 1e3))
+        }
+        None => None,
+    };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let mut disable = wgpu::Features::empty();
@@ -548,12 +620,30 @@ pub fn run(args: &Args) -> Result<()> {
         _ => None,
     };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
+    if let Some((path, imported, build_ms)) = &imported {
+        let gltf = (*path, imported, *build_ms);
+        return render_gltf(args, &ctx, &mut renderer, every_sample.as_mut(), gltf);
+    }
     for (k, &scene_kind) in args.scenes().iter().enumerate() {
         if k > 0 {
             println!();
         }
         println!("== {} ==", scene_kind.name());
-        render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), scene_kind)?;
+        let t0 = std::time::Instant::now();
+        let (scene, frame) = demo::build(&DemoOptions {
+            scene: scene_kind,
+            seed: args.seed,
+            density: args.density,
+        });
+        let frame = with_lights(args, frame, 25.0);
+        let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let built = Built {
+            name: scene_kind.name(),
+            scene: &scene,
+            frame: &frame,
+            build: ("scene build (CPU)", build_ms),
+        };
+        render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), &built)?;
     }
     if args.city() {
         if !args.scenes().is_empty() {
@@ -759,24 +849,83 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     Ok(())
 }
 
-/// Builds, prepares and renders one demo scene; writes its images; prints its report.
+/// A scene to render, built or imported.
+struct Built<'a> {
+    /// The images' file-name prefix.
+    name: &'a str,
+    scene: &'a gpu::Scene,
+    frame: &'a gpu::FrameInput,
+    /// What building it is called in the report, and its CPU time (ms).
+    build: (&'a str, f64),
+}
+
+/// A glTF file (`--gltf`) imported (its path, what came of it, the import's CPU time in
+/// ms): prints the import summary and warnings, picks the camera (`--camera`), then renders
+/// it as a demo scene: images, debug views, report.
+fn render_gltf(
+    args: &Args,
+    ctx: &gpu::GpuContext,
+    renderer: &mut Renderer,
+    every_sample: Option<&mut Renderer>,
+    (path, imported, build_ms): (&std::path::Path, &gltf_scene::Imported, f64),
+) -> Result<()> {
+    let name = path
+        .file_stem()
+        .map(|s| {
+            s.to_string_lossy()
+                .replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "_")
+        })
+        .filter(|s| !s.is_empty())
+        .unwrap_or_else(|| "gltf".to_owned());
+    println!("== {name} (glTF) ==");
+    println!("{}", imported.summary);
+    for w in &imported.warnings {
+        println!("  warning: {w}");
+    }
+    let aspect = args.width as f32 / args.height as f32;
+    let auto = || gltf_scene::framing_camera(&imported.scene, aspect);
+    let camera = match args.camera {
+        CameraArg::File => imported.camera.unwrap_or_else(auto),
+        CameraArg::Auto => auto(),
+        CameraArg::LookAt { eye, target } => gpu::Camera::look_at(eye.into(), target.into()),
+    };
+    let which = match (args.camera, imported.camera) {
+        (CameraArg::File, Some(_)) => "the file's",
+        (CameraArg::LookAt { .. }, _) => "--camera's",
+        _ => "framing the scene's bounds",
+    };
+    println!(
+        "  camera ({which}): eye {:.2}, looking at {:.2}, {:.0}° vertical field of view",
+        camera.position,
+        camera.target,
+        camera.fov_y.to_degrees()
+    );
+    // Lights over the square the framed view covers.
+    let half_extent = (0.5 * camera.position.distance(camera.target)).clamp(1.0, 10_000.0);
+    let frame = with_lights(args, gpu::FrameInput::new(camera), half_extent);
+    let built = Built {
+        name: &name,
+        scene: &imported.scene,
+        frame: &frame,
+        build: (
+            "glTF import: parse, decode, build the scene (CPU)",
+            build_ms,
+        ),
+    };
+    render_scene(args, ctx, renderer, every_sample, &built)
+}
+
+/// Prepares and renders one scene; writes its images; prints its report.
 fn render_scene(
     args: &Args,
     ctx: &gpu::GpuContext,
     renderer: &mut Renderer,
     mut every_sample: Option<&mut Renderer>,
-    scene_kind: DemoScene,
+    built: &Built<'_>,
 ) -> Result<()> {
-    let t0 = std::time::Instant::now();
-    let (scene, frame) = demo::build(&DemoOptions {
-        scene: scene_kind,
-        seed: args.seed,
-        density: args.density,
-    });
-    let frame = with_lights(args, frame, 25.0);
-    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let (scene, frame) = (built.scene, built.frame);
     let t1 = std::time::Instant::now();
-    let prepared = renderer.prepare(&scene)?;
+    let prepared = renderer.prepare(scene)?;
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
 
     let paths: &[RenderPath] = match args.path {
@@ -786,30 +935,28 @@ fn render_scene(
     };
     let mut report = Report::new(ctx, renderer, &prepared);
     report.indirect_validation(args.indirect_validation);
-    report.cpu_ms("scene build (CPU)", build_ms);
+    report.cpu_ms(built.build.0, built.build.1);
     report.cpu_ms(
         "prepare: encode meshes, micro batches, upload (CPU)",
         prepare_ms,
     );
     let mut images = Vec::new();
     for &path in paths {
-        let frames = renderer.render_frames(&prepared, &frame, path, args.frames)?;
+        let frames = renderer.render_frames(&prepared, frame, path, args.frames)?;
         let image = renderer.read_output()?;
-        let file = args
-            .out
-            .join(format!("{}_{}.png", scene_kind.name(), path.name()));
+        let file = args.out.join(format!("{}_{}.png", built.name, path.name()));
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
-        let name = scene_kind.name();
+        let name = built.name;
         if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
             let edges = renderer.read_msaa_edges()?;
             if renderer.config().msaa == Some(gpu::MsaaLighting::Kz2) {
                 report.msaa_edges(edges.len(), (args.width * args.height) as usize);
             }
             if let Some(r) = every_sample.as_deref_mut() {
-                let p = r.prepare(&scene)?;
-                let t = r.render_frames(&p, &frame, path, args.frames)?;
+                let p = r.prepare(scene)?;
+                let t = r.render_frames(&p, frame, path, args.frames)?;
                 report.timings_named("baseline, MSAA every sample", &t);
             }
         }
@@ -819,20 +966,20 @@ fn render_scene(
             // Warmed up as render_frames is: writing the image let the clocks fall.
             let warm = std::time::Instant::now();
             while warm.elapsed() < gpu::WARM_UP {
-                renderer.submit(&prepared, &frame, path)?;
+                renderer.submit(&prepared, frame, path)?;
             }
             let t = std::time::Instant::now();
             let mut in_flight = 0;
             let mut cpu_ms = 0.0;
             for _ in 0..args.frames {
-                cpu_ms += renderer.submit(&prepared, &frame, path)?.wall_ms;
+                cpu_ms += renderer.submit(&prepared, frame, path)?.wall_ms;
                 in_flight = in_flight.max(renderer.upload_stats().frames_in_flight);
             }
             renderer.wait()?;
             let n = f64::from(args.frames);
             let pipelined = t.elapsed().as_secs_f64() * 1e3 / n;
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
-            report_lighting(args, &mut report, renderer, &frame, name)?;
+            report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;
             let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
@@ -860,7 +1007,7 @@ fn render_scene(
                     &format!("depth-equal quad overdraw (mean {mean:.2})"),
                     &file,
                 );
-                motion_view(args, &mut report, renderer, &prepared, &frame, name)?;
+                motion_view(args, &mut report, renderer, &prepared, frame, name)?;
             }
             if mismatch.is_some() {
                 print!("{report}");
@@ -871,7 +1018,7 @@ fn render_scene(
     }
     if let [deferred, baseline] = images.as_slice() {
         report.compare(deferred, baseline);
-        let file = args.out.join(format!("{}_diff.png", scene_kind.name()));
+        let file = args.out.join(format!("{}_diff.png", built.name));
         gpu::diff_image(deferred, baseline).write_png(&file)?;
         report.image_named("diff", &file);
     }

@@ -35,6 +35,8 @@ fn help_lists_the_options() {
         "--no-shadows",
         "--no-baked-sun",
         "--no-shadow-cache",
+        "--gltf",
+        "--camera",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }
@@ -101,4 +103,79 @@ fn a_density_over_the_talk_limits_names_the_limit_and_what_fits() {
     assert!(err.contains("at most density"), "{err}");
     // Refused from counts, before any instance is placed (it used to allocate 13 GB).
     assert!(started.elapsed().as_secs() < 60);
+}
+
+#[test]
+fn gltf_files_render_and_bad_ones_are_refused_by_name() {
+    let seeds =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/gltf_import");
+    let out = std::env::temp_dir().join(format!("render_cli_gltf_{}", std::process::id()));
+    let out_s = out.to_string_lossy().into_owned();
+    let file = seeds.join("rich.glb");
+    let file_s = file.to_string_lossy().into_owned();
+    let (code, stdout, err) = render(&[
+        "--gltf", &file_s, "--width", "64", "--height", "48", "--frames", "1", "--out", &out_s,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for part in [
+        "== rich (glTF) ==",
+        "meshes 2",
+        "instances 3",
+        "camera (the file's)",
+        "GPU classification == CPU twin",
+    ] {
+        assert!(stdout.contains(part), "`{part}` in\n{stdout}");
+    }
+    for image in [
+        "rich_deferred.png",
+        "rich_baseline.png",
+        "rich_debug_vis_ids.png",
+    ] {
+        assert!(out.join(image).exists(), "{image}");
+    }
+    let (code, stdout, err) = render(&[
+        "--gltf",
+        &file_s,
+        "--camera",
+        "auto",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "1",
+        "--no-debug-views",
+        "--path",
+        "deferred",
+        "--out",
+        &out_s,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("framing the scene's bounds"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&out);
+
+    // A truncated file: the importer's error, naming the file, exit code 1.
+    let bytes = std::fs::read(&file).unwrap();
+    let cut = std::env::temp_dir().join(format!("render_cli_cut_{}.glb", std::process::id()));
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let (code, _, err) = render(&["--gltf", &cut.to_string_lossy(), "--out", "/nonexistent/x"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("truncated") && err.contains("render_cli_cut"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&cut);
+    let (code, _, err) = render(&["--gltf", "/nonexistent/none.glb", "--out", "/nonexistent/x"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("none.glb"), "{err}");
+    for (camera, expect) in [
+        ("1,2,3", "six numbers"),
+        ("0,0,0,0,0,0", "camera.target equals camera.position"),
+        ("0,0,0,inf,0,0", "finite"),
+        ("near", "not `file`, `auto`"),
+    ] {
+        let (code, _, err) = render(&["--gltf", "x.glb", "--camera", camera]);
+        assert_eq!(code, 2, "{camera}: {err}");
+        assert!(err.contains(expect), "{camera}: `{expect}` in\n{err}");
+    }
 }
