@@ -42,7 +42,8 @@ pub fn run(args: Args, loaded: LoadedScene) -> Result<()> {
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window ({e}): the viewer needs a display (a desktop session, or \
-             Xvfb: `Xvfb :99 & DISPLAY=:99 view`)"
+             Xvfb: `Xvfb :99 & DISPLAY=:99 view`) and, on X11, the client libraries winit \
+             loads (Debian: libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0)"
         )
     })?;
     event_loop.set_control_flow(ControlFlow::Poll);
@@ -820,10 +821,15 @@ impl State {
 
     /// The overlay.
     fn ui(&mut self, ctx: &egui::Context) {
+        // As tall as the window allows (scrolling beyond).
+        let height = (ctx.content_rect().height() - 48.0).max(120.0);
         egui::Window::new("view")
             .default_pos([8.0, 8.0])
             .default_width(330.0)
+            .max_height(height)
+            .default_height(height)
             .resizable(false)
+            .vscroll(true)
             .show(ctx, |ui| {
                 let c = self.renderer.config().clone();
                 ui.label(&self.adapter_line);

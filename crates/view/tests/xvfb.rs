@@ -52,8 +52,9 @@ impl Xvfb {
             Ok(c) => c,
             Err(e) => panic!(
                 "cannot start Xvfb ({e}): the viewer test needs an X server. Install it:\n    \
-                 apt-get install -y xvfb        (Debian/Ubuntu, as root; scripts/ensure-env \
-                 does this when run as root)"
+                 apt-get install -y xvfb libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0\n\
+                 (Debian/Ubuntu, as root; scripts/test does this through scripts/ensure-env \
+                 when run as root)"
             ),
         };
         let mut line = String::new();
@@ -134,7 +135,9 @@ fn run_viewer(display: &str, name: &str, extra: &[&str]) -> Rgba8Image {
     );
     assert!(
         status.success(),
-        "view {args:?} failed ({status}):\n{stdout}\n{stderr}"
+        "view {args:?} failed ({status}):\n{stdout}\n{stderr}\n(winit needs the X11 client \
+         libraries: apt-get install -y libx11-xcb1 libxcursor1 libxi6 libxkbcommon-x11-0, \
+         which scripts/ensure-env does as root)"
     );
     eprint!("{stdout}");
     read(&shot)
