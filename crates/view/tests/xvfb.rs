@@ -17,9 +17,16 @@ use gpu::glam::Vec3;
 use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, diff_metrics};
 use testkit::device::ctx;
 
-/// The frame tests' thresholds (`gpu/tests/frame.rs`).
+/// The frame tests' thresholds (`gpu/tests/frame.rs`), for the viewer and the headless
+/// render on one adapter.
 const MAX_MEAN_ERROR: f64 = 1.0;
 const MAX_P99_ERROR: u8 = 24;
+
+/// The golden images' bounds across adapters (`gpu/tests/frame.rs`), for a machine whose
+/// window adapter is not the headless one (a GPU that cannot present to Xvfb leaves the
+/// viewer on lavapipe while the headless device takes the GPU).
+const CROSS_ADAPTER_MEAN_ERROR: f64 = 3.0;
+const CROSS_ADAPTER_P99_ERROR: u8 = 96;
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 180;
@@ -82,8 +89,8 @@ impl Drop for Xvfb {
 }
 
 /// Runs the viewer on `display` with `extra` flags after the scripted ones; returns its
-/// screenshot.
-fn run_viewer(display: &str, name: &str, extra: &[&str]) -> Rgba8Image {
+/// screenshot and whether it ran on the headless device's adapter.
+fn run_viewer(display: &str, name: &str, extra: &[&str]) -> (Rgba8Image, bool) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("view-xvfb");
     std::fs::create_dir_all(&dir).unwrap();
     let shot = dir.join(format!("{name}.png"));
@@ -140,7 +147,8 @@ fn run_viewer(display: &str, name: &str, extra: &[&str]) -> Rgba8Image {
          which scripts/ensure-env does as root)"
     );
     eprint!("{stdout}");
-    read(&shot)
+    let same_adapter = stdout.contains(&format!(" on {}:", ctx().adapter_line()));
+    (read(&shot), same_adapter)
 }
 
 fn read(path: &Path) -> Rgba8Image {
@@ -175,7 +183,13 @@ fn headless(path: RenderPath) -> (Renderer, gpu::PreparedScene, FrameInput) {
     (r, prepared, frame)
 }
 
-fn assert_close(what: &str, window: &Rgba8Image, reference: &Rgba8Image) {
+fn assert_close(what: &str, (window, same_adapter): &(Rgba8Image, bool), reference: &Rgba8Image) {
+    let (max_mean, max_p99) = if *same_adapter {
+        (MAX_MEAN_ERROR, MAX_P99_ERROR)
+    } else {
+        eprintln!("{what}: the window's adapter is not the headless one: cross-adapter bounds");
+        (CROSS_ADAPTER_MEAN_ERROR, CROSS_ADAPTER_P99_ERROR)
+    };
     assert_eq!(
         (window.width, window.height),
         (reference.width, reference.height),
@@ -196,9 +210,8 @@ fn assert_close(what: &str, window: &Rgba8Image, reference: &Rgba8Image) {
         window.pixels.len()
     );
     assert!(
-        mean <= MAX_MEAN_ERROR && p99 <= MAX_P99_ERROR,
-        "{what}: window vs headless mean {mean:.3} (max {MAX_MEAN_ERROR}), p99 {p99} (max \
-         {MAX_P99_ERROR})"
+        mean <= max_mean && p99 <= max_p99,
+        "{what}: window vs headless mean {mean:.3} (max {max_mean}), p99 {p99} (max {max_p99})"
     );
     let colours: std::collections::BTreeSet<[u8; 4]> = window.pixels.iter().copied().collect();
     assert!(colours.len() > 500, "{what}: {} colours", colours.len());
@@ -221,7 +234,24 @@ fn the_viewer_under_xvfb_shows_what_the_headless_renderer_renders() {
     let window = run_viewer(&x.display, "forest_vis_ids", &["--debug-view", "vis-ids"]);
     let (r, _, _) = headless(RenderPath::Deferred);
     let ids = gpu::debug::vis_ids(WIDTH, HEIGHT, &r.read_vis().unwrap());
-    assert_close("vis IDs", &window, &ids);
+    if window.1 {
+        assert_close("vis IDs", &window, &ids);
+    } else {
+        // Another adapter rasterises edges differently, and an edge pixel's ID colour is
+        // unrelated to its neighbour's: count the pixels instead.
+        let same = window
+            .0
+            .pixels
+            .iter()
+            .zip(&ids.pixels)
+            .filter(|(a, b)| a == b)
+            .count();
+        assert!(
+            same * 10 >= ids.pixels.len() * 9,
+            "vis IDs across adapters: {same} of {} pixels equal",
+            ids.pixels.len()
+        );
+    }
 }
 
 /// Bad flags fail before any window opens, naming the flag (no display needed).
