@@ -1355,6 +1355,23 @@ impl Renderer {
         })
     }
 
+    /// The output image's texture, for showing a frame without reading it back (a window's
+    /// blit): `config.width` x `config.height`, format `Rgba8Unorm` holding **sRGB-encoded**
+    /// values (the lighting pass writes them through a storage binding, which cannot be an
+    /// sRGB format), usages `TEXTURE_BINDING | STORAGE_BINDING | COPY_SRC`. Sample or load it
+    /// into a non-sRGB view of the target, so the values pass through unchanged, or decode
+    /// them to linear before writing an sRGB target. It holds the last frame's image (the
+    /// same bytes as [`Renderer::read_output`]) once the frame's work has run; the texture
+    /// lives as long as the renderer.
+    pub fn output_texture(&self) -> &wgpu::Texture {
+        &self.targets.output
+    }
+
+    /// A view of [`Renderer::output_texture`] (the whole texture, its own format).
+    pub fn output_view(&self) -> &wgpu::TextureView {
+        &self.targets.output_view
+    }
+
     /// Reads the output image back (sRGB-encoded RGBA8).
     ///
     /// # Errors

@@ -64,6 +64,55 @@ fn an_empty_scene_renders_the_sky() {
     }
 }
 
+/// The output texture a window blits (`Renderer::output_texture`) is the image
+/// `read_output` reads: Rgba8Unorm of the configured size, sampleable and copyable.
+#[test]
+fn the_output_texture_is_the_read_back_image() {
+    let mut r = renderer();
+    let (scene, frame) = small_forest();
+    let p = r.prepare(&scene).unwrap();
+    r.render(&p, &frame, RenderPath::Deferred).unwrap();
+    let t = r.output_texture();
+    assert_eq!(t.format(), wgpu::TextureFormat::Rgba8Unorm);
+    assert_eq!((t.width(), t.height()), (W, H));
+    assert!(
+        t.usage()
+            .contains(wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC)
+    );
+    assert_eq!(r.output_view().texture(), t);
+    let c = ctx();
+    let padded = (W * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+    let buffer = c.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("output copy"),
+        size: u64::from(padded * H),
+        usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = c.device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        t.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(H),
+            },
+        },
+        t.size(),
+    );
+    c.queue.submit([encoder.finish()]);
+    let bytes = gpu::read_buffer(&c.device, &c.queue, &buffer, 0, buffer.size()).unwrap();
+    let image = r.read_output().unwrap();
+    for (y, row) in bytes.chunks_exact(padded as usize).enumerate() {
+        let row: Vec<[u8; 4]> = row[..(W * 4) as usize]
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect();
+        assert_eq!(row, image.pixels[y * W as usize..][..W as usize], "row {y}");
+    }
+}
+
 #[test]
 fn the_camera_moves_without_preparing_again() {
     let (scene, frame) = small_forest();
