@@ -462,3 +462,26 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         "the near-plane triangle is missing"
     );
 }
+
+#[test]
+fn the_compute_laydown_falls_back_to_the_hardware_one_without_64_bit_atomics() {
+    let c = gpu::headless(&gpu::HeadlessOptions {
+        disable_features: wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
+        ..Default::default()
+    })
+    .unwrap();
+    assert!(!c.paths.int64_atomics);
+    let config = RendererConfig {
+        width: W,
+        height: H,
+        laydown: Laydown::Compute,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
+    assert_eq!(r.laydown(), Laydown::Hardware);
+    let (scene, frame) = test_scene();
+    let prepared = r.prepare(&scene).unwrap();
+    let (vis, _) = r.render_laydown(&prepared, &frame).unwrap();
+    assert!(vis.iter().any(|&w| w != visbuf::VIS_NONE));
+    assert_eq!(r.read_laydown_stats(&prepared).unwrap(), None);
+}
