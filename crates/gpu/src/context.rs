@@ -14,6 +14,7 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::SHADER_F16)
     .union(wgpu::Features::SHADER_INT64)
+    .union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX)
     .union(wgpu::Features::INDIRECT_FIRST_INSTANCE)
     .union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT)
     .union(wgpu::Features::FLOAT32_BLENDABLE)
@@ -92,6 +93,9 @@ pub struct ActivePaths {
     pub timestamps_inside_encoders: bool,
     /// `f16` in shaders (`SHADER_F16`).
     pub f16: bool,
+    /// 64-bit storage-buffer atomics (`SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`):
+    /// the compute laydown can run ([`Laydown::Compute`](crate::Laydown)).
+    pub int64_atomics: bool,
 }
 
 impl ActivePaths {
@@ -107,6 +111,7 @@ impl ActivePaths {
                 wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
             ),
             f16: features.contains(wgpu::Features::SHADER_F16),
+            int64_atomics: features.contains(crate::COMPUTE_LAYDOWN_FEATURES),
         }
     }
 }

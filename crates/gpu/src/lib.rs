@@ -105,12 +105,16 @@ pub use glam;
 pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 #[doc(hidden)]
 pub use passes::classify::ClassificationVariant;
+pub use passes::compute_laydown::{
+    COMPUTE_LAYDOWN_EXTENT_LIMIT, COMPUTE_LAYDOWN_FEATURES, COMPUTE_LAYDOWN_MAX_EXTENT,
+    LaydownStats,
+};
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 #[doc(hidden)]
 pub use renderer::ConditionalLight;
 pub use renderer::{
-    FrameOutput, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting, RenderPath,
-    Renderer, RendererConfig, WARM_UP,
+    FrameOutput, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting,
+    RenderPath, Renderer, RendererConfig, WARM_UP,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};

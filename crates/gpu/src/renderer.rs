@@ -55,6 +55,37 @@ impl RenderPath {
     }
 }
 
+/// How the deferred paths ([`RenderPath::Deferred`], [`RenderPath::DeferredFullScreen`])
+/// lay down depth and the vis buffer. The baseline keeps its hardware depth prepass (HZD's
+/// method) either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Laydown {
+    /// The hardware rasteriser: one indexed draw per micro batch (the default until the
+    /// compute path is measured faster).
+    #[default]
+    Hardware,
+    /// Issue 17's compute laydown: small triangles rasterised in compute into a 64-bit
+    /// target with `atomicMax` (depth bits high, vis word low), those crossing the near
+    /// plane or larger than [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT)
+    /// pixels by the hardware into the same target, then one pass to the depth target,
+    /// vis texture and vis words. Needs
+    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::COMPUTE_LAYDOWN_FEATURES) (64-bit storage-buffer
+    /// atomics); on a device without them, and in frames with a static query (whose
+    /// indirect draw lists the hardware draws), the hardware laydown runs instead:
+    /// [`Renderer::laydown`] says which one a renderer got.
+    Compute,
+}
+
+impl Laydown {
+    /// Short name for tables and CLI flags.
+    pub fn name(self) -> &'static str {
+        match self {
+            Laydown::Hardware => "hardware",
+            Laydown::Compute => "compute",
+        }
+    }
+}
+
 /// How local lights reach the image. Every path gives the same image up to rounding:
 /// each light's shading is exactly zero outside its volume, and the paths differ only in
 /// which pixels they try.
@@ -169,6 +200,16 @@ pub struct RendererConfig {
     /// that has volumes on a device with `INDIRECT_FIRST_INSTANCE` (else the draws are
     /// direct); default on.
     pub conditional_volumes: bool,
+    /// How the deferred paths lay down depth and the vis buffer (default: the hardware
+    /// rasteriser; [`Laydown::Compute`] falls back to it on a device without 64-bit
+    /// atomics).
+    pub laydown: Laydown,
+    /// The compute laydown's hybrid split: triangles whose screen box is wider or taller
+    /// than this many pixels go to its hardware part (0: every one; at most
+    /// [`COMPUTE_LAYDOWN_EXTENT_LIMIT`](crate::COMPUTE_LAYDOWN_EXTENT_LIMIT), where the
+    /// fixed-point edge functions still fit 32 bits). Default
+    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
+    pub compute_laydown_max_extent: f32,
 }
 
 impl RendererConfig {
@@ -201,6 +242,14 @@ impl RendererConfig {
         if let Some(s) = &self.spot_shadows {
             s.validate()?;
         }
+        let extent = self.compute_laydown_max_extent;
+        if !(0.0..=crate::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&extent) {
+            return bad(
+                "RendererConfig::compute_laydown_max_extent",
+                f64::from(extent),
+                "[0, 254] pixels",
+            );
+        }
         if self.msaa.is_some() && self.light_paths.volumes() {
             return bad(
                 "RendererConfig::msaa",
@@ -230,6 +279,8 @@ impl Default for RendererConfig {
             gbuffer: deferred::GBufferLayout::Octahedral,
             msaa: None,
             conditional_volumes: true,
+            laydown: Laydown::Hardware,
+            compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
         }
     }
 }
@@ -411,7 +462,13 @@ impl Renderer {
         // The largest buffers: the vis words (4 bytes a pixel) and the wave commands (16
         // bytes per command, at most a pixel's worth each for wave width 1; 8 lanes on
         // lavapipe make it 2 bytes a pixel plus one per counter).
-        let largest = (pixels * 4).max(64 << 20);
+        // The compute laydown's 64-bit target: 8 bytes a pixel.
+        let per_pixel = if config.laydown == Laydown::Compute {
+            8
+        } else {
+            4
+        };
+        let largest = (pixels * per_pixel).max(64 << 20);
         wgpu::Limits {
             max_storage_buffers_per_shader_stage: d
                 .max_storage_buffers_per_shader_stage
@@ -507,6 +564,8 @@ impl Renderer {
                 && device
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
+            // The compute laydown where asked for and the device has 64-bit atomics.
+            let compute_laydown = config.laydown == Laydown::Compute && paths.int64_atomics;
             let pipelines = Pipelines::new(
                 device,
                 &paths,
@@ -515,6 +574,8 @@ impl Renderer {
                 config.gbuffer,
                 config.msaa,
                 conditional,
+                compute_laydown,
+                config.compute_laydown_max_extent,
             )?;
             let conditional = pipelines
                 .conditional
@@ -528,8 +589,16 @@ impl Renderer {
                 mapped_at_creation: false,
             });
             let lights = LightBuffers::new(device, &targets, 64)?;
+            let mut targets = targets;
+            targets.vis64 = compute_laydown.then(|| {
+                passes::compute_laydown::target_buffer(device, config.width, config.height)
+            });
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
+                laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
+                    (Some(c), Some(t)) => Some(c.target_group(device, &frame, t, &targets)?),
+                    _ => None,
+                },
                 gbuffer_store: pipelines
                     .resolve
                     .gbuffer_group(device, &targets.gbuffer_views)?,
@@ -594,6 +663,17 @@ impl Renderer {
     /// The paths this renderer uses.
     pub fn paths(&self) -> &ActivePaths {
         &self.paths
+    }
+
+    /// The laydown the deferred paths use in frames without a static query:
+    /// [`Laydown::Compute`] where asked for and the device has its features, else
+    /// [`Laydown::Hardware`].
+    pub fn laydown(&self) -> Laydown {
+        if self.pipelines.compute_laydown.is_some() {
+            Laydown::Compute
+        } else {
+            Laydown::Hardware
+        }
     }
 
     /// The configuration.
@@ -739,6 +819,7 @@ impl Renderer {
                         conditional: self.conditional.as_ref(),
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
+                        compute_laydown: !static_query,
                     }
                 };
             }
@@ -1476,6 +1557,21 @@ impl Renderer {
         Ok(bytemuck::pod_collect_to_vec(&depth))
     }
 
+    /// What the last compute laydown of `scene` drew: its triangles and those the hardware
+    /// part drew. `None` where the renderer or the scene has no compute laydown.
+    ///
+    /// # Errors
+    /// A scene prepared by another renderer, or a device or mapping error.
+    pub fn read_laydown_stats(&self, scene: &PreparedScene) -> Result<Option<crate::LaydownStats>> {
+        self.check_scene(scene)?;
+        let Some(g) = &scene.compute_laydown else {
+            return Ok(None);
+        };
+        let words = read_buffer(&self.device, &self.queue, &g.list, 0, 4)?;
+        let vertex_count = u32::from_le_bytes([words[0], words[1], words[2], words[3]]);
+        Ok(Some(passes::compute_laydown::stats(g.items, vertex_count)))
+    }
+
     /// Reads the static placement's debug words of the last frame with a static query of
     /// `scene` (what [`debug::static_lod_fade`](crate::debug::static_lod_fade) and
     /// [`debug::static_two_pass`](crate::debug::static_two_pass) colour the vis buffer by).
@@ -1719,6 +1815,7 @@ impl Renderer {
                 conditional: None,
                 origin_offset: self.origin_offset,
                 msaa: false,
+                compute_laydown: false,
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);

@@ -431,3 +431,62 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
         assert!(mean < 4.0, "{path:?}: mean {mean}");
     }
 }
+
+/// Issue 17's compute laydown in the whole deferred frame: on both scenes (foliage:
+/// alpha-tested cards), the GPU classification still equals the CPU twin, and the image
+/// matches the hardware laydown's within the deferred-vs-baseline bounds (the alpha test's
+/// level comes from analytic derivatives in compute, from 2x2 quads in hardware).
+#[test]
+fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
+    if !ctx().paths.int64_atomics {
+        eprintln!("no 64-bit atomics on {}: not tested", ctx().adapter_line());
+        return;
+    }
+    for kind in DemoScene::ALL {
+        let (scene, frame) = scene(kind);
+        let image = |laydown| {
+            let mut r = common::renderer_with(gpu::RendererConfig {
+                width: 320,
+                height: 180,
+                shadows: common::test_shadows(),
+                laydown,
+                ..gpu::RendererConfig::default()
+            });
+            assert_eq!(r.laydown(), laydown);
+            let prepared = r.prepare(&scene).unwrap();
+            r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
+            let gpu = r.read_classification(&prepared).unwrap();
+            let (stats, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            assert_eq!(
+                mismatch,
+                None,
+                "{} {}: GPU classification differs from the CPU twin",
+                kind.name(),
+                laydown.name()
+            );
+            let laydown_stats = r.read_laydown_stats(&prepared).unwrap();
+            eprintln!(
+                "{} {}: {} pixels, laydown {laydown_stats:?}",
+                kind.name(),
+                laydown.name(),
+                stats.vis_pixels
+            );
+            (r.read_output().unwrap(), gpu.vis)
+        };
+        let (hardware, hw_vis) = image(gpu::Laydown::Hardware);
+        let (compute, cs_vis) = image(gpu::Laydown::Compute);
+        let same = hw_vis.iter().zip(&cs_vis).filter(|(a, b)| a == b).count();
+        let (mean, _) = diff_metrics(&compute, &hardware, 0.5).unwrap();
+        let (_, p99) = diff_metrics(&compute, &hardware, 0.99).unwrap();
+        eprintln!(
+            "{}: compute vs hardware laydown: {:.2}% vis words equal, mean {mean:.3} / 255, p99 {p99} / 255",
+            kind.name(),
+            100.0 * same as f64 / hw_vis.len() as f64
+        );
+        assert!(
+            mean <= MAX_MEAN_ERROR && p99 <= MAX_P99_ERROR,
+            "{}: compute vs hardware laydown mean {mean:.3}, p99 {p99}",
+            kind.name()
+        );
+    }
+}

@@ -3,8 +3,8 @@
 
 use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
 use gpu::{
-    Batch, Camera, FrameInput, Material, MaterialId, MeshId, PrimitiveIdPath, Renderer,
-    RendererConfig, Scene, ShaderKind,
+    Batch, Camera, FrameInput, Laydown, Material, MaterialId, Mesh, MeshId, PrimitiveIdPath,
+    Renderer, RendererConfig, Scene, ShaderKind,
 };
 use testkit::device::ctx;
 use tiling::MicroBatchInfo;
@@ -207,10 +207,57 @@ fn cpu_raster(
     out
 }
 
+/// Renders the laydown of the test scene with `config` and compares every unambiguous
+/// pixel with the f64 rasteriser; `name` labels failures.
+fn check_against_f64(config: RendererConfig, name: &str) -> Renderer {
+    let probe = ctx();
+    let (scene, frame) = test_scene();
+    let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
+    let prepared = renderer.prepare(&scene).unwrap();
+    let reference = cpu_raster(&scene, &frame.camera, &prepared);
+    let (vis, _depth) = renderer.render_laydown(&prepared, &frame).unwrap();
+    let (mut checked, mut covered) = (0, 0);
+    for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
+        match hit {
+            Some(h) if h.margin > 0.01 && h.depth - runner_up > 1e-6 && !near_miss => {
+                assert_eq!(
+                    got,
+                    h.word,
+                    "{name}: pixel {i} ({}, {})",
+                    i as u32 % W,
+                    i as u32 / W
+                );
+                checked += 1;
+                covered += 1;
+            }
+            None if !near_miss => {
+                assert_eq!(got, visbuf::VIS_NONE, "{name}: pixel {i} should be empty");
+                checked += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(
+        covered > (W * H) as usize / 4,
+        "{name}: the scene should cover the image ({covered})"
+    );
+    assert!(
+        checked > (W * H) as usize * 9 / 10,
+        "{name}: only {checked} unambiguous pixels"
+    );
+    if let Some(s) = renderer.read_laydown_stats(&prepared).unwrap() {
+        eprintln!(
+            "{name}: {} triangles, {} to the hardware part, {checked} pixels checked",
+            s.triangles, s.hybrid
+        );
+        assert_eq!(s.dropped, 0);
+    }
+    renderer
+}
+
 #[test]
 fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
     let probe = ctx();
-    let (scene, frame) = test_scene();
     let mut tested = 0;
     for path in PrimitiveIdPath::ALL {
         if !probe.device.features().contains(path.required_features()) {
@@ -228,47 +275,213 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
             primitive_id: Some(path),
             ..Default::default()
         };
-        let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
-        let prepared = renderer.prepare(&scene).unwrap();
-        let reference = cpu_raster(&scene, &frame.camera, &prepared);
-        let (vis, _depth) = renderer.render_laydown(&prepared, &frame).unwrap();
-        let (mut checked, mut covered) = (0, 0);
-        for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
-            match hit {
-                Some(h) if h.margin > 0.01 && h.depth - runner_up > 1e-6 && !near_miss => {
-                    assert_eq!(
-                        got,
-                        h.word,
-                        "{}: pixel {i} ({}, {})",
-                        path.name(),
-                        i as u32 % W,
-                        i as u32 / W
-                    );
-                    checked += 1;
-                    covered += 1;
-                }
-                None if !near_miss => {
-                    assert_eq!(
-                        got,
-                        visbuf::VIS_NONE,
-                        "{}: pixel {i} should be empty",
-                        path.name()
-                    );
-                    checked += 1;
-                }
-                _ => {}
-            }
-        }
-        assert!(
-            covered > (W * H) as usize / 4,
-            "{}: the scene should cover the image ({covered})",
-            path.name()
-        );
-        assert!(
-            checked > (W * H) as usize * 9 / 10,
-            "{}: only {checked} unambiguous pixels",
-            path.name()
-        );
+        check_against_f64(config, path.name());
     }
     assert!(tested >= 1);
+}
+
+/// Whether the test device runs the compute laydown (lavapipe and the H200 do).
+fn compute_device() -> bool {
+    let probe = ctx();
+    let has = probe.paths.int64_atomics;
+    if !has {
+        eprintln!(
+            "no 64-bit atomics on {}: the compute laydown is not tested here",
+            probe.adapter_line()
+        );
+    }
+    has
+}
+
+#[test]
+fn compute_laydown_matches_the_f64_rasteriser() {
+    if !compute_device() {
+        return;
+    }
+    // The default hybrid split, everything in compute (the largest extent), everything
+    // through the hardware part (extent 0; on the best primitive-ID path), and a split
+    // at 1 pixel that sends part of the scene's (small) triangles there.
+    for (extent, name) in [
+        (gpu::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
+        (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "compute only"),
+        (0.0, "hybrid only"),
+        (1.0, "compute + hybrid at 1 pixel"),
+    ] {
+        let r = check_against_f64(
+            RendererConfig {
+                width: W,
+                height: H,
+                laydown: Laydown::Compute,
+                compute_laydown_max_extent: extent,
+                ..Default::default()
+            },
+            name,
+        );
+        assert_eq!(r.laydown(), Laydown::Compute);
+    }
+}
+
+/// One triangle (counter-clockwise seen from +z) per entry of `tris`, object space.
+fn triangles_mesh(name: &str, tris: &[[Vec3; 3]]) -> Mesh {
+    let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
+    let n = positions.len();
+    Mesh {
+        name: name.into(),
+        normals: vec![Vec3::Z; n],
+        uvs: positions.iter().map(|p| p.truncate()).collect(),
+        tangents: vec![glam::Vec4::new(1.0, 0.0, 0.0, 1.0); n],
+        indices: (0..n as u16).collect(),
+        positions,
+    }
+}
+
+#[test]
+fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_part() {
+    if !compute_device() {
+        return;
+    }
+    let v = Vec3::new;
+    // Looking down -z from z = 5 (near 0.5): the scene lies around z = 0.
+    let tris = [
+        // A plain small triangle.
+        [v(-1.0, -1.0, 0.0), v(-0.6, -1.0, 0.0), v(-0.8, -0.6, 0.0)],
+        // Degenerate: two equal vertices, and three collinear ones.
+        [v(0.2, 0.2, 0.0), v(0.2, 0.2, 0.0), v(0.5, 0.6, 0.0)],
+        [v(0.0, 0.0, 0.0), v(0.1, 0.1, 0.0), v(0.2, 0.2, 0.0)],
+        // Huge: the left half of the view and far past it (the hardware part).
+        [
+            v(-60.0, -60.0, -1.0),
+            v(-0.1, -60.0, -1.0),
+            v(-0.1, 60.0, -1.0),
+        ],
+        // Off screen on every side.
+        [v(40.0, 0.0, 0.0), v(41.0, 0.0, 0.0), v(40.5, 1.0, 0.0)],
+        [v(0.0, -40.0, 0.0), v(1.0, -40.0, 0.0), v(0.5, -39.0, 0.0)],
+        // Behind the camera, entirely.
+        [v(0.0, 0.0, 9.0), v(1.0, 0.0, 9.0), v(0.5, 1.0, 9.0)],
+        // Crossing the near plane (z = 4.5) and the eye plane: one vertex behind the eye.
+        [v(0.3, -1.2, 0.5), v(1.4, -1.2, 0.5), v(0.8, 2.0, 6.0)],
+        // Back-facing (clockwise from the camera).
+        [v(0.6, 0.6, 0.0), v(0.8, 1.0, 0.0), v(1.0, 0.6, 0.0)],
+    ];
+    let mesh = triangles_mesh("awkward", &tris);
+    let mat = Material {
+        name: "plain".into(),
+        shader: ShaderKind::Opaque,
+        albedo_layer: 0,
+        tint: Vec3::ONE,
+        alpha_cutoff: 0.5,
+        roughness: 0.5,
+        specular: 0.5,
+    };
+    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
+        density: 0.01,
+        ..Default::default()
+    });
+    let scene = Scene {
+        meshes: vec![mesh],
+        materials: vec![mat],
+        albedo_layers: vec![demo.albedo_layers[0].clone()],
+        batches: vec![Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![
+                Affine3A::IDENTITY,
+                // A finite transform whose clip coordinates overflow to infinity and NaN.
+                Affine3A::from_scale(Vec3::splat(3.0e38)),
+            ],
+        }],
+        static_setups: Vec::new(),
+    };
+    let camera = Camera {
+        fov_y: 1.0,
+        near: 0.5,
+        ..Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO)
+    };
+    let frame = FrameInput::new(camera);
+    let probe = ctx();
+    let render = |laydown| {
+        let config = RendererConfig {
+            width: W,
+            height: H,
+            laydown,
+            ..Default::default()
+        };
+        let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
+        let prepared = r.prepare(&scene).unwrap();
+        let (vis, _) = r.render_laydown(&prepared, &frame).unwrap();
+        (vis, r.read_laydown_stats(&prepared).unwrap())
+    };
+    let (hardware, _) = render(Laydown::Hardware);
+    let (compute, stats) = render(Laydown::Compute);
+    let stats = stats.unwrap();
+    eprintln!("awkward: {stats:?}");
+    // The huge and the near-plane triangle, of each instance with finite coordinates.
+    assert!(stats.hybrid >= 2, "{stats:?}");
+    assert_eq!(stats.dropped, 0);
+    let at = |img: &[u32], x: i64, y: i64| {
+        (x >= 0 && y >= 0 && x < i64::from(W) && y < i64::from(H))
+            .then(|| img[(y * i64::from(W) + x) as usize])
+    };
+    // Every word either image writes, the other writes within one pixel: no pixel outside
+    // its triangle (but for edge pixels), nothing lost (the near-plane triangle included).
+    let mut differ = 0;
+    for (a, b, name) in [
+        (&compute, &hardware, "compute"),
+        (&hardware, &compute, "hardware"),
+    ] {
+        for y in 0..i64::from(H) {
+            for x in 0..i64::from(W) {
+                let w = at(a, x, y).unwrap();
+                if w == at(b, x, y).unwrap() {
+                    continue;
+                }
+                differ += 1;
+                if w == visbuf::VIS_NONE {
+                    continue;
+                }
+                let near = (-1..=1)
+                    .flat_map(|dy| (-1..=1).map(move |dx| (dx, dy)))
+                    .any(|(dx, dy)| at(b, x + dx, y + dy) == Some(w));
+                assert!(
+                    near,
+                    "{name}: word {w:#x} at ({x}, {y}) is nowhere near the other image's"
+                );
+            }
+        }
+    }
+    assert!(differ < (W * H) as usize / 50, "{differ} pixels differ");
+    // The near-plane triangle (primitive 7 of instance 0) is drawn.
+    let words: std::collections::BTreeSet<u32> = compute.iter().copied().collect();
+    let bits = PrimitiveBits::for_count(tris.len() as u32).unwrap();
+    let primitive = |w: u32| VisId(w).primitive(bits);
+    assert!(
+        words
+            .iter()
+            .any(|&w| w != visbuf::VIS_NONE && primitive(w) == 7),
+        "the near-plane triangle is missing"
+    );
+}
+
+#[test]
+fn the_compute_laydown_falls_back_to_the_hardware_one_without_64_bit_atomics() {
+    let c = gpu::headless(&gpu::HeadlessOptions {
+        disable_features: wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX,
+        ..Default::default()
+    })
+    .unwrap();
+    assert!(!c.paths.int64_atomics);
+    let config = RendererConfig {
+        width: W,
+        height: H,
+        laydown: Laydown::Compute,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
+    assert_eq!(r.laydown(), Laydown::Hardware);
+    let (scene, frame) = test_scene();
+    let prepared = r.prepare(&scene).unwrap();
+    let (vis, _) = r.render_laydown(&prepared, &frame).unwrap();
+    assert!(vis.iter().any(|&w| w != visbuf::VIS_NONE));
+    assert_eq!(r.read_laydown_stats(&prepared).unwrap(), None);
 }

@@ -105,6 +105,16 @@ pub enum MsaaArg {
     Compare,
 }
 
+/// `--laydown`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LaydownArg {
+    /// The hardware rasteriser (one indexed draw per micro batch).
+    Hardware,
+    /// Issue 17's compute laydown (64-bit atomics; large and near-plane triangles through
+    /// its hardware part); the hardware laydown where the adapter lacks the atomics.
+    Compute,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -162,6 +172,14 @@ pub struct Args {
     /// How the laydown gets primitive IDs.
     #[arg(long, value_enum, default_value = "auto")]
     pub primitive_id: PrimitiveIdArg,
+    /// How the deferred paths lay down depth and the vis buffer (the baseline keeps its
+    /// hardware depth prepass).
+    #[arg(long, value_enum, default_value = "hardware")]
+    pub laydown: LaydownArg,
+    /// The compute laydown's hybrid split: triangles whose screen box is wider or taller
+    /// than this many pixels go to its hardware part (0 to 254; 0: every one).
+    #[arg(long, default_value_t = gpu::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
+    pub laydown_max_extent: f32,
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
     pub no_subgroups: bool,
@@ -526,6 +544,14 @@ impl Args {
     }
 }
 
+fn parse_extent(v: &str) -> Result<f32, String> {
+    match v.parse::<f32>() {
+        Ok(e) if (0.0..=gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&e) => Ok(e),
+        Ok(e) => Err(format!("{e} pixels: 0 to 254")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 fn parse_walk(v: &str) -> Result<f32, String> {
     match v.parse::<f32>() {
         Ok(m) if (0.0..=50.0).contains(&m) => Ok(m),
@@ -605,6 +631,11 @@ pub fn run(args: &Args) -> Result<()> {
             MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::MsaaLighting::Kz2),
             MsaaArg::EverySample => Some(gpu::MsaaLighting::EverySample),
         },
+        laydown: match args.laydown {
+            LaydownArg::Hardware => gpu::Laydown::Hardware,
+            LaydownArg::Compute => gpu::Laydown::Compute,
+        },
+        compute_laydown_max_extent: args.laydown_max_extent,
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -979,6 +1010,9 @@ fn render_scene(
             let n = f64::from(args.frames);
             let pipelined = t.elapsed().as_secs_f64() * 1e3 / n;
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
+            if let Some(s) = renderer.read_laydown_stats(&prepared)? {
+                report.laydown_stats(&s);
+            }
             report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.read_classification(&prepared)?;

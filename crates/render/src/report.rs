@@ -27,6 +27,22 @@ impl Report {
         let paths = renderer.paths();
         r.row("adapter", ctx.adapter_line());
         r.row("primitive ID path", paths.primitive_id.name().to_string());
+        let c = renderer.config();
+        r.row(
+            "laydown (deferred paths)",
+            if renderer.laydown() == c.laydown {
+                match c.laydown {
+                    gpu::Laydown::Compute => format!(
+                        "compute, triangles over {} pixels to its hardware part",
+                        c.compute_laydown_max_extent
+                    ),
+                    gpu::Laydown::Hardware => "hardware".to_string(),
+                }
+            } else {
+                "hardware (compute asked for: the adapter lacks SHADER_INT64_ATOMIC_MIN_MAX)"
+                    .to_string()
+            },
+        );
         r.row(
             "appends",
             match paths.subgroup_size {
@@ -43,7 +59,6 @@ impl Report {
             }
             .to_string(),
         );
-        let c = renderer.config();
         r.row("resolution", format!("{} x {}", c.width, c.height));
         r.row(
             "G-buffer",
@@ -369,6 +384,24 @@ impl Report {
     /// GPU and wall times of a named variant of a path.
     pub fn timings_named(&mut self, name: &str, t: &FrameOutput) {
         self.timings.push((name.to_string(), t.clone()));
+    }
+
+    /// The compute laydown's triangles and its hardware part's share.
+    pub fn laydown_stats(&mut self, s: &gpu::LaydownStats) {
+        let share = if s.triangles == 0 {
+            0.0
+        } else {
+            100.0 * s.hybrid as f64 / s.triangles as f64
+        };
+        self.row(
+            "compute laydown",
+            format!(
+                "{} triangles, {} ({share:.3}%) to the hardware part, {} past its list",
+                group_digits(s.triangles),
+                group_digits(s.hybrid),
+                group_digits(s.dropped)
+            ),
+        );
     }
 
     /// Whether wgpu validated the indirect arguments (its injected pass).

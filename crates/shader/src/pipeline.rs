@@ -54,7 +54,15 @@ pub fn layout_entries(
         .enumerate()
         .map(|(i, b)| wgpu::BindGroupLayoutEntry {
             binding: i as u32,
-            visibility,
+            // A vertex stage that may write storage needs `VERTEX_WRITABLE_STORAGE`: writable
+            // bindings of a render pass are its fragment stage's (a vertex stage reading one
+            // fails pipeline creation, so no pass can rely on the wider visibility).
+            visibility: match b.kind {
+                Kind::Storage { writable: true, .. } | Kind::StorageTexture { .. } => {
+                    visibility - wgpu::ShaderStages::VERTEX
+                }
+                _ => visibility,
+            },
             ty: match b.kind {
                 Kind::Uniform { size, dynamic } => wgpu::BindingType::Buffer {
                     ty: wgpu::BufferBindingType::Uniform,

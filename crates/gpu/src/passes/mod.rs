@@ -10,6 +10,7 @@
 //! | pass | module | what |
 //! | --- | --- | --- |
 //! | laydown | [`laydown`] | depth + vis buffer (and the baseline's depth prepass) |
+//! | compute laydown | [`compute_laydown`] | triangles rasterised in compute into a 64-bit target (hardware part for large and near-plane ones), then depth + vis texture + vis words |
 //! | vis copy | [`vis_copy`] | vis texture -> word buffer |
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
@@ -32,6 +33,7 @@ use crate::timing::GpuTimer;
 
 pub(crate) mod baseline;
 pub(crate) mod classify;
+pub(crate) mod compute_laydown;
 pub(crate) mod conditional;
 pub(crate) mod laydown;
 pub(crate) mod light_volumes;
@@ -64,6 +66,10 @@ gpu_modules!(
     LAYDOWN_BUILTIN = "laydown_builtin",
     LAYDOWN_XOR = "laydown_xor",
     LAYDOWN_PROVOKING = "laydown_provoking",
+    COMPUTE_LAYDOWN_DRAWS = "compute_laydown_draws",
+    COMPUTE_LAYDOWN = "compute_laydown",
+    COMPUTE_LAYDOWN_HYBRID = "compute_laydown_hybrid",
+    LAYDOWN_TARGET = "laydown_target",
     BASELINE = "baseline",
     GBUFFER_STORE = "gbuffer_store",
     GBUFFER_LOAD = "gbuffer_load",
@@ -97,6 +103,9 @@ pub(crate) fn stage_counts() -> StageCounts {
         laydown::pass(PrimitiveIdPath::Builtin).stage_counts(),
         baseline::BASELINE.stage_counts(),
         vis_copy::VIS_COPY.stage_counts(),
+        compute_laydown::COMPUTE_LAYDOWN.stage_counts(),
+        compute_laydown::COMPUTE_LAYDOWN_HYBRID.stage_counts(),
+        compute_laydown::LAYDOWN_TARGET.stage_counts(),
         classify::ZERO.stage_counts(),
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
@@ -120,6 +129,9 @@ pub(crate) fn stage_counts() -> StageCounts {
 /// Every pass's pipelines on one device.
 pub(crate) struct Pipelines {
     pub laydown: laydown::Laydown,
+    /// With [`Laydown::Compute`](crate::Laydown) on a device with
+    /// [`compute_laydown::COMPUTE_LAYDOWN_FEATURES`].
+    pub compute_laydown: Option<compute_laydown::ComputeLaydown>,
     pub vis_copy: vis_copy::VisCopy,
     pub classify: classify::Classify,
     pub resolve: resolve::Resolve,
@@ -137,7 +149,9 @@ pub(crate) struct Pipelines {
 impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
     /// width), `light_paths`, the G-buffer layout and whether KZ2's conditional rendering
-    /// is emulated (`conditional`: asked for and possible).
+    /// is emulated (`conditional`: asked for and possible), and with `compute_laydown` the
+    /// compute laydown's.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         device: &wgpu::Device,
         paths: &ActivePaths,
@@ -146,9 +160,20 @@ impl Pipelines {
         gbuffer: deferred::GBufferLayout,
         msaa: Option<crate::MsaaLighting>,
         conditional: bool,
+        compute_laydown: bool,
+        compute_laydown_max_extent: f32,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
+            compute_laydown: if compute_laydown {
+                Some(compute_laydown::ComputeLaydown::new(
+                    device,
+                    paths.subgroup_size.is_some(),
+                    compute_laydown_max_extent,
+                )?)
+            } else {
+                None
+            },
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
@@ -181,6 +206,8 @@ impl Pipelines {
 pub(crate) struct TargetGroups {
     /// The vis copy's: vis texture -> vis words.
     pub vis_copy: wgpu::BindGroup,
+    /// The compute laydown's conversion: 64-bit target -> depth, vis texture, vis words.
+    pub laydown_target: Option<wgpu::BindGroup>,
     /// The resolve's group 2: the G-buffer's storage views.
     pub gbuffer_store: wgpu::BindGroup,
     /// Lighting's groups.
@@ -215,6 +242,10 @@ pub(crate) struct FrameContext<'a> {
     /// The baseline's MSAA frame: its depth prepass, G-buffer pass, light tiles and
     /// lighting use the multisampled targets (`targets.msaa`).
     pub msaa: bool,
+    /// This frame's laydown is the compute one (set with [`Laydown::Compute`](crate::Laydown)
+    /// where the device and the scene have its resources, in frames without a static
+    /// query, whose indirect draw lists only the hardware laydown draws).
+    pub compute_laydown: bool,
 }
 
 /// What a command buffer records.
@@ -279,11 +310,29 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
-                self.laydown.record_vis(e, f, timer, late);
+                let compute = f.compute_laydown
+                    && !late
+                    && self
+                        .compute_laydown
+                        .as_ref()
+                        .is_some_and(|c| c.record(e, f, timer));
+                if !compute {
+                    self.laydown.record_vis(e, f, timer, late);
+                }
             }
             Recording::Baseline => self.laydown.record_depth(e, f, timer, late),
             Recording::Classification => {}
         }
+    }
+
+    /// Whether this frame's laydown is (was) the compute one: asked for, and the
+    /// renderer and the scene have its resources.
+    pub(crate) fn compute_active(&self, f: &FrameContext<'_>) -> bool {
+        f.compute_laydown
+            && self.compute_laydown.is_some()
+            && f.scene.compute_laydown.is_some()
+            && f.targets.vis64.is_some()
+            && f.groups.laydown_target.is_some()
     }
 
     /// Everything after the geometry pass: classification, resolve or the baseline's
@@ -297,7 +346,10 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred => {
-                self.vis_copy.record(e, f, timer);
+                // The compute laydown's conversion has written the vis words.
+                if !self.compute_active(f) {
+                    self.vis_copy.record(e, f, timer);
+                }
                 self.classify.record(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }

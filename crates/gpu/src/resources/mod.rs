@@ -109,6 +109,9 @@ pub struct PreparedScene {
     pub(crate) chunks: Vec<plan::DrawChunk>,
     pub(crate) index_buffer: wgpu::Buffer,
     pub(crate) laydown: laydown::Groups,
+    /// The compute laydown's draw table, hybrid list and groups (`None` without the
+    /// compute laydown, or when the draws' items pass `u32`).
+    pub(crate) compute_laydown: Option<crate::passes::compute_laydown::Groups>,
     /// The scene group once per sun-shadow cascade (its `frame` the cascade's).
     pub(crate) shadow_scene: Vec<wgpu::BindGroup>,
     /// Per spot shadow map: the scene group drawing with that map's frame uniforms.
@@ -578,9 +581,16 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 .collect::<Result<Vec<_>>>()?,
             None => Vec::new(),
         };
+        let compute_laydown = match (&p.compute_laydown, &c.targets.vis64) {
+            (Some(cl), Some(target)) => {
+                cl.groups(device, &scene_group, &plan.draws, &index_buffer, target)?
+            }
+            _ => None,
+        };
         Ok(PreparedScene {
             id: c.id,
             summary,
+            compute_laydown,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
             bake_scene,
             bounds: batch_bounds(scene, origin),

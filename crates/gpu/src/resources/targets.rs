@@ -26,6 +26,10 @@ pub(crate) struct Targets {
     /// The vis buffer as row-major words (written by the vis-copy pass) for the
     /// classification passes, which read `array<u32>`.
     pub vis_words: wgpu::Buffer,
+    /// The compute laydown's 64-bit visibility target (depth bits high, vis word low, 8
+    /// bytes a pixel, row-major), with [`Laydown::Compute`](crate::Laydown) on a device
+    /// that has it (set by the renderer after [`Targets::new`]).
+    pub vis64: Option<wgpu::Buffer>,
     /// G-buffer targets RT0..RT3, in `deferred`'s layout order (kept with their views).
     pub gbuffer: Vec<wgpu::Texture>,
     pub gbuffer_views: Vec<wgpu::TextureView>,
@@ -208,6 +212,7 @@ impl Targets {
             vis,
             vis_view,
             vis_words,
+            vis64: None,
             gbuffer,
             gbuffer_views,
             output,

@@ -1,0 +1,526 @@
+//! The compute visibility laydown (issue 17): the planned draws' triangles rasterised in
+//! compute into a 64-bit visibility target (depth bits high, vis word low, `atomicMax`),
+//! the triangles the hardware must clip or that are large drawn by a hybrid hardware part
+//! into the same target, then one full-screen pass that turns the target into the depth
+//! target, the vis texture and the vis words the rest of the frame reads.
+//!
+//! Three described passes: `gpu::compute_laydown` (one dispatch, one invocation per
+//! (instance, triangle) of the scene's planned draws: a draw table with per-draw item
+//! prefixes, the draw found by binary search), `gpu::compute_laydown_hybrid` (the listed
+//! triangles, one non-indexed indirect draw whose vertex stage fetches (instance, vertex)
+//! from the list) and `gpu::laydown_target`. Needs 64-bit storage-buffer atomics
+//! ([`COMPUTE_LAYDOWN_FEATURES`]); without them the renderer keeps the hardware laydown.
+//! Frames with a static query keep the hardware laydown (its draw lists are indirect).
+
+use bytemuck::{Pod, Zeroable};
+use shader::pipeline::{ComputePass, Layouts};
+use shader::{Binding, Entry, Group, Kind, Pass, Stage};
+
+use super::laydown::{SCENE_GROUP, primitive_state};
+use super::{FrameContext, LIBRARY};
+use crate::error::Result;
+use crate::resources::plan::Draw;
+use crate::resources::rows::FrameUniforms;
+use crate::resources::targets::{DEPTH_FORMAT, Targets, VIS_FORMAT};
+use crate::timing::GpuTimer;
+
+/// The device features the compute laydown needs: 64-bit integers and their atomic
+/// min/max on storage buffers (`atomicMax` of the 64-bit target).
+pub const COMPUTE_LAYDOWN_FEATURES: wgpu::Features =
+    wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// The default widest or tallest screen box (pixels) of a triangle the compute raster
+/// draws; larger ones go to the hardware part
+/// ([`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) sets it; WGSL:
+/// the override `GPU_COMPUTE_LAYDOWN_MAX_EXTENT`).
+pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 32.0;
+
+/// The largest extent the raster's fixed point holds: edge functions of boxes up to
+/// (254 + 2) x 256 subpixels stay below 2^31.
+pub const COMPUTE_LAYDOWN_EXTENT_LIMIT: f32 = 254.0;
+
+/// Most triangles the hardware part's list holds (4 bytes each: 16 MiB). Triangles past
+/// it are dropped (never silently: [`LaydownStats::hybrid`] counts them all).
+pub(crate) const HYBRID_CAPACITY: u32 = 1 << 22;
+
+/// Bytes of the hybrid list's header: a `DrawIndirectArgs`.
+const HYBRID_HEADER: u64 = 16;
+
+/// One row of the draw table (WGSL `GpuLaydownDraw`), 32 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub(crate) struct GpuLaydownDraw {
+    /// First item (instance x triangle) of the draw: the sum over the rows before.
+    pub first_item: u32,
+    pub first_index: u32,
+    pub base_vertex: u32,
+    pub first_instance: u32,
+    pub instance_count: u32,
+    /// Triangles of the mesh, at least 1.
+    pub triangles: u32,
+    /// [`DRAW_ALPHA_TESTED`].
+    pub flags: u32,
+    pub pad: u32,
+}
+const _: () = assert!(size_of::<GpuLaydownDraw>() == 32);
+
+/// `GpuLaydownDraw::flags`: the material is alpha-tested.
+pub(crate) const DRAW_ALPHA_TESTED: u32 = 1;
+
+/// The draw table's rows and its item count (the raster's invocations) for `draws`, or
+/// `None` when the items do not fit a `u32`. Empty draws are left out.
+pub(crate) fn draw_table(draws: &[Draw]) -> Option<(Vec<GpuLaydownDraw>, u32)> {
+    let mut rows = Vec::new();
+    let mut items = 0u64;
+    for d in draws {
+        let triangles = d.index_count / 3;
+        if triangles == 0 || d.instance_count == 0 {
+            continue;
+        }
+        rows.push(GpuLaydownDraw {
+            first_item: u32::try_from(items).ok()?,
+            first_index: d.first_index,
+            base_vertex: d.base_vertex,
+            first_instance: d.first_instance,
+            instance_count: d.instance_count,
+            triangles,
+            flags: if d.alpha_tested { DRAW_ALPHA_TESTED } else { 0 },
+            pad: 0,
+        });
+        items += u64::from(triangles) * u64::from(d.instance_count);
+    }
+    Some((rows, u32::try_from(items).ok()?))
+}
+
+/// The first three bindings of group 1 of the raster and of the hardware part.
+const DRAWS: Binding = Binding::new(
+    "laydown_draws",
+    Kind::read(16 + size_of::<GpuLaydownDraw>()),
+);
+const INDICES: Binding = Binding::new("laydown_indices", Kind::read(4));
+const TARGET: Binding = Binding::new("laydown_target", Kind::read_write(8));
+
+/// Group 1 of the raster, which appends to the list the hardware part reads.
+const RASTER_GROUP: Group = Group {
+    name: "laydown",
+    bindings: &[
+        DRAWS,
+        INDICES,
+        TARGET,
+        Binding::new("hybrid", Kind::read_write(HYBRID_HEADER as usize + 4)),
+    ],
+};
+
+/// Group 1 of the hardware part.
+const HYBRID_GROUP: Group = Group {
+    name: "laydown",
+    bindings: &[
+        DRAWS,
+        INDICES,
+        TARGET,
+        Binding::new("hybrid", Kind::read(HYBRID_HEADER as usize + 4)),
+    ],
+};
+
+/// The raster, one invocation per item (the parameter: the item count).
+pub(crate) const COMPUTE_LAYDOWN: Pass<u32> = Pass {
+    name: "compute laydown",
+    module: "gpu::compute_laydown",
+    library: LIBRARY,
+    features: &["subgroups"],
+    groups: &[SCENE_GROUP, RASTER_GROUP],
+    entries: &[Entry::items("raster", 64, |items| *items)],
+    zeroed: &["laydown_target", "hybrid"],
+};
+
+/// The hardware part: the listed triangles, drawn into the 64-bit target.
+pub(crate) const COMPUTE_LAYDOWN_HYBRID: Pass = Pass {
+    name: "compute laydown hybrid",
+    module: "gpu::compute_laydown_hybrid",
+    library: LIBRARY,
+    features: &[],
+    groups: &[SCENE_GROUP, HYBRID_GROUP],
+    entries: &[
+        Entry::draw("vs_hybrid", Stage::Vertex),
+        Entry::draw("fs_hybrid", Stage::Fragment),
+    ],
+    zeroed: &[],
+};
+
+/// The 64-bit target into depth, vis texture and vis words (full-screen triangle).
+pub(crate) const LAYDOWN_TARGET: Pass = Pass {
+    name: "laydown target",
+    module: "gpu::laydown_target",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "target",
+        bindings: &[
+            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
+            Binding::new("laydown_target", Kind::read(8)),
+            Binding::new("vis_words", Kind::read_write(4)),
+        ],
+    }],
+    entries: &[
+        Entry::draw("vs_full", Stage::Vertex),
+        Entry::draw("fs_target", Stage::Fragment),
+    ],
+    zeroed: &[],
+};
+
+/// The 64-bit visibility target of `width` x `height` pixels (8 bytes a pixel, row-major).
+pub(crate) fn target_buffer(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("64-bit visibility target"),
+        size: (u64::from(width) * u64::from(height) * 8).max(8),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// What the last compute laydown drew (read back by
+/// [`Renderer::read_laydown_stats`](crate::Renderer::read_laydown_stats)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LaydownStats {
+    /// Triangles sent (instances x mesh triangles of every planned draw).
+    pub triangles: u64,
+    /// Of those, handed to the hardware part (crossing the near plane or larger than
+    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`] pixels), including any past the list's capacity.
+    pub hybrid: u64,
+    /// Listed triangles past the list's capacity (not drawn; 0 in every scene measured).
+    pub dropped: u64,
+}
+
+/// The compute laydown's pipelines.
+pub(crate) struct ComputeLaydown {
+    raster: ComputePass<u32>,
+    hybrid_layouts: Layouts,
+    hybrid: wgpu::RenderPipeline,
+    target_layouts: Layouts,
+    target: wgpu::RenderPipeline,
+}
+
+/// A prepared scene's compute-laydown resources: the draw table, the hybrid list and the
+/// bind groups over them.
+pub(crate) struct Groups {
+    raster: [wgpu::BindGroup; 2],
+    hybrid: [wgpu::BindGroup; 2],
+    /// `GpuHybridList`: indirect draw arguments, then the listed items.
+    pub list: wgpu::Buffer,
+    /// Items of the draw table (the raster's invocations).
+    pub items: u32,
+    _draws: wgpu::Buffer,
+}
+
+impl ComputeLaydown {
+    /// The pipelines; `subgroups`: the list appends aggregated per subgroup;
+    /// `max_extent`: the largest box (pixels) rasterised in compute.
+    pub(crate) fn new(device: &wgpu::Device, subgroups: bool, max_extent: f32) -> Result<Self> {
+        let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
+        let extent = f64::from(max_extent.clamp(0.0, COMPUTE_LAYDOWN_EXTENT_LIMIT));
+        let raster = ComputePass::new(
+            device,
+            &COMPUTE_LAYDOWN,
+            features,
+            &[("GPU_COMPUTE_LAYDOWN_MAX_EXTENT", extent)],
+        )?;
+        let render = |pass: &'static Pass,
+                      vs: &str,
+                      fs: &str,
+                      targets: &[Option<wgpu::ColorTargetState>],
+                      depth_write: bool,
+                      primitive: wgpu::PrimitiveState| {
+            let layouts = Layouts::new(device, pass);
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(pass.name),
+                source: wgpu::ShaderSource::Wgsl(pass.source(&[])?.into()),
+            });
+            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(pass.name),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive,
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            Ok::<_, crate::error::Error>((layouts, pipeline))
+        };
+        // The hardware part: the hardware laydown's culling and clipping; the depth
+        // attachment only because a render pass needs one (the target does the test).
+        let (hybrid_layouts, hybrid) = render(
+            &COMPUTE_LAYDOWN_HYBRID,
+            "vs_hybrid",
+            "fs_hybrid",
+            &[],
+            false,
+            primitive_state(),
+        )?;
+        let (target_layouts, target) = render(
+            &LAYDOWN_TARGET,
+            "vs_full",
+            "fs_target",
+            &[Some(wgpu::ColorTargetState {
+                format: VIS_FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+            true,
+            wgpu::PrimitiveState::default(),
+        )?;
+        Ok(Self {
+            raster,
+            hybrid_layouts,
+            hybrid,
+            target_layouts,
+            target,
+        })
+    }
+
+    /// A prepared scene's groups: `scene` resources by binding name (group 0), the
+    /// scene's planned `draws`, its index buffer and the renderer's 64-bit `target`.
+    /// `None` when the draws' items do not fit a `u32` (the frame keeps the hardware
+    /// laydown).
+    pub(crate) fn groups(
+        &self,
+        device: &wgpu::Device,
+        scene: &[(&str, wgpu::BindingResource<'_>)],
+        draws: &[Draw],
+        indices: &wgpu::Buffer,
+        target: &wgpu::Buffer,
+    ) -> Result<Option<Groups>> {
+        use wgpu::util::DeviceExt;
+        let Some((rows, items)) = draw_table(draws) else {
+            return Ok(None);
+        };
+        let mut bytes = Vec::with_capacity(16 + 32 * rows.len().max(1));
+        for w in [rows.len() as u32, items, 0, 0] {
+            bytes.extend_from_slice(&w.to_le_bytes());
+        }
+        if rows.is_empty() {
+            bytes.extend_from_slice(bytemuck::bytes_of(&GpuLaydownDraw::default()));
+        }
+        bytes.extend_from_slice(bytemuck::cast_slice(&rows));
+        let table = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("compute laydown draws"),
+            contents: &bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let capacity = items.clamp(1, HYBRID_CAPACITY);
+        let list = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compute laydown hybrid list"),
+            size: HYBRID_HEADER + 4 * u64::from(capacity),
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group1 = [
+            ("laydown_draws", table.as_entire_binding()),
+            ("laydown_indices", indices.as_entire_binding()),
+            ("laydown_target", target.as_entire_binding()),
+            ("hybrid", list.as_entire_binding()),
+        ];
+        Ok(Some(Groups {
+            raster: [
+                self.raster.bind_group(device, "scene", scene)?,
+                self.raster.bind_group(device, "laydown", &group1)?,
+            ],
+            hybrid: [
+                self.hybrid_layouts.bind_group(device, "scene", scene)?,
+                self.hybrid_layouts.bind_group(device, "laydown", &group1)?,
+            ],
+            list,
+            items,
+            _draws: table,
+        }))
+    }
+
+    /// The conversion pass's group over the renderer's targets and frame uniforms.
+    pub(crate) fn target_group(
+        &self,
+        device: &wgpu::Device,
+        frame: &wgpu::Buffer,
+        target: &wgpu::Buffer,
+        t: &Targets,
+    ) -> Result<wgpu::BindGroup> {
+        Ok(self.target_layouts.bind_group(
+            device,
+            "target",
+            &[
+                ("frame", frame.as_entire_binding()),
+                ("laydown_target", target.as_entire_binding()),
+                ("vis_words", t.vis_words.as_entire_binding()),
+            ],
+        )?)
+    }
+
+    /// Records the laydown: clear target and list, the raster (timed "laydown"), the
+    /// hardware part ("laydown hybrid"), the conversion ("laydown target"). Returns false,
+    /// recording nothing, where the scene or the renderer has no compute resources.
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) -> bool {
+        let (Some(g), Some(target), Some(target_group)) = (
+            &f.scene.compute_laydown,
+            &f.targets.vis64,
+            &f.groups.laydown_target,
+        ) else {
+            return false;
+        };
+        encoder.clear_buffer(target, 0, None);
+        encoder.clear_buffer(&g.list, 0, Some(HYBRID_HEADER));
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("compute laydown"),
+                timestamp_writes: timer.compute("laydown"),
+            });
+            if g.items > 0 {
+                self.raster
+                    .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);
+            }
+        }
+        let depth_pass = |encoder: &'_ mut wgpu::CommandEncoder,
+                          label: &'static str,
+                          timer: &mut GpuTimer,
+                          vis: bool| {
+            // Both passes only write what they cover; the target pass covers every pixel.
+            let color = [Some(wgpu::RenderPassColorAttachment {
+                view: &f.targets.vis_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })];
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: if vis { &color } else { &[] },
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &f.targets.depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(0.0),
+                        store: if vis {
+                            wgpu::StoreOp::Store
+                        } else {
+                            wgpu::StoreOp::Discard
+                        },
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: timer.render(label),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.forget_lifetime()
+        };
+        {
+            let mut pass = depth_pass(encoder, "laydown hybrid", timer, false);
+            pass.set_pipeline(&self.hybrid);
+            pass.set_bind_group(0, &g.hybrid[0], &[]);
+            pass.set_bind_group(1, &g.hybrid[1], &[]);
+            pass.draw_indirect(&g.list, 0);
+        }
+        {
+            let mut pass = depth_pass(encoder, "laydown target", timer, true);
+            pass.set_pipeline(&self.target);
+            pass.set_bind_group(0, target_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        true
+    }
+}
+
+/// The statistics of the hybrid list's header (its vertex count) for a scene of `items`
+/// triangles.
+pub(crate) fn stats(items: u32, vertex_count: u32) -> LaydownStats {
+    let hybrid = u64::from(vertex_count / 3);
+    LaydownStats {
+        triangles: u64::from(items),
+        hybrid,
+        dropped: hybrid.saturating_sub(u64::from(items.clamp(1, HYBRID_CAPACITY))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shadercheck::Caps;
+
+    #[test]
+    fn descriptions_match_their_modules_with_int64_atomics() {
+        shadercheck::check_pass(&COMPUTE_LAYDOWN, |f| {
+            if f.contains(&"subgroups") {
+                Caps::INT64.union(Caps::SUBGROUP)
+            } else {
+                Caps::INT64
+            }
+        });
+        shadercheck::check_pass(&COMPUTE_LAYDOWN_HYBRID, |_| Caps::INT64);
+        shadercheck::check_pass(&LAYDOWN_TARGET, |_| Caps::CORE);
+        let src = COMPUTE_LAYDOWN.source(&[]).unwrap();
+        assert!(shadercheck::validate(&src, Caps::CORE).is_err());
+    }
+
+    fn draw(index_count: u32, instances: u32, first_instance: u32) -> Draw {
+        Draw {
+            first_index: 30,
+            index_count,
+            base_vertex: 7,
+            first_instance,
+            instance_count: instances,
+            alpha_tested: first_instance > 0,
+            first_chunk: 0,
+            chunk_count: 0,
+        }
+    }
+
+    #[test]
+    fn the_draw_table_prefixes_items_and_leaves_out_empty_draws() {
+        let (rows, items) =
+            draw_table(&[draw(6, 3, 0), draw(0, 5, 3), draw(9, 0, 8), draw(9, 2, 8)]).unwrap();
+        assert_eq!(items, 2 * 3 + 3 * 2);
+        assert_eq!(rows.len(), 2);
+        assert_eq!(
+            (rows[0].first_item, rows[0].triangles, rows[0].flags),
+            (0, 2, 0)
+        );
+        assert_eq!(
+            (rows[1].first_item, rows[1].triangles, rows[1].flags),
+            (6, 3, DRAW_ALPHA_TESTED)
+        );
+        // Past u32: refused (the frame keeps the hardware laydown).
+        assert!(draw_table(&[draw(3 * 65_536, 65_536, 0)]).is_none());
+    }
+
+    #[test]
+    fn stats_count_what_did_not_fit() {
+        assert_eq!(stats(100, 30).hybrid, 10);
+        assert_eq!(stats(100, 30).dropped, 0);
+        let s = stats(u32::MAX, 3 * (HYBRID_CAPACITY + 5));
+        assert_eq!(s.dropped, 5);
+    }
+}
