@@ -229,6 +229,7 @@ impl ComputeLaydown {
                       fs: &str,
                       targets: &[Option<wgpu::ColorTargetState>],
                       depth_write: bool,
+                      depth_compare: wgpu::CompareFunction,
                       primitive: wgpu::PrimitiveState| {
             let layouts = Layouts::new(device, pass);
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -248,7 +249,7 @@ impl ComputeLaydown {
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    depth_compare: Some(depth_compare),
                     stencil: wgpu::StencilState::default(),
                     bias: wgpu::DepthBiasState::default(),
                 }),
@@ -264,26 +265,30 @@ impl ComputeLaydown {
             });
             Ok::<_, crate::error::Error>((layouts, pipeline))
         };
-        // The hardware part: the hardware laydown's culling and clipping; the depth
-        // attachment only because a render pass needs one (the target does the test).
+        let vis_target = [Some(wgpu::ColorTargetState {
+            format: VIS_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })];
+        // The hardware part: the hardware laydown's culling, clipping and depth test
+        // (Greater, writing) over the depth the conversion wrote, so hidden fragments die
+        // early (a fragment atomic per fragment cost 10.7 ms on the H200's forest).
         let (hybrid_layouts, hybrid) = render(
             &COMPUTE_LAYDOWN_HYBRID,
             "vs_hybrid",
             "fs_hybrid",
-            &[],
-            false,
+            &vis_target,
+            true,
+            wgpu::CompareFunction::Greater,
             primitive_state(),
         )?;
         let (target_layouts, target) = render(
             &LAYDOWN_TARGET,
             "vs_full",
             "fs_target",
-            &[Some(wgpu::ColorTargetState {
-                format: VIS_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
+            &vis_target,
             true,
+            wgpu::CompareFunction::Always,
             wgpu::PrimitiveState::default(),
         )?;
         Ok(Self {
@@ -375,7 +380,8 @@ impl ComputeLaydown {
     }
 
     /// Records the laydown: clear target and list, the raster (timed "laydown"), the
-    /// hardware part ("laydown hybrid"), the conversion ("laydown target"). Returns false,
+    /// conversion into depth and vis ("laydown target"), the hardware part over it with
+    /// the depth test ("laydown hybrid"; the vis copy follows). Returns false,
     /// recording nothing, where the scene or the renderer has no compute resources.
     pub(crate) fn record(
         &self,
@@ -402,32 +408,37 @@ impl ComputeLaydown {
                     .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);
             }
         }
+        // The conversion covers every pixel (clearing nothing it does not write), then the
+        // hardware part draws over it with the depth test.
         let depth_pass = |encoder: &'_ mut wgpu::CommandEncoder,
                           label: &'static str,
                           timer: &mut GpuTimer,
-                          vis: bool| {
-            // Both passes only write what they cover; the target pass covers every pixel.
+                          load: bool| {
             let color = [Some(wgpu::RenderPassColorAttachment {
                 view: &f.targets.vis_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    load: if load {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                    },
                     store: wgpu::StoreOp::Store,
                 },
             })];
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
-                color_attachments: if vis { &color } else { &[] },
+                color_attachments: &color,
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &f.targets.depth_view,
                     depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: if vis {
-                            wgpu::StoreOp::Store
+                        load: if load {
+                            wgpu::LoadOp::Load
                         } else {
-                            wgpu::StoreOp::Discard
+                            wgpu::LoadOp::Clear(0.0)
                         },
+                        store: wgpu::StoreOp::Store,
                     }),
                     stencil_ops: None,
                 }),
@@ -438,17 +449,17 @@ impl ComputeLaydown {
             pass.forget_lifetime()
         };
         {
-            let mut pass = depth_pass(encoder, "laydown hybrid", timer, false);
+            let mut pass = depth_pass(encoder, "laydown target", timer, false);
+            pass.set_pipeline(&self.target);
+            pass.set_bind_group(0, target_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        {
+            let mut pass = depth_pass(encoder, "laydown hybrid", timer, true);
             pass.set_pipeline(&self.hybrid);
             pass.set_bind_group(0, &g.hybrid[0], &[]);
             pass.set_bind_group(1, &g.hybrid[1], &[]);
             pass.draw_indirect(&g.list, 0);
-        }
-        {
-            let mut pass = depth_pass(encoder, "laydown target", timer, true);
-            pass.set_pipeline(&self.target);
-            pass.set_bind_group(0, target_group, &[]);
-            pass.draw(0..3, 0..1);
         }
         true
     }

@@ -325,16 +325,6 @@ impl Pipelines {
         }
     }
 
-    /// Whether this frame's laydown is (was) the compute one: asked for, and the
-    /// renderer and the scene have its resources.
-    pub(crate) fn compute_active(&self, f: &FrameContext<'_>) -> bool {
-        f.compute_laydown
-            && self.compute_laydown.is_some()
-            && f.scene.compute_laydown.is_some()
-            && f.targets.vis64.is_some()
-            && f.groups.laydown_target.is_some()
-    }
-
     /// Everything after the geometry pass: classification, resolve or the baseline's
     /// geometry pass, lighting.
     pub(crate) fn record_after_geometry(
@@ -346,10 +336,9 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred => {
-                // The compute laydown's conversion has written the vis words.
-                if !self.compute_active(f) {
-                    self.vis_copy.record(e, f, timer);
-                }
+                // After either laydown (the compute one's hardware part draws into the
+                // vis texture last).
+                self.vis_copy.record(e, f, timer);
                 self.classify.record(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }

@@ -1,9 +1,9 @@
 // gpu: the compute laydown's hardware part (issue 17): the triangles the compute raster
 // listed (crossing the near plane, or large), drawn by one non-indexed indirect draw
-// whose vertex stage fetches (instance, vertex) from the list, and whose fragment stage
-// writes the same 64-bit target with `atomicMax` (no colour target; the render pass's
-// depth attachment is only there because a pass needs one: compare Always, no writes).
-// Same vertex transform, culling and alpha test as the hardware laydown.
+// whose vertex stage fetches (instance, vertex) from the list, drawn after the conversion
+// of the 64-bit target into depth and vis, with the depth test (Greater, writing) and the
+// vis word as its colour: early depth testing, as the hardware laydown. Same vertex
+// transform, culling and alpha test as the hardware laydown.
 
 #import gpu::compute_laydown_draws
 
@@ -37,13 +37,8 @@ fn vs_hybrid(@builtin(vertex_index) vertex: u32) -> LaydownOut {
 }
 
 @fragment
-fn fs_hybrid(in: LaydownOut) {
+fn fs_hybrid(in: LaydownOut) -> @location(0) u32 {
     // Opaque materials have a cutoff of 0: the test keeps every fragment.
     alpha_test(in.uv, in.instance, in.clip.xy);
-    let size = vec2<u32>(frame.viewport.xy);
-    let p = vec2<u32>(in.clip.xy);
-    let i = p.y * size.x + p.x;
-    if (p.x < size.x && p.y < size.y && i < arrayLength(&laydown_target)) {
-        atomicMax(&laydown_target[i], gpu_laydown_value(in.clip.z, vis_word(in.instance, in.payload)));
-    }
+    return vis_word(in.instance, in.payload);
 }

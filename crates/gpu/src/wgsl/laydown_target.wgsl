@@ -1,7 +1,7 @@
 // gpu: the compute laydown's 64-bit target into what the rest of the frame reads: the
 // depth target (frag_depth; depth formats cannot be storage textures), the R32Uint vis
-// texture (colour) and the vis word buffer (so the vis copy is skipped). A full-screen
-// triangle. A pixel whose depth bits are 0 was never drawn: far plane and VIS_NONE.
+// texture (colour) and the vis word buffer (the hardware part draws over depth and vis
+// after it; the vis copy then brings the words up to date). A full-screen triangle. A pixel whose depth bits are 0 was never drawn: far plane and VIS_NONE.
 
 #import visbuf::id
 #import gpu::frame
