@@ -102,6 +102,31 @@ mod material;
 mod source;
 
 pub use accessor::MAX_VIEWLESS_ACCESSOR_BYTES;
+
+/// Which step of an import is running ([`load_with_progress`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Stage {
+    /// Reading the file and parsing its JSON (or `.glb` chunks).
+    Parse,
+    /// Loading the buffers (units: buffers).
+    Buffers,
+    /// Decoding the images (units: images).
+    Images,
+    /// Reading, checking and splitting the drawn primitives (units: drawn primitives).
+    Meshes,
+}
+
+/// One report of [`load_with_progress`]: `done` of `total` units of `stage` are finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// The step.
+    pub stage: Stage,
+    /// Units finished.
+    pub done: u64,
+    /// Units in the step.
+    pub total: u64,
+}
 pub use error::Error;
 pub use gpu;
 pub use gpu::glam;
@@ -241,6 +266,19 @@ impl fmt::Display for Summary {
 /// # Errors
 /// An unreadable file, or any [`Error`] of [`load_slice`], naming `path`.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<Imported, Error> {
+    load_with_progress(path, options, &mut |_| {})
+}
+
+/// [`load`], calling `progress` as each step advances (from this thread: a closure that
+/// redraws a progress bar works), each step's last report with `done == total`.
+///
+/// # Errors
+/// As [`load`].
+pub fn load_with_progress(
+    path: &Path,
+    options: &LoadOptions,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Imported, Error> {
     let file = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| Error::Io {
         file: file.clone(),
@@ -249,7 +287,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Imported, Error> {
     let base = path
         .parent()
         .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    import(&bytes, Some(&base), &file, options)
+    import(&bytes, Some(&base), &file, options, progress)
 }
 
 /// Loads glTF (JSON) or `.glb` bytes; external files are looked up relative to
@@ -265,7 +303,7 @@ pub fn load_slice(
     base_dir: Option<&Path>,
     options: &LoadOptions,
 ) -> Result<Imported, Error> {
-    import(bytes, base_dir, SLICE_FILE, options)
+    import(bytes, base_dir, SLICE_FILE, options, &mut |_| {})
 }
 
 /// A camera that frames all of `scene`'s instances for an image of `aspect` = width /
@@ -419,8 +457,11 @@ fn load_buffers(
     doc: &gltf::Document,
     mut blob: Option<Vec<u8>>,
     base: Option<&Path>,
+    progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<Vec<u8>>, Error> {
     let mut out = Vec::new();
+    let total = doc.buffers().len();
+    progress(0, total);
     for b in doc.buffers() {
         let err = |problem: String| Error::Buffer {
             file: file.to_owned(),
@@ -447,6 +488,7 @@ fn load_buffers(
         }
         data.truncate(b.length());
         out.push(data);
+        progress(out.len(), total);
     }
     Ok(out)
 }
@@ -800,7 +842,16 @@ fn import(
     base: Option<&Path>,
     file: &str,
     options: &LoadOptions,
+    progress: &mut dyn FnMut(Progress),
 ) -> Result<Imported, Error> {
+    let mut report = |stage, done: usize, total: usize| {
+        progress(Progress {
+            stage,
+            done: done as u64,
+            total: total as u64,
+        });
+    };
+    report(Stage::Parse, 0, 1);
     check_glb_header(file, bytes)?;
     let gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| Error::Parse {
         file: file.to_owned(),
@@ -811,7 +862,10 @@ fn import(
         document: doc,
         blob,
     } = gltf;
-    let buffers = load_buffers(file, &doc, blob, base)?;
+    report(Stage::Parse, 1, 1);
+    let buffers = load_buffers(file, &doc, blob, base, &mut |done, total| {
+        report(Stage::Buffers, done, total);
+    })?;
     let data = accessor::Data {
         file,
         buffers: &buffers,
@@ -837,11 +891,14 @@ fn import(
     // Textures: base colour images become layers, metallic-roughness images give means.
     let image_of = |i: usize| doc.images().nth(i);
     let mut decoded: HashMap<usize, image::RgbaImage> = HashMap::new();
+    let images = doc.images().len();
+    report(Stage::Images, 0, images);
     // Whether image `i` is (now) decoded.
     let mut decode = |i: usize| -> Result<bool, Error> {
         if let (false, Some(img)) = (decoded.contains_key(&i), image_of(i)) {
             let rgba = material::decode_image(file, &doc, &img, &buffers, base, options)?;
             decoded.insert(i, rgba);
+            report(Stage::Images, decoded.len(), images);
         }
         Ok(decoded.contains_key(&i))
     };
@@ -857,6 +914,7 @@ fn import(
             decode(t)?;
         }
     }
+    report(Stage::Images, images, images);
     let cap = options.max_layer_size.max(1);
     let cap = 1u32 << cap.ilog2();
     let layer_sources: Vec<&image::RgbaImage> =
@@ -913,7 +971,9 @@ fn import(
     let mut split = HashSet::new();
     let mut meshes_drawn = HashSet::new();
     let mut primitives_drawn = HashSet::new();
-    for (key, instances) in &walked.draws {
+    let draws = walked.draws.len();
+    for (done, (key, instances)) in walked.draws.iter().enumerate() {
+        report(Stage::Meshes, done, draws);
         let Some(mesh) = mesh_of(key.mesh) else {
             continue;
         };
@@ -960,6 +1020,7 @@ fn import(
             scene.meshes.push(piece);
         }
     }
+    report(Stage::Meshes, draws, draws);
     scene.validate().map_err(|e| Error::Scene {
         file: file.to_owned(),
         problem: e.to_string(),

@@ -375,6 +375,42 @@ fn small_scene() -> Doc {
     doc
 }
 
+/// The progress reports of a file with one buffer, one image and one drawn primitive:
+/// the steps in order, each ending at done == total, never past it, and the same scene as
+/// `load`.
+#[test]
+fn progress_reports_each_step_to_its_end() {
+    use gltf_scene::{Progress, Stage};
+    let dir = temp_dir("progress");
+    let path = dir.join("scene.glb");
+    std::fs::write(&path, small_scene().glb()).unwrap();
+    let mut reports: Vec<Progress> = Vec::new();
+    let imported =
+        gltf_scene::load_with_progress(&path, &LoadOptions::default(), &mut |p| reports.push(p))
+            .unwrap();
+    assert_eq!(
+        imported.scene,
+        load(&path, &LoadOptions::default()).unwrap().scene
+    );
+    assert!(reports.iter().all(|p| p.done <= p.total), "{reports:?}");
+    let mut stages: Vec<Stage> = reports.iter().map(|p| p.stage).collect();
+    stages.dedup();
+    assert_eq!(
+        stages,
+        [Stage::Parse, Stage::Buffers, Stage::Images, Stage::Meshes]
+    );
+    for stage in stages {
+        let last = reports.iter().rev().find(|p| p.stage == stage).unwrap();
+        assert_eq!(
+            (last.done, last.total),
+            (last.total, last.total),
+            "{stage:?}"
+        );
+        assert!(last.total >= 1, "{stage:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn glb_embedded_and_external_buffers_import_alike() {
     let doc = small_scene();

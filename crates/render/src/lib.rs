@@ -560,6 +560,41 @@ fn parse_walk(v: &str) -> Result<f32, String> {
     }
 }
 
+/// Files from this size on (bytes) show a progress bar while they import.
+const PROGRESS_BYTES: u64 = 4 << 20;
+
+/// A one-line text progress bar on stderr, redrawn when a step's percentage changes.
+#[derive(Default)]
+struct ProgressBar {
+    last: Option<(gltf_scene::Stage, u64)>,
+}
+
+impl ProgressBar {
+    fn show(&mut self, p: gltf_scene::Progress) {
+        let percent = if p.total == 0 {
+            100
+        } else {
+            p.done.min(p.total) * 100 / p.total
+        };
+        if self.last == Some((p.stage, percent)) {
+            return;
+        }
+        self.last = Some((p.stage, percent));
+        let filled = (percent / 5) as usize;
+        let stage = format!("{:?}", p.stage).to_lowercase();
+        eprint!(
+            "\rimporting: {stage:<8} [{}{}] {} / {}",
+            "#".repeat(filled),
+            "-".repeat(20 - filled),
+            p.done,
+            p.total
+        );
+        if percent == 100 {
+            eprintln!();
+        }
+    }
+}
+
 /// Renders every scene `args` names; writes the images; prints the reports.
 ///
 /// # Errors
@@ -571,8 +606,19 @@ pub fn run(args: &Args) -> Result<()> {
     let imported = match &args.gltf {
         Some(path) => {
             let t0 = std::time::Instant::now();
-            let imported = gltf_scene::load(path, &gltf_scene::LoadOptions::default())
-                .with_context(|| format!("importing {}", path.display()))?;
+            // A progress bar on stderr for large files (small ones load in a blink).
+            let large = std::fs::metadata(path).is_ok_and(|m| m.len() >= PROGRESS_BYTES);
+            let mut bar = ProgressBar::default();
+            let imported = gltf_scene::load_with_progress(
+                path,
+                &gltf_scene::LoadOptions::default(),
+                &mut |p| {
+                    if large {
+                        bar.show(p);
+                    }
+                },
+            )
+            .with_context(|| format!("importing {}", path.display()))?;
             Some((path.as_path(), imported, t0.elapsed().as_secs_f64() * 1e3))
         }
         None => None,
