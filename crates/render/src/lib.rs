@@ -571,11 +571,9 @@ struct ProgressBar {
 
 impl ProgressBar {
     fn show(&mut self, p: gltf_scene::Progress) {
-        let percent = if p.total == 0 {
-            100
-        } else {
-            p.done.min(p.total) * 100 / p.total
-        };
+        let percent = (p.done.min(p.total) * 100)
+            .checked_div(p.total)
+            .unwrap_or(100);
         if self.last == Some((p.stage, percent)) {
             return;
         }
