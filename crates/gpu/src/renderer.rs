@@ -1185,13 +1185,7 @@ impl Renderer {
         let Some(b) = &scene.statics else {
             return Ok(StaticFrameStats::default());
         };
-        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(
-            &self.device,
-            &self.queue,
-            &b.counters,
-            0,
-            4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
-        )?);
+        let words = self.read_static_counters(b)?;
         let w = |i: u32| words[i as usize];
         Ok(StaticFrameStats {
             query: counters.stats(&view.plan.stats),
@@ -1214,6 +1208,17 @@ impl Renderer {
         })
     }
 
+    /// The static placement's counters (placed per setup after the fixed ones).
+    fn read_static_counters(&self, b: &StaticBuffers) -> Result<Vec<u32>> {
+        Ok(bytemuck::pod_collect_to_vec(&read_buffer(
+            &self.device,
+            &self.queue,
+            &b.counters,
+            0,
+            4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
+        )?))
+    }
+
     /// Reads what a static shadow view's query and placement did (after its submission).
     fn read_shadow_stats(
         &self,
@@ -1224,13 +1229,7 @@ impl Renderer {
         (slice, texels): (u32, u32),
     ) -> Result<StaticShadowStats> {
         let counters = query.read_view_counters(&self.device, &self.queue, view)?;
-        let words: Vec<u32> = bytemuck::pod_collect_to_vec(&read_buffer(
-            &self.device,
-            &self.queue,
-            &b.counters,
-            0,
-            4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
-        )?);
+        let words = self.read_static_counters(b)?;
         let w = |i: u32| words[i as usize];
         Ok(StaticShadowStats {
             slice,
