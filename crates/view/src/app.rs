@@ -183,6 +183,8 @@ struct State {
     /// egui textures to free once a frame has been painted.
     egui_free: Vec<egui::TextureId>,
     loaded: LoadedScene,
+    /// The city's static world on this device, with a scene that has one.
+    statics: Option<Statics>,
     renderer: Renderer,
     prepared: PreparedScene,
     /// The configuration asked for (the renderer is rebuilt when it differs).
@@ -212,6 +214,24 @@ struct State {
     screenshot_requested: bool,
     screenshots: u32,
 }
+
+/// The city's static world: the GPU query with its tiles activated, the CPU side, and
+/// where its occlusion gets its HiZ (`C` switches).
+struct Statics {
+    query: gpu::StaticQuery,
+    scene: gpu::staticscene::Scene,
+    occlusion: gpu::StaticOcclusion,
+}
+
+/// The occlusion modes `C` cycles through, with their overlay names.
+const OCCLUSIONS: [(gpu::StaticOcclusion, &str); 3] = [
+    (gpu::StaticOcclusion::Given, "off (no HiZ given)"),
+    (
+        gpu::StaticOcclusion::PreviousFrame,
+        "previous frame's depth (HZD)",
+    ),
+    (gpu::StaticOcclusion::TwoPass, "two-pass"),
+];
 
 impl State {
     fn new(event_loop: &ActiveEventLoop, args: &Args, loaded: LoadedScene) -> Result<Self> {
@@ -313,6 +333,18 @@ impl State {
         let renderer = gpu::scoped(&device, || Renderer::new(&device, &queue, wanted.clone()))?;
         let t = Instant::now();
         let prepared = gpu::scoped(&device, || renderer.prepare(&loaded.scene))?;
+        let statics = match &loaded.city {
+            Some(city) => Some(gpu::scoped(&device, || {
+                let mut query = gpu::StaticQuery::new(&device, &queue)?;
+                let scene = city.stream(&device, &queue, &mut query)?;
+                Ok(Statics {
+                    query,
+                    scene,
+                    occlusion: gpu::StaticOcclusion::PreviousFrame,
+                })
+            })?),
+            None => None,
+        };
         let s = prepared.summary();
         println!(
             "view: {} on {}: {} instances, {} triangles, prepared in {:.0} ms",
@@ -357,6 +389,7 @@ impl State {
             egui_renderer,
             egui_free: Vec::new(),
             loaded,
+            statics,
             renderer,
             prepared,
             wanted,
@@ -493,6 +526,15 @@ impl State {
                     None => Some(gpu::ShadowConfig::default()),
                 }
             }
+            KeyCode::KeyC => {
+                if let Some(s) = &mut self.statics {
+                    let i = OCCLUSIONS
+                        .iter()
+                        .position(|(o, _)| *o == s.occlusion)
+                        .map_or(0, |i| (i + 1) % OCCLUSIONS.len());
+                    s.occlusion = OCCLUSIONS[i].0;
+                }
+            }
             KeyCode::KeyR => self.camera = FlyCamera::new(self.home),
             KeyCode::F1 => self.overlay = !self.overlay,
             KeyCode::F12 => self.screenshot_requested = true,
@@ -595,8 +637,21 @@ impl State {
             lighting: self.lighting.clone(),
         };
         let path = self.view.frame_path(self.path);
-        let rendered = gpu::scoped(&self.device, || {
-            self.renderer.render(&self.prepared, &frame, path)
+        let (width, height) = (self.renderer.config().width, self.renderer.config().height);
+        let rendered = gpu::scoped(&self.device, || match &mut self.statics {
+            // The city: HZD's static query in front of the frame, for this camera.
+            Some(s) => {
+                let mut view = gpu::StaticView {
+                    query: &mut s.query,
+                    scene: &mut s.scene,
+                    view: gpu::static_view_desc(&frame.camera, width, height),
+                    options: Default::default(),
+                    occlusion: s.occlusion,
+                };
+                self.renderer
+                    .render_static(&self.prepared, &frame, path, &mut view)
+            }
+            None => self.renderer.render(&self.prepared, &frame, path),
         });
         match rendered {
             Ok(out) => {
@@ -858,6 +913,22 @@ impl State {
                     ui.label(&self.caption);
                     if self.view.needs_deferred() && self.path != RenderPath::Deferred {
                         ui.label("(from a deferred frame: the baseline writes no vis buffer)");
+                    }
+                }
+                if let Some(s) = &mut self.statics {
+                    let name = |o| OCCLUSIONS.iter().find(|(m, _)| *m == o).map_or("", |m| m.1);
+                    egui::ComboBox::from_label("static occlusion (C)")
+                        .selected_text(name(s.occlusion))
+                        .show_ui(ui, |ui| {
+                            for (o, n) in OCCLUSIONS {
+                                ui.selectable_value(&mut s.occlusion, o, n);
+                            }
+                        });
+                    if let Some(st) = &self.last_output.statics {
+                        ui.label(format!(
+                            "static query: {} instances drawn ({} placed, {} over capacity)",
+                            st.instances, st.placed, st.over_capacity
+                        ));
                     }
                 }
                 egui::ComboBox::from_label("MSAA, baseline (M)")

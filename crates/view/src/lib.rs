@@ -13,6 +13,8 @@
 //! ```text
 //! view --scene forest                      # open the forest in a 1280x720 window
 //! view --scene grass --lights 200          # the grass field at dusk with 200 local lights
+//! view --scene city --instances 200000     # HZD's static city through the GPU query
+//! view --gltf scene.glb                    # your own glTF 2.0 file
 //! view --scene forest --width 320 --height 180 --script-frames 5 \
 //!      --camera 0,3,12,0,1,0 --screenshot out.png --exit      # scripted: tests and CI
 //! ```
@@ -20,8 +22,9 @@
 //! Keys (when the overlay does not hold the keyboard): `W`/`A`/`S`/`D` move, `Q`/`E` down
 //! and up, `Shift` four times faster, the wheel changes the speed, a held mouse button
 //! looks around; `P` switches the path; `0`-`8` pick a view (0 the image), `V`/`Shift+V`
-//! cycle them; `M` cycles MSAA, `L` the light paths, `O` toggles the sun shadows; `R` resets
-//! the camera; `F1` hides the overlay; `F12` writes a screenshot; `Esc` quits.
+//! cycle them; `M` cycles MSAA, `L` the light paths, `O` toggles the sun shadows, `C` the
+//! city's static occlusion (off, the previous frame's depth, two-pass); `R` resets the
+//! camera; `F1` hides the overlay; `F12` writes a screenshot; `Esc` quits.
 //!
 //! **Scripted mode** (`--script-frames N`): the window path renders N frames from a fixed
 //! camera (`--camera`, else the scene's) at exactly `--width` x `--height` (the blit
@@ -63,6 +66,9 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
+    /// HZD's static city (`--instances` of them) through the GPU static query, in front
+    /// of every frame; `C` switches its occlusion.
+    City,
 }
 
 /// `--path`: the rendering path the viewer starts on (`P` switches it).
@@ -143,6 +149,9 @@ pub struct Args {
     /// ignored); its first camera, else one framing the scene.
     #[arg(long, value_name = "FILE")]
     pub gltf: Option<PathBuf>,
+    /// Static instances of the city scene (about; 1 000 to 4 000 000).
+    #[arg(long, default_value_t = 100_000, value_parser = clap::value_parser!(u32).range(1_000..=4_000_000))]
+    pub instances: u32,
     /// Scene seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -245,11 +254,13 @@ pub fn parse_camera(s: &str) -> Result<Camera, String> {
     Ok(camera)
 }
 
-/// Where a scene comes from: a demo scene or a glTF 2.0 file.
+/// Where a scene comes from: a demo scene, the static city or a glTF 2.0 file.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
     /// A procedural demo scene.
     Demo(DemoOptions),
+    /// The static city of about this many instances (`gpu::demo::city`).
+    City(usize),
     /// A `.gltf` or `.glb` file, imported by `gltf_scene`.
     Gltf(PathBuf),
 }
@@ -259,6 +270,7 @@ impl SceneSource {
     pub fn name(&self) -> String {
         match self {
             SceneSource::Demo(o) => o.scene.name().to_string(),
+            SceneSource::City(_) => "city".to_string(),
             SceneSource::Gltf(p) => p
                 .file_stem()
                 .map_or_else(|| "gltf".into(), |s| s.to_string_lossy().into_owned()),
@@ -267,8 +279,10 @@ impl SceneSource {
 }
 
 /// What a loader hands the viewer: the scene, its camera if it has one (otherwise the
-/// viewer frames the scene's bounds: `gltf_scene::framing_camera`), and its lighting.
-#[derive(Clone, Debug)]
+/// viewer frames the scene's bounds: `gltf_scene::framing_camera`), its lighting, and
+/// for the city its static world (streamed into a `gpu::StaticQuery` on the viewer's
+/// device, queried in front of every frame).
+#[derive(Clone)]
 pub struct LoadedScene {
     /// A short name for titles and file names.
     pub name: String,
@@ -278,6 +292,19 @@ pub struct LoadedScene {
     pub camera: Option<Camera>,
     /// Sun, sky and local lights.
     pub lighting: Lighting,
+    /// The static city, for a scene with static content.
+    pub city: Option<std::sync::Arc<gpu::demo::city::City>>,
+}
+
+impl std::fmt::Debug for LoadedScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LoadedScene")
+            .field("name", &self.name)
+            .field("instances", &self.scene.instance_count())
+            .field("camera", &self.camera)
+            .field("city", &self.city.is_some())
+            .finish_non_exhaustive()
+    }
 }
 
 /// Loads `source`.
@@ -298,6 +325,17 @@ pub fn load_scene(source: &SceneSource) -> Result<LoadedScene> {
                 scene: imported.scene,
                 camera: imported.camera,
                 lighting: Lighting::default(),
+                city: None,
+            })
+        }
+        SceneSource::City(instances) => {
+            let city = gpu::demo::city::city(*instances);
+            Ok(LoadedScene {
+                name: source.name(),
+                scene: city.scene.clone(),
+                camera: Some(city.frame.camera),
+                lighting: city.frame.lighting.clone(),
+                city: Some(std::sync::Arc::new(city)),
             })
         }
         SceneSource::Demo(options) => {
@@ -309,6 +347,7 @@ pub fn load_scene(source: &SceneSource) -> Result<LoadedScene> {
                 scene,
                 camera: Some(frame.camera),
                 lighting: frame.lighting,
+                city: None,
             })
         }
     }
@@ -324,6 +363,7 @@ impl Args {
             scene: match self.scene {
                 SceneArg::Forest => DemoScene::Forest,
                 SceneArg::Grass => DemoScene::Grass,
+                SceneArg::City => return SceneSource::City(self.instances as usize),
             },
             seed: self.seed,
             density: self.density,

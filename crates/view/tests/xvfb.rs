@@ -88,8 +88,9 @@ impl Drop for Xvfb {
     }
 }
 
-/// Runs the viewer on `display` with `extra` flags after the scripted ones; returns its
-/// screenshot and whether it ran on the headless device's adapter.
+/// Runs the viewer on `display` (the forest, unless `extra` names a scene) with `extra`
+/// flags after the scripted ones; returns its screenshot and whether it ran on the headless
+/// device's adapter.
 fn run_viewer(display: &str, name: &str, extra: &[&str]) -> (Rgba8Image, bool) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("view-xvfb");
     std::fs::create_dir_all(&dir).unwrap();
@@ -100,9 +101,11 @@ fn run_viewer(display: &str, name: &str, extra: &[&str]) -> (Rgba8Image, bool) {
         EYE.x, EYE.y, EYE.z, TARGET.x, TARGET.y, TARGET.z
     );
     let (w, h, frames) = (WIDTH.to_string(), HEIGHT.to_string(), FRAMES.to_string());
-    let mut args = vec![
-        "--scene",
-        "forest",
+    let mut args = vec![];
+    if !extra.contains(&"--scene") {
+        args.extend(["--scene", "forest"]);
+    }
+    args.extend([
         "--width",
         &w,
         "--height",
@@ -114,7 +117,7 @@ fn run_viewer(display: &str, name: &str, extra: &[&str]) -> (Rgba8Image, bool) {
         "--screenshot",
         shot.to_str().unwrap(),
         "--exit",
-    ];
+    ]);
     args.extend_from_slice(extra);
     let mut child = Command::new(env!("CARGO_BIN_EXE_view"))
         .args(&args)
@@ -252,6 +255,51 @@ fn the_viewer_under_xvfb_shows_what_the_headless_renderer_renders() {
             ids.pixels.len()
         );
     }
+}
+
+/// The city through the window: HZD's static query in front of each of the scripted
+/// frames (the LOD fade advancing frame by frame), against the same frames rendered
+/// headless with the same query.
+#[test]
+fn the_city_through_the_window_is_the_headless_city() {
+    let x = Xvfb::start();
+    let window = run_viewer(
+        &x.display,
+        "city",
+        &["--scene", "city", "--instances", "5000"],
+    );
+    let c = ctx();
+    let city = gpu::demo::city::city(5000);
+    let mut query = gpu::StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut scene = city.stream(&c.device, &c.queue, &mut query).unwrap();
+    let mut r = Renderer::new(
+        &c.device,
+        &c.queue,
+        RendererConfig {
+            width: WIDTH,
+            height: HEIGHT,
+            ..RendererConfig::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let prepared = r.prepare(&city.scene).unwrap_or_else(|e| panic!("{e}"));
+    let frame = FrameInput {
+        camera: Camera::look_at(EYE, TARGET),
+        time: 0.0,
+        lighting: city.frame.lighting.clone(),
+    };
+    for _ in 0..FRAMES {
+        let mut view = gpu::StaticView {
+            query: &mut query,
+            scene: &mut scene,
+            view: gpu::static_view_desc(&frame.camera, WIDTH, HEIGHT),
+            options: Default::default(),
+            occlusion: gpu::StaticOcclusion::PreviousFrame,
+        };
+        r.render_static(&prepared, &frame, RenderPath::Deferred, &mut view)
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert_close("city", &window, &r.read_output().unwrap());
 }
 
 /// Bad flags fail before any window opens, naming the flag (no display needed).
