@@ -1,8 +1,9 @@
 //! The compute visibility laydown (issue 17): the planned draws' triangles rasterised in
 //! compute into a 64-bit visibility target (depth bits high, vis word low, `atomicMax`),
-//! the triangles the hardware must clip or that are large drawn by a hybrid hardware part
-//! into the same target, then one full-screen pass that turns the target into the depth
-//! target, the vis texture and the vis words the rest of the frame reads.
+//! one full-screen pass that turns the target into the depth target and the vis texture
+//! the rest of the frame reads, then the triangles the hardware must clip or that are
+//! large drawn over them by a hybrid hardware part with the ordinary depth test (the vis
+//! copy makes the words after it, as after the hardware laydown).
 //!
 //! Three described passes: `gpu::compute_laydown` (one dispatch, one invocation per
 //! (instance, triangle) of the scene's planned draws: a draw table with per-draw item
@@ -147,7 +148,8 @@ pub(crate) const COMPUTE_LAYDOWN_HYBRID: Pass = Pass {
     zeroed: &[],
 };
 
-/// The 64-bit target into depth, vis texture and vis words (full-screen triangle).
+/// The 64-bit target into depth and vis texture (full-screen triangle; the vis copy
+/// follows the hardware part).
 pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     name: "laydown target",
     module: "gpu::laydown_target",
@@ -158,7 +160,6 @@ pub(crate) const LAYDOWN_TARGET: Pass = Pass {
         bindings: &[
             Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
             Binding::new("laydown_target", Kind::read(8)),
-            Binding::new("vis_words", Kind::read_write(4)),
         ],
     }],
     entries: &[
@@ -374,7 +375,6 @@ impl ComputeLaydown {
             &[
                 ("frame", frame.as_entire_binding()),
                 ("laydown_target", target.as_entire_binding()),
-                ("vis_words", t.vis_words.as_entire_binding()),
             ],
         )?)
     }

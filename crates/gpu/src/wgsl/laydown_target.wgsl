@@ -1,7 +1,7 @@
 // gpu: the compute laydown's 64-bit target into what the rest of the frame reads: the
-// depth target (frag_depth; depth formats cannot be storage textures), the R32Uint vis
-// texture (colour) and the vis word buffer (the hardware part draws over depth and vis
-// after it; the vis copy then brings the words up to date). A full-screen triangle. A pixel whose depth bits are 0 was never drawn: far plane and VIS_NONE.
+// depth target (frag_depth; depth formats cannot be storage textures) and the R32Uint vis
+// texture (colour); the hardware part draws over both after it, then the vis copy makes
+// the words. A full-screen triangle. A pixel whose depth bits are 0 was never drawn: far plane and VIS_NONE.
 
 #import visbuf::id
 #import gpu::frame
@@ -9,7 +9,6 @@
 @group(0) @binding(0) var<uniform> frame: FrameUniforms;
 // The target as (vis word, depth bits) pairs: little-endian halves of each u64.
 @group(0) @binding(1) var<storage, read> laydown_target: array<vec2<u32>>;
-@group(0) @binding(2) var<storage, read_write> vis_words: array<u32>;
 
 @vertex
 fn vs_full(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<f32> {
@@ -37,9 +36,6 @@ fn fs_target(@builtin(position) position: vec4<f32>) -> TargetOut {
     if (t.y != 0u) {
         out.depth = bitcast<f32>(t.y);
         out.vis = t.x;
-    }
-    if (p.x < size.x && i < arrayLength(&vis_words)) {
-        vis_words[i] = out.vis;
     }
     return out;
 }
