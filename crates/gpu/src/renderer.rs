@@ -596,7 +596,7 @@ impl Renderer {
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
                 laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
-                    (Some(c), Some(t)) => Some(c.target_group(device, &frame, t, &targets)?),
+                    (Some(c), Some(t)) => Some(c.target_group(device, &frame, t)?),
                     _ => None,
                 },
                 gbuffer_store: pipelines

@@ -22,7 +22,7 @@ use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::resources::plan::Draw;
 use crate::resources::rows::FrameUniforms;
-use crate::resources::targets::{DEPTH_FORMAT, Targets, VIS_FORMAT};
+use crate::resources::targets::{DEPTH_FORMAT, VIS_FORMAT};
 use crate::timing::GpuTimer;
 
 /// The device features the compute laydown needs: 64-bit integers and their atomic
@@ -367,7 +367,6 @@ impl ComputeLaydown {
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
         target: &wgpu::Buffer,
-        t: &Targets,
     ) -> Result<wgpu::BindGroup> {
         Ok(self.target_layouts.bind_group(
             device,
