@@ -204,8 +204,9 @@ pub struct RendererConfig {
     /// rasteriser; [`Laydown::Compute`] falls back to it on a device without 64-bit
     /// atomics).
     pub laydown: Laydown,
-    /// The compute laydown's hybrid split: triangles whose screen box is wider or taller
-    /// than this many pixels go to its hardware part (0: every one; at most
+    /// The compute laydown's split: triangles whose screen box is wider or taller than this
+    /// many pixels go to its large-triangle pass, a workgroup each instead of an
+    /// invocation (0: every one; at most
     /// [`COMPUTE_LAYDOWN_EXTENT_LIMIT`](crate::COMPUTE_LAYDOWN_EXTENT_LIMIT), where the
     /// fixed-point edge functions still fit 32 bits). Default
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
@@ -1568,7 +1569,13 @@ impl Renderer {
         };
         let words = read_buffer(&self.device, &self.queue, &g.list, 0, 4)?;
         let vertex_count = u32::from_le_bytes([words[0], words[1], words[2], words[3]]);
-        Ok(Some(passes::compute_laydown::stats(g.items, vertex_count)))
+        let words = read_buffer(&self.device, &self.queue, &g.large, 12, 4)?;
+        let large = u32::from_le_bytes([words[0], words[1], words[2], words[3]]);
+        Ok(Some(passes::compute_laydown::stats(
+            g.items,
+            vertex_count,
+            large,
+        )))
     }
 
     /// Reads the static placement's debug words of the last frame with a static query of

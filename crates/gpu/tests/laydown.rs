@@ -247,8 +247,9 @@ fn check_against_f64(config: RendererConfig, name: &str) -> Renderer {
     );
     if let Some(s) = renderer.read_laydown_stats(&prepared).unwrap() {
         eprintln!(
-            "{name}: {} triangles, {} to the hardware part, {checked} pixels checked",
-            s.triangles, s.hybrid
+            "{name}: {} triangles, {} a workgroup each, {} to the hardware part, {checked} \
+             pixels checked",
+            s.triangles, s.large, s.hybrid
         );
         assert_eq!(s.dropped, 0);
     }
@@ -298,14 +299,15 @@ fn compute_laydown_matches_the_f64_rasteriser() {
     if !compute_device() {
         return;
     }
-    // The default hybrid split, everything in compute (the largest extent), everything
-    // through the hardware part (extent 0; on the best primitive-ID path), and a split
-    // at 1 pixel that sends part of the scene's (small) triangles there.
+    // The default split, every triangle an invocation (the largest extent), every
+    // triangle a workgroup of the large-triangle pass (extent 0: its 64-bit edge
+    // functions), and a split at 1 pixel that sends part of the scene's (small) triangles
+    // there.
     for (extent, name) in [
         (gpu::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
-        (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "compute only"),
-        (0.0, "hybrid only"),
-        (1.0, "compute + hybrid at 1 pixel"),
+        (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "an invocation each"),
+        (0.0, "a workgroup each"),
+        (1.0, "split at 1 pixel"),
     ] {
         let r = check_against_f64(
             RendererConfig {
@@ -348,7 +350,7 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         // Degenerate: two equal vertices, and three collinear ones.
         [v(0.2, 0.2, 0.0), v(0.2, 0.2, 0.0), v(0.5, 0.6, 0.0)],
         [v(0.0, 0.0, 0.0), v(0.1, 0.1, 0.0), v(0.2, 0.2, 0.0)],
-        // Huge: the left half of the view and far past it (the hardware part).
+        // Huge: the left half of the view and far past it (the large-triangle pass).
         [
             v(-60.0, -60.0, -1.0),
             v(-0.1, -60.0, -1.0),
@@ -416,8 +418,9 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
     let (compute, stats) = render(Laydown::Compute);
     let stats = stats.unwrap();
     eprintln!("awkward: {stats:?}");
-    // The huge and the near-plane triangle, of each instance with finite coordinates.
-    assert!(stats.hybrid >= 2, "{stats:?}");
+    // The near-plane triangle of each instance with finite coordinates goes to the
+    // hardware part, the huge one to the large-triangle pass.
+    assert!(stats.hybrid >= 1 && stats.large >= 1, "{stats:?}");
     assert_eq!(stats.dropped, 0);
     let at = |img: &[u32], x: i64, y: i64| {
         (x >= 0 && y >= 0 && x < i64::from(W) && y < i64::from(H))

@@ -176,8 +176,9 @@ pub struct Args {
     /// hardware depth prepass).
     #[arg(long, value_enum, default_value = "hardware")]
     pub laydown: LaydownArg,
-    /// The compute laydown's hybrid split: triangles whose screen box is wider or taller
-    /// than this many pixels go to its hardware part (0 to 254; 0: every one).
+    /// The compute laydown's split: triangles whose screen box is wider or taller than this
+    /// many pixels take its large-triangle pass, a workgroup each (0 to 254; 0: every
+    /// one). Triangles crossing the near plane go to its hardware part.
     #[arg(long, default_value_t = gpu::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
     pub laydown_max_extent: f32,
     /// Use the workgroup-atomic fallback even where subgroups exist.

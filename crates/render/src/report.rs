@@ -33,7 +33,7 @@ impl Report {
             if renderer.laydown() == c.laydown {
                 match c.laydown {
                     gpu::Laydown::Compute => format!(
-                        "compute, triangles over {} pixels to its hardware part",
+                        "compute, triangles over {} pixels a workgroup each",
                         c.compute_laydown_max_extent
                     ),
                     gpu::Laydown::Hardware => "hardware".to_string(),
@@ -396,8 +396,9 @@ impl Report {
         self.row(
             "compute laydown",
             format!(
-                "{} triangles, {} ({share:.3}%) to the hardware part, {} past its list",
+                "{} triangles, {} a workgroup each, {} ({share:.3}%) to the hardware part, {} past the lists",
                 group_digits(s.triangles),
+                group_digits(s.large),
                 group_digits(s.hybrid),
                 group_digits(s.dropped)
             ),

@@ -1,6 +1,7 @@
 //! The compute visibility laydown (issue 17): the planned draws' triangles rasterised in
 //! compute into a 64-bit visibility target (depth bits high, vis word low, `atomicMax`),
-//! one full-screen pass that turns the target into the depth target and the vis texture
+//! small ones an invocation each, large ones a workgroup each (an indirect dispatch over
+//! the list the first pass appends them to), one full-screen pass that turns the target into the depth target and the vis texture
 //! the rest of the frame reads, then the triangles the hardware must clip or that are
 //! large drawn over them by a hybrid hardware part with the ordinary depth test (the vis
 //! copy makes the words after it, as after the hardware laydown).
@@ -30,8 +31,8 @@ use crate::timing::GpuTimer;
 pub const COMPUTE_LAYDOWN_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
-/// The default widest or tallest screen box (pixels) of a triangle the compute raster
-/// draws; larger ones go to the hardware part
+/// The default widest or tallest screen box (pixels) of a triangle one invocation of the
+/// compute raster draws; larger ones go to the large-triangle pass (a workgroup each)
 /// ([`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) sets it; WGSL:
 /// the override `GPU_COMPUTE_LAYDOWN_MAX_EXTENT`).
 pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 32.0;
@@ -46,6 +47,8 @@ pub(crate) const HYBRID_CAPACITY: u32 = 1 << 22;
 
 /// Bytes of the hybrid list's header: a `DrawIndirectArgs`.
 const HYBRID_HEADER: u64 = 16;
+/// Bytes of the large list's header: `raster_large`'s dispatch arguments and the count.
+const LARGE_HEADER: u64 = 16;
 
 /// One row of the draw table (WGSL `GpuLaydownDraw`), 32 bytes.
 #[repr(C)]
@@ -109,6 +112,8 @@ const RASTER_GROUP: Group = Group {
         INDICES,
         TARGET,
         Binding::new("hybrid", Kind::read_write(HYBRID_HEADER as usize + 4)),
+        // The large triangles' list: dispatch arguments, count, then one item.
+        Binding::new("large", Kind::read_write(LARGE_HEADER as usize + 4)),
     ],
 };
 
@@ -130,8 +135,16 @@ pub(crate) const COMPUTE_LAYDOWN: Pass<u32> = Pass {
     library: LIBRARY,
     features: &["subgroups"],
     groups: &[SCENE_GROUP, RASTER_GROUP],
-    entries: &[Entry::items("raster", 64, |items| *items)],
-    zeroed: &["laydown_target", "hybrid"],
+    entries: &[
+        Entry::items("raster", 64, |items| *items),
+        Entry::once("large_args", 1),
+        Entry {
+            name: "raster_large",
+            stage: Stage::compute(256, 1, 1),
+            dispatch: shader::Dispatch::Indirect("large"),
+        },
+    ],
+    zeroed: &["laydown_target", "hybrid", "large"],
 };
 
 /// The hardware part: the listed triangles, drawn into the 64-bit target.
@@ -185,10 +198,13 @@ pub(crate) fn target_buffer(device: &wgpu::Device, width: u32, height: u32) -> w
 pub struct LaydownStats {
     /// Triangles sent (instances x mesh triangles of every planned draw).
     pub triangles: u64,
-    /// Of those, handed to the hardware part (crossing the near plane or larger than
-    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`] pixels), including any past the list's capacity.
+    /// Of those, handed to the hardware part (crossing the near or far plane, or a box over
+    /// a million pixels), including any past the list's capacity.
     pub hybrid: u64,
-    /// Listed triangles past the list's capacity (not drawn; 0 in every scene measured).
+    /// Of those, rasterised by the large-triangle pass (a box over
+    /// [`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) pixels).
+    pub large: u64,
+    /// Listed triangles past either list's capacity (not drawn; 0 in every scene measured).
     pub dropped: u64,
 }
 
@@ -208,6 +224,11 @@ pub(crate) struct Groups {
     hybrid: [wgpu::BindGroup; 2],
     /// `GpuHybridList`: indirect draw arguments, then the listed items.
     pub list: wgpu::Buffer,
+    /// `GpuLargeList`: `raster_large`'s dispatch arguments, the count, the items.
+    pub large: wgpu::Buffer,
+    /// The dispatch arguments copied out of `large` (a dispatch cannot read its
+    /// arguments from a buffer it binds for writing).
+    large_dispatch: wgpu::Buffer,
     /// Items of the draw table (the raster's invocations).
     pub items: u32,
     _draws: wgpu::Buffer,
@@ -340,22 +361,40 @@ impl ComputeLaydown {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let large = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compute laydown large list"),
+            size: LARGE_HEADER + 4 * u64::from(capacity),
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let large_dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("compute laydown large dispatch"),
+            size: 12,
+            usage: wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let group1 = [
             ("laydown_draws", table.as_entire_binding()),
             ("laydown_indices", indices.as_entire_binding()),
             ("laydown_target", target.as_entire_binding()),
             ("hybrid", list.as_entire_binding()),
         ];
+        let mut raster_group1 = group1.to_vec();
+        raster_group1.push(("large", large.as_entire_binding()));
         Ok(Some(Groups {
             raster: [
                 self.raster.bind_group(device, "scene", scene)?,
-                self.raster.bind_group(device, "laydown", &group1)?,
+                self.raster.bind_group(device, "laydown", &raster_group1)?,
             ],
             hybrid: [
                 self.hybrid_layouts.bind_group(device, "scene", scene)?,
                 self.hybrid_layouts.bind_group(device, "laydown", &group1)?,
             ],
             list,
+            large,
+            large_dispatch,
             items,
             _draws: table,
         }))
@@ -397,7 +436,9 @@ impl ComputeLaydown {
         };
         encoder.clear_buffer(target, 0, None);
         encoder.clear_buffer(&g.list, 0, Some(HYBRID_HEADER));
+        encoder.clear_buffer(&g.large, 0, Some(LARGE_HEADER));
         {
+            // The small triangles, then the large list's count as arguments.
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("compute laydown"),
                 timestamp_writes: timer.compute("laydown"),
@@ -406,6 +447,19 @@ impl ComputeLaydown {
                 self.raster
                     .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);
             }
+        }
+        if g.items > 0
+            && let Ok(large) = self.raster.step("raster_large")
+        {
+            encoder.copy_buffer_to_buffer(&g.large, 0, &g.large_dispatch, 0, 12);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("compute laydown, large triangles"),
+                timestamp_writes: timer.compute("laydown large"),
+            });
+            pass.set_bind_group(0, &g.raster[0], &[]);
+            pass.set_bind_group(1, &g.raster[1], &[]);
+            pass.set_pipeline(&large.pipeline);
+            pass.dispatch_workgroups_indirect(&g.large_dispatch, 0);
         }
         // The conversion covers every pixel (clearing nothing it does not write), then the
         // hardware part draws over it with the depth test.
@@ -466,12 +520,14 @@ impl ComputeLaydown {
 
 /// The statistics of the hybrid list's header (its vertex count) for a scene of `items`
 /// triangles.
-pub(crate) fn stats(items: u32, vertex_count: u32) -> LaydownStats {
+pub(crate) fn stats(items: u32, vertex_count: u32, large: u32) -> LaydownStats {
     let hybrid = u64::from(vertex_count / 3);
+    let capacity = u64::from(items.clamp(1, HYBRID_CAPACITY));
     LaydownStats {
         triangles: u64::from(items),
         hybrid,
-        dropped: hybrid.saturating_sub(u64::from(items.clamp(1, HYBRID_CAPACITY))),
+        large: u64::from(large),
+        dropped: hybrid.saturating_sub(capacity) + u64::from(large).saturating_sub(capacity),
     }
 }
 
@@ -528,9 +584,10 @@ mod tests {
 
     #[test]
     fn stats_count_what_did_not_fit() {
-        assert_eq!(stats(100, 30).hybrid, 10);
-        assert_eq!(stats(100, 30).dropped, 0);
-        let s = stats(u32::MAX, 3 * (HYBRID_CAPACITY + 5));
-        assert_eq!(s.dropped, 5);
+        assert_eq!(stats(100, 30, 7).hybrid, 10);
+        assert_eq!(stats(100, 30, 7).large, 7);
+        assert_eq!(stats(100, 30, 7).dropped, 0);
+        let s = stats(u32::MAX, 3 * (HYBRID_CAPACITY + 5), HYBRID_CAPACITY + 2);
+        assert_eq!(s.dropped, 7);
     }
 }

@@ -9,9 +9,12 @@
 // sampled at pixel centres with the top-left rule. Alpha-tested draws sample the albedo's
 // alpha at the level of the analytic UV derivatives (`textureSampleLevel`; compute has no
 // quads) and honour the LOD-fade dither. Triangles the hardware clips (a vertex in front
-// of the near plane or at w <= 0) or whose box is wider or taller than
-// GPU_COMPUTE_LAYDOWN_MAX_EXTENT pixels go to the hardware part: appended to `hybrid`
-// (one atomic per wave), drawn by `gpu::compute_laydown_hybrid` into the same target.
+// of the near plane or at w <= 0) go to the hardware part: appended to `hybrid` (one
+// atomic per wave), drawn by `gpu::compute_laydown_hybrid` after the conversion. Triangles
+// whose box is wider or taller than GPU_COMPUTE_LAYDOWN_MAX_EXTENT pixels are appended to
+// `large` and rasterised by `raster_large`, one 256-invocation workgroup per triangle
+// striding over its box, with 64-bit edge functions (the raster units are the scarce
+// ones on the H200).
 
 #import gpu::compute_laydown_draws
 #import wave::append
@@ -28,6 +31,24 @@ struct GpuHybridList {
 }
 
 @group(1) @binding(3) var<storage, read_write> hybrid: GpuHybridList;
+
+// The large triangles' list: `raster_large`'s indirect dispatch (written by `large_args`;
+// rows of GPU_LAYDOWN_ROWS workgroups), the count, then the items. Cleared each frame.
+struct GpuLargeList {
+    dispatch: array<u32, 3>,
+    count: atomic<u32>,
+    items: array<u32>,
+}
+
+@group(1) @binding(4) var<storage, read_write> large: GpuLargeList;
+
+// Workgroups per row of `raster_large`'s dispatch (shader::MAX_WORKGROUPS_X).
+const GPU_LAYDOWN_ROWS: u32 = 65535u;
+// Invocations of a `raster_large` workgroup.
+const GPU_LAYDOWN_LARGE_WORKGROUP: u32 = 256u;
+// A box wider or taller than this (pixels) goes to the hardware part even from the large
+// path: the 64-bit edge functions' products stay far below 2^63.
+const GPU_LAYDOWN_LARGE_LIMIT: f32 = 1048576.0;
 
 // The widest or tallest box (pixels) rasterised in compute: larger triangles cost one
 // invocation too many pixels and go to the hardware (0: every triangle does). Rust:
@@ -75,11 +96,57 @@ struct GpuRasterVertex {
     uq: vec2<f32>,
 }
 
-// Rasterises `item`'s triangle into the target; true when it goes to the hardware part.
-fn gpu_raster_item(item: u32) -> bool {
+// What the pixels of a triangle share once it is set up: its vertices' depth, 1 / w and
+// uv / w (a, b, c: the order whose edge functions are positive inside), the barycentric
+// derivatives per pixel, and what the alpha test reads.
+struct GpuRasterShade {
+    z: vec3<f32>,
+    q: vec3<f32>,
+    uq0: vec2<f32>,
+    uq1: vec2<f32>,
+    uq2: vec2<f32>,
+    dbdx: vec3<f32>,
+    dbdy: vec3<f32>,
+    word: u32,
+    alpha: bool,
+    fade_bits: u32,
+    layer: u32,
+    cutoff: f32,
+    tex: vec2<f32>,
+}
+
+// A triangle set up for rasterising: `kind` GPU_RASTER_NONE (nothing to draw),
+// GPU_RASTER_HARDWARE, GPU_RASTER_LARGE or GPU_RASTER_SMALL; then its snapped vertices
+// (a, b, c, 1/256 pixel relative to `corner`), its box clipped to the image, and shading.
+struct GpuRasterTriangle {
+    kind: u32,
+    corner: vec2<i32>,
+    a: vec2<f32>,
+    b: vec2<f32>,
+    c: vec2<f32>,
+    x0: i32,
+    x1: i32,
+    y0: i32,
+    y1: i32,
+    // 1 / the edge functions' sum (twice the area in subpixels squared)
+    inv_area: f32,
+    shade: GpuRasterShade,
+}
+
+const GPU_RASTER_NONE: u32 = 0u;
+const GPU_RASTER_HARDWARE: u32 = 1u;
+const GPU_RASTER_LARGE: u32 = 2u;
+const GPU_RASTER_SMALL: u32 = 3u;
+
+// Sets up `item`'s triangle. Snapped positions are kept as f32 whole numbers of
+// subpixels (exact below 2^24) for the large path's 64-bit edge functions and as i32 for
+// the small path's.
+fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
+    var r: GpuRasterTriangle;
+    r.kind = GPU_RASTER_NONE;
     let t = gpu_laydown_triangle(item);
     if (!t.valid) {
-        return false;
+        return r;
     }
     let o0 = laydown_vertex(t.vertices.x, t.instance);
     let o1 = laydown_vertex(t.vertices.y, t.instance);
@@ -88,7 +155,7 @@ fn gpu_raster_item(item: u32) -> bool {
     let c1 = o1.clip;
     let c2 = o2.clip;
     if (!(gpu_finite(c0) && gpu_finite(c1) && gpu_finite(c2))) {
-        return false;
+        return r;
     }
     // Outside one clip plane with all three vertices: nothing to draw (the near plane of
     // reversed Z is z = w; behind the eye z > w too).
@@ -99,13 +166,14 @@ fn gpu_raster_item(item: u32) -> bool {
         || (c0.y > c0.w && c1.y > c1.w && c2.y > c2.w)
         || (c0.y < -c0.w && c1.y < -c1.w && c2.y < -c2.w)
         || (c0.z < 0.0 && c1.z < 0.0 && c2.z < 0.0)) {
-        return false;
+        return r;
     }
     // Crossing the near or far plane, or too close to w = 0 to divide: the hardware clips.
     let eps = 1e-6;
     if (any(near) || c0.w <= eps || c1.w <= eps || c2.w <= eps
         || c0.z < 0.0 || c1.z < 0.0 || c2.z < 0.0) {
-        return true;
+        r.kind = GPU_RASTER_HARDWARE;
+        return r;
     }
     let size = frame.viewport.xy;
     let s0 = gpu_laydown_screen(c0, size);
@@ -115,109 +183,176 @@ fn gpu_raster_item(item: u32) -> bool {
     let hi = max(s0, max(s1, s2));
     // No pixel centre of the image inside the box.
     if (hi.x < 0.0 || hi.y < 0.0 || lo.x > size.x || lo.y > size.y) {
-        return false;
+        return r;
     }
-    if (any(hi - lo > vec2<f32>(GPU_COMPUTE_LAYDOWN_MAX_EXTENT))) {
-        return true;
+    let extent = hi - lo;
+    if (any(extent > vec2<f32>(GPU_LAYDOWN_LARGE_LIMIT))) {
+        r.kind = GPU_RASTER_HARDWARE;
+        return r;
     }
-    // Fixed point relative to the box's whole-pixel corner: at most (extent + 2) x 256,
-    // so the edge functions' products stay below 2^31 up to an extent of 254 pixels.
+    let small = !any(extent > vec2<f32>(GPU_COMPUTE_LAYDOWN_MAX_EXTENT));
+    // Fixed point relative to the box's whole-pixel corner.
     let corner = floor(lo) - 1.0;
-    var v: array<GpuRasterVertex, 3>;
     let cs = array<vec4<f32>, 3>(c0, c1, c2);
     let ss = array<vec2<f32>, 3>(s0, s1, s2);
     let uvs = array<vec2<f32>, 3>(o0.uv, o1.uv, o2.uv);
+    var p: array<vec2<f32>, 3>;
+    var q: array<f32, 3>;
+    var z: array<f32, 3>;
+    var uq: array<vec2<f32>, 3>;
     for (var k = 0u; k < 3u; k++) {
-        v[k].p = vec2<i32>(round((ss[k] - corner) * GPU_LAYDOWN_SUBPIXELS));
-        v[k].q = 1.0 / cs[k].w;
-        v[k].z = cs[k].z * v[k].q;
-        v[k].uq = uvs[k] * v[k].q;
+        p[k] = round((ss[k] - corner) * GPU_LAYDOWN_SUBPIXELS);
+        q[k] = 1.0 / cs[k].w;
+        z[k] = cs[k].z * q[k];
+        uq[k] = uvs[k] * q[k];
     }
     // Front faces are counter-clockwise in clip space: clockwise in y-down pixels, where
     // this cross product is negative. Back faces and degenerate ones are culled.
-    let area0 = gpu_cross(v[1].p - v[0].p, v[2].p - v[0].p);
-    if (area0 >= 0) {
-        return false;
+    let area0 = gpu_cross64(p[1] - p[0], p[2] - p[0]);
+    if (area0 >= 0li) {
+        return r;
     }
-    // Swap two vertices so the edge functions are positive inside.
-    let a = v[0];
-    let b = v[2];
-    let c = v[1];
-    let area = -area0;
-    let eab = b.p - a.p;
-    let ebc = c.p - b.p;
-    let eca = a.p - c.p;
-    let bias = vec3<i32>(gpu_top_left_bias(ebc), gpu_top_left_bias(eca), gpu_top_left_bias(eab));
-    let inv_area = 1.0 / f32(area);
-    let word = vis_word(t.instance, t.primitive);
-    let alpha = (t.flags & GPU_LAYDOWN_DRAW_ALPHA_TESTED) != 0u;
+    // Swap two vertices so the edge functions are positive inside: a = 0, b = 2, c = 1.
+    r.a = p[0];
+    r.b = p[2];
+    r.c = p[1];
+    let inv_area = 1.0 / f32(-area0);
+    r.inv_area = inv_area;
+    let eab = r.b - r.a;
+    let ebc = r.c - r.b;
+    let eca = r.a - r.c;
+    var sh: GpuRasterShade;
+    sh.z = vec3<f32>(z[0], z[2], z[1]);
+    sh.q = vec3<f32>(q[0], q[2], q[1]);
+    sh.uq0 = uq[0];
+    sh.uq1 = uq[2];
+    sh.uq2 = uq[1];
     // Analytic derivatives of the barycentrics (weights of a, b, c) per pixel.
-    let dbdx = vec3<f32>(f32(-ebc.y), f32(-eca.y), f32(-eab.y)) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
-    let dbdy = vec3<f32>(f32(ebc.x), f32(eca.x), f32(eab.x)) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
+    sh.dbdx = vec3<f32>(-ebc.y, -eca.y, -eab.y) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
+    sh.dbdy = vec3<f32>(ebc.x, eca.x, eab.x) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
+    sh.word = vis_word(t.instance, t.primitive);
+    sh.alpha = (t.flags & GPU_LAYDOWN_DRAW_ALPHA_TESTED) != 0u;
     let inst = instances[t.instance];
+    sh.fade_bits = inst.primitive_bits;
     let material = materials[min(inst.material, arrayLength(&materials) - 1u)];
-    let tex = vec2<f32>(textureDimensions(albedo, 0));
+    sh.layer = material.albedo_layer;
+    sh.cutoff = material.alpha_cutoff;
+    sh.tex = vec2<f32>(textureDimensions(albedo, 0));
+    r.shade = sh;
+    r.corner = vec2<i32>(corner);
     let w = i32(size.x);
     let h = i32(size.y);
-    let x0 = max(i32(floor(lo.x - 0.01)), 0);
-    let x1 = min(i32(floor(hi.x + 0.01)), w - 1);
-    let y0 = max(i32(floor(lo.y - 0.01)), 0);
-    let y1 = min(i32(floor(hi.y + 0.01)), h - 1);
-    let cx = i32(corner.x);
-    let cy = i32(corner.y);
+    r.x0 = max(i32(floor(max(lo.x, -1.0) - 0.01)), 0);
+    r.x1 = min(i32(floor(min(hi.x, size.x + 1.0) + 0.01)), w - 1);
+    r.y0 = max(i32(floor(max(lo.y, -1.0) - 0.01)), 0);
+    r.y1 = min(i32(floor(min(hi.y, size.y + 1.0) + 0.01)), h - 1);
+    r.kind = select(GPU_RASTER_LARGE, GPU_RASTER_SMALL, small);
+    return r;
+}
+
+// a x b of whole-subpixel f32 vectors, exactly, in 64 bits.
+fn gpu_cross64(a: vec2<f32>, b: vec2<f32>) -> i64 {
+    return i64(a.x) * i64(b.y) - i64(a.y) * i64(b.x);
+}
+
+// The top-left rule's bias of edge `e` (whole-subpixel f32).
+fn gpu_top_left_bias64(e: vec2<f32>) -> i64 {
+    if ((e.y == 0.0 && e.x > 0.0) || e.y < 0.0) {
+        return 0li;
+    }
+    return -1li;
+}
+
+// Pixel (x, y) of triangle `r` whose barycentric weights of a, b, c are `bary`: the alpha
+// test and the LOD-fade dither, then the depth and vis word into the target.
+fn gpu_raster_shade(x: i32, y: i32, bary: vec3<f32>, sh: GpuRasterShade, len: u32, w: i32) {
+    if (sh.alpha) {
+        if (!gpu_fade_keeps(sh.fade_bits, vec2<u32>(u32(x), u32(y)))) {
+            return;
+        }
+        // Perspective-correct UV and its screen derivatives: uv = N / D.
+        let d = dot(bary, sh.q);
+        let uv = (bary.x * sh.uq0 + bary.y * sh.uq1 + bary.z * sh.uq2) / d;
+        let ddx = dot(sh.dbdx, sh.q);
+        let ddy = dot(sh.dbdy, sh.q);
+        let duvdx = (sh.dbdx.x * sh.uq0 + sh.dbdx.y * sh.uq1 + sh.dbdx.z * sh.uq2 - uv * ddx) / d;
+        let duvdy = (sh.dbdy.x * sh.uq0 + sh.dbdy.y * sh.uq1 + sh.dbdy.z * sh.uq2 - uv * ddy) / d;
+        let rho = max(length(duvdx * sh.tex), length(duvdy * sh.tex));
+        let lod = log2(max(rho, 1e-8));
+        let alpha_value = textureSampleLevel(albedo, albedo_sampler, uv, sh.layer, lod).a;
+        if (alpha_value < sh.cutoff) {
+            return;
+        }
+    }
+    let depth = clamp(dot(bary, sh.z), 0.0, 1.0);
+    let i = u32(y) * u32(w) + u32(x);
+    if (i < len) {
+        atomicMax(&laydown_target[i], gpu_laydown_value(depth, sh.word));
+    }
+}
+
+// The weights of a, b, c at pixel (x, y) of a small `r` (32-bit edge functions: its
+// subpixel positions are below 2^16), or a negative x weight outside (the top-left rule:
+// samples on an edge that is not top or left are outside).
+fn gpu_raster_weights_small(r: GpuRasterTriangle, x: i32, y: i32) -> vec3<f32> {
+    let a = vec2<i32>(r.a);
+    let b = vec2<i32>(r.b);
+    let c = vec2<i32>(r.c);
+    let p = vec2<i32>((x - r.corner.x) * 256 + 128, (y - r.corner.y) * 256 + 128);
+    let e = vec3<i32>(gpu_cross(c - b, p - b), gpu_cross(a - c, p - c), gpu_cross(b - a, p - a));
+    let bias = vec3<i32>(gpu_top_left_bias(c - b), gpu_top_left_bias(a - c), gpu_top_left_bias(b - a));
+    if (any(e + bias < vec3<i32>(0))) {
+        return vec3<f32>(-1.0);
+    }
+    return vec3<f32>(e) * r.inv_area;
+}
+
+// The same for a large `r`, in 64 bits.
+fn gpu_raster_weights_large(r: GpuRasterTriangle, x: i32, y: i32) -> vec3<f32> {
+    let p = vec2<f32>(f32((x - r.corner.x) * 256 + 128), f32((y - r.corner.y) * 256 + 128));
+    let e0 = gpu_cross64(r.c - r.b, p - r.b);
+    let e1 = gpu_cross64(r.a - r.c, p - r.c);
+    let e2 = gpu_cross64(r.b - r.a, p - r.a);
+    if (e0 + gpu_top_left_bias64(r.c - r.b) < 0li
+        || e1 + gpu_top_left_bias64(r.a - r.c) < 0li
+        || e2 + gpu_top_left_bias64(r.b - r.a) < 0li) {
+        return vec3<f32>(-1.0);
+    }
+    return vec3<f32>(f32(e0), f32(e1), f32(e2)) * r.inv_area;
+}
+
+// Rasterises `item`'s triangle into the target when it is small; returns its kind (the
+// caller lists the hardware and large ones).
+fn gpu_raster_item(item: u32) -> u32 {
+    let r = gpu_raster_setup(item);
+    if (r.kind != GPU_RASTER_SMALL) {
+        return r.kind;
+    }
+    let w = i32(frame.viewport.x);
     let len = arrayLength(&laydown_target);
-    for (var y = y0; y <= y1; y++) {
-        for (var x = x0; x <= x1; x++) {
-            // The pixel centre in the triangle's fixed point.
-            let p = vec2<i32>((x - cx) * 256 + 128, (y - cy) * 256 + 128);
-            let e = vec3<i32>(
-                gpu_cross(ebc, p - b.p),
-                gpu_cross(eca, p - c.p),
-                gpu_cross(eab, p - a.p),
-            );
-            if (any(e + bias < vec3<i32>(0))) {
-                continue;
-            }
-            let bary = vec3<f32>(e) * inv_area;
-            if (alpha) {
-                if (!gpu_fade_keeps(inst.primitive_bits, vec2<u32>(u32(x), u32(y)))) {
-                    continue;
-                }
-                // Perspective-correct UV and its screen derivatives: uv = N / D.
-                let d = dot(bary, vec3<f32>(a.q, b.q, c.q));
-                let uv = (bary.x * a.uq + bary.y * b.uq + bary.z * c.uq) / d;
-                let ddx = dot(dbdx, vec3<f32>(a.q, b.q, c.q));
-                let ddy = dot(dbdy, vec3<f32>(a.q, b.q, c.q));
-                let duvdx = (dbdx.x * a.uq + dbdx.y * b.uq + dbdx.z * c.uq - uv * ddx) / d;
-                let duvdy = (dbdy.x * a.uq + dbdy.y * b.uq + dbdy.z * c.uq - uv * ddy) / d;
-                let rho = max(length(duvdx * tex), length(duvdy * tex));
-                let lod = log2(max(rho, 1e-8));
-                let alpha_value = textureSampleLevel(albedo, albedo_sampler, uv, material.albedo_layer, lod).a;
-                if (alpha_value < material.alpha_cutoff) {
-                    continue;
-                }
-            }
-            let depth = clamp(dot(bary, vec3<f32>(a.z, b.z, c.z)), 0.0, 1.0);
-            let i = u32(y) * u32(w) + u32(x);
-            if (i < len) {
-                atomicMax(&laydown_target[i], gpu_laydown_value(depth, word));
+    for (var y = r.y0; y <= r.y1; y++) {
+        for (var x = r.x0; x <= r.x1; x++) {
+            let bary = gpu_raster_weights_small(r, x, y);
+            if (bary.x >= 0.0) {
+                gpu_raster_shade(x, y, bary, r.shade, len, w);
             }
         }
     }
-    return false;
+    return r.kind;
 }
 
 @compute @workgroup_size(64)
 fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let item = wid.y * GPU_LAYDOWN_ROW_ITEMS + wid.x * GPU_LAYDOWN_WORKGROUP + li;
-    var to_hardware = false;
+    var kind = GPU_RASTER_NONE;
     if (item < laydown_draws.items) {
-        to_hardware = gpu_raster_item(item);
+        kind = gpu_raster_item(item);
     }
     if (item == 0u) {
         hybrid.instance_count = 1u;
     }
     // Three vertices per listed triangle: the counter is the indirect draw's vertex count.
+    let to_hardware = kind == GPU_RASTER_HARDWARE;
     let a = wave_append_n_begin(select(0u, 3u, to_hardware), li);
     var old = 0u;
     if (a.total != 0u) {
@@ -226,5 +361,51 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
     let at = wave_append_end(a, old);
     if (to_hardware && at != WAVE_NO_SLOT && at / 3u < arrayLength(&hybrid.items)) {
         hybrid.items[at / 3u] = item;
+    }
+    let is_large = kind == GPU_RASTER_LARGE;
+    let b = wave_append_begin(is_large, li);
+    var old_large = 0u;
+    if (b.total != 0u) {
+        old_large = atomicAdd(&large.count, b.total);
+    }
+    let at_large = wave_append_end(b, old_large);
+    if (is_large && at_large != WAVE_NO_SLOT && at_large < arrayLength(&large.items)) {
+        large.items[at_large] = item;
+    }
+}
+
+// The large list's count as `raster_large`'s indirect arguments.
+@compute @workgroup_size(1)
+fn large_args() {
+    let n = min(atomicLoad(&large.count), arrayLength(&large.items));
+    large.dispatch[0] = min(n, GPU_LAYDOWN_ROWS);
+    large.dispatch[1] = (n + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
+    large.dispatch[2] = 1u;
+}
+
+// One workgroup per large triangle: its invocations stride over the triangle's box.
+@compute @workgroup_size(256)
+fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let k = wid.y * GPU_LAYDOWN_ROWS + wid.x;
+    let n = min(atomicLoad(&large.count), arrayLength(&large.items));
+    if (k >= n) {
+        return;
+    }
+    let r = gpu_raster_setup(large.items[k]);
+    if (r.kind != GPU_RASTER_LARGE && r.kind != GPU_RASTER_SMALL) {
+        return;
+    }
+    let w = i32(frame.viewport.x);
+    let len = arrayLength(&laydown_target);
+    let nx = u32(max(r.x1 - r.x0 + 1, 0));
+    let ny = u32(max(r.y1 - r.y0 + 1, 0));
+    let pixels = nx * ny;
+    for (var i = li; i < pixels; i += GPU_LAYDOWN_LARGE_WORKGROUP) {
+        let x = r.x0 + i32(i % nx);
+        let y = r.y0 + i32(i / nx);
+        let bary = gpu_raster_weights_large(r, x, y);
+        if (bary.x >= 0.0) {
+            gpu_raster_shade(x, y, bary, r.shade, len, w);
+        }
     }
 }
