@@ -60,15 +60,17 @@ impl RenderPath {
 /// method) either way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Laydown {
-    /// The hardware rasteriser: one indexed draw per micro batch (the default until the
-    /// compute path is measured faster).
+    /// The hardware rasteriser: one indexed draw per micro batch. The default: faster
+    /// wherever the raster units are a fair share of the chip (and on lavapipe).
     #[default]
     Hardware,
-    /// Issue 17's compute laydown: small triangles rasterised in compute into a 64-bit
-    /// target with `atomicMax` (depth bits high, vis word low), those crossing the near
-    /// plane or larger than [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT)
-    /// pixels by the hardware into the same target, then one pass to the depth target,
-    /// vis texture and vis words. Needs
+    /// Issue 17's compute laydown: triangles rasterised in compute into a 64-bit target
+    /// with `atomicMax` (depth bits high, vis word low), an invocation each, or a
+    /// workgroup each when larger than
+    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT) pixels; one pass
+    /// to the depth target and vis texture; then those crossing the near plane drawn by
+    /// the hardware over them. Faster on the H200, whose raster units are 2 of its 66
+    /// TPCs (0.56-0.81x of the hardware laydown; BENCHMARKS.md). Needs
     /// [`COMPUTE_LAYDOWN_FEATURES`](crate::COMPUTE_LAYDOWN_FEATURES) (64-bit storage-buffer
     /// atomics); on a device without them, and in frames with a static query (whose
     /// indirect draw lists the hardware draws), the hardware laydown runs instead:
