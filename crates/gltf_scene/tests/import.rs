@@ -683,12 +683,12 @@ fn broken_hierarchies_references_and_images_are_errors() {
 /// The fuzz target's seed corpus, `fuzz/seeds/gltf_import/`: small files covering the
 /// importer's paths (JSON with a data URI and `.glb`; textures, MASK, double-sided, a
 /// texture transform, a camera, u8 indices, no normals, a strip, a mirroring node).
-/// Rewrite them with `cargo test -p gltf_scene --test import -- --ignored write_fuzz_seeds`.
+/// Each committed seed is the file this test builds (byte for byte) and imports; with
+/// `WRITE_FUZZ_SEEDS=1` in the environment the test rewrites them instead.
 #[test]
-#[ignore = "writes the fuzz seeds into the source tree"]
-fn write_fuzz_seeds() {
+fn the_committed_fuzz_seeds_are_current_and_import() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/gltf_import");
-    std::fs::create_dir_all(&dir).unwrap();
+    let write = std::env::var_os("WRITE_FUZZ_SEEDS").is_some();
     let mut rich = small_scene();
     rich.json["extensionsUsed"] = json!(["KHR_texture_transform"]);
     rich.json["materials"][0]["alphaMode"] = json!("MASK");
@@ -722,7 +722,20 @@ fn write_fuzz_seeds() {
         ("rich.gltf", rich.embedded()),
     ] {
         import(&bytes);
-        std::fs::write(dir.join(name), bytes).unwrap();
+        let path = dir.join(name);
+        if write {
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(&path, &bytes).unwrap();
+        } else {
+            let committed = std::fs::read(&path).unwrap_or_else(|e| {
+                panic!("{}: {e} (WRITE_FUZZ_SEEDS=1 writes it)", path.display())
+            });
+            assert!(
+                committed == bytes,
+                "{} differs from what this test builds (WRITE_FUZZ_SEEDS=1 rewrites it)",
+                path.display()
+            );
+        }
     }
 }
 
