@@ -127,8 +127,9 @@ pub const MSAA_SAMPLES: u32 = 4;
 /// Both give the same image but where the PCF split rounds (edge pixels' shadows).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MsaaLighting {
-    /// KZ2's tricks: a pixel whose samples hold one surface (equal G-buffer words, depths
-    /// within 1% of each other) is lit once with the full PCF kernel; the others, the
+    /// KZ2's tricks: a pixel whose samples hold one surface (equal G-buffer words, every
+    /// sample on sample 0's plane within a pixel's width) is lit once, at its centre, with
+    /// the full PCF kernel; the others, the
     /// edges, are appended to a list (wave-aggregated) and lit per sample by a second,
     /// indirect dispatch, each sample filtering with its own disjoint part of the PCF taps
     /// ([`deferred::msaa::split_taps`]): the pixel's average sees the whole kernel once.
@@ -1742,13 +1743,14 @@ impl Renderer {
         let Some(t) = &self.targets.msaa else {
             return Ok(Vec::new());
         };
-        let header = read_buffer(&self.device, &self.queue, &t.edges, 0, 16)?;
+        let header_bytes = crate::resources::targets::MSAA_EDGES_HEADER;
+        let header = read_buffer(&self.device, &self.queue, &t.edges, 0, header_bytes)?;
         let pixels = u64::from(self.targets.width) * u64::from(self.targets.height);
         let count = u64::from(bytemuck::pod_read_unaligned::<[u32; 4]>(&header)[3]).min(pixels);
         if count == 0 {
             return Ok(Vec::new());
         }
-        let words = read_buffer(&self.device, &self.queue, &t.edges, 16, count * 4)?;
+        let words = read_buffer(&self.device, &self.queue, &t.edges, header_bytes, count * 4)?;
         let mut edges: Vec<u32> = bytemuck::pod_collect_to_vec::<u8, u32>(&words)
             .into_iter()
             .map(|w| (w >> 16) * self.targets.width + (w & 0xffff))

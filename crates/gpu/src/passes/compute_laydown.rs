@@ -549,6 +549,23 @@ mod tests {
         shadercheck::check_pass(&LAYDOWN_TARGET, |_| Caps::CORE);
         let src = COMPUTE_LAYDOWN.source(&[]).unwrap();
         assert!(shadercheck::validate(&src, Caps::CORE).is_err());
+        // The lists' headers and the dispatch rows, as Rust sizes and records them.
+        let m = shadercheck::validate(&src, Caps::INT64).unwrap();
+        let items_at = |name: &str| {
+            let (_, members) = shadercheck::struct_layout(&m, name).unwrap();
+            members
+                .iter()
+                .find(|(n, _)| n == "items")
+                .map(|&(_, o)| u64::from(o))
+        };
+        assert_eq!(items_at("GpuHybridList"), Some(HYBRID_HEADER));
+        assert_eq!(items_at("GpuLargeList"), Some(LARGE_HEADER));
+        let rows = shader::MAX_WORKGROUPS_X;
+        assert_eq!(shadercheck::const_u32(&m, "GPU_LAYDOWN_ROWS"), Some(rows));
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_LAYDOWN_ROW_ITEMS"),
+            Some(rows * 64)
+        );
     }
 
     fn draw(index_count: u32, instances: u32, first_instance: u32) -> Draw {

@@ -193,8 +193,11 @@ const MSAA_FRAME_BINDINGS: [Binding; 14] = {
         b[10],
         b[11],
         Binding::new("pcf_split", Kind::uniform(size_of::<GpuPcfSplit>())),
-        // The header (3 + 1 words) and one edge pixel.
-        Binding::new("msaa_edges", Kind::read_write(20)),
+        // The header and one edge pixel.
+        Binding::new(
+            "msaa_edges",
+            Kind::read_write(crate::resources::targets::MSAA_EDGES_HEADER as usize + 4),
+        ),
     ]
 };
 
@@ -484,6 +487,14 @@ mod tests {
         assert_eq!(
             shadercheck::const_u32(&ms, "GPU_MAX_WORKGROUPS_X"),
             Some(shader::MAX_WORKGROUPS_X)
+        );
+        let (_, members) = shadercheck::struct_layout(&ms, "GpuMsaaEdges").unwrap();
+        assert_eq!(
+            members.last(),
+            Some(&(
+                "pixels".to_string(),
+                crate::resources::targets::MSAA_EDGES_HEADER as u32
+            ))
         );
         let m = shadercheck::assert_composed(LIBRARY, LIGHTING.module, &[], Caps::CORE);
         assert_struct_layout(

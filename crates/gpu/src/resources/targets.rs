@@ -46,6 +46,10 @@ pub(crate) struct Targets {
     pub msaa: Option<MsaaTargets>,
 }
 
+/// Bytes before the edge pixels in [`MsaaTargets::edges`] (WGSL `GpuMsaaEdges`: the
+/// dispatch's three words and the count).
+pub(crate) const MSAA_EDGES_HEADER: u64 = 16;
+
 /// The baseline's multisampled targets ([`crate::MSAA_SAMPLES`] samples a pixel) and
 /// the list of edge pixels lighting appends to.
 pub(crate) struct MsaaTargets {
@@ -81,7 +85,7 @@ impl MsaaTargets {
             .collect();
         let edges = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("msaa edge pixels"),
-            size: 16 + u64::from(width) * u64::from(height) * 4,
+            size: MSAA_EDGES_HEADER + u64::from(width) * u64::from(height) * 4,
             usage: wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_DST
                 | wgpu::BufferUsages::COPY_SRC,

@@ -341,7 +341,7 @@ fn gpu_raster_item(item: u32) -> u32 {
     return r.kind;
 }
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(GPU_LAYDOWN_WORKGROUP)
 fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let item = wid.y * GPU_LAYDOWN_ROW_ITEMS + wid.x * GPU_LAYDOWN_WORKGROUP + li;
     var kind = GPU_RASTER_NONE;
@@ -384,7 +384,7 @@ fn large_args() {
 }
 
 // One workgroup per large triangle: its invocations stride over the triangle's box.
-@compute @workgroup_size(256)
+@compute @workgroup_size(GPU_LAYDOWN_LARGE_WORKGROUP)
 fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let k = wid.y * GPU_LAYDOWN_ROWS + wid.x;
     let n = min(atomicLoad(&large.count), arrayLength(&large.items));

@@ -83,10 +83,7 @@ struct GpuMsaaEdges {
 
 // Rust: passes::lighting::PCF_SPLIT_TAPS (1 + 9 + 25).
 const GPU_PCF_SPLIT_TAPS: u32 = 35u;
-// Two samples are one surface when their depths are within this much of each other
-// (relative; one triangle's samples differ by its slope across the pixel).
-const GPU_MSAA_DEPTH_TOLERANCE: f32 = 0.01;
-// Edge pixels per workgroup of `edges`.
+// Edge pixels per workgroup of `edges` (its workgroup size).
 const GPU_MSAA_EDGE_GROUP: u32 = 64u;
 // Rust: shader::MAX_WORKGROUPS_X: the edge dispatch's rows.
 const GPU_MAX_WORKGROUPS_X: u32 = 65535u;
@@ -318,6 +315,8 @@ struct LightingMsaaPixel {
     edge: bool,
     // the mean of the samples' depths: an interior pixel's depth at its centre
     depth: f32,
+    // sample 0's surface (where it is geometry): what an interior pixel is lit with
+    surface: DeferredSurface,
 }
 
 // KZ2's edge test: a sample is another surface than sample 0 when one of them is sky and
@@ -326,16 +325,17 @@ struct LightingMsaaPixel {
 // every pixel of a surface seen at a grazing angle).
 fn lighting_msaa_pixel(pixel: vec2<u32>, d0: f32) -> LightingMsaaPixel {
     let t0 = gbuffer_texels(pixel, 0u);
-    var n0 = vec3<f32>(0.0);
+    var s0: DeferredSurface;
     var p0 = vec3<f32>(0.0);
     var width = 0.0;
     let xy0 = lighting_sample_xy(pixel, 0u);
     if (d0 > 0.0) {
-        n0 = gbuffer_unpack(t0, frame.view_rotation).normal;
+        s0 = gbuffer_unpack(t0, frame.view_rotation);
         p0 = light_shading_position_at(frame.inv_view_proj, frame.viewport.zw, xy0, d0);
         width = distance(light_shading_position_at(frame.inv_view_proj, frame.viewport.zw, xy0 + vec2<f32>(1.0, 0.0), d0), p0);
     }
-    var out = LightingMsaaPixel(false, d0);
+    let n0 = s0.normal;
+    var out = LightingMsaaPixel(false, d0, s0);
     let samples = textureNumSamples(depth_texture);
     for (var s = 1u; s < samples; s++) {
         let d = textureLoad(depth_texture, vec2<i32>(pixel), i32(s));
@@ -430,7 +430,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     var s: DeferredSurface;
     var b = LightingBase(frame.sky.rgb, LightShadingPoint(vec3<f32>(0.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0)));
     if (lit) {
+#if msaa
+        // Unpacked by the edge test.
+        s = m.surface;
+#else
         s = gbuffer_surface(pixel, frame.view_rotation);
+#endif
         b = lighting_base(pixel, vec2<f32>(pixel) + 0.5, d_lit, s, 4u);
     }
 #if all_lights
@@ -488,7 +493,7 @@ fn lighting_tile_lights(tile: u32, light_count: u32, at: LightShadingPoint, s: D
 
 // KZ2's per-sample lighting of the edge pixels: each sample with its own PCF taps, the
 // pixel the average of the samples' tone-mapped colours.
-@compute @workgroup_size(64)
+@compute @workgroup_size(GPU_MSAA_EDGE_GROUP)
 fn edges(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let item = (wid.y * GPU_MAX_WORKGROUPS_X + wid.x) * GPU_MSAA_EDGE_GROUP + li;
     let count = min(atomicLoad(&msaa_edges.count), arrayLength(&msaa_edges.pixels));
