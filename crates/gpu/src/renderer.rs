@@ -1197,12 +1197,7 @@ impl Renderer {
             threads: view.threads,
             batches: counters.batches + second.map_or(0, |c| c.batches),
             instances: counters.instances + second.map_or(0, |c| c.instances),
-            placed: (0..b.setup_count)
-                .map(|s| {
-                    let cap = scene.static_capacities[s as usize];
-                    u64::from(w(STATIC_COUNTER_PLACED + s).min(cap))
-                })
-                .sum(),
+            placed: placed_instances(scene, b, &words),
             over_capacity: w(STATIC_COUNTER_OVER_CAPACITY),
             bad_batches: w(STATIC_COUNTER_BAD_BATCHES),
             draws: [w(STATIC_COUNTER_DRAWS), w(STATIC_COUNTER_DRAWS + 1)],
@@ -1242,12 +1237,7 @@ impl Renderer {
             threads: view.threads,
             instances: counters.instances,
             batches: counters.batches,
-            placed: (0..b.setup_count)
-                .map(|s| {
-                    let cap = scene.static_capacities[s as usize];
-                    u64::from(w(STATIC_COUNTER_PLACED + s).min(cap))
-                })
-                .sum(),
+            placed: placed_instances(scene, b, &words),
             over_capacity: w(STATIC_COUNTER_OVER_CAPACITY),
             bad_batches: w(STATIC_COUNTER_BAD_BATCHES),
             draws: [w(STATIC_COUNTER_DRAWS), w(STATIC_COUNTER_DRAWS + 1)],
@@ -2419,6 +2409,25 @@ impl Renderer {
 /// every limit), as an error naming it.
 /// Uploads the frame uniforms of shadow view `index` (`uniforms` drawn through `m`, a
 /// camera-relative matrix) into `frames` and returns the view's clip planes.
+/// Instances the placement put in their setups' reserved slots, from its counters
+/// (placed per setup after the fixed ones; ranks past a setup's capacity are not drawn).
+fn placed_instances(scene: &PreparedScene, b: &StaticBuffers, words: &[u32]) -> u64 {
+    (0..b.setup_count)
+        .map(|s| {
+            let placed = words
+                .get((STATIC_COUNTER_PLACED + s) as usize)
+                .copied()
+                .unwrap_or(0);
+            let cap = scene
+                .static_capacities
+                .get(s as usize)
+                .copied()
+                .unwrap_or(0);
+            u64::from(placed.min(cap))
+        })
+        .sum()
+}
+
 fn shadow_view(
     uploads: &mut Uploads,
     frames: &wgpu::Buffer,

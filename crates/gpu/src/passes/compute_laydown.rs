@@ -483,18 +483,10 @@ impl ComputeLaydown {
             let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
                 color_attachments: &color,
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &f.targets.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: if load {
-                            wgpu::LoadOp::Load
-                        } else {
-                            wgpu::LoadOp::Clear(0.0)
-                        },
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(super::laydown::depth_attachment(
+                    &f.targets.depth_view,
+                    load,
+                )),
                 timestamp_writes: timer.render(label),
                 occlusion_query_set: None,
                 multiview_mask: None,

@@ -581,7 +581,7 @@ impl Laydown {
 }
 
 /// The depth target cleared to the far plane (reversed Z: 0), or loaded (`load`).
-fn depth_attachment(
+pub(crate) fn depth_attachment(
     view: &wgpu::TextureView,
     load: bool,
 ) -> wgpu::RenderPassDepthStencilAttachment<'_> {
