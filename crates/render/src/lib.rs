@@ -82,6 +82,18 @@ pub enum LightPathsArg {
     EveryPixel,
 }
 
+impl LightPathsArg {
+    /// The renderer's setting.
+    pub fn paths(self) -> gpu::LightPaths {
+        match self {
+            LightPathsArg::Classified => gpu::LightPaths::Classified,
+            LightPathsArg::Tiled => gpu::LightPaths::Tiled,
+            LightPathsArg::Volumes => gpu::LightPaths::Volumes,
+            LightPathsArg::EveryPixel => gpu::LightPaths::EveryPixel,
+        }
+    }
+}
+
 /// `--gbuffer`: the G-buffer layout.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum GBufferArg {
@@ -646,12 +658,7 @@ pub fn run(args: &Args) -> Result<()> {
         light_paths: if args.all_lights {
             gpu::LightPaths::EveryPixel
         } else {
-            match args.light_paths {
-                LightPathsArg::Classified => gpu::LightPaths::Classified,
-                LightPathsArg::Tiled => gpu::LightPaths::Tiled,
-                LightPathsArg::Volumes => gpu::LightPaths::Volumes,
-                LightPathsArg::EveryPixel => gpu::LightPaths::EveryPixel,
-            }
+            args.light_paths.paths()
         },
         shadows: (!args.no_shadows).then(|| gpu::ShadowConfig {
             cache: !args.no_shadow_cache,

@@ -112,30 +112,8 @@ impl MsaaArg {
     }
 }
 
-/// `--light-paths`: how local lights reach the image.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LightPathsArg {
-    /// KZ2's: small lights by tiles, large ones by stencil volumes.
-    Classified,
-    /// Every light by the 16x16 tiles' lists.
-    Tiled,
-    /// Every light by stencil volume.
-    Volumes,
-    /// Every light tested at every pixel (the reference).
-    EveryPixel,
-}
-
-impl LightPathsArg {
-    /// The renderer's setting.
-    pub fn paths(self) -> gpu::LightPaths {
-        match self {
-            LightPathsArg::Classified => gpu::LightPaths::Classified,
-            LightPathsArg::Tiled => gpu::LightPaths::Tiled,
-            LightPathsArg::Volumes => gpu::LightPaths::Volumes,
-            LightPathsArg::EveryPixel => gpu::LightPaths::EveryPixel,
-        }
-    }
-}
+/// `--light-paths`: the `render` binary's (the same choices and names).
+pub use render::LightPathsArg;
 
 /// Open a demo scene in a window and fly through it; switch paths and debug views; read the
 /// per-pass GPU times live.
