@@ -600,7 +600,7 @@ impl Renderer {
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
                 laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
-                    (Some(c), Some(t)) => Some(c.target_group(device, &frame, t)?),
+                    (Some(c), Some(t)) => Some(c.target_groups(device, &frame, &targets, t)?),
                     _ => None,
                 },
                 gbuffer_store: pipelines
@@ -1534,8 +1534,9 @@ impl Renderer {
             .collect()
     }
 
-    /// Reads the depth buffer of the last frame back (row-major, reversed Z: 1 at the near
-    /// plane, 0 for the sky): what a HiZ for the next frame's occlusion is built from.
+    /// Reads the depth buffer of the last single-sampled frame back (row-major, reversed
+    /// Z: 1 at the near plane, 0 for the sky): what lighting read and what a HiZ for the
+    /// next frame's occlusion is built from.
     ///
     /// # Errors
     /// A device or mapping error.
@@ -1543,8 +1544,8 @@ impl Renderer {
         let depth = read_texture(
             &self.device,
             &self.queue,
-            &self.targets.depth,
-            wgpu::TextureAspect::DepthOnly,
+            &self.targets.depth_float,
+            wgpu::TextureAspect::All,
             4,
         )?;
         Ok(bytemuck::pod_collect_to_vec(&depth))

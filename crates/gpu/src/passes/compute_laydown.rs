@@ -1,29 +1,32 @@
 //! The compute visibility laydown (issue 17): the planned draws' triangles rasterised in
 //! compute into a 64-bit visibility target (depth bits high, vis word low, `atomicMax`),
 //! small ones an invocation each, large ones a workgroup each (an indirect dispatch over
-//! the list the first pass appends them to), one full-screen pass that turns the target into the depth target and the vis texture
-//! the rest of the frame reads, then the triangles the hardware must clip or that are
-//! large drawn over them by a hybrid hardware part with the ordinary depth test (the vis
-//! copy makes the words after it, as after the hardware laydown).
+//! the list the first pass appends them to), the triangles the hardware must clip drawn
+//! by a hybrid hardware part into the same target (a fragment `atomicMax`), then one
+//! compute pass that unpacks the target into what the rest of the frame reads: the vis
+//! words, the vis texture and the float depth. Frames whose later raster passes test
+//! against the depth target (the stencil light volumes) also get it, from a full-screen
+//! raster pass: 2.4 ms of fill at 4K on the H200, which every other frame skips.
 //!
-//! Three described passes: `gpu::compute_laydown` (one dispatch, one invocation per
+//! Four described passes: `gpu::compute_laydown` (one dispatch, one invocation per
 //! (instance, triangle) of the scene's planned draws: a draw table with per-draw item
 //! prefixes, the draw found by binary search), `gpu::compute_laydown_hybrid` (the listed
 //! triangles, one non-indexed indirect draw whose vertex stage fetches (instance, vertex)
-//! from the list) and `gpu::laydown_target`. Needs 64-bit storage-buffer atomics
-//! ([`COMPUTE_LAYDOWN_FEATURES`]); without them the renderer keeps the hardware laydown.
-//! Frames with a static query keep the hardware laydown (its draw lists are indirect).
+//! from the list), `gpu::laydown_unpack` and `gpu::laydown_target` (the depth target).
+//! Needs 64-bit storage-buffer atomics ([`COMPUTE_LAYDOWN_FEATURES`]); without them the
+//! renderer keeps the hardware laydown. Frames with a static query keep the hardware
+//! laydown (its draw lists are indirect).
 
 use bytemuck::{Pod, Zeroable};
 use shader::pipeline::{ComputePass, Layouts};
-use shader::{Binding, Entry, Group, Kind, Pass, Stage};
+use shader::{Binding, Entry, Format, Group, Kind, Pass, Stage};
 
 use super::laydown::{SCENE_GROUP, primitive_state};
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::resources::plan::Draw;
 use crate::resources::rows::FrameUniforms;
-use crate::resources::targets::{DEPTH_FORMAT, VIS_FORMAT};
+use crate::resources::targets::{DEPTH_FORMAT, Targets};
 use crate::timing::GpuTimer;
 
 /// The device features the compute laydown needs: 64-bit integers and their atomic
@@ -161,8 +164,28 @@ pub(crate) const COMPUTE_LAYDOWN_HYBRID: Pass = Pass {
     zeroed: &[],
 };
 
-/// The 64-bit target into depth and vis texture (full-screen triangle; the vis copy
-/// follows the hardware part).
+/// The 64-bit target into the vis words, the vis texture and the float depth, over the
+/// image (`[width, height]`).
+pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
+    name: "laydown unpack",
+    module: "gpu::laydown_unpack",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "unpack",
+        bindings: &[
+            Binding::new("laydown_target", Kind::read(8)),
+            Binding::new("vis_words", Kind::read_write(4)),
+            Binding::new("vis_out", Kind::storage_texture_2d(Format::R32Uint)),
+            Binding::new("depth_float", Kind::storage_texture_2d(Format::R32Float)),
+        ],
+    }],
+    entries: &[Entry::grid("unpack", 16, 16, |size| *size)],
+    zeroed: &[],
+};
+
+/// The 64-bit target into the depth target (full-screen triangle), for frames whose
+/// later raster passes test against it.
 pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     name: "laydown target",
     module: "gpu::laydown_target",
@@ -215,6 +238,14 @@ pub(crate) struct ComputeLaydown {
     hybrid: wgpu::RenderPipeline,
     target_layouts: Layouts,
     target: wgpu::RenderPipeline,
+    unpack: ComputePass<[u32; 2]>,
+}
+
+/// The renderer's groups of the passes over its targets: the depth target's conversion
+/// and the unpack.
+pub(crate) struct TargetGroups {
+    target: wgpu::BindGroup,
+    unpack: wgpu::BindGroup,
 }
 
 /// A prepared scene's compute-laydown resources: the draw table, the hybrid list and the
@@ -287,28 +318,25 @@ impl ComputeLaydown {
             });
             Ok::<_, crate::error::Error>((layouts, pipeline))
         };
-        let vis_target = [Some(wgpu::ColorTargetState {
-            format: VIS_FORMAT,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        // The hardware part: the hardware laydown's culling, clipping and depth test
-        // (Greater, writing) over the depth the conversion wrote, so hidden fragments die
-        // early (a fragment atomic per fragment cost 10.7 ms on the H200's forest).
+        // The hardware part: the hardware laydown's culling and clipping, a fragment
+        // atomic into the target (the depth attachment is there because a render pass
+        // needs one: neither tested nor written). Only triangles the hardware must clip
+        // come here: a fragment atomic with no early depth test cost 10.7 ms on the H200's
+        // forest when the large triangles came too.
         let (hybrid_layouts, hybrid) = render(
             &COMPUTE_LAYDOWN_HYBRID,
             "vs_hybrid",
             "fs_hybrid",
-            &vis_target,
-            true,
-            wgpu::CompareFunction::Greater,
+            &[],
+            false,
+            wgpu::CompareFunction::Always,
             primitive_state(),
         )?;
         let (target_layouts, target) = render(
             &LAYDOWN_TARGET,
             "vs_full",
             "fs_target",
-            &vis_target,
+            &[],
             true,
             wgpu::CompareFunction::Always,
             wgpu::PrimitiveState::default(),
@@ -319,6 +347,7 @@ impl ComputeLaydown {
             hybrid,
             target_layouts,
             target,
+            unpack: ComputePass::new(device, &LAYDOWN_UNPACK, &[], &[])?,
         })
     }
 
@@ -400,38 +429,64 @@ impl ComputeLaydown {
         }))
     }
 
-    /// The conversion pass's group over the renderer's targets and frame uniforms.
-    pub(crate) fn target_group(
+    /// The conversion's and the unpack's groups over the renderer's `targets` (whose
+    /// 64-bit target is `target`) and frame uniforms.
+    pub(crate) fn target_groups(
         &self,
         device: &wgpu::Device,
         frame: &wgpu::Buffer,
+        targets: &Targets,
         target: &wgpu::Buffer,
-    ) -> Result<wgpu::BindGroup> {
-        Ok(self.target_layouts.bind_group(
-            device,
-            "target",
-            &[
-                ("frame", frame.as_entire_binding()),
-                ("laydown_target", target.as_entire_binding()),
-            ],
-        )?)
+    ) -> Result<TargetGroups> {
+        Ok(TargetGroups {
+            target: self.target_layouts.bind_group(
+                device,
+                "target",
+                &[
+                    ("frame", frame.as_entire_binding()),
+                    ("laydown_target", target.as_entire_binding()),
+                ],
+            )?,
+            unpack: self.unpack.bind_group(
+                device,
+                "unpack",
+                &[
+                    ("laydown_target", target.as_entire_binding()),
+                    ("vis_words", targets.vis_words.as_entire_binding()),
+                    (
+                        "vis_out",
+                        wgpu::BindingResource::TextureView(&targets.vis_view),
+                    ),
+                    (
+                        "depth_float",
+                        wgpu::BindingResource::TextureView(&targets.depth_float_view),
+                    ),
+                ],
+            )?,
+        })
     }
 
-    /// Records the laydown: clear target and list, the raster (timed "laydown"), the
-    /// conversion into depth and vis ("laydown target"), the hardware part over it with
-    /// the depth test ("laydown hybrid"; the vis copy follows). Returns false,
-    /// recording nothing, where the scene or the renderer has no compute resources.
+    /// Records the laydown: clear target and lists, the raster (timed "laydown"), the
+    /// large triangles ("laydown large"), the hardware part ("laydown hybrid"), with
+    /// `depth_target` the depth target's conversion ("laydown target"), then the unpack
+    /// ("laydown unpack": words, vis texture, float depth; no vis copy follows).
+    /// Returns false, recording nothing, where the scene or the renderer has no compute
+    /// resources.
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
+        depth_target: bool,
     ) -> bool {
-        let (Some(g), Some(target), Some(target_group)) = (
+        let (Some(g), Some(target), Some(groups)) = (
             &f.scene.compute_laydown,
             &f.targets.vis64,
             &f.groups.laydown_target,
         ) else {
+            return false;
+        };
+        let Ok(unpack) = self.unpack.step("unpack") else {
             return false;
         };
         encoder.clear_buffer(target, 0, None);
@@ -461,50 +516,43 @@ impl ComputeLaydown {
             pass.set_pipeline(&large.pipeline);
             pass.dispatch_workgroups_indirect(&g.large_dispatch, 0);
         }
-        // The conversion covers every pixel (clearing nothing it does not write), then the
-        // hardware part draws over it with the depth test.
-        let depth_pass = |encoder: &'_ mut wgpu::CommandEncoder,
-                          label: &'static str,
-                          timer: &mut GpuTimer,
-                          load: bool| {
-            let color = [Some(wgpu::RenderPassColorAttachment {
-                view: &f.targets.vis_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: if load {
-                        wgpu::LoadOp::Load
-                    } else {
-                        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
-                    },
-                    store: wgpu::StoreOp::Store,
-                },
-            })];
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(label),
-                color_attachments: &color,
-                depth_stencil_attachment: Some(super::laydown::depth_attachment(
-                    &f.targets.depth_view,
-                    load,
-                )),
-                timestamp_writes: timer.render(label),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.forget_lifetime()
-        };
+        let depth_pass =
+            |encoder: &'_ mut wgpu::CommandEncoder, label: &'static str, timer: &mut GpuTimer| {
+                let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(label),
+                    color_attachments: &[],
+                    depth_stencil_attachment: Some(super::laydown::depth_attachment(
+                        &f.targets.depth_view,
+                        false,
+                    )),
+                    timestamp_writes: timer.render(label),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.forget_lifetime()
+            };
         {
-            let mut pass = depth_pass(encoder, "laydown target", timer, false);
-            pass.set_pipeline(&self.target);
-            pass.set_bind_group(0, target_group, &[]);
-            pass.draw(0..3, 0..1);
-        }
-        {
-            let mut pass = depth_pass(encoder, "laydown hybrid", timer, true);
+            let mut pass = depth_pass(encoder, "laydown hybrid", timer);
             pass.set_pipeline(&self.hybrid);
             pass.set_bind_group(0, &g.hybrid[0], &[]);
             pass.set_bind_group(1, &g.hybrid[1], &[]);
             pass.draw_indirect(&g.list, 0);
+        }
+        if depth_target {
+            let mut pass = depth_pass(encoder, "laydown target", timer);
+            pass.set_pipeline(&self.target);
+            pass.set_bind_group(0, &groups.target, &[]);
+            pass.draw(0..3, 0..1);
+        }
+        let size = [f.targets.width, f.targets.height];
+        if let Some([x, y, z]) = self.unpack.workgroups(unpack, &size) {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("laydown unpack"),
+                timestamp_writes: timer.compute("laydown unpack"),
+            });
+            pass.set_bind_group(0, &groups.unpack, &[]);
+            pass.set_pipeline(&unpack.pipeline);
+            pass.dispatch_workgroups(x, y, z);
         }
         true
     }
@@ -539,6 +587,7 @@ mod tests {
         });
         shadercheck::check_pass(&COMPUTE_LAYDOWN_HYBRID, |_| Caps::INT64);
         shadercheck::check_pass(&LAYDOWN_TARGET, |_| Caps::CORE);
+        shadercheck::check_pass(&LAYDOWN_UNPACK, |_| Caps::CORE);
         let src = COMPUTE_LAYDOWN.source(&[]).unwrap();
         assert!(shadercheck::validate(&src, Caps::CORE).is_err());
         // The lists' headers and the dispatch rows, as Rust sizes and records them.

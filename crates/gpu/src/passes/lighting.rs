@@ -112,10 +112,11 @@ pub(crate) const LIGHTING: Pass<[u32; 2]> = Pass {
             name: "frame",
             bindings: &[
                 Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
+                // Targets::depth_float (the multisampled variant binds the depth itself).
                 Binding::new(
                     "depth_texture",
                     Kind::Texture {
-                        sample: Sample::Depth,
+                        sample: Sample::Float { filterable: false },
                         dim: Dim::D2,
                     },
                 ),
@@ -394,9 +395,11 @@ impl Lighting {
             _ => None,
         };
         Ok(Groups {
-            frame: self
-                .pass
-                .bind_group(device, "frame", &frame_resources(&targets.depth_view))?,
+            frame: self.pass.bind_group(
+                device,
+                "frame",
+                &frame_resources(&targets.depth_float_view),
+            )?,
             gbuffer: self.pass.bind_group(
                 device,
                 "gbuffer",

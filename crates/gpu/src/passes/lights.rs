@@ -41,7 +41,11 @@ pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
         name: "tiles",
         bindings: &[
             Binding::new("params", Kind::uniform(size_of::<GpuTileDepthParams>())),
-            Binding::new("depth_texture", Kind::texture_2d(Sample::Depth)),
+            // Targets::depth_float (the multisampled variant binds the depth itself).
+            Binding::new(
+                "depth_texture",
+                Kind::texture_2d(Sample::Float { filterable: false }),
+            ),
             Binding::new(
                 "tile_depths",
                 Kind::read_write(size_of::<DeferredTileDepth>()),
@@ -190,7 +194,7 @@ impl LocalLights {
                     ("params", b.tile_params.as_entire_binding()),
                     (
                         "depth_texture",
-                        wgpu::BindingResource::TextureView(&targets.depth_view),
+                        wgpu::BindingResource::TextureView(&targets.depth_float_view),
                     ),
                     ("tile_depths", b.tile_depths.as_entire_binding()),
                 ],

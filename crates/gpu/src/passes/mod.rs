@@ -70,6 +70,7 @@ gpu_modules!(
     COMPUTE_LAYDOWN = "compute_laydown",
     COMPUTE_LAYDOWN_HYBRID = "compute_laydown_hybrid",
     LAYDOWN_TARGET = "laydown_target",
+    LAYDOWN_UNPACK = "laydown_unpack",
     BASELINE = "baseline",
     GBUFFER_STORE = "gbuffer_store",
     GBUFFER_LOAD = "gbuffer_load",
@@ -106,6 +107,7 @@ pub(crate) fn stage_counts() -> StageCounts {
         compute_laydown::COMPUTE_LAYDOWN.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN_HYBRID.stage_counts(),
         compute_laydown::LAYDOWN_TARGET.stage_counts(),
+        compute_laydown::LAYDOWN_UNPACK.stage_counts(),
         classify::ZERO.stage_counts(),
         resolve::RESOLVE.stage_counts(),
         lighting::LIGHTING.stage_counts(),
@@ -204,10 +206,11 @@ impl Pipelines {
 /// The renderer's own bind groups (over its targets and frame-level buffers), which every
 /// prepared scene shares.
 pub(crate) struct TargetGroups {
-    /// The vis copy's: vis texture -> vis words.
+    /// The vis copy's: vis texture -> vis words, depth -> float depth.
     pub vis_copy: wgpu::BindGroup,
-    /// The compute laydown's conversion: 64-bit target -> depth, vis texture, vis words.
-    pub laydown_target: Option<wgpu::BindGroup>,
+    /// The compute laydown's unpack (64-bit target -> vis words, vis texture, float depth)
+    /// and its conversion into the depth target.
+    pub laydown_target: Option<compute_laydown::TargetGroups>,
     /// The resolve's group 2: the G-buffer's storage views.
     pub gbuffer_store: wgpu::BindGroup,
     /// Lighting's groups.
@@ -315,7 +318,7 @@ impl Pipelines {
                     && self
                         .compute_laydown
                         .as_ref()
-                        .is_some_and(|c| c.record(e, f, timer));
+                        .is_some_and(|c| c.record(e, f, timer, self.needs_depth_target(what)));
                 if !compute {
                     self.laydown.record_vis(e, f, timer, late);
                 }
@@ -323,6 +326,24 @@ impl Pipelines {
             Recording::Baseline => self.laydown.record_depth(e, f, timer, late),
             Recording::Classification => {}
         }
+    }
+
+    /// Whether this frame's laydown was the compute one (the same test `record_geometry`
+    /// made).
+    fn laid_down_in_compute(&self, f: &FrameContext<'_>) -> bool {
+        f.compute_laydown
+            && self.compute_laydown.is_some()
+            && f.scene.compute_laydown.is_some()
+            && f.targets.vis64.is_some()
+            && f.groups.laydown_target.is_some()
+    }
+
+    /// Whether a frame recording `what` has raster passes after its geometry that test
+    /// against the depth target, which the compute laydown then writes too (the stencil
+    /// light volumes and their conditional tests; the laydown alone, whose depth tests
+    /// read). Compute passes read the float depth.
+    fn needs_depth_target(&self, what: Recording) -> bool {
+        what == Recording::Laydown || (what.lights() && self.light_volumes.is_some())
     }
 
     /// Everything after the geometry pass: classification, resolve or the baseline's
@@ -336,14 +357,25 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred => {
-                // After either laydown (the compute one's hardware part draws into the
-                // vis texture last).
-                self.vis_copy.record(e, f, timer);
+                // The compute laydown unpacked its words and depth itself.
+                if !self.laid_down_in_compute(f) {
+                    self.vis_copy.record(e, f, timer);
+                }
                 self.classify.record(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }
-            Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),
-            Recording::Baseline => self.baseline.record(e, f, timer),
+            Recording::DeferredFullScreen => {
+                if !self.laid_down_in_compute(f) {
+                    self.vis_copy.record_depth(e, f, timer);
+                }
+                self.resolve.record_full_screen(e, f, timer);
+            }
+            Recording::Baseline => {
+                if !f.msaa {
+                    self.vis_copy.record_depth(e, f, timer);
+                }
+                self.baseline.record(e, f, timer);
+            }
             Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),
         }

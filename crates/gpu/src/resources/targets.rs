@@ -5,6 +5,10 @@ use crate::gbuffer;
 
 /// Depth format of every pass: reversed Z, cleared to 0, tested with `Greater`.
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The depth the compute passes read (lighting, light tiles): the depth target's values
+/// as a float colour texture, since compute passes can write colour storage textures but
+/// never depth ones (the compute laydown writes it directly, the hardware paths copy it).
+pub(crate) const DEPTH_FLOAT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// The vis buffer: one `visbuf` word per pixel, cleared to `visbuf::VIS_NONE`.
 pub(crate) const VIS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// The final tone-mapped image: sRGB-encoded values written by the lighting pass (storage
@@ -20,6 +24,11 @@ pub(crate) struct Targets {
     /// Depth.
     pub depth: wgpu::Texture,
     pub depth_view: wgpu::TextureView,
+    /// The depth as [`DEPTH_FLOAT_FORMAT`] (same values, reversed Z, 0 where nothing was
+    /// drawn), written after the geometry pass of every single-sampled frame: what the light
+    /// tiles and lighting read.
+    pub depth_float: wgpu::Texture,
+    pub depth_float_view: wgpu::TextureView,
     /// Vis buffer.
     pub vis: wgpu::Texture,
     pub vis_view: wgpu::TextureView,
@@ -170,13 +179,21 @@ impl Targets {
             DEPTH_FORMAT,
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
+        let (depth_float, depth_float_view) = texture(
+            device,
+            "depth (float)",
+            width,
+            height,
+            DEPTH_FLOAT_FORMAT,
+            U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
         let (vis, vis_view) = texture(
             device,
             "vis buffer",
             width,
             height,
             VIS_FORMAT,
-            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+            U::RENDER_ATTACHMENT | U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
         );
         let vis_words = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("vis buffer words"),
@@ -213,6 +230,8 @@ impl Targets {
             height,
             depth,
             depth_view,
+            depth_float,
+            depth_float_view,
             vis,
             vis_view,
             vis_words,

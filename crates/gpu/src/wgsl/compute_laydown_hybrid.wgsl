@@ -1,9 +1,10 @@
 // gpu: the compute laydown's hardware part (issue 17): the triangles the compute raster
-// listed (crossing the near plane, or large), drawn by one non-indexed indirect draw
-// whose vertex stage fetches (instance, vertex) from the list, drawn after the conversion
-// of the 64-bit target into depth and vis, with the depth test (Greater, writing) and the
-// vis word as its colour: early depth testing, as the hardware laydown. Same vertex
-// transform, culling and alpha test as the hardware laydown.
+// listed (those the hardware must clip: crossing the near plane, or a box too large for
+// the fixed point), drawn by one non-indexed indirect draw whose vertex stage fetches
+// (instance, vertex) from the list, each fragment an `atomicMax` into the same 64-bit
+// target (no colour target, no depth test: the target is the depth), so one compute pass
+// after it unpacks everything. Same vertex transform, culling and alpha test as the
+// hardware laydown.
 
 #import gpu::compute_laydown_draws
 
@@ -37,8 +38,13 @@ fn vs_hybrid(@builtin(vertex_index) vertex: u32) -> LaydownOut {
 }
 
 @fragment
-fn fs_hybrid(in: LaydownOut) -> @location(0) u32 {
+fn fs_hybrid(in: LaydownOut) {
     // Opaque materials have a cutoff of 0: the test keeps every fragment.
     alpha_test(in.uv, in.instance, in.clip.xy);
-    return vis_word(in.instance, in.payload);
+    let width = u32(frame.viewport.x);
+    let p = vec2<u32>(in.clip.xy);
+    let i = p.y * width + p.x;
+    if (p.x < width && i < arrayLength(&laydown_target)) {
+        atomicMax(&laydown_target[i], gpu_laydown_value(in.clip.z, vis_word(in.instance, in.payload)));
+    }
 }

@@ -1,7 +1,9 @@
-// gpu: the compute laydown's 64-bit target into what the rest of the frame reads: the
-// depth target (frag_depth; depth formats cannot be storage textures) and the R32Uint vis
-// texture (colour); the hardware part draws over both after it, then the vis copy makes
-// the words. A full-screen triangle. A pixel whose depth bits are 0 was never drawn: far plane and VIS_NONE.
+// gpu: the compute laydown's 64-bit target into the depth target, for frames whose later
+// raster passes test against it (the stencil light volumes): frag_depth from a
+// full-screen triangle, since depth formats cannot be storage textures. Raster fill (2.4 ms
+// at 4K on the H200's two raster TPCs), so frames without such passes skip it: the
+// compute passes read the float depth `gpu::laydown_unpack` writes. A pixel whose depth
+// bits are 0 was never drawn: the far plane.
 
 #import visbuf::id
 #import gpu::frame
@@ -16,13 +18,8 @@ fn vs_full(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
 }
 
-struct TargetOut {
-    @builtin(frag_depth) depth: f32,
-    @location(0) vis: u32,
-}
-
 @fragment
-fn fs_target(@builtin(position) position: vec4<f32>) -> TargetOut {
+fn fs_target(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32 {
     let size = vec2<u32>(frame.viewport.xy);
     let p = vec2<u32>(position.xy);
     let i = p.y * size.x + p.x;
@@ -30,12 +27,8 @@ fn fs_target(@builtin(position) position: vec4<f32>) -> TargetOut {
     if (p.x < size.x && i < arrayLength(&laydown_target)) {
         t = laydown_target[i];
     }
-    var out: TargetOut;
-    out.depth = 0.0;
-    out.vis = VISBUF_NONE;
-    if (t.y != 0u) {
-        out.depth = bitcast<f32>(t.y);
-        out.vis = t.x;
+    if (t.y == 0u) {
+        return 0.0;
     }
-    return out;
+    return bitcast<f32>(t.y);
 }

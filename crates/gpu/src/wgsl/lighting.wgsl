@@ -49,9 +49,20 @@ const GPU_MAX_PCF_RADIUS: u32 = 2u;
 #if msaa
 @group(0) @binding(1) var depth_texture: texture_depth_multisampled_2d;
 #else
-@group(0) @binding(1) var depth_texture: texture_depth_2d;
+// The float copy of the depth (`Targets::depth_float`): compute passes cannot write
+// depth textures, and the compute laydown writes only this one.
+@group(0) @binding(1) var depth_texture: texture_2d<f32>;
 #endif
 @group(0) @binding(2) var<uniform> local: GpuLocalLights;
+
+// The depth at `pixel`, sample `s` of the multisampled depth with MSAA.
+fn gpu_depth_at(pixel: vec2<i32>, s: i32) -> f32 {
+#if msaa
+    return textureLoad(depth_texture, pixel, s);
+#else
+    return textureLoad(depth_texture, pixel, 0).x;
+#endif
+}
 @group(0) @binding(3) var<storage, read> lights: array<DeferredLight>;
 @group(0) @binding(4) var<storage, read> light_counts: array<u32>;
 @group(0) @binding(5) var<storage, read> light_indices: array<u32>;
@@ -338,7 +349,7 @@ fn lighting_msaa_pixel(pixel: vec2<u32>, d0: f32) -> LightingMsaaPixel {
     var out = LightingMsaaPixel(false, d0, s0);
     let samples = textureNumSamples(depth_texture);
     for (var s = 1u; s < samples; s++) {
-        let d = textureLoad(depth_texture, vec2<i32>(pixel), i32(s));
+        let d = gpu_depth_at(vec2<i32>(pixel), i32(s));
         out.depth += d;
         if ((d > 0.0) != (d0 > 0.0)) {
             out.edge = true;
@@ -384,7 +395,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     let size = vec2<u32>(frame.viewport.xy);
     let inside = id.x < size.x && id.y < size.y;
     let pixel = min(id.xy, max(size, vec2<u32>(1u)) - 1u);
-    let d = textureLoad(depth_texture, vec2<i32>(pixel), 0);
+    let d = gpu_depth_at(vec2<i32>(pixel), 0);
     var write = inside;
 #if msaa
 #if !msaa_every_sample
@@ -419,7 +430,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     if (write) {
         let samples = textureNumSamples(depth_texture);
         for (var s = 0u; s < samples; s++) {
-            let ds = textureLoad(depth_texture, vec2<i32>(pixel), i32(s));
+            let ds = gpu_depth_at(vec2<i32>(pixel), i32(s));
             out += lighting_pixel_sample(pixel, s, ds, 4u, light_count, staged);
         }
         out /= f32(max(samples, 1u));
@@ -510,7 +521,7 @@ fn edges(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index)
     let samples = textureNumSamples(depth_texture);
     var out = vec3<f32>(0.0);
     for (var sample = 0u; sample < samples; sample++) {
-        let d = textureLoad(depth_texture, vec2<i32>(pixel), i32(sample));
+        let d = gpu_depth_at(vec2<i32>(pixel), i32(sample));
         if (d <= 0.0) {
             out += lighting_tonemap(frame.sky.rgb);
             continue;

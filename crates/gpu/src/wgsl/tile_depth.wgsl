@@ -24,7 +24,8 @@ struct GpuTileDepthParams {
 #if msaa
 @group(0) @binding(1) var depth_texture: texture_depth_multisampled_2d;
 #else
-@group(0) @binding(1) var depth_texture: texture_depth_2d;
+// The float copy of the depth (`Targets::depth_float`).
+@group(0) @binding(1) var depth_texture: texture_2d<f32>;
 #endif
 @group(0) @binding(2) var<storage, read_write> tile_depths: array<DeferredTileDepth>;
 
@@ -60,7 +61,7 @@ fn tile_depth(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_i
 #if msaa
             let d = textureLoad(depth_texture, vec2<i32>(pixel), i32(s));
 #else
-            let d = textureLoad(depth_texture, vec2<i32>(pixel), 0);
+            let d = textureLoad(depth_texture, vec2<i32>(pixel), 0).x;
 #endif
             let nan = (bitcast<u32>(d) & 0x7fffffffu) > 0x7f800000u;
             if (d != far && !nan) {

@@ -1,0 +1,37 @@
+// gpu: the compute laydown's 64-bit target into what the rest of the frame reads, in one
+// compute pass over the pixels: the row-major vis words (classification), the vis texture
+// (resolve, debug views) and the float depth (light tiles, lighting). It replaces the
+// hardware frames' vis copy. A pixel whose depth bits are 0 was never drawn: VIS_NONE and
+// the far plane (0, reversed Z).
+
+#import visbuf::id
+
+// The target as (vis word, depth bits) pairs: little-endian halves of each u64.
+@group(0) @binding(0) var<storage, read> laydown_target: array<vec2<u32>>;
+@group(0) @binding(1) var<storage, read_write> vis_words: array<u32>;
+@group(0) @binding(2) var vis_out: texture_storage_2d<r32uint, write>;
+@group(0) @binding(3) var depth_float: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(16, 16)
+fn unpack(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = textureDimensions(depth_float);
+    if (id.x >= size.x || id.y >= size.y) {
+        return;
+    }
+    let i = id.y * size.x + id.x;
+    var t = vec2<u32>(VISBUF_NONE, 0u);
+    if (i < arrayLength(&laydown_target)) {
+        t = laydown_target[i];
+    }
+    var word = VISBUF_NONE;
+    var depth = 0.0;
+    if (t.y != 0u) {
+        word = t.x;
+        depth = bitcast<f32>(t.y);
+    }
+    if (i < arrayLength(&vis_words)) {
+        vis_words[i] = word;
+    }
+    textureStore(vis_out, id.xy, vec4<u32>(word, 0u, 0u, 0u));
+    textureStore(depth_float, id.xy, vec4<f32>(depth, 0.0, 0.0, 0.0));
+}
