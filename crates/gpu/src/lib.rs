@@ -107,7 +107,7 @@ pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
 pub use passes::classify::ClassificationVariant;
 pub use passes::compute_laydown::{
     COMPUTE_LAYDOWN_EXTENT_LIMIT, COMPUTE_LAYDOWN_FEATURES, COMPUTE_LAYDOWN_MAX_EXTENT,
-    LaydownStats,
+    LAYDOWN_TEXTURE_FEATURES, LaydownStats, LaydownTarget,
 };
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 #[doc(hidden)]

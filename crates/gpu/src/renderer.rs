@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, local_light_rows};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
+use crate::passes::compute_laydown::LaydownTarget;
 use crate::passes::lighting::GpuLocalLights;
 use crate::passes::lights::{GpuTileDepthParams, LightBuffers};
 use crate::passes::query::{PreparedView, StaticQuery};
@@ -214,6 +215,10 @@ pub struct RendererConfig {
     /// fixed-point edge functions still fit 32 bits). Default
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
     pub compute_laydown_max_extent: f32,
+    /// Force the compute laydown's 64-bit target (the device must have its features);
+    /// `None` picks the best the device has ([`LaydownTarget::best_for`]: the `r64uint`
+    /// texture where there are 64-bit texture atomics, else the storage buffer).
+    pub compute_laydown_target: Option<LaydownTarget>,
 }
 
 impl RendererConfig {
@@ -285,6 +290,7 @@ impl Default for RendererConfig {
             conditional_volumes: true,
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
+            compute_laydown_target: None,
         }
     }
 }
@@ -530,6 +536,19 @@ impl Renderer {
         if !config.subgroups {
             paths.subgroup_size = None;
         }
+        let laydown_target = match config.compute_laydown_target {
+            Some(t) if !device.features().contains(t.required_features()) => {
+                return Err(Error::MissingFeature {
+                    feature: match t {
+                        LaydownTarget::Buffer => "SHADER_INT64_ATOMIC_MIN_MAX",
+                        LaydownTarget::Texture => "TEXTURE_INT64_ATOMIC",
+                    },
+                    needed_by: "the forced compute-laydown target",
+                });
+            }
+            Some(t) => Some(t),
+            None => LaydownTarget::best_for(device.features()),
+        };
         // The commands are built for the widest subgroup the device may run; lavapipe: 8.
         let wave_width = paths
             .subgroup_size
@@ -569,7 +588,9 @@ impl Renderer {
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
             // The compute laydown where asked for and the device has 64-bit atomics.
-            let compute_laydown = config.laydown == Laydown::Compute && paths.int64_atomics;
+            let compute_laydown = (config.laydown == Laydown::Compute && paths.int64_atomics)
+                .then_some(laydown_target)
+                .flatten();
             let pipelines = Pipelines::new(
                 device,
                 &paths,
@@ -594,13 +615,18 @@ impl Renderer {
             });
             let lights = LightBuffers::new(device, &targets, 64)?;
             let mut targets = targets;
-            targets.vis64 = compute_laydown.then(|| {
-                passes::compute_laydown::target_buffer(device, config.width, config.height)
+            targets.vis64 = compute_laydown.map(|kind| {
+                passes::compute_laydown::TargetResource::new(
+                    device,
+                    kind,
+                    config.width,
+                    config.height,
+                )
             });
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
                 laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
-                    (Some(c), Some(t)) => Some(c.target_groups(device, &frame, &targets, t)?),
+                    (Some(c), Some(t)) => Some(c.target_groups(device, &targets, t)?),
                     _ => None,
                 },
                 gbuffer_store: pipelines
@@ -678,6 +704,11 @@ impl Renderer {
         } else {
             Laydown::Hardware
         }
+    }
+
+    /// The compute laydown's 64-bit target (`None` without the compute laydown).
+    pub fn laydown_target(&self) -> Option<LaydownTarget> {
+        self.pipelines.compute_laydown.as_ref().map(|c| c.kind())
     }
 
     /// The configuration.

@@ -3,8 +3,8 @@
 
 use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
 use gpu::{
-    Batch, Camera, FrameInput, Laydown, Material, MaterialId, Mesh, MeshId, PrimitiveIdPath,
-    Renderer, RendererConfig, Scene, ShaderKind,
+    Batch, Camera, FrameInput, Laydown, LaydownTarget, Material, MaterialId, Mesh, MeshId,
+    PrimitiveIdPath, Renderer, RendererConfig, Scene, ShaderKind,
 };
 use testkit::device::ctx;
 use tiling::MicroBatchInfo;
@@ -281,45 +281,70 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
     assert!(tested >= 1);
 }
 
-/// Whether the test device runs the compute laydown (lavapipe and the H200 do).
+/// Whether the test device runs the compute laydown: lavapipe and the H200 do, so a device
+/// without it fails here, not silently.
 fn compute_device() -> bool {
     let probe = ctx();
-    let has = probe.paths.int64_atomics;
-    if !has {
-        eprintln!(
-            "no 64-bit atomics on {}: the compute laydown is not tested here",
-            probe.adapter_line()
-        );
-    }
-    has
+    assert!(
+        probe.paths.int64_atomics,
+        "no 64-bit atomics on {}: the compute laydown needs them (lavapipe has them)",
+        probe.adapter_line()
+    );
+    true
 }
 
 #[test]
 fn compute_laydown_matches_the_f64_rasteriser() {
-    if !compute_device() {
-        return;
-    }
-    // The default split, every triangle an invocation (the largest extent), every
-    // triangle a workgroup of the large-triangle pass (extent 0: its 64-bit edge
-    // functions), and a split at 1 pixel that sends part of the scene's (small) triangles
-    // there.
-    for (extent, name) in [
-        (gpu::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
-        (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "an invocation each"),
-        (0.0, "a workgroup each"),
-        (1.0, "split at 1 pixel"),
-    ] {
-        let r = check_against_f64(
-            RendererConfig {
-                width: W,
-                height: H,
-                laydown: Laydown::Compute,
-                compute_laydown_max_extent: extent,
-                ..Default::default()
-            },
-            name,
-        );
-        assert_eq!(r.laydown(), Laydown::Compute);
+    assert!(compute_device());
+    let probe = ctx();
+    // Both targets where the device has them (lavapipe: the buffer; the H200: both).
+    for target in [LaydownTarget::Buffer, LaydownTarget::Texture] {
+        if !probe.device.features().contains(target.required_features()) {
+            eprintln!(
+                "the {} target is not on this adapter ({}): not tested here",
+                target.name(),
+                probe.adapter_line()
+            );
+            // Forcing it is an error naming the feature, not a panic.
+            let forced = Renderer::new(
+                &probe.device,
+                &probe.queue,
+                RendererConfig {
+                    width: W,
+                    height: H,
+                    laydown: Laydown::Compute,
+                    compute_laydown_target: Some(target),
+                    ..Default::default()
+                },
+            );
+            let message = forced.err().map(|e| e.to_string()).unwrap_or_default();
+            assert!(message.contains("INT64"), "{message}");
+            continue;
+        }
+        // The default split, every triangle an invocation (the largest extent), every
+        // triangle a workgroup of the large-triangle pass (extent 0: its 64-bit edge
+        // functions), and a split at 1 pixel that sends part of the scene's (small)
+        // triangles there.
+        for (extent, name) in [
+            (gpu::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
+            (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "an invocation each"),
+            (0.0, "a workgroup each"),
+            (1.0, "split at 1 pixel"),
+        ] {
+            let r = check_against_f64(
+                RendererConfig {
+                    width: W,
+                    height: H,
+                    laydown: Laydown::Compute,
+                    compute_laydown_max_extent: extent,
+                    compute_laydown_target: Some(target),
+                    ..Default::default()
+                },
+                &format!("{name}, {} target", target.name()),
+            );
+            assert_eq!(r.laydown(), Laydown::Compute);
+            assert_eq!(r.laydown_target(), Some(target));
+        }
     }
 }
 

@@ -127,6 +127,17 @@ pub enum LaydownArg {
     Compute,
 }
 
+/// `--laydown-target`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LaydownTargetArg {
+    /// The best the adapter has: the texture where it has 64-bit texture atomics.
+    Auto,
+    /// A row-major storage buffer with 64-bit atomicMax.
+    Buffer,
+    /// An r64uint storage texture with textureAtomicMax (TEXTURE_INT64_ATOMIC).
+    Texture,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -193,6 +204,9 @@ pub struct Args {
     /// one). Triangles crossing the near plane go to its hardware part.
     #[arg(long, default_value_t = gpu::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
     pub laydown_max_extent: f32,
+    /// The compute laydown's 64-bit target.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub laydown_target: LaydownTargetArg,
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
     pub no_subgroups: bool,
@@ -688,6 +702,11 @@ pub fn run(args: &Args) -> Result<()> {
             LaydownArg::Compute => gpu::Laydown::Compute,
         },
         compute_laydown_max_extent: args.laydown_max_extent,
+        compute_laydown_target: match args.laydown_target {
+            LaydownTargetArg::Auto => None,
+            LaydownTargetArg::Buffer => Some(gpu::LaydownTarget::Buffer),
+            LaydownTargetArg::Texture => Some(gpu::LaydownTarget::Texture),
+        },
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.

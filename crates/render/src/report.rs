@@ -33,7 +33,8 @@ impl Report {
             if renderer.laydown() == c.laydown {
                 match c.laydown {
                     gpu::Laydown::Compute => format!(
-                        "compute, triangles over {} pixels a workgroup each",
+                        "compute into a 64-bit {}, triangles over {} pixels a workgroup each",
+                        renderer.laydown_target().map_or("?", |t| t.name()),
                         c.compute_laydown_max_extent
                     ),
                     gpu::Laydown::Hardware => "hardware".to_string(),

@@ -95,6 +95,14 @@ pub enum Kind {
         /// Its view dimension.
         dim: Dim,
     },
+    /// A storage texture with atomic access (`texture_storage_*<format, atomic>`: load,
+    /// store and `textureAtomic*`).
+    AtomicStorageTexture {
+        /// Its texel format.
+        format: Format,
+        /// Its view dimension.
+        dim: Dim,
+    },
     /// A sampler (filtering, non-comparison).
     Sampler,
 }
@@ -136,6 +144,14 @@ impl Kind {
     #[must_use]
     pub const fn storage_texture_2d(format: Format) -> Kind {
         Kind::StorageTexture {
+            format,
+            dim: Dim::D2,
+        }
+    }
+    /// A 2D storage texture of `format` with atomic access.
+    #[must_use]
+    pub const fn atomic_storage_texture_2d(format: Format) -> Kind {
+        Kind::AtomicStorageTexture {
             format,
             dim: Dim::D2,
         }
@@ -194,6 +210,8 @@ pub enum Format {
     R32Uint,
     /// `r32float`.
     R32Float,
+    /// `r64uint` (`Features::TEXTURE_INT64_ATOMIC`; atomic min and max).
+    R64Uint,
 }
 
 /// A dimension of a compute entry point's workgroup size.
@@ -484,7 +502,9 @@ impl<P> Pass<P> {
                     }
                     Kind::Storage { .. } => c.storage_buffers += 1,
                     Kind::Texture { .. } => c.sampled_textures += 1,
-                    Kind::StorageTexture { .. } => c.storage_textures += 1,
+                    Kind::StorageTexture { .. } | Kind::AtomicStorageTexture { .. } => {
+                        c.storage_textures += 1;
+                    }
                     Kind::Sampler => c.samplers += 1,
                 }
             }

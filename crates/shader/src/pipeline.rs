@@ -17,6 +17,7 @@ pub fn texture_format(f: Format) -> wgpu::TextureFormat {
         Format::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
         Format::R32Uint => wgpu::TextureFormat::R32Uint,
         Format::R32Float => wgpu::TextureFormat::R32Float,
+        Format::R64Uint => wgpu::TextureFormat::R64Uint,
     }
 }
 
@@ -58,9 +59,9 @@ pub fn layout_entries(
             // bindings of a render pass are its fragment stage's (a vertex stage reading one
             // fails pipeline creation, so no pass can rely on the wider visibility).
             visibility: match b.kind {
-                Kind::Storage { writable: true, .. } | Kind::StorageTexture { .. } => {
-                    visibility - wgpu::ShaderStages::VERTEX
-                }
+                Kind::Storage { writable: true, .. }
+                | Kind::StorageTexture { .. }
+                | Kind::AtomicStorageTexture { .. } => visibility - wgpu::ShaderStages::VERTEX,
                 _ => visibility,
             },
             ty: match b.kind {
@@ -90,6 +91,11 @@ pub fn layout_entries(
                 },
                 Kind::StorageTexture { format, dim } => wgpu::BindingType::StorageTexture {
                     access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: texture_format(format),
+                    view_dimension: view_dimension(dim),
+                },
+                Kind::AtomicStorageTexture { format, dim } => wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::Atomic,
                     format: texture_format(format),
                     view_dimension: view_dimension(dim),
                 },

@@ -38,6 +38,14 @@ impl Caps {
             .union(Capabilities::SHADER_INT64)
             .union(Capabilities::SHADER_INT64_ATOMIC_MIN_MAX),
     );
+    /// INT64 plus 64-bit texture atomics (`Features::TEXTURE_INT64_ATOMIC`: `r64uint`
+    /// storage textures with atomic min and max).
+    pub const TEXTURE_INT64: Caps = Caps(
+        Self::INT64
+            .0
+            .union(Capabilities::TEXTURE_ATOMIC)
+            .union(Capabilities::TEXTURE_INT64_ATOMIC),
+    );
     /// CORE plus `f16` (`Features::SHADER_F16`).
     pub const F16: Caps = Caps(Self::CORE.0.union(Capabilities::SHADER_FLOAT16));
     /// Everything naga knows.

@@ -140,6 +140,7 @@ fn format_of(f: StorageFormat) -> Option<Format> {
         StorageFormat::Rgba16Float => Format::Rgba16Float,
         StorageFormat::R32Uint => Format::R32Uint,
         StorageFormat::R32Float => Format::R32Float,
+        StorageFormat::R64Uint => Format::R64Uint,
         _ => return None,
     })
 }
@@ -196,6 +197,14 @@ fn kind_of(m: &Module, layouter: &Layouter, g: &naga::GlobalVariable, want: Kind
                     }),
                     ImageClass::Storage { format, access } if access == StorageAccess::STORE => {
                         Some(Kind::StorageTexture {
+                            format: format_of(format)?,
+                            dim,
+                        })
+                    }
+                    ImageClass::Storage { format, access }
+                        if access.contains(StorageAccess::ATOMIC) =>
+                    {
+                        Some(Kind::AtomicStorageTexture {
                             format: format_of(format)?,
                             dim,
                         })

@@ -19,13 +19,12 @@
 
 use bytemuck::{Pod, Zeroable};
 use shader::pipeline::{ComputePass, Layouts};
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Stage};
+use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample, Stage};
 
 use super::laydown::{SCENE_GROUP, primitive_state};
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::resources::plan::Draw;
-use crate::resources::rows::FrameUniforms;
 use crate::resources::targets::{DEPTH_FORMAT, Targets};
 use crate::timing::GpuTimer;
 
@@ -33,6 +32,105 @@ use crate::timing::GpuTimer;
 /// min/max on storage buffers (`atomicMax` of the 64-bit target).
 pub const COMPUTE_LAYDOWN_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
+
+/// The features of [`LaydownTarget::Texture`] besides [`COMPUTE_LAYDOWN_FEATURES`]:
+/// `r64uint` storage textures with atomic min and max.
+pub const LAYDOWN_TEXTURE_FEATURES: wgpu::Features = wgpu::Features::TEXTURE_INT64_ATOMIC;
+
+/// Where the compute laydown's 64-bit visibility target lives (the same words either
+/// way: depth bits high, vis word low).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LaydownTarget {
+    /// A row-major storage buffer with 64-bit `atomicMax` (`SHADER_INT64_ATOMIC_MIN_MAX`;
+    /// lavapipe has it), cleared before the raster.
+    Buffer,
+    /// An `r64uint` storage texture with `textureAtomicMax` (`TEXTURE_INT64_ATOMIC`: the
+    /// H200 over Vulkan has it, lavapipe not), in the driver's 2D-tiled layout; reset to 0 by
+    /// the unpack that reads it.
+    Texture,
+}
+
+impl LaydownTarget {
+    /// Short name for tables and the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            LaydownTarget::Buffer => "buffer",
+            LaydownTarget::Texture => "texture",
+        }
+    }
+
+    /// The device features this target needs (with [`COMPUTE_LAYDOWN_FEATURES`]).
+    pub fn required_features(self) -> wgpu::Features {
+        match self {
+            LaydownTarget::Buffer => COMPUTE_LAYDOWN_FEATURES,
+            LaydownTarget::Texture => COMPUTE_LAYDOWN_FEATURES | LAYDOWN_TEXTURE_FEATURES,
+        }
+    }
+
+    /// The best target a device with `features` has: the texture where it can, else the
+    /// buffer; `None` without 64-bit buffer atomics.
+    pub fn best_for(features: wgpu::Features) -> Option<Self> {
+        [LaydownTarget::Texture, LaydownTarget::Buffer]
+            .into_iter()
+            .find(|t| features.contains(t.required_features()))
+    }
+}
+
+/// The 64-bit target of one renderer.
+pub(crate) enum TargetResource {
+    Buffer(wgpu::Buffer),
+    Texture(wgpu::TextureView),
+}
+
+impl TargetResource {
+    /// A `width` x `height` target of `kind`.
+    pub(crate) fn new(device: &wgpu::Device, kind: LaydownTarget, width: u32, height: u32) -> Self {
+        match kind {
+            LaydownTarget::Buffer => {
+                TargetResource::Buffer(device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("64-bit visibility target"),
+                    size: (u64::from(width) * u64::from(height) * 8).max(8),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }))
+            }
+            // Created zeroed; each unpack resets what it read.
+            LaydownTarget::Texture => TargetResource::Texture(
+                device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some("64-bit visibility target"),
+                        size: wgpu::Extent3d {
+                            width,
+                            height,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::R64Uint,
+                        usage: wgpu::TextureUsages::STORAGE_BINDING
+                            | wgpu::TextureUsages::STORAGE_ATOMIC,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default()),
+            ),
+        }
+    }
+
+    fn binding(&self) -> wgpu::BindingResource<'_> {
+        match self {
+            TargetResource::Buffer(b) => b.as_entire_binding(),
+            TargetResource::Texture(v) => wgpu::BindingResource::TextureView(v),
+        }
+    }
+
+    fn kind(&self) -> LaydownTarget {
+        match self {
+            TargetResource::Buffer(_) => LaydownTarget::Buffer,
+            TargetResource::Texture(_) => LaydownTarget::Texture,
+        }
+    }
+}
 
 /// The default widest or tallest screen box (pixels) of a triangle one invocation of the
 /// compute raster draws; larger ones go to the large-triangle pass (a workgroup each)
@@ -106,6 +204,10 @@ const DRAWS: Binding = Binding::new(
 );
 const INDICES: Binding = Binding::new("laydown_indices", Kind::read(4));
 const TARGET: Binding = Binding::new("laydown_target", Kind::read_write(8));
+const TEXTURE_TARGET: Binding = Binding::new(
+    "laydown_target",
+    Kind::atomic_storage_texture_2d(Format::R64Uint),
+);
 
 /// Group 1 of the raster, which appends to the list the hardware part reads.
 const RASTER_GROUP: Group = Group {
@@ -120,6 +222,18 @@ const RASTER_GROUP: Group = Group {
     ],
 };
 
+/// [`RASTER_GROUP`] over the texture target.
+const TEXTURE_RASTER_GROUP: Group = Group {
+    name: "laydown",
+    bindings: &[
+        DRAWS,
+        INDICES,
+        TEXTURE_TARGET,
+        RASTER_GROUP.bindings[3],
+        RASTER_GROUP.bindings[4],
+    ],
+};
+
 /// Group 1 of the hardware part.
 const HYBRID_GROUP: Group = Group {
     name: "laydown",
@@ -129,6 +243,12 @@ const HYBRID_GROUP: Group = Group {
         TARGET,
         Binding::new("hybrid", Kind::read(HYBRID_HEADER as usize + 4)),
     ],
+};
+
+/// [`HYBRID_GROUP`] over the texture target.
+const TEXTURE_HYBRID_GROUP: Group = Group {
+    name: "laydown",
+    bindings: &[DRAWS, INDICES, TEXTURE_TARGET, HYBRID_GROUP.bindings[3]],
 };
 
 /// The raster, one invocation per item (the parameter: the item count).
@@ -150,6 +270,15 @@ pub(crate) const COMPUTE_LAYDOWN: Pass<u32> = Pass {
     zeroed: &["laydown_target", "hybrid", "large"],
 };
 
+/// [`COMPUTE_LAYDOWN`] into the texture target (feature `texture_target`).
+pub(crate) const COMPUTE_LAYDOWN_TEXTURE: Pass<u32> = Pass {
+    groups: &[SCENE_GROUP, TEXTURE_RASTER_GROUP],
+    features: &["subgroups", "texture_target"],
+    // The texture starts at 0 and the unpack resets it.
+    zeroed: &["hybrid", "large"],
+    ..COMPUTE_LAYDOWN
+};
+
 /// The hardware part: the listed triangles, drawn into the 64-bit target.
 pub(crate) const COMPUTE_LAYDOWN_HYBRID: Pass = Pass {
     name: "compute laydown hybrid",
@@ -162,6 +291,13 @@ pub(crate) const COMPUTE_LAYDOWN_HYBRID: Pass = Pass {
         Entry::draw("fs_hybrid", Stage::Fragment),
     ],
     zeroed: &[],
+};
+
+/// [`COMPUTE_LAYDOWN_HYBRID`] into the texture target (feature `texture_target`).
+pub(crate) const COMPUTE_LAYDOWN_HYBRID_TEXTURE: Pass = Pass {
+    groups: &[SCENE_GROUP, TEXTURE_HYBRID_GROUP],
+    features: &["texture_target"],
+    ..COMPUTE_LAYDOWN_HYBRID
 };
 
 /// The 64-bit target into the vis words, the vis texture and the float depth, over the
@@ -184,8 +320,23 @@ pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-/// The 64-bit target into the depth target (full-screen triangle), for frames whose
-/// later raster passes test against it.
+/// [`LAYDOWN_UNPACK`] of the texture target, which it resets (feature `texture_target`).
+pub(crate) const LAYDOWN_UNPACK_TEXTURE: Pass<[u32; 2]> = Pass {
+    groups: &[Group {
+        name: "unpack",
+        bindings: &[
+            TEXTURE_TARGET,
+            LAYDOWN_UNPACK.groups[0].bindings[1],
+            LAYDOWN_UNPACK.groups[0].bindings[2],
+            LAYDOWN_UNPACK.groups[0].bindings[3],
+        ],
+    }],
+    features: &["texture_target"],
+    ..LAYDOWN_UNPACK
+};
+
+/// The unpacked float depth into the depth target (full-screen triangle), for frames
+/// whose later raster passes test against it.
 pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     name: "laydown target",
     module: "gpu::laydown_target",
@@ -193,10 +344,10 @@ pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     features: &[],
     groups: &[Group {
         name: "target",
-        bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("laydown_target", Kind::read(8)),
-        ],
+        bindings: &[Binding::new(
+            "depth_float",
+            Kind::texture_2d(Sample::Float { filterable: false }),
+        )],
     }],
     entries: &[
         Entry::draw("vs_full", Stage::Vertex),
@@ -204,16 +355,6 @@ pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     ],
     zeroed: &[],
 };
-
-/// The 64-bit visibility target of `width` x `height` pixels (8 bytes a pixel, row-major).
-pub(crate) fn target_buffer(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("64-bit visibility target"),
-        size: (u64::from(width) * u64::from(height) * 8).max(8),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
-}
 
 /// What the last compute laydown drew (read back by
 /// [`Renderer::read_laydown_stats`](crate::Renderer::read_laydown_stats)).
@@ -239,6 +380,7 @@ pub(crate) struct ComputeLaydown {
     target_layouts: Layouts,
     target: wgpu::RenderPipeline,
     unpack: ComputePass<[u32; 2]>,
+    kind: LaydownTarget,
 }
 
 /// The renderer's groups of the passes over its targets: the depth target's conversion
@@ -266,18 +408,38 @@ pub(crate) struct Groups {
 }
 
 impl ComputeLaydown {
-    /// The pipelines; `subgroups`: the list appends aggregated per subgroup;
-    /// `max_extent`: the largest box (pixels) rasterised in compute.
-    pub(crate) fn new(device: &wgpu::Device, subgroups: bool, max_extent: f32) -> Result<Self> {
-        let features: &[&str] = if subgroups { &["subgroups"] } else { &[] };
+    /// The pipelines over a target of `kind`; `subgroups`: the list appends aggregated
+    /// per subgroup; `max_extent`: the largest box (pixels) rasterised in compute.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        kind: LaydownTarget,
+        subgroups: bool,
+        max_extent: f32,
+    ) -> Result<Self> {
+        let texture = kind == LaydownTarget::Texture;
+        let target_feature: &[&str] = if texture { &["texture_target"] } else { &[] };
+        let mut features = target_feature.to_vec();
+        if subgroups {
+            features.push("subgroups");
+        }
+        let (raster_pass, hybrid_pass, unpack_pass) = if texture {
+            (
+                &COMPUTE_LAYDOWN_TEXTURE,
+                &COMPUTE_LAYDOWN_HYBRID_TEXTURE,
+                &LAYDOWN_UNPACK_TEXTURE,
+            )
+        } else {
+            (&COMPUTE_LAYDOWN, &COMPUTE_LAYDOWN_HYBRID, &LAYDOWN_UNPACK)
+        };
         let extent = f64::from(max_extent.clamp(0.0, COMPUTE_LAYDOWN_EXTENT_LIMIT));
         let raster = ComputePass::new(
             device,
-            &COMPUTE_LAYDOWN,
-            features,
+            raster_pass,
+            &features,
             &[("GPU_COMPUTE_LAYDOWN_MAX_EXTENT", extent)],
         )?;
         let render = |pass: &'static Pass,
+                      features: &[&str],
                       vs: &str,
                       fs: &str,
                       targets: &[Option<wgpu::ColorTargetState>],
@@ -287,7 +449,7 @@ impl ComputeLaydown {
             let layouts = Layouts::new(device, pass);
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(pass.name),
-                source: wgpu::ShaderSource::Wgsl(pass.source(&[])?.into()),
+                source: wgpu::ShaderSource::Wgsl(pass.source(features)?.into()),
             });
             let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(pass.name),
@@ -324,7 +486,8 @@ impl ComputeLaydown {
         // come here: a fragment atomic with no early depth test cost 10.7 ms on the H200's
         // forest when the large triangles came too.
         let (hybrid_layouts, hybrid) = render(
-            &COMPUTE_LAYDOWN_HYBRID,
+            hybrid_pass,
+            target_feature,
             "vs_hybrid",
             "fs_hybrid",
             &[],
@@ -334,6 +497,7 @@ impl ComputeLaydown {
         )?;
         let (target_layouts, target) = render(
             &LAYDOWN_TARGET,
+            &[],
             "vs_full",
             "fs_target",
             &[],
@@ -347,8 +511,14 @@ impl ComputeLaydown {
             hybrid,
             target_layouts,
             target,
-            unpack: ComputePass::new(device, &LAYDOWN_UNPACK, &[], &[])?,
+            unpack: ComputePass::new(device, unpack_pass, target_feature, &[])?,
+            kind,
         })
+    }
+
+    /// The target these pipelines write.
+    pub(crate) fn kind(&self) -> LaydownTarget {
+        self.kind
     }
 
     /// A prepared scene's groups: `scene` resources by binding name (group 0), the
@@ -361,7 +531,7 @@ impl ComputeLaydown {
         scene: &[(&str, wgpu::BindingResource<'_>)],
         draws: &[Draw],
         indices: &wgpu::Buffer,
-        target: &wgpu::Buffer,
+        target: &TargetResource,
     ) -> Result<Option<Groups>> {
         use wgpu::util::DeviceExt;
         let Some((rows, items)) = draw_table(draws) else {
@@ -407,7 +577,7 @@ impl ComputeLaydown {
         let group1 = [
             ("laydown_draws", table.as_entire_binding()),
             ("laydown_indices", indices.as_entire_binding()),
-            ("laydown_target", target.as_entire_binding()),
+            ("laydown_target", target.binding()),
             ("hybrid", list.as_entire_binding()),
         ];
         let mut raster_group1 = group1.to_vec();
@@ -430,28 +600,28 @@ impl ComputeLaydown {
     }
 
     /// The conversion's and the unpack's groups over the renderer's `targets` (whose
-    /// 64-bit target is `target`) and frame uniforms.
+    /// 64-bit target is `target`).
     pub(crate) fn target_groups(
         &self,
         device: &wgpu::Device,
-        frame: &wgpu::Buffer,
         targets: &Targets,
-        target: &wgpu::Buffer,
+        target: &TargetResource,
     ) -> Result<TargetGroups> {
+        debug_assert_eq!(target.kind(), self.kind);
         Ok(TargetGroups {
             target: self.target_layouts.bind_group(
                 device,
                 "target",
-                &[
-                    ("frame", frame.as_entire_binding()),
-                    ("laydown_target", target.as_entire_binding()),
-                ],
+                &[(
+                    "depth_float",
+                    wgpu::BindingResource::TextureView(&targets.depth_float_view),
+                )],
             )?,
             unpack: self.unpack.bind_group(
                 device,
                 "unpack",
                 &[
-                    ("laydown_target", target.as_entire_binding()),
+                    ("laydown_target", target.binding()),
                     ("vis_words", targets.vis_words.as_entire_binding()),
                     (
                         "vis_out",
@@ -489,7 +659,9 @@ impl ComputeLaydown {
         let Ok(unpack) = self.unpack.step("unpack") else {
             return false;
         };
-        encoder.clear_buffer(target, 0, None);
+        if let TargetResource::Buffer(target) = target {
+            encoder.clear_buffer(target, 0, None);
+        }
         encoder.clear_buffer(&g.list, 0, Some(HYBRID_HEADER));
         encoder.clear_buffer(&g.large, 0, Some(LARGE_HEADER));
         {
@@ -538,12 +710,6 @@ impl ComputeLaydown {
             pass.set_bind_group(1, &g.hybrid[1], &[]);
             pass.draw_indirect(&g.list, 0);
         }
-        if depth_target {
-            let mut pass = depth_pass(encoder, "laydown target", timer);
-            pass.set_pipeline(&self.target);
-            pass.set_bind_group(0, &groups.target, &[]);
-            pass.draw(0..3, 0..1);
-        }
         let size = [f.targets.width, f.targets.height];
         if let Some([x, y, z]) = self.unpack.workgroups(unpack, &size) {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -553,6 +719,12 @@ impl ComputeLaydown {
             pass.set_bind_group(0, &groups.unpack, &[]);
             pass.set_pipeline(&unpack.pipeline);
             pass.dispatch_workgroups(x, y, z);
+        }
+        if depth_target {
+            let mut pass = depth_pass(encoder, "laydown target", timer);
+            pass.set_pipeline(&self.target);
+            pass.set_bind_group(0, &groups.target, &[]);
+            pass.draw(0..3, 0..1);
         }
         true
     }
@@ -588,6 +760,23 @@ mod tests {
         shadercheck::check_pass(&COMPUTE_LAYDOWN_HYBRID, |_| Caps::INT64);
         shadercheck::check_pass(&LAYDOWN_TARGET, |_| Caps::CORE);
         shadercheck::check_pass(&LAYDOWN_UNPACK, |_| Caps::CORE);
+        // The texture target's variants: the feature on, and naga's 64-bit texture atomics.
+        shadercheck::check_pass_with(&COMPUTE_LAYDOWN_TEXTURE, &["texture_target"], |f| {
+            if f.contains(&"subgroups") {
+                Caps::TEXTURE_INT64.union(Caps::SUBGROUP)
+            } else {
+                Caps::TEXTURE_INT64
+            }
+        });
+        shadercheck::check_pass_with(&COMPUTE_LAYDOWN_HYBRID_TEXTURE, &["texture_target"], |_| {
+            Caps::TEXTURE_INT64
+        });
+        shadercheck::check_pass_with(&LAYDOWN_UNPACK_TEXTURE, &["texture_target"], |_| {
+            Caps::TEXTURE_INT64
+        });
+        let src = COMPUTE_LAYDOWN_TEXTURE.source(&["texture_target"]).unwrap();
+        assert!(shadercheck::validate(&src, Caps::INT64).is_err());
+
         let src = COMPUTE_LAYDOWN.source(&[]).unwrap();
         assert!(shadercheck::validate(&src, Caps::CORE).is_err());
         // The lists' headers and the dispatch rows, as Rust sizes and records them.

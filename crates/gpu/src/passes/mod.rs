@@ -152,7 +152,7 @@ impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
     /// width), `light_paths`, the G-buffer layout and whether KZ2's conditional rendering
     /// is emulated (`conditional`: asked for and possible), and with `compute_laydown` the
-    /// compute laydown's.
+    /// compute laydown's over that target.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         device: &wgpu::Device,
@@ -162,19 +162,19 @@ impl Pipelines {
         gbuffer: deferred::GBufferLayout,
         msaa: Option<crate::MsaaLighting>,
         conditional: bool,
-        compute_laydown: bool,
+        compute_laydown: Option<compute_laydown::LaydownTarget>,
         compute_laydown_max_extent: f32,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
-            compute_laydown: if compute_laydown {
-                Some(compute_laydown::ComputeLaydown::new(
+            compute_laydown: match compute_laydown {
+                Some(kind) => Some(compute_laydown::ComputeLaydown::new(
                     device,
+                    kind,
                     paths.subgroup_size.is_some(),
                     compute_laydown_max_extent,
-                )?)
-            } else {
-                None
+                )?),
+                None => None,
             },
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,

@@ -38,7 +38,7 @@ pub(crate) struct Targets {
     /// The compute laydown's 64-bit visibility target (depth bits high, vis word low, 8
     /// bytes a pixel, row-major), with [`Laydown::Compute`](crate::Laydown) on a device
     /// that has it (set by the renderer after [`Targets::new`]).
-    pub vis64: Option<wgpu::Buffer>,
+    pub vis64: Option<crate::passes::compute_laydown::TargetResource>,
     /// G-buffer targets RT0..RT3, in `deferred`'s layout order (kept with their views).
     pub gbuffer: Vec<wgpu::Texture>,
     pub gbuffer_views: Vec<wgpu::TextureView>,

@@ -265,7 +265,7 @@ fn gpu_top_left_bias64(e: vec2<f32>) -> i64 {
 
 // Pixel (x, y) of triangle `r` whose barycentric weights of a, b, c are `bary`: the alpha
 // test and the LOD-fade dither, then the depth and vis word into the target.
-fn gpu_raster_shade(x: i32, y: i32, bary: vec3<f32>, sh: GpuRasterShade, len: u32, w: i32) {
+fn gpu_raster_shade(x: i32, y: i32, bary: vec3<f32>, sh: GpuRasterShade, w: i32) {
     if (sh.alpha) {
         if (!gpu_fade_keeps(sh.fade_bits, vec2<u32>(u32(x), u32(y)))) {
             return;
@@ -285,10 +285,7 @@ fn gpu_raster_shade(x: i32, y: i32, bary: vec3<f32>, sh: GpuRasterShade, len: u3
         }
     }
     let depth = clamp(dot(bary, sh.z), 0.0, 1.0);
-    let i = u32(y) * u32(w) + u32(x);
-    if (i < len) {
-        atomicMax(&laydown_target[i], gpu_laydown_value(depth, sh.word));
-    }
+    gpu_laydown_plot(vec2<u32>(u32(x), u32(y)), u32(w), gpu_laydown_value(depth, sh.word));
 }
 
 // The weights of a, b, c at pixel (x, y) of a small `r` (32-bit edge functions: its
@@ -329,12 +326,11 @@ fn gpu_raster_item(item: u32) -> u32 {
         return r.kind;
     }
     let w = i32(frame.viewport.x);
-    let len = arrayLength(&laydown_target);
     for (var y = r.y0; y <= r.y1; y++) {
         for (var x = r.x0; x <= r.x1; x++) {
             let bary = gpu_raster_weights_small(r, x, y);
             if (bary.x >= 0.0) {
-                gpu_raster_shade(x, y, bary, r.shade, len, w);
+                gpu_raster_shade(x, y, bary, r.shade, w);
             }
         }
     }
@@ -406,7 +402,6 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
         return;
     }
     let w = i32(frame.viewport.x);
-    let len = arrayLength(&laydown_target);
     let nx = u32(max(r.x1 - r.x0 + 1, 0));
     let ny = u32(max(r.y1 - r.y0 + 1, 0));
     let pixels = nx * ny;
@@ -415,7 +410,7 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
         let y = r.y0 + i32(i / nx);
         let bary = gpu_raster_weights_large(r, x, y);
         if (bary.x >= 0.0) {
-            gpu_raster_shade(x, y, bary, r.shade, len, w);
+            gpu_raster_shade(x, y, bary, r.shade, w);
         }
     }
 }

@@ -36,11 +36,32 @@ struct GpuLaydownDraws {
 
 @group(1) @binding(0) var<storage, read> laydown_draws: GpuLaydownDraws;
 @group(1) @binding(1) var<storage, read> laydown_indices: array<u32>;
-// The 64-bit visibility target, one word a pixel, row-major: depth's f32 bits in the high
-// 32 bits (reversed Z: larger is nearer, and a non-negative f32's bits order as a u32's),
-// the vis word in the low 32 bits, so `atomicMax` keeps the nearest fragment (ties: the
-// larger vis word). Cleared to 0 each frame: nothing drawn (depth 0, the far plane).
+// The 64-bit visibility target, one word a pixel: depth's f32 bits in the high 32 bits
+// (reversed Z: larger is nearer, and a non-negative f32's bits order as a u32's), the vis
+// word in the low 32 bits, so an atomic max keeps the nearest fragment (ties: the larger
+// vis word). 0 at the start of each frame: nothing drawn (depth 0, the far plane). An
+// r64uint storage texture with `texture_target` (TEXTURE_INT64_ATOMIC; reset by the
+// unpack), else a row-major storage buffer (SHADER_INT64_ATOMIC_MIN_MAX; cleared).
+#if texture_target
+@group(1) @binding(2) var laydown_target: texture_storage_2d<r64uint, atomic>;
+#else
 @group(1) @binding(2) var<storage, read_write> laydown_target: array<atomic<u64>>;
+#endif
+
+// The atomic max of `value` into pixel `p` of the target (`width`: the image's); nothing
+// outside it.
+fn gpu_laydown_plot(p: vec2<u32>, width: u32, value: u64) {
+#if texture_target
+    if (all(p < textureDimensions(laydown_target))) {
+        textureAtomicMax(laydown_target, p, value);
+    }
+#else
+    let i = p.y * width + p.x;
+    if (p.x < width && i < arrayLength(&laydown_target)) {
+        atomicMax(&laydown_target[i], value);
+    }
+#endif
+}
 
 // One item's triangle: its instance, primitive (triangle of the mesh: the vis word's
 // primitive field, as `primitive_index` counts it from the draw's first index), its

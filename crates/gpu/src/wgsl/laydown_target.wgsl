@@ -1,16 +1,10 @@
-// gpu: the compute laydown's 64-bit target into the depth target, for frames whose later
-// raster passes test against it (the stencil light volumes): frag_depth from a
-// full-screen triangle, since depth formats cannot be storage textures. Raster fill (2.4 ms
-// at 4K on the H200's two raster TPCs), so frames without such passes skip it: the
-// compute passes read the float depth `gpu::laydown_unpack` writes. A pixel whose depth
-// bits are 0 was never drawn: the far plane.
+// gpu: the compute laydown's depth into the depth target, for frames whose later raster
+// passes test against it (the stencil light volumes): the float depth the unpack wrote, as
+// frag_depth from a full-screen triangle (depth formats cannot be storage textures).
+// Raster fill (2.4 ms at 4K on the H200's two raster TPCs), so frames without such passes
+// skip it.
 
-#import visbuf::id
-#import gpu::frame
-
-@group(0) @binding(0) var<uniform> frame: FrameUniforms;
-// The target as (vis word, depth bits) pairs: little-endian halves of each u64.
-@group(0) @binding(1) var<storage, read> laydown_target: array<vec2<u32>>;
+@group(0) @binding(0) var depth_float: texture_2d<f32>;
 
 @vertex
 fn vs_full(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<f32> {
@@ -20,15 +14,9 @@ fn vs_full(@builtin(vertex_index) vertex: u32) -> @builtin(position) vec4<f32> {
 
 @fragment
 fn fs_target(@builtin(position) position: vec4<f32>) -> @builtin(frag_depth) f32 {
-    let size = vec2<u32>(frame.viewport.xy);
     let p = vec2<u32>(position.xy);
-    let i = p.y * size.x + p.x;
-    var t = vec2<u32>(VISBUF_NONE, 0u);
-    if (p.x < size.x && i < arrayLength(&laydown_target)) {
-        t = laydown_target[i];
-    }
-    if (t.y == 0u) {
+    if (any(p >= textureDimensions(depth_float))) {
         return 0.0;
     }
-    return bitcast<f32>(t.y);
+    return textureLoad(depth_float, p, 0).x;
 }

@@ -2,12 +2,17 @@
 // compute pass over the pixels: the row-major vis words (classification), the vis texture
 // (resolve, debug views) and the float depth (light tiles, lighting). It replaces the
 // hardware frames' vis copy. A pixel whose depth bits are 0 was never drawn: VIS_NONE and
-// the far plane (0, reversed Z).
+// the far plane (0, reversed Z). The texture target is reset to 0 here, for the next frame
+// (the buffer target is cleared before the raster).
 
 #import visbuf::id
 
+#if texture_target
+@group(0) @binding(0) var laydown_target: texture_storage_2d<r64uint, atomic>;
+#else
 // The target as (vis word, depth bits) pairs: little-endian halves of each u64.
 @group(0) @binding(0) var<storage, read> laydown_target: array<vec2<u32>>;
+#endif
 @group(0) @binding(1) var<storage, read_write> vis_words: array<u32>;
 @group(0) @binding(2) var vis_out: texture_storage_2d<r32uint, write>;
 @group(0) @binding(3) var depth_float: texture_storage_2d<r32float, write>;
@@ -20,9 +25,17 @@ fn unpack(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let i = id.y * size.x + id.x;
     var t = vec2<u32>(VISBUF_NONE, 0u);
+#if texture_target
+    if (all(id.xy < textureDimensions(laydown_target))) {
+        let v = textureLoad(laydown_target, id.xy).x;
+        t = vec2<u32>(u32(v & 0xfffffffflu), u32(v >> 32u));
+        textureStore(laydown_target, id.xy, vec4<u64>(0lu));
+    }
+#else
     if (i < arrayLength(&laydown_target)) {
         t = laydown_target[i];
     }
+#endif
     var word = VISBUF_NONE;
     var depth = 0.0;
     if (t.y != 0u) {
