@@ -34,8 +34,10 @@ pub const COMPUTE_LAYDOWN_FEATURES: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
 /// The features of [`LaydownTarget::Texture`] besides [`COMPUTE_LAYDOWN_FEATURES`]:
-/// `r64uint` storage textures with atomic min and max.
-pub const LAYDOWN_TEXTURE_FEATURES: wgpu::Features = wgpu::Features::TEXTURE_INT64_ATOMIC;
+/// `r64uint` storage textures with atomic min and max, and the adapter-specific format
+/// features wgpu asks for before it binds a storage texture with atomic access.
+pub const LAYDOWN_TEXTURE_FEATURES: wgpu::Features = wgpu::Features::TEXTURE_INT64_ATOMIC
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
 
 /// Where the compute laydown's 64-bit visibility target lives (the same words either
 /// way: depth bits high, vis word low).
@@ -688,6 +690,8 @@ impl ComputeLaydown {
             pass.set_pipeline(&large.pipeline);
             pass.dispatch_workgroups_indirect(&g.large_dispatch, 0);
         }
+        // The hybrid part neither tests nor writes the attachment (loading it is cheap,
+        // clearing it cost 0.6 ms at 4K on the H200); the conversion writes every pixel.
         let depth_pass =
             |encoder: &'_ mut wgpu::CommandEncoder, label: &'static str, timer: &mut GpuTimer| {
                 let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -695,7 +699,7 @@ impl ComputeLaydown {
                     color_attachments: &[],
                     depth_stencil_attachment: Some(super::laydown::depth_attachment(
                         &f.targets.depth_view,
-                        false,
+                        true,
                     )),
                     timestamp_writes: timer.render(label),
                     occlusion_query_set: None,
