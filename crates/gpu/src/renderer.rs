@@ -216,8 +216,8 @@ pub struct RendererConfig {
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
     pub compute_laydown_max_extent: f32,
     /// Force the compute laydown's 64-bit target (the device must have its features);
-    /// `None` picks the best the device has ([`LaydownTarget::best_for`]: the `r64uint`
-    /// texture where there are 64-bit texture atomics, else the storage buffer).
+    /// `None` picks [`LaydownTarget::best_for`] the device: the storage buffer (measured
+    /// faster than the `r64uint` texture on the H200).
     pub compute_laydown_target: Option<LaydownTarget>,
 }
 

@@ -130,7 +130,7 @@ pub enum LaydownArg {
 /// `--laydown-target`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LaydownTargetArg {
-    /// The best the adapter has: the texture where it has 64-bit texture atomics.
+    /// The renderer's choice (the buffer, measured faster on the H200).
     Auto,
     /// A row-major storage buffer with 64-bit atomicMax.
     Buffer,

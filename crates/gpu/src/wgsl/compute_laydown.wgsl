@@ -46,6 +46,12 @@ struct GpuLargeList {
 const GPU_LAYDOWN_ROWS: u32 = 65535u;
 // Invocations of a `raster_large` workgroup.
 const GPU_LAYDOWN_LARGE_WORKGROUP: u32 = 256u;
+// Invocations per large triangle: a workgroup rasterises GPU_LAYDOWN_LARGE_SLOTS of them
+// side by side. A triangle's setup is one invocation's dependent loads (draw search,
+// indices, vertices, material): with a whole workgroup per triangle the H200 held too
+// few triangles in flight to hide it (9.8 ms for the forest x4's 326 080 at 4K).
+const GPU_LAYDOWN_LARGE_SLOT: u32 = 32u;
+const GPU_LAYDOWN_LARGE_SLOTS: u32 = GPU_LAYDOWN_LARGE_WORKGROUP / GPU_LAYDOWN_LARGE_SLOT;
 // A box wider or taller than this (pixels) goes to the hardware part even from the large
 // path: the 64-bit edge functions' products stay far below 2^63.
 const GPU_LAYDOWN_LARGE_LIMIT: f32 = 1048576.0;
@@ -370,34 +376,40 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
     }
 }
 
-// The large list's count as `raster_large`'s indirect arguments.
+// The large list's count as `raster_large`'s indirect arguments (GPU_LAYDOWN_LARGE_SLOTS
+// triangles a workgroup).
 @compute @workgroup_size(1)
 fn large_args() {
     let n = min(atomicLoad(&large.count), arrayLength(&large.items));
-    large.dispatch[0] = min(n, GPU_LAYDOWN_ROWS);
-    large.dispatch[1] = (n + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
+    let groups = (n + GPU_LAYDOWN_LARGE_SLOTS - 1u) / GPU_LAYDOWN_LARGE_SLOTS;
+    large.dispatch[0] = min(groups, GPU_LAYDOWN_ROWS);
+    large.dispatch[1] = (groups + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
     large.dispatch[2] = 1u;
 }
 
-// The large triangle of a `raster_large` workgroup, set up once by its first invocation
-// (every lane setting it up again cost 8 warps' setup per triangle: 3.0 ms of the H200's
-// forest at 4K).
-var<workgroup> gpu_large_triangle: GpuRasterTriangle;
+// The large triangles of a `raster_large` workgroup, each set up once by the first
+// invocation of its slot (every invocation setting it up again cost 8 warps' setup per
+// triangle).
+var<workgroup> gpu_large_triangles: array<GpuRasterTriangle, GPU_LAYDOWN_LARGE_SLOTS>;
 
-// One workgroup per large triangle: its invocations stride over the triangle's box.
+// GPU_LAYDOWN_LARGE_SLOTS large triangles per workgroup: each slot's invocations stride
+// over its triangle's box.
 @compute @workgroup_size(GPU_LAYDOWN_LARGE_WORKGROUP)
 fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    if (li == 0u) {
-        let k = wid.y * GPU_LAYDOWN_ROWS + wid.x;
+    let slot = li / GPU_LAYDOWN_LARGE_SLOT;
+    let lane = li % GPU_LAYDOWN_LARGE_SLOT;
+    if (lane == 0u) {
+        let k = (wid.y * GPU_LAYDOWN_ROWS + wid.x) * GPU_LAYDOWN_LARGE_SLOTS + slot;
         let n = min(atomicLoad(&large.count), arrayLength(&large.items));
         var r: GpuRasterTriangle;
         r.kind = GPU_RASTER_NONE;
         if (k < n) {
             r = gpu_raster_setup(large.items[k]);
         }
-        gpu_large_triangle = r;
+        gpu_large_triangles[slot] = r;
     }
-    let r = workgroupUniformLoad(&gpu_large_triangle);
+    workgroupBarrier();
+    let r = gpu_large_triangles[slot];
     if (r.kind != GPU_RASTER_LARGE && r.kind != GPU_RASTER_SMALL) {
         return;
     }
@@ -405,7 +417,7 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
     let nx = u32(max(r.x1 - r.x0 + 1, 0));
     let ny = u32(max(r.y1 - r.y0 + 1, 0));
     let pixels = nx * ny;
-    for (var i = li; i < pixels; i += GPU_LAYDOWN_LARGE_WORKGROUP) {
+    for (var i = lane; i < pixels; i += GPU_LAYDOWN_LARGE_SLOT) {
         let x = r.x0 + i32(i % nx);
         let y = r.y0 + i32(i / nx);
         let bary = gpu_raster_weights_large(r, x, y);
