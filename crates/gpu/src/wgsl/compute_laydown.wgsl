@@ -46,12 +46,6 @@ struct GpuLargeList {
 const GPU_LAYDOWN_ROWS: u32 = 65535u;
 // Invocations of a `raster_large` workgroup.
 const GPU_LAYDOWN_LARGE_WORKGROUP: u32 = 256u;
-// Invocations per large triangle: a workgroup rasterises GPU_LAYDOWN_LARGE_SLOTS of them
-// side by side. A triangle's setup is one invocation's dependent loads (draw search,
-// indices, vertices, material): with a whole workgroup per triangle the H200 held too
-// few triangles in flight to hide it (9.8 ms for the forest x4's 326 080 at 4K).
-const GPU_LAYDOWN_LARGE_SLOT: u32 = 32u;
-const GPU_LAYDOWN_LARGE_SLOTS: u32 = GPU_LAYDOWN_LARGE_WORKGROUP / GPU_LAYDOWN_LARGE_SLOT;
 // A box wider or taller than this (pixels) goes to the hardware part even from the large
 // path: the 64-bit edge functions' products stay far below 2^63.
 const GPU_LAYDOWN_LARGE_LIMIT: f32 = 1048576.0;
@@ -376,40 +370,35 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
     }
 }
 
-// The large list's count as `raster_large`'s indirect arguments (GPU_LAYDOWN_LARGE_SLOTS
-// triangles a workgroup).
+// The large list's count as `raster_large`'s indirect arguments.
 @compute @workgroup_size(1)
 fn large_args() {
     let n = min(atomicLoad(&large.count), arrayLength(&large.items));
-    let groups = (n + GPU_LAYDOWN_LARGE_SLOTS - 1u) / GPU_LAYDOWN_LARGE_SLOTS;
-    large.dispatch[0] = min(groups, GPU_LAYDOWN_ROWS);
-    large.dispatch[1] = (groups + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
+    large.dispatch[0] = min(n, GPU_LAYDOWN_ROWS);
+    large.dispatch[1] = (n + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
     large.dispatch[2] = 1u;
 }
 
-// The large triangles of a `raster_large` workgroup, each set up once by the first
-// invocation of its slot (every invocation setting it up again cost 8 warps' setup per
-// triangle).
-var<workgroup> gpu_large_triangles: array<GpuRasterTriangle, GPU_LAYDOWN_LARGE_SLOTS>;
+// The large triangle of a `raster_large` workgroup, set up once by its first invocation
+// (every lane setting it up again cost 8 warps' setup per triangle: forest 3.0 -> 2.7 ms
+// at 4K on the H200). Eight triangles of 32 invocations a workgroup measured far slower
+// (grass 1.5 -> 9.0 ms): the cost is the big boxes' pixels, not the setups.
+var<workgroup> gpu_large_triangle: GpuRasterTriangle;
 
-// GPU_LAYDOWN_LARGE_SLOTS large triangles per workgroup: each slot's invocations stride
-// over its triangle's box.
+// One workgroup per large triangle: its invocations stride over the triangle's box.
 @compute @workgroup_size(GPU_LAYDOWN_LARGE_WORKGROUP)
 fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let slot = li / GPU_LAYDOWN_LARGE_SLOT;
-    let lane = li % GPU_LAYDOWN_LARGE_SLOT;
-    if (lane == 0u) {
-        let k = (wid.y * GPU_LAYDOWN_ROWS + wid.x) * GPU_LAYDOWN_LARGE_SLOTS + slot;
+    if (li == 0u) {
+        let k = wid.y * GPU_LAYDOWN_ROWS + wid.x;
         let n = min(atomicLoad(&large.count), arrayLength(&large.items));
         var r: GpuRasterTriangle;
         r.kind = GPU_RASTER_NONE;
         if (k < n) {
             r = gpu_raster_setup(large.items[k]);
         }
-        gpu_large_triangles[slot] = r;
+        gpu_large_triangle = r;
     }
-    workgroupBarrier();
-    let r = gpu_large_triangles[slot];
+    let r = workgroupUniformLoad(&gpu_large_triangle);
     if (r.kind != GPU_RASTER_LARGE && r.kind != GPU_RASTER_SMALL) {
         return;
     }
@@ -417,7 +406,7 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
     let nx = u32(max(r.x1 - r.x0 + 1, 0));
     let ny = u32(max(r.y1 - r.y0 + 1, 0));
     let pixels = nx * ny;
-    for (var i = lane; i < pixels; i += GPU_LAYDOWN_LARGE_SLOT) {
+    for (var i = li; i < pixels; i += GPU_LAYDOWN_LARGE_WORKGROUP) {
         let x = r.x0 + i32(i % nx);
         let y = r.y0 + i32(i / nx);
         let bary = gpu_raster_weights_large(r, x, y);
