@@ -1,6 +1,7 @@
 //! Procedural demo scenes, deterministic from a seed: "forest" (alpha-tested foliage cards,
-//! grass tufts, trees and rocks over a terrain: many instances, several foliage materials)
-//! and "grass" (a tall-grass field of very high vertex density).
+//! grass tufts, trees and rocks over a terrain: many instances, several foliage materials),
+//! "grass" (a tall-grass field of very high vertex density) and "hillside" (HFW-like: a
+//! meadow of blades and a valley of canopies seen from a rise, triangles of a few pixels).
 //!
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
@@ -11,6 +12,7 @@ use crate::frame::{Camera, FrameInput, Lighting, PointLight, SpotLight};
 use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
 pub mod city;
+mod hillside;
 
 /// Which demo scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -19,10 +21,14 @@ pub enum DemoScene {
     Forest,
     /// A field of tall grass: very high vertex density.
     Grass,
+    /// HFW-like foliage seen from a rise: a meadow of grass blades and a valley of tree
+    /// canopies whose triangles cover a few pixels at 4K (the talk's tables' case).
+    Hillside,
 }
 
 impl DemoScene {
-    /// Both scenes.
+    /// The two scenes every frame test renders (the hillside's small triangles are for
+    /// measurements at 4K).
     pub const ALL: [DemoScene; 2] = [DemoScene::Forest, DemoScene::Grass];
 
     /// The scene's name, as the CLI spells it.
@@ -30,6 +36,7 @@ impl DemoScene {
         match self {
             DemoScene::Forest => "forest",
             DemoScene::Grass => "grass",
+            DemoScene::Hillside => "hillside",
         }
     }
 }
@@ -77,6 +84,7 @@ fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
     match options.scene {
         DemoScene::Forest => forest(options.seed, density, paint),
         DemoScene::Grass => grass(options.seed, density, paint),
+        DemoScene::Hillside => hillside::hillside(options.seed, density, paint),
     }
 }
 
@@ -151,6 +159,14 @@ fn instance_vertices(options: &DemoOptions) -> u64 {
         DemoScene::Grass => {
             let side = grass_side(d) as u64;
             v(0) + side * side * v(1).max(v(2)) + n(60.0) * v(3)
+        }
+        // Terrain, meadow patches, trees (trunk and canopy), rocks.
+        DemoScene::Hillside => {
+            let side = hillside::meadow_side(d) as u64;
+            v(0) + side * side * v(1)
+                + n(hillside::TREES) * (v(2) + v(3))
+                + n(hillside::ROCKS) * v(4)
+                + n(hillside::TUFTS) * v(5)
         }
     }
 }
@@ -1016,7 +1032,7 @@ mod tests {
 
     #[test]
     fn demo_scenes_validate_and_are_deterministic() {
-        for scene in DemoScene::ALL {
+        for scene in DemoScene::ALL.into_iter().chain([DemoScene::Hillside]) {
             let o = DemoOptions {
                 scene,
                 seed: 7,
@@ -1047,6 +1063,18 @@ mod tests {
             ));
         }
         assert!(check_density(&o(DemoScene::Grass, 1.0)).is_ok());
+        // The hillside's vertex count is estimated without placing instances: the estimate
+        // must count what the built scene holds, and density 1 fits.
+        assert!(check_density(&o(DemoScene::Hillside, 1.0)).is_ok());
+        let (hill, _) = build(&o(DemoScene::Hillside, 1.0));
+        let placed: u64 = hill
+            .batches
+            .iter()
+            .map(|b| {
+                b.instances.len() as u64 * hill.meshes[b.mesh.0 as usize].positions.len() as u64
+            })
+            .sum();
+        assert_eq!(instance_vertices(&o(DemoScene::Hillside, 1.0)), placed);
         // An absurd density is refused by the vertex bound alone, without placing its
         // instances; the largest density that fits is given, and it does fit.
         match check_density(&o(DemoScene::Grass, 1e6)) {

@@ -37,6 +37,9 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
+    /// HFW-like foliage from a rise: a meadow of grass blades and a valley of tree
+    /// canopies, triangles of a few pixels at 4K (not part of `all`).
+    Hillside,
     /// HZD's static city (`--instances` of them) through the GPU static query, with
     /// foliage batches along the streets.
     City,
@@ -538,6 +541,7 @@ impl Args {
         match self.scene {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
+            SceneArg::Hillside => &[DemoScene::Hillside],
             SceneArg::City => &[],
             SceneArg::All => &DemoScene::ALL,
         }
