@@ -10,6 +10,7 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::PRIMITIVE_INDEX)
     .union(wgpu::Features::SHADER_PER_VERTEX)
     .union(wgpu::Features::SHADER_BARYCENTRICS)
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
     .union(wgpu::Features::TIMESTAMP_QUERY)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::SHADER_F16)

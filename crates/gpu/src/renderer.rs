@@ -214,6 +214,17 @@ pub struct RendererConfig {
     /// fixed-point edge functions still fit 32 bits). Default
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
     pub compute_laydown_max_extent: f32,
+    /// HFW's mixed frame on [`RenderPath::Deferred`]: batches of
+    /// [`Material::regular`](crate::Material::regular) materials (the demo scenes' terrain
+    /// and rocks) leave the vis buffer and are drawn by a regular geometry pass after the
+    /// laydown, which writes the G-buffer from a fragment shader and clears those pixels'
+    /// bits in the classification's validity bitmask (the talk's stencil bit), so only
+    /// pixels still valid are classified and resolved. Mid classify is recorded before
+    /// that pass (its counts conservative), classify output after it. Needs
+    /// `Features::SHADER_EARLY_DEPTH_TEST` (the pass's depth test must run before its
+    /// shader clears a bit). Off (the default): today's all-vis-buffer frame. Other paths
+    /// are unchanged either way.
+    pub mixed_frame: bool,
 }
 
 impl RendererConfig {
@@ -285,6 +296,7 @@ impl Default for RendererConfig {
             conditional_volumes: true,
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
+            mixed_frame: false,
         }
     }
 }
@@ -530,6 +542,16 @@ impl Renderer {
         if !config.subgroups {
             paths.subgroup_size = None;
         }
+        if config.mixed_frame
+            && !device
+                .features()
+                .contains(passes::regular::REGULAR_FEATURES)
+        {
+            return Err(Error::MissingFeature {
+                feature: "SHADER_EARLY_DEPTH_TEST",
+                needed_by: "RendererConfig::mixed_frame (the regular geometry pass)",
+            });
+        }
         // The commands are built for the widest subgroup the device may run; lavapipe: 8.
         let wave_width = paths
             .subgroup_size
@@ -580,6 +602,7 @@ impl Renderer {
                 conditional,
                 compute_laydown,
                 config.compute_laydown_max_extent,
+                config.mixed_frame,
             )?;
             let conditional = pipelines
                 .conditional

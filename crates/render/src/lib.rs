@@ -227,6 +227,12 @@ pub struct Args {
     /// No baked sun term (KZ2's pre-rendered sun shadow): every pixel runs the sun's shader.
     #[arg(long)]
     pub no_baked_sun: bool,
+    /// HFW's mixed frame on the deferred path: terrain and rocks (regular materials) skip
+    /// the vis buffer and are drawn by a regular geometry pass after the laydown, which
+    /// clears their pixels' validity bits before classify output (needs the device feature
+    /// SHADER_EARLY_DEPTH_TEST).
+    #[arg(long)]
+    pub mixed_frame: bool,
     /// Render every shadow slice every frame (no reuse of a slice whose stable matrix did
     /// not move: with a still camera the cache skips them all).
     #[arg(long)]
@@ -688,6 +694,7 @@ pub fn run(args: &Args) -> Result<()> {
             LaydownArg::Compute => gpu::Laydown::Compute,
         },
         compute_laydown_max_extent: args.laydown_max_extent,
+        mixed_frame: args.mixed_frame,
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.

@@ -15,6 +15,7 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | regular geometry | [`regular`] | HFW's mixed frame: regular materials' G-buffer pass after the laydown, clearing validity bits |
 //! | light volume tests | [`light_volumes`], [`conditional`] | KZ2's conditional rendering emulated: shadowed volume lights' pixel counts -> indirect draws of their spot maps and shading |
 //! | light volumes | [`light_volumes`] | KZ2's stencil light volumes (large lights) -> light accumulation |
 //! | light tiles | [`lights`] | depth target -> per-tile depth ranges -> per-tile light lists (`deferred`'s culling pass) |
@@ -40,6 +41,7 @@ pub(crate) mod light_volumes;
 pub(crate) mod lighting;
 pub(crate) mod lights;
 pub(crate) mod query;
+pub(crate) mod regular;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
 pub(crate) mod vis_copy;
@@ -102,6 +104,7 @@ pub(crate) fn stage_counts() -> StageCounts {
     for counts in [
         laydown::pass(PrimitiveIdPath::Builtin).stage_counts(),
         baseline::BASELINE.stage_counts(),
+        regular::REGULAR.stage_counts(),
         vis_copy::VIS_COPY.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN_HYBRID.stage_counts(),
@@ -136,6 +139,9 @@ pub(crate) struct Pipelines {
     pub classify: classify::Classify,
     pub resolve: resolve::Resolve,
     pub baseline: baseline::Baseline,
+    /// HFW's mixed frame's regular geometry pass, with
+    /// [`RendererConfig::mixed_frame`](crate::RendererConfig).
+    pub regular: Option<regular::Regular>,
     pub lighting: lighting::Lighting,
     pub lights: lights::LocalLights,
     /// With a light path that has volumes.
@@ -150,7 +156,7 @@ impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
     /// width), `light_paths`, the G-buffer layout and whether KZ2's conditional rendering
     /// is emulated (`conditional`: asked for and possible), and with `compute_laydown` the
-    /// compute laydown's.
+    /// compute laydown's, and with `mixed` the mixed frame's regular geometry pass.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         device: &wgpu::Device,
@@ -162,6 +168,7 @@ impl Pipelines {
         conditional: bool,
         compute_laydown: bool,
         compute_laydown_max_extent: f32,
+        mixed: bool,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
@@ -178,6 +185,9 @@ impl Pipelines {
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
             baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
+            regular: mixed
+                .then(|| regular::Regular::new(device, gbuffer))
+                .transpose()?,
             lighting: lighting::Lighting::new(
                 device,
                 light_paths,
@@ -251,7 +261,9 @@ pub(crate) struct FrameContext<'a> {
 /// What a command buffer records.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Recording {
-    /// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting.
+    /// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting
+    /// (the mixed frame: the regular geometry pass between mid classify and classify
+    /// output).
     Deferred,
     /// Diagnostic: laydown, the resolve of every pixel (no classification), lighting.
     DeferredFullScreen,
@@ -339,7 +351,13 @@ impl Pipelines {
                 // After either laydown (the compute one's hardware part draws into the
                 // vis texture last).
                 self.vis_copy.record(e, f, timer);
-                self.classify.record(e, f, timer);
+                // The talk's order: mid classify is recorded before the geometry pass (its
+                // counts conservative), classify output after it (the final validity).
+                self.classify.record_mid(e, f, timer);
+                if let Some(r) = &self.regular {
+                    r.record(e, f, timer);
+                }
+                self.classify.record_output(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }
             Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),

@@ -121,6 +121,10 @@ pub struct PreparedScene {
     /// The batch instances' bounds, origin-relative (`None` without instances).
     pub(crate) bounds: Option<(Vec3, Vec3)>,
     pub(crate) baseline: wgpu::BindGroup,
+    /// The mixed frame's regular geometry pass's groups (`Some` exactly in a renderer with
+    /// [`RendererConfig::mixed_frame`](crate::RendererConfig): the laydown then leaves
+    /// out the regular draws).
+    pub(crate) regular: Option<crate::passes::regular::Groups>,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
     /// The instance table (planned instances, then the static setups' reserved slots).
@@ -516,7 +520,13 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             (sizes, config),
             &c.targets.vis_words,
             &index_buffer,
+            p.regular.is_some(),
         )?;
+        let regular = p
+            .regular
+            .as_ref()
+            .map(|r| r.groups(device, &scene_group, classification.validity()))
+            .transpose()?;
         let resolve = p.resolve.groups(
             device,
             &scene_group,
@@ -583,7 +593,14 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         };
         let compute_laydown = match (&p.compute_laydown, &c.targets.vis64) {
             (Some(cl), Some(target)) => {
-                cl.groups(device, &scene_group, &plan.draws, &index_buffer, target)?
+                // The mixed frame's laydown leaves the regular draws to their own pass.
+                let draws: Vec<Draw> = plan
+                    .draws
+                    .iter()
+                    .filter(|d| !(regular.is_some() && d.regular))
+                    .copied()
+                    .collect();
+                cl.groups(device, &scene_group, &draws, &index_buffer, target)?
             }
             _ => None,
         };
@@ -617,6 +634,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 })
                 .collect::<Result<_>>()?,
             baseline: p.baseline.group(device, &scene_group)?,
+            regular,
             classification,
             resolve,
             draws: plan.draws,
