@@ -42,6 +42,12 @@ pub enum RenderPath {
     Baseline,
     /// Diagnostic: laydown, then a full-screen resolve of every pixel (no classification).
     DeferredFullScreen,
+    /// Seed 004's geometry pipeline: the baseline's depth prepass, then a depth-equal pass
+    /// whose vertex stage writes only positions and whose fragment stage pulls its
+    /// triangle's vertices by the primitive ID (the laydown's primitive-ID path) and
+    /// interpolates them with hardware barycentrics (`SHADER_BARYCENTRICS`) or, without
+    /// them, the pixel's camera ray against the triangle (`visbuf::ray`). Single-sample.
+    PixelPull,
 }
 
 impl RenderPath {
@@ -51,6 +57,7 @@ impl RenderPath {
             RenderPath::Deferred => "deferred",
             RenderPath::Baseline => "baseline",
             RenderPath::DeferredFullScreen => "deferred-fullscreen",
+            RenderPath::PixelPull => "pixel-pull",
         }
     }
 }
@@ -1848,6 +1855,31 @@ impl Renderer {
         })?;
         let _ = self.timer.read(&self.device, &self.queue)?;
         self.read_classification(scene)
+    }
+
+    /// Overwrites `scene`'s primitive-ID payloads (one word per vertex of its encoded
+    /// geometry, any values) until it is prepared again: how tests feed corrupt primitive
+    /// IDs to the passes that read them (the laydown's payload paths, the pixel-pull
+    /// path), which must never read out of bounds.
+    ///
+    /// # Errors
+    /// `words` is not one per vertex ([`Error::Length`]), or a scene prepared by another
+    /// renderer.
+    #[doc(hidden)]
+    pub fn write_payloads(&self, scene: &PreparedScene, words: &[u32]) -> Result<()> {
+        self.check_scene(scene)?;
+        let buffer = scene.payloads();
+        let expected = (buffer.size() / 4) as usize;
+        if words.len() != expected {
+            return Err(Error::Length {
+                what: "payloads (one per vertex)",
+                got: words.len(),
+                expected,
+            });
+        }
+        self.queue
+            .write_buffer(buffer, 0, bytemuck::cast_slice(words));
+        Ok(())
     }
 
     /// The talk's counters for a read-back classification: runs `tiling`'s CPU twin on the

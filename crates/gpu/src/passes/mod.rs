@@ -15,6 +15,7 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | pixel pull | [`pixel_pull`] | seed 004's depth-equal pass: position-only vertex stage, vertices pulled in the fragment stage -> G-buffer |
 //! | regular geometry | [`regular`] | HFW's mixed frame: regular materials' G-buffer pass after the laydown, clearing validity bits |
 //! | light volume tests | [`light_volumes`], [`conditional`] | KZ2's conditional rendering emulated: shadowed volume lights' pixel counts -> indirect draws of their spot maps and shading |
 //! | light volumes | [`light_volumes`] | KZ2's stencil light volumes (large lights) -> light accumulation |
@@ -40,6 +41,7 @@ pub(crate) mod laydown;
 pub(crate) mod light_volumes;
 pub(crate) mod lighting;
 pub(crate) mod lights;
+pub(crate) mod pixel_pull;
 pub(crate) mod query;
 pub(crate) mod regular;
 pub(crate) mod resolve;
@@ -73,6 +75,7 @@ gpu_modules!(
     COMPUTE_LAYDOWN_HYBRID = "compute_laydown_hybrid",
     LAYDOWN_TARGET = "laydown_target",
     BASELINE = "baseline",
+    PIXEL_PULL = "pixel_pull",
     GBUFFER_STORE = "gbuffer_store",
     GBUFFER_LOAD = "gbuffer_load",
     GBUFFER_FRAGMENT = "gbuffer_fragment",
@@ -105,6 +108,7 @@ pub(crate) fn stage_counts() -> StageCounts {
         laydown::pass(PrimitiveIdPath::Builtin).stage_counts(),
         baseline::BASELINE.stage_counts(),
         regular::REGULAR.stage_counts(),
+        pixel_pull::PIXEL_PULL.stage_counts(),
         vis_copy::VIS_COPY.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN_HYBRID.stage_counts(),
@@ -142,6 +146,7 @@ pub(crate) struct Pipelines {
     /// HFW's mixed frame's regular geometry pass, with
     /// [`RendererConfig::mixed_frame`](crate::RendererConfig).
     pub regular: Option<regular::Regular>,
+    pub pixel_pull: pixel_pull::PixelPull,
     pub lighting: lighting::Lighting,
     pub lights: lights::LocalLights,
     /// With a light path that has volumes.
@@ -185,6 +190,12 @@ impl Pipelines {
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
             baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
+            pixel_pull: pixel_pull::PixelPull::new(
+                device,
+                gbuffer,
+                paths.primitive_id,
+                paths.barycentrics,
+            )?,
             regular: mixed
                 .then(|| regular::Regular::new(device, gbuffer))
                 .transpose()?,
@@ -270,6 +281,9 @@ pub(crate) enum Recording {
     /// HZD's frame on the same scene: depth prepass with alpha test, depth-equal
     /// geometry pass into the G-buffer, lighting.
     Baseline,
+    /// Seed 004's frame: depth prepass with alpha test, depth-equal pass pulling vertices
+    /// in the fragment stage into the G-buffer, lighting.
+    PixelPull,
     /// The laydown alone (tests read the vis and depth buffers after it).
     Laydown,
     /// The classification alone, over whatever the vis words hold (how tests feed random
@@ -284,6 +298,7 @@ impl Recording {
             crate::RenderPath::Deferred => Recording::Deferred,
             crate::RenderPath::Baseline => Recording::Baseline,
             crate::RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
+            crate::RenderPath::PixelPull => Recording::PixelPull,
         }
     }
 
@@ -291,7 +306,10 @@ impl Recording {
     pub(crate) fn lights(self) -> bool {
         matches!(
             self,
-            Recording::Deferred | Recording::DeferredFullScreen | Recording::Baseline
+            Recording::Deferred
+                | Recording::DeferredFullScreen
+                | Recording::Baseline
+                | Recording::PixelPull
         )
     }
 }
@@ -332,7 +350,9 @@ impl Pipelines {
                     self.laydown.record_vis(e, f, timer, late);
                 }
             }
-            Recording::Baseline => self.laydown.record_depth(e, f, timer, late),
+            Recording::Baseline | Recording::PixelPull => {
+                self.laydown.record_depth(e, f, timer, late);
+            }
             Recording::Classification => {}
         }
     }
@@ -362,6 +382,7 @@ impl Pipelines {
             }
             Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),
             Recording::Baseline => self.baseline.record(e, f, timer),
+            Recording::PixelPull => self.pixel_pull.record(e, f, timer),
             Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),
         }

@@ -125,6 +125,8 @@ pub struct PreparedScene {
     /// [`RendererConfig::mixed_frame`](crate::RendererConfig): the laydown then leaves
     /// out the regular draws).
     pub(crate) regular: Option<crate::passes::regular::Groups>,
+    /// The pixel-pull pass's groups.
+    pub(crate) pixel_pull: crate::passes::pixel_pull::Groups,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
     /// The instance table (planned instances, then the static setups' reserved slots).
@@ -164,6 +166,18 @@ impl PreparedScene {
     /// the scene does not have.
     pub fn instance_order(&self, batch: usize) -> Option<&[u32]> {
         self.instance_order.get(batch).map(Vec::as_slice)
+    }
+
+    /// The primitive-ID payloads, one word per vertex (`_kept[1]`).
+    pub(crate) fn payloads(&self) -> &wgpu::Buffer {
+        &self._kept[1]
+    }
+
+    /// Words of the primitive-ID payloads (one per vertex of the encoded geometry; what
+    /// [`Renderer::write_payloads`](crate::Renderer::write_payloads) takes).
+    #[doc(hidden)]
+    pub fn payload_count(&self) -> usize {
+        (self.payloads().size() / 4) as usize
     }
 }
 
@@ -527,6 +541,11 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             .as_ref()
             .map(|r| r.groups(device, &scene_group, classification.validity()))
             .transpose()?;
+        let pixel_pull = p.pixel_pull.groups(
+            device,
+            &scene_group,
+            [&payloads, &index_buffer, &meshes, &micro_batches],
+        )?;
         let resolve = p.resolve.groups(
             device,
             &scene_group,
@@ -635,6 +654,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 .collect::<Result<_>>()?,
             baseline: p.baseline.group(device, &scene_group)?,
             regular,
+            pixel_pull,
             classification,
             resolve,
             draws: plan.draws,
