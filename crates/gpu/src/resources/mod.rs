@@ -539,7 +539,14 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         let regular = p
             .regular
             .as_ref()
-            .map(|r| r.groups(device, &scene_group, classification.validity()))
+            .map(|r| {
+                r.groups(
+                    device,
+                    &scene_group,
+                    classification.validity(),
+                    &c.targets.vis_words,
+                )
+            })
             .transpose()?;
         let pixel_pull = p.pixel_pull.groups(
             device,
