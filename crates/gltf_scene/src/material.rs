@@ -303,6 +303,7 @@ pub(crate) fn import(
             alpha_cutoff,
             roughness: roughness.clamp(0.0, 1.0),
             specular: SPECULAR,
+            regular: false,
         },
         texture: texture.map(|t| t.texture().source().index()),
         metallic_roughness_texture: pbr

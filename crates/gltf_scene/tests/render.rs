@@ -150,6 +150,7 @@ fn reference() -> gpu::Scene {
                 alpha_cutoff: 0.5,
                 roughness: 0.9,
                 specular: 1.0,
+                regular: false,
             },
             Material {
                 name: String::new(),
@@ -159,6 +160,7 @@ fn reference() -> gpu::Scene {
                 alpha_cutoff: 0.5,
                 roughness: 0.6,
                 specular: 1.0,
+                regular: false,
             },
         ],
         albedo_layers: vec![

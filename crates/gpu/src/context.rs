@@ -10,6 +10,7 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::SUBGROUP
     .union(wgpu::Features::PRIMITIVE_INDEX)
     .union(wgpu::Features::SHADER_PER_VERTEX)
     .union(wgpu::Features::SHADER_BARYCENTRICS)
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
     .union(wgpu::Features::TIMESTAMP_QUERY)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::SHADER_F16)
@@ -98,6 +99,10 @@ pub struct ActivePaths {
     /// 64-bit storage-buffer atomics (`SHADER_INT64` and `SHADER_INT64_ATOMIC_MIN_MAX`):
     /// the compute laydown can run ([`Laydown::Compute`](crate::Laydown)).
     pub int64_atomics: bool,
+    /// Hardware barycentrics in fragment shaders (`SHADER_BARYCENTRICS`): the pixel-pull
+    /// path ([`RenderPath::PixelPull`](crate::RenderPath)) reads them; without, it traces
+    /// the pixel's camera ray against its triangle.
+    pub barycentrics: bool,
 }
 
 impl ActivePaths {
@@ -114,6 +119,7 @@ impl ActivePaths {
             ),
             f16: features.contains(wgpu::Features::SHADER_F16),
             int64_atomics: features.contains(crate::COMPUTE_LAYDOWN_FEATURES),
+            barycentrics: features.contains(wgpu::Features::SHADER_BARYCENTRICS),
         }
     }
 }

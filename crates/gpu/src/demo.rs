@@ -5,6 +5,9 @@
 //!
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
+//! The terrain's and the rocks' materials are [`Material::regular`]: HFW's mixed frame
+//! ([`RendererConfig::mixed_frame`](crate::RendererConfig)) draws them in its regular
+//! geometry pass instead of the vis buffer.
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
@@ -787,7 +790,13 @@ fn material(name: &str, shader: ShaderKind, layer: u32, roughness: f32) -> Mater
         alpha_cutoff: 0.5,
         roughness,
         specular: 0.3,
+        regular: false,
     }
+}
+
+/// `m` drawn by the mixed frame's regular geometry pass (terrain and rocks, as in HFW).
+fn regular(m: Material) -> Material {
+    Material { regular: true, ..m }
 }
 
 fn place(x: f32, z: f32, seed: u32, rng: &mut Rng, scale: f32) -> Affine3A {
@@ -830,12 +839,12 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
         Vec::new()
     };
     let materials = vec![
-        material("ground", ShaderKind::Opaque, 0, 0.9),
+        regular(material("ground", ShaderKind::Opaque, 0, 0.9)),
         material("bark", ShaderKind::Opaque, 1, 0.8),
         material("leaves", ShaderKind::AlphaTested, 2, 0.6),
         material("fern", ShaderKind::AlphaTested, 3, 0.6),
         material("grass", ShaderKind::AlphaTested, 4, 0.7),
-        material("rock", ShaderKind::Opaque, 5, 0.7),
+        regular(material("rock", ShaderKind::Opaque, 5, 0.7)),
         Material {
             tint: Vec3::new(1.15, 1.05, 0.8),
             ..material("leaves (autumn)", ShaderKind::AlphaTested, 2, 0.6)
@@ -952,13 +961,13 @@ fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
         Vec::new()
     };
     let materials = vec![
-        material("ground", ShaderKind::Opaque, 0, 0.9),
+        regular(material("ground", ShaderKind::Opaque, 0, 0.9)),
         material("tall grass", ShaderKind::AlphaTested, 1, 0.6),
         Material {
             tint: Vec3::new(1.2, 1.1, 0.75),
             ..material("dry grass", ShaderKind::AlphaTested, 1, 0.6)
         },
-        material("rock", ShaderKind::Opaque, 2, 0.7),
+        regular(material("rock", ShaderKind::Opaque, 2, 0.7)),
     ];
     let camera = Camera::look_at(
         Vec3::new(0.0, terrain_height(0.0, -40.0, tseed) + 1.3, -40.0),

@@ -187,6 +187,15 @@ pub enum SceneError {
     Tiling(String),
     /// A primitive-ID encoder refused a mesh.
     Encoding(String),
+    /// A material drawn by the mixed frame's regular geometry pass
+    /// ([`Material::regular`](crate::Material::regular)) that is not
+    /// [`ShaderKind::Opaque`](crate::ShaderKind::Opaque): that pass tests depth before its
+    /// fragment shader runs (it clears the validity bit as a side effect), so it cannot
+    /// discard.
+    RegularNotOpaque {
+        /// The material's name.
+        material: String,
+    },
     /// A value outside its allowed range (NaN and infinities included).
     OutOfRange {
         /// Which value (`material \`bark\`: roughness`).
@@ -331,6 +340,11 @@ impl fmt::Display for SceneError {
                     "mesh `{mesh}` has {indices} indices, not a multiple of 3"
                 )
             }
+            SceneError::RegularNotOpaque { material } => write!(
+                f,
+                "material `{material}`: `regular` needs ShaderKind::Opaque (the regular \
+                 geometry pass tests depth before shading and cannot discard)"
+            ),
             SceneError::IndexOutOfRange {
                 mesh,
                 at,

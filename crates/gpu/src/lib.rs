@@ -47,6 +47,7 @@
 //!         alpha_cutoff: 0.5,
 //!         roughness: 0.6,
 //!         specular: 0.5,
+//!         regular: false,
 //!     }],
 //!     albedo_layers: vec![AlbedoLayer {
 //!         size: 2,

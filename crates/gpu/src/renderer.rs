@@ -43,6 +43,12 @@ pub enum RenderPath {
     Baseline,
     /// Diagnostic: laydown, then a full-screen resolve of every pixel (no classification).
     DeferredFullScreen,
+    /// Seed 004's geometry pipeline: the baseline's depth prepass, then a depth-equal pass
+    /// whose vertex stage writes only positions and whose fragment stage pulls its
+    /// triangle's vertices by the primitive ID (the laydown's primitive-ID path) and
+    /// interpolates them with hardware barycentrics (`SHADER_BARYCENTRICS`) or, without
+    /// them, the pixel's camera ray against the triangle (`visbuf::ray`). Single-sample.
+    PixelPull,
 }
 
 impl RenderPath {
@@ -52,6 +58,7 @@ impl RenderPath {
             RenderPath::Deferred => "deferred",
             RenderPath::Baseline => "baseline",
             RenderPath::DeferredFullScreen => "deferred-fullscreen",
+            RenderPath::PixelPull => "pixel-pull",
         }
     }
 }
@@ -219,6 +226,17 @@ pub struct RendererConfig {
     /// `None` picks [`LaydownTarget::best_for`] the device: the storage buffer (measured
     /// faster than the `r64uint` texture on the H200).
     pub compute_laydown_target: Option<LaydownTarget>,
+    /// HFW's mixed frame on [`RenderPath::Deferred`]: batches of
+    /// [`Material::regular`](crate::Material::regular) materials (the demo scenes' terrain
+    /// and rocks) leave the vis buffer and are drawn by a regular geometry pass after the
+    /// laydown, which writes the G-buffer from a fragment shader and clears those pixels'
+    /// bits in the classification's validity bitmask (the talk's stencil bit), so only
+    /// pixels still valid are classified and resolved. Mid classify is recorded before
+    /// that pass (its counts conservative), classify output after it. Needs
+    /// `Features::SHADER_EARLY_DEPTH_TEST` (the pass's depth test must run before its
+    /// shader clears a bit). Off (the default): today's all-vis-buffer frame. Other paths
+    /// are unchanged either way.
+    pub mixed_frame: bool,
 }
 
 impl RendererConfig {
@@ -291,6 +309,7 @@ impl Default for RendererConfig {
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
             compute_laydown_target: None,
+            mixed_frame: false,
         }
     }
 }
@@ -549,6 +568,16 @@ impl Renderer {
             Some(t) => Some(t),
             None => LaydownTarget::best_for(device.features()),
         };
+        if config.mixed_frame
+            && !device
+                .features()
+                .contains(passes::regular::REGULAR_FEATURES)
+        {
+            return Err(Error::MissingFeature {
+                feature: "SHADER_EARLY_DEPTH_TEST",
+                needed_by: "RendererConfig::mixed_frame (the regular geometry pass)",
+            });
+        }
         // The commands are built for the widest subgroup the device may run; lavapipe: 8.
         let wave_width = paths
             .subgroup_size
@@ -601,6 +630,7 @@ impl Renderer {
                 conditional,
                 compute_laydown,
                 config.compute_laydown_max_extent,
+                config.mixed_frame,
             )?;
             let conditional = pipelines
                 .conditional
@@ -1857,6 +1887,31 @@ impl Renderer {
         })?;
         let _ = self.timer.read(&self.device, &self.queue)?;
         self.read_classification(scene)
+    }
+
+    /// Overwrites `scene`'s primitive-ID payloads (one word per vertex of its encoded
+    /// geometry, any values) until it is prepared again: how tests feed corrupt primitive
+    /// IDs to the passes that read them (the laydown's payload paths, the pixel-pull
+    /// path), which must never read out of bounds.
+    ///
+    /// # Errors
+    /// `words` is not one per vertex ([`Error::Length`]), or a scene prepared by another
+    /// renderer.
+    #[doc(hidden)]
+    pub fn write_payloads(&self, scene: &PreparedScene, words: &[u32]) -> Result<()> {
+        self.check_scene(scene)?;
+        let buffer = scene.payloads();
+        let expected = (buffer.size() / 4) as usize;
+        if words.len() != expected {
+            return Err(Error::Length {
+                what: "payloads (one per vertex)",
+                got: words.len(),
+                expected,
+            });
+        }
+        self.queue
+            .write_buffer(buffer, 0, bytemuck::cast_slice(words));
+        Ok(())
     }
 
     /// The talk's counters for a read-back classification: runs `tiling`'s CPU twin on the

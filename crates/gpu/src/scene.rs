@@ -156,6 +156,14 @@ pub struct Material {
     pub roughness: f32,
     /// Specular intensity in [0, 1].
     pub specular: f32,
+    /// HFW's mixed frame ([`RendererConfig::mixed_frame`](crate::RendererConfig)): batches
+    /// of this material skip the vis buffer and are drawn by the regular geometry pass
+    /// after the laydown, which writes the G-buffer from a fragment shader and clears the
+    /// pixels' validity bits (the talk's stencil bit), so the classification leaves those
+    /// pixels to it. Terrain and rocks in the demo scenes. Opaque materials only
+    /// ([`SceneError::RegularNotOpaque`](crate::SceneError)). Every other path, and the
+    /// static query's draws, ignore it.
+    pub regular: bool,
 }
 
 /// Checks that `value` lies in `[lo, hi]` (NaN never does).
@@ -264,6 +272,11 @@ impl Scene {
                     material: m.name.clone(),
                     layer: m.albedo_layer,
                     layers: self.albedo_layers.len(),
+                });
+            }
+            if m.regular && m.shader != ShaderKind::Opaque {
+                return Err(SceneError::RegularNotOpaque {
+                    material: m.name.clone(),
                 });
             }
             let field = |f: &'static str| move || format!("material `{}`: {f}", m.name);

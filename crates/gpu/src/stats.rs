@@ -73,6 +73,10 @@ pub struct GpuClassification {
     pub output_stats: PixelStats,
     /// The vis words the passes read (row-major).
     pub vis: Vec<u32>,
+    /// The mixed frame's validity bitmask as classify output read it (bit `i % 32` of
+    /// word `i / 32` for pixel `i`; laydown finalize and mid classify saw every bit set);
+    /// `None` outside the mixed frame.
+    pub validity: Option<Vec<u32>>,
 }
 
 impl GpuClassification {
@@ -151,6 +155,11 @@ impl GpuClassification {
             )?),
             output_stats: stats(&b.stats_out)?,
             vis: words(vis_words, s.width * s.height)?,
+            validity: if b.has_validity() {
+                Some(words(b.validity(), (s.width * s.height).div_ceil(32))?)
+            } else {
+                None
+            },
         })
     }
 
@@ -200,8 +209,25 @@ pub(crate) fn classification_statistics(
     let vis =
         tiling::VisBuffer::new(&gpu.vis, s.width, s.height, VisLayout::Standard).map_err(err)?;
     let config = b.config;
-    let cpu =
-        tiling::classify_phases(&vis, &t.table, &scene.geometry.indices, &config).map_err(err)?;
+    let (cpu, vis) = match &gpu.validity {
+        None => (
+            tiling::classify_phases(&vis, &t.table, &scene.geometry.indices, &config)
+                .map_err(err)?,
+            vis,
+        ),
+        // The mixed frame: laydown finalize and mid classify ran with every validity bit
+        // set (before the regular geometry pass), classify output with the final mask.
+        Some(mask) => {
+            let (masks, _) = tiling::laydown_finalize(&vis, &t.table, &config).map_err(err)?;
+            let mid =
+                tiling::mid_classify(&vis, &t.table, &scene.geometry.indices, &config, &masks)
+                    .map_err(err)?;
+            let fin = vis.with_validity(mask).map_err(err)?;
+            let output =
+                tiling::classify_output(&fin, &t.table, &config, &masks, &mid).map_err(err)?;
+            (Classification { masks, mid, output }, fin)
+        }
+    };
     let mismatch = gpu.mismatch(&cpu);
     let vertex = tiling::vertex_wave_commands(
         &cpu.mid.vertex_cull,

@@ -35,6 +35,7 @@ fn test_scene() -> (Scene, FrameInput) {
         alpha_cutoff: 0.5,
         roughness: 0.5,
         specular: 0.5,
+        regular: false,
     };
     let mut rocks = Vec::new();
     for i in 0..40 {
@@ -400,6 +401,7 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         alpha_cutoff: 0.5,
         roughness: 0.5,
         specular: 0.5,
+        regular: false,
     };
     let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
         density: 0.01,

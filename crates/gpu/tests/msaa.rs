@@ -48,6 +48,7 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
             alpha_cutoff: 0.5,
             roughness: 1.0,
             specular: 0.0,
+            regular: false,
         }],
         albedo_layers: vec![AlbedoLayer {
             size: 4,

@@ -128,6 +128,7 @@ fn scene(statics: bool, layout: Layout) -> Scene {
             alpha_cutoff: 0.5,
             roughness: 0.8,
             specular: 0.3,
+            regular: false,
         }],
         albedo_layers: vec![AlbedoLayer {
             size: 4,

@@ -56,6 +56,30 @@ pub enum PathArg {
     Baseline,
     /// Both, on the same scene, with an image comparison.
     Both,
+    /// Seed 004's geometry pipeline: the depth prepass, then a depth-equal pass with a
+    /// position-only vertex shader whose pixel shader pulls the triangle's vertices by the
+    /// primitive ID (hardware barycentrics, or the ray-triangle fallback).
+    PixelPull,
+    /// All three (deferred, baseline, pixel pull) on the same scene, each compared with
+    /// the baseline's image.
+    All,
+}
+
+impl PathArg {
+    /// The paths rendered, in order.
+    pub fn paths(self) -> &'static [RenderPath] {
+        match self {
+            PathArg::Deferred => &[RenderPath::Deferred],
+            PathArg::Baseline => &[RenderPath::Baseline],
+            PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
+            PathArg::PixelPull => &[RenderPath::PixelPull],
+            PathArg::All => &[
+                RenderPath::Deferred,
+                RenderPath::Baseline,
+                RenderPath::PixelPull,
+            ],
+        }
+    }
 }
 
 /// `--occlusion`: where the city's static query gets its HiZ.
@@ -213,6 +237,10 @@ pub struct Args {
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
     pub no_subgroups: bool,
+    /// Leave the device's hardware barycentrics off: the pixel-pull path traces the
+    /// pixel's ray against its triangle (its fallback) even where the adapter has them.
+    #[arg(long)]
+    pub no_barycentrics: bool,
     /// Skip writing the debug views.
     #[arg(long)]
     pub no_debug_views: bool,
@@ -244,6 +272,12 @@ pub struct Args {
     /// No baked sun term (KZ2's pre-rendered sun shadow): every pixel runs the sun's shader.
     #[arg(long)]
     pub no_baked_sun: bool,
+    /// HFW's mixed frame on the deferred path: terrain and rocks (regular materials) skip
+    /// the vis buffer and are drawn by a regular geometry pass after the laydown, which
+    /// clears their pixels' validity bits before classify output (needs the device feature
+    /// SHADER_EARLY_DEPTH_TEST).
+    #[arg(long)]
+    pub mixed_frame: bool,
     /// Render every shadow slice every frame (no reuse of a slice whose stable matrix did
     /// not move: with a still camera the cache skips them all).
     #[arg(long)]
@@ -658,6 +692,9 @@ pub fn run(args: &Args) -> Result<()> {
     if args.no_subgroups {
         disable |= wgpu::Features::SUBGROUP;
     }
+    if args.no_barycentrics {
+        disable |= wgpu::Features::SHADER_BARYCENTRICS;
+    }
     let ctx = gpu::headless(&HeadlessOptions {
         disable_features: disable,
         indirect_validation: args.indirect_validation,
@@ -711,6 +748,7 @@ pub fn run(args: &Args) -> Result<()> {
             LaydownTargetArg::Buffer => Some(gpu::LaydownTarget::Buffer),
             LaydownTargetArg::Texture => Some(gpu::LaydownTarget::Texture),
         },
+        mixed_frame: args.mixed_frame,
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -786,9 +824,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             eprintln!("--msaa: the city's static frames render the deferred path only");
             &[RenderPath::Deferred]
         }
-        PathArg::Deferred => &[RenderPath::Deferred],
-        PathArg::Baseline => &[RenderPath::Baseline],
-        PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
+        path => path.paths(),
     };
     let (w, h) = (args.width, args.height);
     let mut desc = gpu::static_view_desc(&frame.camera, w, h);
@@ -884,9 +920,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         }
         images.push(image);
     }
-    if let [deferred, baseline] = images.as_slice() {
-        report.compare(deferred, baseline);
-    }
+    compare_with_baseline(&mut report, paths, &images);
     if args.occlusion != OcclusionArg::Off && !args.no_debug_views {
         let (texels, size) = query.read_hiz(&ctx.device, &ctx.queue)?;
         let file = args.out.join("city_debug_hiz.png");
@@ -1034,11 +1068,7 @@ fn render_scene(
     let prepared = renderer.prepare(scene)?;
     let prepare_ms = t1.elapsed().as_secs_f64() * 1e3;
 
-    let paths: &[RenderPath] = match args.path {
-        PathArg::Deferred => &[RenderPath::Deferred],
-        PathArg::Baseline => &[RenderPath::Baseline],
-        PathArg::Both => &[RenderPath::Deferred, RenderPath::Baseline],
-    };
+    let paths: &[RenderPath] = args.path.paths();
     let mut report = Report::new(ctx, renderer, &prepared);
     report.indirect_validation(args.indirect_validation);
     report.cpu_ms(built.build.0, built.build.1);
@@ -1125,12 +1155,43 @@ fn render_scene(
         }
         images.push(image);
     }
-    if let [deferred, baseline] = images.as_slice() {
-        report.compare(deferred, baseline);
-        let file = args.out.join(format!("{}_diff.png", built.name));
-        gpu::diff_image(deferred, baseline).write_png(&file)?;
-        report.image_named("diff", &file);
+    compare_with_baseline(&mut report, paths, &images);
+    if let Some(b) = paths.iter().position(|&p| p == RenderPath::Baseline) {
+        for (&path, image) in paths.iter().zip(&images) {
+            if path == RenderPath::Baseline {
+                continue;
+            }
+            let file = match path {
+                RenderPath::Deferred => args.out.join(format!("{}_diff.png", built.name)),
+                _ => args
+                    .out
+                    .join(format!("{}_diff_{}.png", built.name, path.name())),
+            };
+            gpu::diff_image(image, &images[b]).write_png(&file)?;
+            report.image_named(&format!("diff, {} vs baseline", path.name()), &file);
+        }
     }
     print!("{report}");
     Ok(())
+}
+
+/// Each rendered path's image against the baseline's (`images[i]` is `paths[i]`'s), where
+/// the baseline was rendered.
+fn compare_with_baseline(report: &mut Report, paths: &[RenderPath], images: &[gpu::Rgba8Image]) {
+    let Some(baseline) = paths
+        .iter()
+        .position(|&p| p == RenderPath::Baseline)
+        .and_then(|b| images.get(b))
+    else {
+        return;
+    };
+    for (&path, image) in paths.iter().zip(images) {
+        if path != RenderPath::Baseline {
+            report.compare(
+                &format!("{} vs baseline image", path.name()),
+                image,
+                baseline,
+            );
+        }
+    }
 }

@@ -27,6 +27,24 @@ impl Report {
         let paths = renderer.paths();
         r.row("adapter", ctx.adapter_line());
         r.row("primitive ID path", paths.primitive_id.name().to_string());
+        r.row(
+            "pixel-pull barycentrics",
+            if paths.barycentrics {
+                "hardware (@builtin(barycentric))"
+            } else {
+                "ray-triangle fallback (visbuf::ray)"
+            }
+            .to_string(),
+        );
+        r.row(
+            "mixed frame (deferred path)",
+            if renderer.config().mixed_frame {
+                "on: terrain and rocks by the regular geometry pass"
+            } else {
+                "off: every batch through the vis buffer"
+            }
+            .to_string(),
+        );
         let c = renderer.config();
         r.row(
             "laydown (deferred paths)",
@@ -443,8 +461,8 @@ impl Report {
         self.images.push((name.to_string(), file.to_path_buf()));
     }
 
-    /// Compares the deferred image with the baseline's.
-    pub fn compare(&mut self, deferred: &Rgba8Image, baseline: &Rgba8Image) {
+    /// Compares a path's image with the baseline's, in a row named `label`.
+    pub fn compare(&mut self, label: &str, deferred: &Rgba8Image, baseline: &Rgba8Image) {
         if let (Some((mean, _)), Some((_, p99))) = (
             diff_metrics(deferred, baseline, 0.5),
             diff_metrics(deferred, baseline, 0.99),
@@ -456,7 +474,7 @@ impl Report {
                 .filter(|(a, b)| a[..3] != b[..3])
                 .count();
             self.row(
-                "deferred vs baseline image",
+                label,
                 format!(
                     "mean abs error {mean:.3} / 255, 99th percentile {p99} / 255, {:.2}% of pixels differ",
                     100.0 * differing as f64 / deferred.pixels.len().max(1) as f64

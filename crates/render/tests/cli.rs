@@ -37,6 +37,9 @@ fn help_lists_the_options() {
         "--no-shadow-cache",
         "--gltf",
         "--camera",
+        "--mixed-frame",
+        "--no-barycentrics",
+        "pixel-pull",
     ] {
         assert!(out.contains(option), "{option} in\n{out}");
     }

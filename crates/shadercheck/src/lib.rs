@@ -48,6 +48,10 @@ impl Caps {
     );
     /// CORE plus `f16` (`Features::SHADER_F16`).
     pub const F16: Caps = Caps(Self::CORE.0.union(Capabilities::SHADER_FLOAT16));
+    /// Core plus `@early_depth_test` (`Features::SHADER_EARLY_DEPTH_TEST`).
+    pub const EARLY_DEPTH_TEST: Caps = Caps(Self::CORE.0.union(Capabilities::EARLY_DEPTH_TEST));
+    /// Core plus `@builtin(barycentric)` (`Features::SHADER_BARYCENTRICS`).
+    pub const BARYCENTRICS: Caps = Caps(Self::CORE.0.union(Capabilities::SHADER_BARYCENTRICS));
     /// Everything naga knows.
     pub const ALL: Caps = Caps(Capabilities::all());
 

@@ -1,7 +1,8 @@
 //! `visbuf`'s WGSL on testkit's device against its CPU functions: vis-ID decode and pack over many
-//! words and every primitive-bit count, barycentrics and derivatives over random triangles.
+//! words and every primitive-bit count, barycentrics and derivatives over random triangles,
+//! the watertight ray-triangle fallback over random rays.
 
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use visbuf::{PrimitiveBits, VisFields, VisId, VisLayout};
 
 use testkit::Rng;
@@ -126,4 +127,83 @@ fn barycentrics_and_derivatives_match_the_cpu() {
         }
     }
     eprintln!("barycentrics: worst GPU/CPU difference {worst:e} (relative)");
+}
+
+#[test]
+fn the_watertight_ray_matches_the_cpu() {
+    let mut rng = Rng::new(0x4a7);
+    let mut input: Vec<u32> = Vec::new();
+    let mut cases = Vec::new();
+    for _ in 0..4096 {
+        let c = Vec3::new(
+            rng.range(-4.0, 4.0),
+            rng.range(-4.0, 4.0),
+            rng.range(-50.0, -1.0),
+        );
+        let tri: [Vec3; 3] = std::array::from_fn(|_| {
+            c + Vec3::new(
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+                rng.range(-2.0, 2.0),
+            )
+        });
+        // Aimed near the triangle: about half hit.
+        let w = Vec3::new(rng.f32(), rng.f32(), rng.f32());
+        let dir = (tri[0] * w.x + tri[1] * w.y + tri[2] * w.z) / (w.x + w.y + w.z)
+            + Vec3::new(rng.range(-0.8, 0.8), rng.range(-0.8, 0.8), 0.0);
+        for v in tri.iter().chain([&dir]) {
+            input.extend(v.to_array().map(f32::to_bits));
+        }
+        cases.push((tri, dir));
+    }
+    let body = "
+    let b = 12u * i;
+    var v: array<vec3<f32>, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        v[k] = bitcast<vec3<f32>>(vec3<u32>(input[b + 3u * k], input[b + 3u * k + 1u], input[b + 3u * k + 2u]));
+    }
+    let h = visbuf_intersect_watertight(vec3<f32>(0.0), v[3], v[0], v[1], v[2]);
+    let o = 5u * i;
+    output[o] = select(0u, 1u, h.hit);
+    output[o + 1u] = bitcast<u32>(h.t);
+    for (var k = 0u; k < 3u; k++) {
+        output[o + 2u + k] = bitcast<u32>(h.barycentrics[k]);
+    }";
+    let out = testkit::device::run_words(
+        &[visbuf::wgsl::MODULES],
+        "#import visbuf::ray",
+        body,
+        &input,
+        cases.len() as u32,
+        5,
+        &[],
+    );
+    let (mut hits, mut worst) = (0, 0.0f32);
+    for (k, (tri, dir)) in cases.iter().enumerate() {
+        let cpu = visbuf::ray::intersect_watertight(Vec3::ZERO, *dir, *tri);
+        let g = &out[5 * k..5 * k + 5];
+        let hit = g[0] == 1;
+        match cpu {
+            Some(h) => {
+                assert!(hit, "case {k}: the CPU hits, the GPU misses");
+                let b = Vec3::new(
+                    f32::from_bits(g[2]),
+                    f32::from_bits(g[3]),
+                    f32::from_bits(g[4]),
+                );
+                let err = (b - h.barycentrics).abs().max_element();
+                worst = worst.max(err);
+                assert!(err < 1e-5, "case {k}: gpu {b} cpu {}", h.barycentrics);
+                let t = f32::from_bits(g[1]);
+                assert!((t - h.t).abs() <= 1e-5 * h.t.abs().max(1.0), "case {k}: t");
+                hits += 1;
+            }
+            None => assert!(!hit, "case {k}: the GPU hits, the CPU misses"),
+        }
+    }
+    assert!(hits > 1000 && hits < 4000, "{hits} hits");
+    eprintln!(
+        "ray: {hits} hits of {}, worst barycentric difference {worst:e}",
+        cases.len()
+    );
 }

@@ -116,6 +116,71 @@ fn ray_barycentrics_equal_the_analytic_clip_space_ones() {
     );
 }
 
+/// The pixel-pull path's form (gpu's `pixel_pull.wgsl`): the ray from the origin along
+/// `(ndc, 1)` against the clip positions' `(x, y, w)`, a linear image of camera-relative
+/// space with the eye at its origin, hits with the same barycentrics (a linear map keeps
+/// rays through the origin and barycentrics), so no inverse matrix is needed. Reversed-Z
+/// infinite projection, as the renderer's.
+#[test]
+fn a_ray_in_clip_space_xyw_has_the_same_barycentrics() {
+    let proj = Mat4::perspective_infinite_reverse_rh(1.0, 16.0 / 9.0, 0.1);
+    let view = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(0.2, -0.1, -1.0), Vec3::Y);
+    let vp_m = proj * view;
+    let inv = vp_m.inverse();
+    let vp = Vec2::new(1920.0, 1080.0);
+    let mut rng = Rng::new(5);
+    let mut hits = 0;
+    for _ in 0..200 {
+        let c = Vec3::new(
+            rng.range(-3.0, 3.0),
+            rng.range(-2.0, 2.0),
+            rng.range(-40.0, -2.0),
+        );
+        let tri = [0, 1, 2].map(|_| {
+            c + Vec3::new(
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+                rng.range(-1.5, 1.5),
+            )
+        });
+        let clip = tri.map(|p| vp_m * p.extend(1.0));
+        let xyw = clip.map(|c| Vec3::new(c.x, c.y, c.w));
+        for _ in 0..20 {
+            // Aimed at a point near the triangle (about nine in ten hit).
+            let w = Vec3::new(rng.f32(), rng.f32(), rng.f32()) + 0.05;
+            let q = (tri[0] * w.x + tri[1] * w.y + tri[2] * w.z) / (w.x + w.y + w.z);
+            let c = vp_m * q.extend(1.0);
+            let p = Vec2::new(c.x / c.w * 0.5 + 0.5, 0.5 - c.y / c.w * 0.5) * vp
+                + Vec2::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0));
+            let pixel = p.floor() + 0.5;
+            let ndc = Vec2::new(2.0 * pixel.x / vp.x - 1.0, 1.0 - 2.0 * pixel.y / vp.y);
+            let dir = pixel_ray_direction(inv, Vec3::ZERO, pixel, vp).unwrap();
+            let world = intersect_watertight(Vec3::ZERO, dir, tri);
+            let clip_hit = intersect_watertight(Vec3::ZERO, ndc.extend(1.0), xyw);
+            if let (Some(a), Some(b)) = (world, clip_hit) {
+                assert!(
+                    (a.barycentrics - b.barycentrics).abs().max_element() < 1e-4,
+                    "{pixel}: {} vs {}",
+                    a.barycentrics,
+                    b.barycentrics
+                );
+                let l = barycentrics(clip, pixel, vp).lambda;
+                assert!((b.barycentrics - l).abs().max_element() < 1e-4);
+                hits += 1;
+            } else {
+                // Both miss (outside), or only a ray grazing an edge hits in one space
+                // and not the other.
+                let l = barycentrics(clip, pixel, vp).lambda;
+                assert!(
+                    l.min_element().abs() < 1e-3 || l.min_element() < 0.0,
+                    "{pixel}: {l}"
+                );
+            }
+        }
+    }
+    assert!(hits > 100, "{hits}");
+}
+
 #[test]
 fn degenerate_and_non_finite_input_miss() {
     let t = [

@@ -156,7 +156,7 @@ impl Baseline {
         });
         pass.set_bind_group(0, &f.scene.baseline, &[]);
         // No alpha test here: the prepass decided coverage, depth-equal keeps the survivors.
-        record_draws(&mut pass, f, pipeline, pipeline, fade);
+        record_draws(&mut pass, f, pipeline, pipeline, fade, false);
     }
 }
 

@@ -18,7 +18,8 @@ use crate::error::{Error, Result};
 use crate::resources::buffer_init;
 use crate::timing::GpuTimer;
 
-/// Zeroes one buffer, one word per invocation (`gpu::zero`), over its word count.
+/// Zeroes one buffer, one word per invocation (`gpu::zero`), over its word count; with the
+/// `override` `ZERO_FILL` set, fills it with that word.
 pub(crate) const ZERO: Pass<u32> = Pass {
     name: "classify 0: zero buffers",
     module: "gpu::zero",
@@ -50,6 +51,9 @@ pub struct ClassificationVariant {
 /// The classification's pipelines.
 pub(crate) struct Classify {
     zero: ComputePass<u32>,
+    /// `gpu::zero` writing all ones: the mixed frame's validity bitmask, every pixel valid
+    /// until the regular geometry pass clears its bit.
+    fill: ComputePass<u32>,
     phases: Vec<ComputePass<TilingParams>>,
     features: &'static [&'static str],
     skip: Vec<&'static str>,
@@ -62,6 +66,7 @@ impl Classify {
         let features: &'static [&'static str] = if subgroups { &["subgroups"] } else { &[] };
         let mut c = Self {
             zero: ComputePass::new(device, &ZERO, &[], &[])?,
+            fill: ComputePass::new(device, &ZERO, &[], &[("ZERO_FILL", f64::from(u32::MAX))])?,
             phases: Vec::new(),
             features,
             skip: Vec::new(),
@@ -112,6 +117,21 @@ impl Classify {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
+        self.record_mid(encoder, f, timer);
+        self.record_output(encoder, f, timer);
+    }
+
+    /// Records the zero fill (and, in the mixed frame, the validity bitmask's fill with
+    /// ones: seed 000's laydown finalize writing the stencil bit), laydown finalize and mid
+    /// classify: what the talk runs before (and beside) its geometry pass. Mid classify
+    /// reads the validity before the regular geometry pass clears any bit, so its counts
+    /// and offsets may only overestimate (the talk's "conservative").
+    pub(crate) fn record_mid(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
         let b = &f.scene.classification;
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -121,8 +141,39 @@ impl Classify {
             for (group, words) in &b.zero_groups {
                 self.zero.record(&mut pass, &[group], words);
             }
+            if let Some((group, words)) = &b.fill_group {
+                self.fill.record(&mut pass, &[group], words);
+            }
         }
-        for (phase, group) in self.phases.iter().zip(&b.groups) {
+        self.record_phases(encoder, f, timer, 0..2);
+    }
+
+    /// Records classify output: the pixel and wave commands from the final validity.
+    pub(crate) fn record_output(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+    ) {
+        self.record_phases(encoder, f, timer, 2..3);
+    }
+
+    /// Records the phases `range` of `tiling::wgsl::CLASSIFICATION`, each a timed pass.
+    fn record_phases(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+        range: std::ops::Range<usize>,
+    ) {
+        let b = &f.scene.classification;
+        for (phase, group) in self
+            .phases
+            .iter()
+            .zip(&b.groups)
+            .take(range.end)
+            .skip(range.start)
+        {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(phase.pass.name),
                 timestamp_writes: timer.compute(phase.pass.name),
@@ -199,12 +250,17 @@ pub(crate) struct Buffers {
     pub stats_out: wgpu::Buffer,
     _kept: [wgpu::Buffer; 3],
     zero_groups: Vec<(wgpu::BindGroup, u32)>,
+    /// The validity bitmask's fill with ones and its word count (the mixed frame only).
+    fill_group: Option<(wgpu::BindGroup, u32)>,
     groups: Vec<wgpu::BindGroup>,
 }
 
 impl Buffers {
     /// The buffers and bind groups of one prepared scene: `plan`'s table and order
-    /// buffer, classified at `sizes` with `config`, reading `vis_words` and `indices`.
+    /// buffer, classified at `sizes` with `config`, reading `vis_words` and `indices`;
+    /// with `validity` (the mixed frame), a validity bitmask of `ceil(width * height / 32)`
+    /// words that the classification applies (`tiling::FLAG_VALIDITY`), filled with ones
+    /// before each frame's laydown finalize.
     pub(crate) fn new(
         c: &Classify,
         device: &wgpu::Device,
@@ -212,6 +268,7 @@ impl Buffers {
         (sizes, config): (Sizes, ClassifyConfig),
         vis_words: &wgpu::Buffer,
         indices: &wgpu::Buffer,
+        validity: bool,
     ) -> Result<Self> {
         let table = &plan.table;
         let micro_batch_count = plan.order.len() as u32;
@@ -223,7 +280,11 @@ impl Buffers {
             tiles_y: s.height.div_ceil(tiling::TILE_SIZE),
             pass_count: s.passes,
             wave_width: config.wave_width.lanes(),
-            flags: 0,
+            flags: if validity {
+                tiling::classify::FLAG_VALIDITY
+            } else {
+                0
+            },
             table_len: table.len() as u32,
             micro_batch_count,
             chunk_count: config.chunk_count,
@@ -259,7 +320,15 @@ impl Buffers {
             0,
             wgpu::BufferUsages::UNIFORM,
         );
-        let valid = zeroed("validity (unused: no stencil bit)", 1, none)?;
+        let valid = if validity {
+            zeroed(
+                "validity bitmask (the talk's stencil bit)",
+                (s.width * s.height).div_ceil(32),
+                none,
+            )?
+        } else {
+            zeroed("validity (unused: no stencil bit)", 1, none)?
+        };
         let table_buffer = buffer_init(
             device,
             "MicroBatchInfoTable",
@@ -290,6 +359,7 @@ impl Buffers {
             params,
             _kept: [params_buffer, valid, table_buffer],
             zero_groups: Vec::new(),
+            fill_group: None,
             groups: Vec::new(),
         };
         // Every phase's bindings by name: the buffers are shared, `stats` is each pixel
@@ -347,11 +417,31 @@ impl Buffers {
                     .bind_group(device, "words", &[("words", buffer.as_entire_binding())])?;
             zero_groups.push((group, (buffer.size() / 4) as u32));
         }
+        let fill_group = if validity {
+            let buffer = &b._kept[1];
+            let group =
+                c.fill
+                    .bind_group(device, "words", &[("words", buffer.as_entire_binding())])?;
+            Some((group, (buffer.size() / 4) as u32))
+        } else {
+            None
+        };
         Ok(Buffers {
             zero_groups,
+            fill_group,
             groups,
             ..b
         })
+    }
+
+    /// The validity bitmask (one word, unused, outside the mixed frame).
+    pub(crate) fn validity(&self) -> &wgpu::Buffer {
+        &self._kept[1]
+    }
+
+    /// Whether the classification applies the validity bitmask (the mixed frame).
+    pub(crate) fn has_validity(&self) -> bool {
+        self.fill_group.is_some()
     }
 }
 

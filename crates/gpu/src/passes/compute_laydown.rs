@@ -811,6 +811,7 @@ mod tests {
             first_instance,
             instance_count: instances,
             alpha_tested: first_instance > 0,
+            regular: false,
             first_chunk: 0,
             chunk_count: 0,
         }

@@ -350,7 +350,7 @@ impl Laydown {
             Some(planes) => {
                 draw_planned_culled(pass, f.scene, opaque, alpha, planes, f.origin_offset);
             }
-            None => draw_planned(pass, f.scene, opaque, alpha),
+            None => draw_planned(pass, f.scene, opaque, alpha, false),
         }
         match statics {
             Some((b, own)) => {
@@ -477,7 +477,13 @@ impl Laydown {
         });
         pass.set_bind_group(0, &scene.bake_scene, &[]);
         pass.set_bind_group(1, &scene.laydown.payloads, &[]);
-        draw_planned(&mut pass, scene, &self.shadow_opaque, &self.shadow_alpha);
+        draw_planned(
+            &mut pass,
+            scene,
+            &self.shadow_opaque,
+            &self.shadow_alpha,
+            false,
+        );
         if let Some((b, group)) = statics {
             pass.set_bind_group(0, group, &[]);
             pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
@@ -522,7 +528,16 @@ impl Laydown {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.draw(&mut pass, f, &self.vis_opaque, &self.vis_alpha, late);
+        // The mixed frame leaves the regular batches to its regular geometry pass.
+        let skip_regular = f.scene.regular.is_some();
+        self.draw(
+            &mut pass,
+            f,
+            &self.vis_opaque,
+            &self.vis_alpha,
+            late,
+            skip_regular,
+        );
     }
 
     /// Records the baseline's depth prepass (alpha-tested, no colour); `late`: its second
@@ -553,7 +568,7 @@ impl Laydown {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.draw(&mut pass, f, opaque, alpha, late);
+        self.draw(&mut pass, f, opaque, alpha, late, false);
     }
 
     fn draw(
@@ -563,6 +578,7 @@ impl Laydown {
         opaque: &wgpu::RenderPipeline,
         alpha: &wgpu::RenderPipeline,
         late: bool,
+        skip_regular: bool,
     ) {
         let groups = &f.scene.laydown;
         pass.set_bind_group(0, &groups.scene, &[]);
@@ -575,7 +591,7 @@ impl Laydown {
             }
         } else {
             // Static instances may fade: the alpha-tested pipeline dithers them.
-            record_draws(pass, f, opaque, alpha, alpha);
+            record_draws(pass, f, opaque, alpha, alpha, skip_regular);
         }
     }
 }
@@ -603,15 +619,17 @@ pub(crate) fn depth_attachment(
 /// needs, opaque draws first (they fill depth that early-Z then uses against the
 /// foliage), then, in a frame with a static query, the static draw lists (opaque, then
 /// alpha-tested) with `statics`, a pipeline that applies the LOD fade dither (static
-/// instances may fade). Bind groups are the caller's.
+/// instances may fade). `skip_regular`: leave out the draws of regular materials (the
+/// mixed frame's laydown). Bind groups are the caller's.
 pub(crate) fn record_draws(
     pass: &mut wgpu::RenderPass<'_>,
     f: &FrameContext<'_>,
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
     statics: &wgpu::RenderPipeline,
+    skip_regular: bool,
 ) {
-    draw_planned(pass, f.scene, opaque, alpha);
+    draw_planned(pass, f.scene, opaque, alpha, skip_regular);
     if f.static_query
         && let Some(b) = &f.scene.statics
     {
@@ -644,21 +662,22 @@ fn shadow_pass<'e>(
     })
 }
 
-/// The scene's planned draws (its batches), opaque first, then alpha-tested.
+/// The scene's planned draws (its batches), opaque first, then alpha-tested; without the
+/// regular materials' with `skip_regular`.
 fn draw_planned(
     pass: &mut wgpu::RenderPass<'_>,
     scene: &crate::resources::PreparedScene,
     opaque: &wgpu::RenderPipeline,
     alpha: &wgpu::RenderPipeline,
+    skip_regular: bool,
 ) {
     let draws: &[Draw] = &scene.draws;
     pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
     for alpha_pass in [false, true] {
         pass.set_pipeline(if alpha_pass { alpha } else { opaque });
-        for d in draws
-            .iter()
-            .filter(|d| d.alpha_tested == alpha_pass && d.instance_count > 0)
-        {
+        for d in draws.iter().filter(|d| {
+            d.alpha_tested == alpha_pass && d.instance_count > 0 && !(skip_regular && d.regular)
+        }) {
             pass.draw_indexed(
                 d.first_index..d.first_index + d.index_count,
                 d.base_vertex as i32,

@@ -15,6 +15,8 @@
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
+//! | pixel pull | [`pixel_pull`] | seed 004's depth-equal pass: position-only vertex stage, vertices pulled in the fragment stage -> G-buffer |
+//! | regular geometry | [`regular`] | HFW's mixed frame: regular materials' G-buffer pass after the laydown, clearing validity bits |
 //! | light volume tests | [`light_volumes`], [`conditional`] | KZ2's conditional rendering emulated: shadowed volume lights' pixel counts -> indirect draws of their spot maps and shading |
 //! | light volumes | [`light_volumes`] | KZ2's stencil light volumes (large lights) -> light accumulation |
 //! | light tiles | [`lights`] | depth target -> per-tile depth ranges -> per-tile light lists (`deferred`'s culling pass) |
@@ -39,7 +41,9 @@ pub(crate) mod laydown;
 pub(crate) mod light_volumes;
 pub(crate) mod lighting;
 pub(crate) mod lights;
+pub(crate) mod pixel_pull;
 pub(crate) mod query;
+pub(crate) mod regular;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
 pub(crate) mod vis_copy;
@@ -72,6 +76,7 @@ gpu_modules!(
     LAYDOWN_TARGET = "laydown_target",
     LAYDOWN_UNPACK = "laydown_unpack",
     BASELINE = "baseline",
+    PIXEL_PULL = "pixel_pull",
     GBUFFER_STORE = "gbuffer_store",
     GBUFFER_LOAD = "gbuffer_load",
     GBUFFER_FRAGMENT = "gbuffer_fragment",
@@ -103,6 +108,8 @@ pub(crate) fn stage_counts() -> StageCounts {
     for counts in [
         laydown::pass(PrimitiveIdPath::Builtin).stage_counts(),
         baseline::BASELINE.stage_counts(),
+        regular::REGULAR.stage_counts(),
+        pixel_pull::PIXEL_PULL.stage_counts(),
         vis_copy::VIS_COPY.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN.stage_counts(),
         compute_laydown::COMPUTE_LAYDOWN_HYBRID.stage_counts(),
@@ -138,6 +145,10 @@ pub(crate) struct Pipelines {
     pub classify: classify::Classify,
     pub resolve: resolve::Resolve,
     pub baseline: baseline::Baseline,
+    /// HFW's mixed frame's regular geometry pass, with
+    /// [`RendererConfig::mixed_frame`](crate::RendererConfig).
+    pub regular: Option<regular::Regular>,
+    pub pixel_pull: pixel_pull::PixelPull,
     pub lighting: lighting::Lighting,
     pub lights: lights::LocalLights,
     /// With a light path that has volumes.
@@ -152,7 +163,8 @@ impl Pipelines {
     /// Creates every pass's pipelines for `paths` (primitive-ID path, subgroups, wave
     /// width), `light_paths`, the G-buffer layout and whether KZ2's conditional rendering
     /// is emulated (`conditional`: asked for and possible), and with `compute_laydown` the
-    /// compute laydown's over that target.
+    /// compute laydown's over that target, and with `mixed` the mixed frame's regular
+    /// geometry pass.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
         device: &wgpu::Device,
@@ -164,6 +176,7 @@ impl Pipelines {
         conditional: bool,
         compute_laydown: Option<compute_laydown::LaydownTarget>,
         compute_laydown_max_extent: f32,
+        mixed: bool,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
@@ -180,6 +193,15 @@ impl Pipelines {
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
             resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
             baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
+            pixel_pull: pixel_pull::PixelPull::new(
+                device,
+                gbuffer,
+                paths.primitive_id,
+                paths.barycentrics,
+            )?,
+            regular: mixed
+                .then(|| regular::Regular::new(device, gbuffer))
+                .transpose()?,
             lighting: lighting::Lighting::new(
                 device,
                 light_paths,
@@ -254,13 +276,18 @@ pub(crate) struct FrameContext<'a> {
 /// What a command buffer records.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Recording {
-    /// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting.
+    /// HFW's frame: laydown, vis copy, classification, resolve by wave commands, lighting
+    /// (the mixed frame: the regular geometry pass between mid classify and classify
+    /// output).
     Deferred,
     /// Diagnostic: laydown, the resolve of every pixel (no classification), lighting.
     DeferredFullScreen,
     /// HZD's frame on the same scene: depth prepass with alpha test, depth-equal
     /// geometry pass into the G-buffer, lighting.
     Baseline,
+    /// Seed 004's frame: depth prepass with alpha test, depth-equal pass pulling vertices
+    /// in the fragment stage into the G-buffer, lighting.
+    PixelPull,
     /// The laydown alone (tests read the vis and depth buffers after it).
     Laydown,
     /// The classification alone, over whatever the vis words hold (how tests feed random
@@ -275,6 +302,7 @@ impl Recording {
             crate::RenderPath::Deferred => Recording::Deferred,
             crate::RenderPath::Baseline => Recording::Baseline,
             crate::RenderPath::DeferredFullScreen => Recording::DeferredFullScreen,
+            crate::RenderPath::PixelPull => Recording::PixelPull,
         }
     }
 
@@ -282,7 +310,10 @@ impl Recording {
     pub(crate) fn lights(self) -> bool {
         matches!(
             self,
-            Recording::Deferred | Recording::DeferredFullScreen | Recording::Baseline
+            Recording::Deferred
+                | Recording::DeferredFullScreen
+                | Recording::Baseline
+                | Recording::PixelPull
         )
     }
 }
@@ -323,7 +354,9 @@ impl Pipelines {
                     self.laydown.record_vis(e, f, timer, late);
                 }
             }
-            Recording::Baseline => self.laydown.record_depth(e, f, timer, late),
+            Recording::Baseline | Recording::PixelPull => {
+                self.laydown.record_depth(e, f, timer, late);
+            }
             Recording::Classification => {}
         }
     }
@@ -340,10 +373,12 @@ impl Pipelines {
 
     /// Whether a frame recording `what` has raster passes after its geometry that test
     /// against the depth target, which the compute laydown then writes too (the stencil
-    /// light volumes and their conditional tests; the laydown alone, whose depth tests
-    /// read). Compute passes read the float depth.
+    /// light volumes and their conditional tests, the mixed frame's regular geometry pass;
+    /// the laydown alone, whose depth tests read). Compute passes read the float depth.
     fn needs_depth_target(&self, what: Recording) -> bool {
-        what == Recording::Laydown || (what.lights() && self.light_volumes.is_some())
+        what == Recording::Laydown
+            || (what.lights() && self.light_volumes.is_some())
+            || (what == Recording::Deferred && self.regular.is_some())
     }
 
     /// Everything after the geometry pass: classification, resolve or the baseline's
@@ -361,7 +396,15 @@ impl Pipelines {
                 if !self.laid_down_in_compute(f) {
                     self.vis_copy.record(e, f, timer);
                 }
-                self.classify.record(e, f, timer);
+                // The talk's order: mid classify is recorded before the geometry pass (its
+                // counts conservative), classify output after it (the final validity).
+                self.classify.record_mid(e, f, timer);
+                if let Some(r) = &self.regular {
+                    r.record(e, f, timer);
+                    // Its depth is the frame's: what the light tiles and lighting read.
+                    self.vis_copy.record_depth(e, f, timer);
+                }
+                self.classify.record_output(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }
             Recording::DeferredFullScreen => {
@@ -375,6 +418,10 @@ impl Pipelines {
                     self.vis_copy.record_depth(e, f, timer);
                 }
                 self.baseline.record(e, f, timer);
+            }
+            Recording::PixelPull => {
+                self.vis_copy.record_depth(e, f, timer);
+                self.pixel_pull.record(e, f, timer);
             }
             Recording::Laydown => return,
             Recording::Classification => return self.classify.record(e, f, timer),

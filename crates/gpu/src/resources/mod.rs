@@ -121,6 +121,12 @@ pub struct PreparedScene {
     /// The batch instances' bounds, origin-relative (`None` without instances).
     pub(crate) bounds: Option<(Vec3, Vec3)>,
     pub(crate) baseline: wgpu::BindGroup,
+    /// The mixed frame's regular geometry pass's groups (`Some` exactly in a renderer with
+    /// [`RendererConfig::mixed_frame`](crate::RendererConfig): the laydown then leaves
+    /// out the regular draws).
+    pub(crate) regular: Option<crate::passes::regular::Groups>,
+    /// The pixel-pull pass's groups.
+    pub(crate) pixel_pull: crate::passes::pixel_pull::Groups,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
     /// The instance table (planned instances, then the static setups' reserved slots).
@@ -160,6 +166,18 @@ impl PreparedScene {
     /// the scene does not have.
     pub fn instance_order(&self, batch: usize) -> Option<&[u32]> {
         self.instance_order.get(batch).map(Vec::as_slice)
+    }
+
+    /// The primitive-ID payloads, one word per vertex (`_kept[1]`).
+    pub(crate) fn payloads(&self) -> &wgpu::Buffer {
+        &self._kept[1]
+    }
+
+    /// Words of the primitive-ID payloads (one per vertex of the encoded geometry; what
+    /// [`Renderer::write_payloads`](crate::Renderer::write_payloads) takes).
+    #[doc(hidden)]
+    pub fn payload_count(&self) -> usize {
+        (self.payloads().size() / 4) as usize
     }
 }
 
@@ -516,6 +534,24 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             (sizes, config),
             &c.targets.vis_words,
             &index_buffer,
+            p.regular.is_some(),
+        )?;
+        let regular = p
+            .regular
+            .as_ref()
+            .map(|r| {
+                r.groups(
+                    device,
+                    &scene_group,
+                    classification.validity(),
+                    &c.targets.vis_words,
+                )
+            })
+            .transpose()?;
+        let pixel_pull = p.pixel_pull.groups(
+            device,
+            &scene_group,
+            [&payloads, &index_buffer, &meshes, &micro_batches],
         )?;
         let resolve = p.resolve.groups(
             device,
@@ -583,7 +619,14 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         };
         let compute_laydown = match (&p.compute_laydown, &c.targets.vis64) {
             (Some(cl), Some(target)) => {
-                cl.groups(device, &scene_group, &plan.draws, &index_buffer, target)?
+                // The mixed frame's laydown leaves the regular draws to their own pass.
+                let draws: Vec<Draw> = plan
+                    .draws
+                    .iter()
+                    .filter(|d| !(regular.is_some() && d.regular))
+                    .copied()
+                    .collect();
+                cl.groups(device, &scene_group, &draws, &index_buffer, target)?
             }
             _ => None,
         };
@@ -617,6 +660,8 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 })
                 .collect::<Result<_>>()?,
             baseline: p.baseline.group(device, &scene_group)?,
+            regular,
+            pixel_pull,
             classification,
             resolve,
             draws: plan.draws,

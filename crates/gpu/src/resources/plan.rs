@@ -40,6 +40,9 @@ pub(crate) struct Draw {
     pub instance_count: u32,
     /// Whether the material is alpha-tested.
     pub alpha_tested: bool,
+    /// Whether the material is [`Material::regular`](crate::Material::regular): the mixed
+    /// frame draws it in the regular geometry pass, not the laydown.
+    pub regular: bool,
     /// Its chunks: `Plan::chunks[first_chunk..first_chunk + chunk_count]`.
     pub first_chunk: u32,
     pub chunk_count: u32,
@@ -156,6 +159,7 @@ impl Plan {
                 first_instance: first_global,
                 instance_count: mb.instance_count,
                 alpha_tested: scene.materials[batch.material.0].shader == ShaderKind::AlphaTested,
+                regular: scene.materials[batch.material.0].regular,
                 first_chunk,
                 chunk_count: plan.chunks.len() as u32 - first_chunk,
             });
