@@ -184,6 +184,7 @@ fn reference() -> gpu::Scene {
             },
         ],
         static_setups: Vec::new(),
+        wind: None,
     }
 }
 

@@ -905,6 +905,7 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             albedo_layers,
             batches,
             static_setups: Vec::new(),
+            wind: None,
         },
         FrameInput {
             camera,
@@ -1001,6 +1002,7 @@ fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             albedo_layers,
             batches,
             static_setups: Vec::new(),
+            wind: None,
         },
         FrameInput::new(camera),
     )

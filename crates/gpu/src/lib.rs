@@ -60,6 +60,7 @@
 //!             .collect(),
 //!     }],
 //!     static_setups: vec![],
+//!     wind: None,
 //! };
 //!
 //! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
@@ -120,7 +121,7 @@ pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
-    MeshId, Scene, ShaderKind, StaticSetup,
+    MeshId, Scene, ShaderKind, StaticSetup, Wind,
 };
 pub use shadows::ShadowConfig;
 pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};

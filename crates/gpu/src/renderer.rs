@@ -748,6 +748,7 @@ impl Renderer {
         let origin = scene.summary.origin;
         let mut uniforms = frame_uniforms(
             frame,
+            scene.wind.as_ref(),
             origin,
             (self.config.width, self.config.height),
             self.config.mip_bias,
@@ -768,6 +769,7 @@ impl Renderer {
             PreviousCamera {
                 view_proj: frame.camera.relative_view_projection(aspect),
                 position: frame.camera.position,
+                time: frame.time,
             },
         ));
         self.frame_index = self.frame_index.wrapping_add(1);

@@ -196,6 +196,10 @@ pub struct Args {
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
     pub no_subgroups: bool,
+    /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
+    /// sways every alpha-tested instance otherwise).
+    #[arg(long)]
+    pub no_wind: bool,
     /// Skip writing the debug views.
     #[arg(long)]
     pub no_debug_views: bool,
@@ -469,8 +473,9 @@ fn shadow_views(
 }
 
 /// The motion-vector debug view: one frame from the camera 0.3 m to the left and 0.2 m
-/// back, then the scene's own frame (the measured frames hold the camera still, so their
-/// motion is zero), its G-buffer motion as `{name}_debug_motion.png`.
+/// back a 30th of a second earlier, then the scene's own frame (the measured frames hold
+/// the camera still, so their motion is the wind's alone), its G-buffer motion (camera
+/// and swaying foliage) as `{name}_debug_motion.png`.
 fn motion_view(
     args: &Args,
     report: &mut Report,
@@ -486,6 +491,7 @@ fn motion_view(
     let shift = -0.3 * right - 0.2 * forward;
     before.camera.position += shift;
     before.camera.target += shift;
+    before.time = frame.time - 1.0 / 30.0;
     renderer.render(prepared, &before, RenderPath::Deferred)?;
     renderer.render(prepared, frame, RenderPath::Deferred)?;
     let (img, scale) =
@@ -494,8 +500,8 @@ fn motion_view(
     img.write_png(&file)?;
     report.image_named(
         &format!(
-            "motion vectors after a 0.3 m step right and 0.2 m forward (hue: direction, full \
-             brightness at {scale:.1} px)"
+            "motion vectors after a 0.3 m step right and 0.2 m forward and 1/30 s of wind \
+             (hue: direction, full brightness at {scale:.1} px)"
         ),
         &file,
     );
@@ -713,11 +719,12 @@ pub fn run(args: &Args) -> Result<()> {
         }
         println!("== {} ==", scene_kind.name());
         let t0 = std::time::Instant::now();
-        let (scene, frame) = demo::build(&DemoOptions {
+        let (mut scene, frame) = demo::build(&DemoOptions {
             scene: scene_kind,
             seed: args.seed,
             density: args.density,
         });
+        scene.wind = (!args.no_wind).then(gpu::Wind::default);
         let frame = with_lights(args, frame, 25.0);
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let built = Built {

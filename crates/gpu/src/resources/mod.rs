@@ -102,6 +102,8 @@ pub struct SceneSummary {
 pub struct PreparedScene {
     pub(crate) id: u64,
     pub(crate) summary: SceneSummary,
+    /// The scene's wind (`Scene::wind`), uploaded with every frame's constants.
+    pub(crate) wind: Option<crate::scene::Wind>,
     pub(crate) geometry: Geometry,
     pub(crate) tiling: tiling::Plan,
     pub(crate) draws: Vec<Draw>,
@@ -590,6 +592,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         Ok(PreparedScene {
             id: c.id,
             summary,
+            wind: scene.wind,
             compute_laydown,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
             bake_scene,

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Per-frame constants (WGSL `FrameUniforms`): 448 bytes. See `wgsl/frame.wgsl` for the
+/// Per-frame constants (WGSL `FrameUniforms`): 480 bytes. See `wgsl/frame.wgsl` for the
 /// spaces: positions are camera-relative, stored origin-relative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -43,8 +43,16 @@ pub(crate) struct FrameUniforms {
     /// Camera-relative world to view space: the camera's rotation (the KZ2 G-buffer
     /// stores view-space normals).
     pub view_rotation: [[f32; 4]; 4],
+    /// The scene's wind (`Wind::uniform`: direction times amplitude in x, z, angular
+    /// frequency, 1 / height); all zero without one (nothing sways).
+    pub wind: [f32; 4],
+    /// The previous frame's time (seconds; this frame's on a first frame), for the
+    /// animated foliage's motion vectors.
+    pub prev_time: f32,
+    /// Padding to the WGSL struct's 16-byte size.
+    pub _pad: [f32; 3],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 448);
+const _: () = assert!(size_of::<FrameUniforms>() == 480);
 
 /// One instance (WGSL `GpuInstance`): object-to-origin-relative transform rows and its
 /// place in the vis buffer. 64 bytes.
@@ -253,6 +261,17 @@ mod tests {
         ] {
             assert_eq!(shadercheck::const_u32(&m, name), Some(v), "{name}");
         }
+        // The wind sways the alpha-tested materials (GpuMaterial::shader).
+        let m = shadercheck::assert_composed(
+            LIBRARY,
+            "gpu::scene_bindings",
+            &[],
+            shadercheck::Caps::CORE,
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
+            Some(crate::scene::ShaderKind::AlphaTested.id())
+        );
     }
 
     #[test]
@@ -279,6 +298,8 @@ mod tests {
                 time,
                 baked_sun,
                 view_rotation,
+                wind,
+                prev_time,
             }),
         );
         // The Rust rows array is three WGSL members.

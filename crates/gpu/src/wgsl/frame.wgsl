@@ -39,6 +39,12 @@ struct FrameUniforms {
     baked_sun: mat4x4<f32>,
     // camera-relative world -> view space (the camera's rotation)
     view_rotation: mat4x4<f32>,
+    // the scene's wind (gpu::Wind): direction times amplitude (metres) in x (world x) and
+    // y (world z), angular frequency (rad/s) in z, 1 / bend height (1/metres) in w; all
+    // zero without one
+    wind: vec4<f32>,
+    // the previous frame's time (seconds; this frame's on a first frame)
+    prev_time: f32,
 }
 
 // One instance: object-to-origin-relative 3x4 transform (rows), and where it sits in the

@@ -16,7 +16,7 @@ fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
     let v = vertices[vertex];
     let inst = instances[instance];
     var out: LaydownOut;
-    out.clip = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v.position), 1.0);
+    out.clip = frame.view_proj * vec4<f32>(gpu_position(inst, v.position), 1.0);
     out.uv = vec2<f32>(v.u, v.v);
     out.instance = instance;
     out.payload = 0u;

@@ -45,9 +45,9 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     let v0 = vertices[mesh.base_vertex + indices[first]];
     let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
     let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
-    let r0 = gpu_camera_relative(inst, v0.position);
-    let r1 = gpu_camera_relative(inst, v1.position);
-    let r2 = gpu_camera_relative(inst, v2.position);
+    let r0 = gpu_position(inst, v0.position);
+    let r1 = gpu_position(inst, v1.position);
+    let r2 = gpu_position(inst, v2.position);
     let c0 = frame.view_proj * vec4<f32>(r0, 1.0);
     let c1 = frame.view_proj * vec4<f32>(r1, 1.0);
     let c2 = frame.view_proj * vec4<f32>(r2, 1.0);
@@ -56,7 +56,11 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
     let scale = visbuf_mip_bias_scale(frame.mip_bias);
     let p = visbuf_interpolate3(b, r0, r1, r2).value;
-    out.surface = material_surface(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), p);
+    let q0 = gpu_previous_position(inst, v0.position);
+    let q1 = gpu_previous_position(inst, v1.position);
+    let q2 = gpu_previous_position(inst, v2.position);
+    let p_prev = visbuf_interpolate3(b, q0, q1, q2).value;
+    out.surface = material_surface_moved(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), p, p_prev);
     out.ok = true;
     return out;
 }
