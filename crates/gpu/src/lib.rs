@@ -111,6 +111,9 @@ pub use passes::compute_laydown::{
     LaydownStats,
 };
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
+pub use passes::vertex_ring::{
+    RING_UV_FROM_VERTICES, RING_VERTEX_BYTES, VertexRingReadback, ring_slot,
+};
 #[doc(hidden)]
 pub use renderer::ConditionalLight;
 pub use renderer::{
@@ -132,4 +135,6 @@ pub use statics::{
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;
 pub use stats::{ClassificationStats, GpuClassification};
+/// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::vertex_ring`.
+pub use tiling::{RING_BYTES_PS4, RING_BYTES_PS5};
 pub use timing::Timing;

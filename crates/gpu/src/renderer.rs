@@ -214,6 +214,12 @@ pub struct RendererConfig {
     /// fixed-point edge functions still fit 32 bits). Default
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
     pub compute_laydown_max_extent: f32,
+    /// HFW's vertex ring (seed 000: 12 MiB on PS4, 24 MiB on PS5; `gpu::RING_BYTES_PS4`,
+    /// `gpu::RING_BYTES_PS5`): bytes of the ring the deferred path transforms each pass's
+    /// visible 64-vertex chunks into (tiling's vertex wave commands, built on the GPU from
+    /// the vertex cull buffer), a pass never more than half of it. `None` (the default):
+    /// no vertex side, the resolve transforms its triangle's vertices per pixel.
+    pub vertex_ring: Option<u64>,
 }
 
 impl RendererConfig {
@@ -254,6 +260,17 @@ impl RendererConfig {
                 "[0, 254] pixels",
             );
         }
+        if let Some(bytes) = self.vertex_ring {
+            // Two halves of at least one 64-vertex chunk; slots in u32.
+            let min = 2 * 64 * passes::vertex_ring::RING_VERTEX_BYTES;
+            if !(min..=1 << 36).contains(&bytes) {
+                return bad(
+                    "RendererConfig::vertex_ring",
+                    bytes as f64,
+                    "4096 bytes to 64 GiB (the device's storage binding limit applies)",
+                );
+            }
+        }
         if self.msaa.is_some() && self.light_paths.volumes() {
             return bad(
                 "RendererConfig::msaa",
@@ -285,6 +302,7 @@ impl Default for RendererConfig {
             conditional_volumes: true,
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
+            vertex_ring: None,
         }
     }
 }
@@ -717,6 +735,7 @@ impl Renderer {
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
                 baked_sun: self.config.baked_sun,
+                ring_bytes: self.config.vertex_ring,
             },
             scene,
         )
@@ -1779,6 +1798,24 @@ impl Renderer {
             &scene.classification,
             &self.targets.vis_words,
         )
+    }
+
+    /// What HFW's vertex side wrote in the last deferred frame of `scene` (vertex wave
+    /// commands, dispatches, the ring), read back; `None` without
+    /// [`RendererConfig::vertex_ring`].
+    ///
+    /// # Errors
+    /// A scene of another renderer, or a device error.
+    pub fn read_vertex_ring(
+        &self,
+        scene: &PreparedScene,
+    ) -> Result<Option<crate::VertexRingReadback>> {
+        self.check_scene(scene)?;
+        scene
+            .vertex_ring
+            .as_ref()
+            .map(|b| crate::VertexRingReadback::read(&self.device, &self.queue, b))
+            .transpose()
     }
 
     /// Uploads `words` (row-major, `width * height`, any values: bad IDs are the

@@ -13,6 +13,7 @@
 //! | compute laydown | [`compute_laydown`] | triangles rasterised in compute into a 64-bit target (hardware part for large and near-plane ones), then depth + vis texture + vis words |
 //! | vis copy | [`vis_copy`] | vis texture -> word buffer |
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
+//! | vertex ring | [`vertex_ring`] | vertex wave commands from the vertex cull buffer (`tiling`'s pass), then per pass the transform of its visible chunks into the 32-byte vertex ring |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
 //! | light volume tests | [`light_volumes`], [`conditional`] | KZ2's conditional rendering emulated: shadowed volume lights' pixel counts -> indirect draws of their spot maps and shading |
@@ -42,6 +43,7 @@ pub(crate) mod lights;
 pub(crate) mod query;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
+pub(crate) mod vertex_ring;
 pub(crate) mod vis_copy;
 
 macro_rules! gpu_modules {
@@ -84,6 +86,8 @@ gpu_modules!(
     STATIC_PLACE = "static_place",
     HIZ_DEPTH = "hiz_depth",
     TILE_DEPTH = "tile_depth",
+    RING_SLOTS = "ring_slots",
+    VERTEX_RING = "vertex_ring",
 );
 
 /// Every module list the renderer's passes import from.
@@ -114,6 +118,8 @@ pub(crate) fn stage_counts() -> StageCounts {
         lights::TILE_DEPTH.stage_counts(),
         deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
+        vertex_ring::VERTEX_RING.stage_counts(),
+        tiling::wgsl::VERTEX_WAVES.stage_counts(),
     ]
     .into_iter()
     .chain(
@@ -144,6 +150,8 @@ pub(crate) struct Pipelines {
     /// on a device with `INDIRECT_FIRST_INSTANCE`.
     pub conditional: Option<conditional::Conditional>,
     pub static_place: static_place::StaticPlace,
+    /// HFW's vertex side: vertex wave commands and the transform into the ring.
+    pub vertex_ring: vertex_ring::VertexRing,
 }
 
 impl Pipelines {
@@ -192,6 +200,7 @@ impl Pipelines {
                 None
             },
             static_place: static_place::StaticPlace::new(device)?,
+            vertex_ring: vertex_ring::VertexRing::new(device)?,
             conditional: if light_paths.volumes() && conditional {
                 Some(conditional::Conditional::new(device)?)
             } else {
@@ -340,6 +349,12 @@ impl Pipelines {
                 // vis texture last).
                 self.vis_copy.record(e, f, timer);
                 self.classify.record(e, f, timer);
+                // HFW's vertex side (RendererConfig::vertex_ring): the vertex wave
+                // commands from the cull buffer, then each pass's transform into the ring.
+                if let Some(b) = &f.scene.vertex_ring {
+                    self.vertex_ring.record_waves(e, b, timer);
+                    self.vertex_ring.record_transforms(e, f, timer);
+                }
                 self.resolve.record_waves(e, f, timer);
             }
             Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),

@@ -125,6 +125,9 @@ pub struct PreparedScene {
     pub(crate) baseline: wgpu::BindGroup,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
+    /// HFW's vertex side (with `RendererConfig::vertex_ring`): vertex wave commands and
+    /// the ring.
+    pub(crate) vertex_ring: Option<crate::passes::vertex_ring::Buffers>,
     /// The instance table (planned instances, then the static setups' reserved slots).
     pub(crate) instances: wgpu::Buffer,
     /// The static setups' table, counters and draw lists (`None` without static setups).
@@ -182,6 +185,8 @@ pub(crate) struct PrepareContext<'a> {
     pub indirect_first_instance: bool,
     /// Whether the renderer bakes KZ2's pre-rendered sun map.
     pub baked_sun: bool,
+    /// The vertex ring's bytes (`RendererConfig::vertex_ring`; `None`: no ring).
+    pub ring_bytes: Option<u64>,
 }
 
 /// One sun shadow view's static content (a slice's, and the baked map's in set 0): the
@@ -384,7 +389,10 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             base_vertex: m.base_vertex,
         }
     });
-    let config = tiling::PlanConfig::default();
+    let config = tiling::PlanConfig {
+        ring_bytes: c.ring_bytes.unwrap_or(tiling::RING_BYTES_PS5),
+        ..tiling::PlanConfig::default()
+    };
     let mut tiling_plan = tiling::build_plan(&batches, &config)
         .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
     let planned = tiling_plan.micro_batches.len();
@@ -519,6 +527,21 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &c.targets.vis_words,
             &index_buffer,
         )?;
+        let vertex_ring = c
+            .ring_bytes
+            .map(|bytes| {
+                p.vertex_ring.buffers(
+                    device,
+                    &tiling_plan,
+                    classification.params,
+                    &classification.vertex_cull,
+                    &scene_group,
+                    &meshes,
+                    &micro_batches,
+                    bytes,
+                )
+            })
+            .transpose()?;
         let resolve = p.resolve.groups(
             device,
             &scene_group,
@@ -593,6 +616,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             id: c.id,
             summary,
             wind: scene.wind,
+            vertex_ring,
             compute_laydown,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
             bake_scene,
