@@ -220,6 +220,11 @@ pub struct RendererConfig {
     /// the vertex cull buffer), a pass never more than half of it. `None` (the default):
     /// no vertex side, the resolve transforms its triangle's vertices per pixel.
     pub vertex_ring: Option<u64>,
+    /// With [`vertex_ring`](Self::vertex_ring): the resolve reads its triangle's three
+    /// transformed vertices from the ring (each pass's transform recorded right before
+    /// its resolve; default). Off: the ring is still filled (and timed alone), the resolve
+    /// transforms per pixel, for comparison.
+    pub ring_resolve: bool,
 }
 
 impl RendererConfig {
@@ -303,6 +308,7 @@ impl Default for RendererConfig {
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
             vertex_ring: None,
+            ring_resolve: true,
         }
     }
 }
@@ -644,7 +650,7 @@ impl Renderer {
                     .transpose()?,
             };
             // The frame's passes, and up to 8 slices' static shadow query and placement.
-            let timer = GpuTimer::new(device, queue, 64);
+            let timer = GpuTimer::new(device, queue, 256);
             let uploads = Uploads::new(device, config.upload_pool)?;
             Ok(Self {
                 device: device.clone(),
@@ -736,6 +742,7 @@ impl Renderer {
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
                 baked_sun: self.config.baked_sun,
                 ring_bytes: self.config.vertex_ring,
+                ring_resolve: self.config.ring_resolve,
             },
             scene,
         )

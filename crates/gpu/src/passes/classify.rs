@@ -203,6 +203,11 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
+    /// The MicroBatchInfoTable the phases read (indexed by micro-batch ID).
+    pub(crate) fn table(&self) -> &wgpu::Buffer {
+        &self._kept[2]
+    }
+
     /// The buffers and bind groups of one prepared scene: `plan`'s table and order
     /// buffer, classified at `sizes` with `config`, reading `vis_words` and `indices`.
     pub(crate) fn new(

@@ -351,11 +351,15 @@ impl Pipelines {
                 self.classify.record(e, f, timer);
                 // HFW's vertex side (RendererConfig::vertex_ring): the vertex wave
                 // commands from the cull buffer, then each pass's transform into the ring.
+                // With the resolve reading the ring, each pass's transform is recorded
+                // right before its resolve; else all of them here (measured alone).
                 if let Some(b) = &f.scene.vertex_ring {
                     self.vertex_ring.record_waves(e, b, timer);
-                    self.vertex_ring.record_transforms(e, f, timer);
+                    if !f.scene.resolve.reads_ring {
+                        self.vertex_ring.record_transforms(e, f, timer);
+                    }
                 }
-                self.resolve.record_waves(e, f, timer);
+                self.resolve.record_waves(e, f, timer, &self.vertex_ring);
             }
             Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),
             Recording::Baseline => self.baseline.record(e, f, timer),

@@ -358,6 +358,25 @@ impl VertexRing {
         );
     }
 
+    /// Records pass `p`'s transform in a compute pass of its own, timed under the
+    /// transform's label (summed over the passes).
+    pub(crate) fn record_transform_timed(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        b: &Buffers,
+        p: u32,
+        timer: &mut GpuTimer,
+    ) {
+        if b.half_base.get(p as usize).is_none_or(|&h| h == RING_NONE) {
+            return;
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(VERTEX_RING.name),
+            timestamp_writes: timer.compute(VERTEX_RING.name),
+        });
+        self.record_transform(&mut pass, b, p);
+    }
+
     /// Records every pass's transform in one timed compute pass (the frame interleaves
     /// them with the resolve when it reads the ring).
     pub(crate) fn record_transforms(

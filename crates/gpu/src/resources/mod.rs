@@ -187,6 +187,8 @@ pub(crate) struct PrepareContext<'a> {
     pub baked_sun: bool,
     /// The vertex ring's bytes (`RendererConfig::vertex_ring`; `None`: no ring).
     pub ring_bytes: Option<u64>,
+    /// Whether the resolve reads the ring (`RendererConfig::ring_resolve`).
+    pub ring_resolve: bool,
 }
 
 /// One sun shadow view's static content (a slice's, and the baked map's in set 0): the
@@ -550,6 +552,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &micro_batches,
             &c.targets.vis_view,
             &classification,
+            vertex_ring.as_ref().filter(|_| c.ring_resolve),
         )?;
         let summary = SceneSummary {
             instances: scene.instance_count() as u64,

@@ -58,6 +58,12 @@ fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_d
 // `p_prev`: where it was at the previous frame's time, in this frame's camera-relative
 // space (gpu_previous_position interpolated).
 fn material_surface_moved(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, p_prev: vec3<f32>) -> DeferredSurface {
+    return material_surface_motion(material_index, uv, duv_dx, duv_dy, normal, p, material_motion(p, p_prev));
+}
+
+// `motion`: the sample's screen motion in pixels, already known (the vertex ring's
+// interpolated current and previous HPOS).
+fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, motion: vec2<f32>) -> DeferredSurface {
     let m = materials[material_index];
     let texel = textureSampleGrad(albedo, albedo_sampler, uv, m.albedo_layer, duv_dx, duv_dy);
     var s: DeferredSurface;
@@ -67,6 +73,6 @@ fn material_surface_moved(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>,
     s.roughness = m.roughness;
     s.specular = m.specular;
     s.sun_shadow = material_baked_sun(p, s.normal);
-    s.motion = material_motion(p, p_prev);
+    s.motion = motion;
     return s;
 }

@@ -5,8 +5,10 @@
 
 #import visbuf::id
 #import visbuf::bary
+#import visbuf::vertex
 #import tiling::common
 #import gpu::scene_bindings
+#import gpu::ring_slots
 #import gpu::material
 #import gpu::gbuffer_store
 
@@ -15,6 +17,10 @@
 @group(1) @binding(1) var<storage, read> meshes: array<GpuMesh>;
 @group(1) @binding(2) var<storage, read> micro_batches: array<GpuMicroBatch>;
 @group(1) @binding(3) var vis_texture: texture_2d<u32>;
+// HFW's vertex ring (gpu::vertex_ring) and the MicroBatchInfoTable (ring offsets), read
+// when the pass uniform names the pass's half (a 32-byte stand-in without a ring).
+@group(1) @binding(4) var<storage, read> ring: array<VisbufVertex>;
+@group(1) @binding(5) var<storage, read> table: array<TilingMicroBatchInfo>;
 
 // Lanes of the wave-command resolve's workgroup: the wave width the commands were built
 // for (8 on lavapipe, 32 on NVIDIA).
@@ -25,7 +31,72 @@ struct ResolvedPixel {
     ok: bool,
 }
 
-fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
+// The triangle's three vertices from the ring (slots of the pass's half at `ring_base`),
+// resolved like the per-pixel path: barycentrics from the stored HPOS (f16 x, y, f32 w;
+// z is the projection's constant near term), normals already in world space, UVs from
+// the ring unless flagged, the camera-relative position from the interpolated HPOS, and
+// the motion from the interpolated current and previous HPOS.
+fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchInfo, ring_base: u32, instance: u32, corners: vec3<u32>, base_vertex: u32) -> ResolvedPixel {
+    var out: ResolvedPixel;
+    out.ok = false;
+    let s0 = gpu_ring_slot(ring_base, row.ring_offset, row.vertex_count, instance, corners.x);
+    let s1 = gpu_ring_slot(ring_base, row.ring_offset, row.vertex_count, instance, corners.y);
+    let s2 = gpu_ring_slot(ring_base, row.ring_offset, row.vertex_count, instance, corners.z);
+    let n = arrayLength(&ring);
+    if s0 >= n || s1 >= n || s2 >= n {
+        return out;
+    }
+    let r0 = ring[s0];
+    let r1 = ring[s1];
+    let r2 = ring[s2];
+    let near = frame.view_proj[3].z;
+    let h0 = visbuf_vertex_hpos(r0.hpos_xy, r0.hpos_w);
+    let h1 = visbuf_vertex_hpos(r1.hpos_xy, r1.hpos_w);
+    let h2 = visbuf_vertex_hpos(r2.hpos_xy, r2.hpos_w);
+    let c0 = vec4<f32>(h0.xy, near, h0.z);
+    let c1 = vec4<f32>(h1.xy, near, h1.z);
+    let c2 = vec4<f32>(h2.xy, near, h2.z);
+    let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
+    var t0 = visbuf_unpack_uv(r0.uv);
+    var t1 = visbuf_unpack_uv(r1.uv);
+    var t2 = visbuf_unpack_uv(r2.uv);
+    if ((r0.prev_hpos_w_extra | r1.prev_hpos_w_extra | r2.prev_hpos_w_extra) & (GPU_RING_UV_FROM_VERTICES << 16u)) != 0u {
+        let v0 = vertices[base_vertex + corners.x];
+        let v1 = vertices[base_vertex + corners.y];
+        let v2 = vertices[base_vertex + corners.z];
+        t0 = vec2<f32>(v0.u, v0.v);
+        t1 = vec2<f32>(v1.u, v1.v);
+        t2 = vec2<f32>(v2.u, v2.v);
+    }
+    let uv = visbuf_interpolate2(b, t0, t1, t2);
+    let normal = visbuf_interpolate3(
+        b,
+        visbuf_unpack_snorm_10_10_10_2(r0.normal).xyz,
+        visbuf_unpack_snorm_10_10_10_2(r1.normal).xyz,
+        visbuf_unpack_snorm_10_10_10_2(r2.normal).xyz,
+    ).value;
+    let now = visbuf_interpolate3(b, h0, h1, h2).value;
+    let before = visbuf_interpolate3(
+        b,
+        visbuf_vertex_prev_hpos(r0.prev_hpos_xy, r0.prev_hpos_w_extra),
+        visbuf_vertex_prev_hpos(r1.prev_hpos_xy, r1.prev_hpos_w_extra),
+        visbuf_vertex_prev_hpos(r2.prev_hpos_xy, r2.prev_hpos_w_extra),
+    ).value;
+    let h = frame.inv_view_proj * vec4<f32>(now.xy, near, now.z);
+    let p = h.xyz / h.w;
+    var motion = vec2<f32>(0.0);
+    if now.z > 0.0 && before.z > 0.0 {
+        motion = (now.xy / now.z - before.xy / before.z) * frame.viewport.xy * vec2<f32>(0.5, -0.5);
+    }
+    let scale = visbuf_mip_bias_scale(frame.mip_bias);
+    out.surface = material_surface_motion(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, normal, p, motion);
+    out.ok = true;
+    return out;
+}
+
+// `ring_base`: the first slot of the pass's half of the vertex ring, or GPU_RING_NONE to
+// transform the triangle's vertices here.
+fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
     var out: ResolvedPixel;
     out.ok = false;
     let id = visbuf_micro_batch(word);
@@ -42,6 +113,11 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32) -> ResolvedPixel {
     }
     let inst = instances[instance_index];
     let first = mesh.first_index + 3u * primitive;
+    if ring_base != GPU_RING_NONE && mb.first_id < arrayLength(&table) {
+        let corners = vec3<u32>(indices[first], indices[first + 1u], indices[first + 2u]);
+        let instance = visbuf_instance_index(id, mb.first_id, field, mb.primitive_bits);
+        return resolve_from_ring(pixel, inst, table[mb.first_id], ring_base, instance, corners, mesh.base_vertex);
+    }
     let v0 = vertices[mesh.base_vertex + indices[first]];
     let v1 = vertices[mesh.base_vertex + indices[first + 1u]];
     let v2 = vertices[mesh.base_vertex + indices[first + 2u]];
@@ -75,7 +151,7 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let word = textureLoad(vis_texture, vec2<i32>(id.xy), 0).x;
-    let r = resolve_pixel(id.xy, word);
+    let r = resolve_pixel(id.xy, word, GPU_RING_NONE);
     if r.ok {
         gbuffer_store(id.xy, r.surface, frame.view_rotation);
     }
@@ -88,7 +164,8 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
 @group(3) @binding(0) var<storage, read> wave_commands: array<TilingWaveCommand>;
 @group(3) @binding(1) var<storage, read> pixel_commands: array<u32>;
 @group(3) @binding(2) var<storage, read> pass_dispatches: array<TilingPassDispatch>;
-// x: the pass this dispatch shades (a uniform at a dynamic offset per pass).
+// x: the pass this dispatch shades; y: its half of the vertex ring (GPU_RING_NONE: the
+// per-pixel transform). A uniform at a dynamic offset per pass.
 @group(3) @binding(3) var<uniform> resolve_pass: vec4<u32>;
 
 @compute @workgroup_size(RESOLVE_WAVE_WIDTH)
@@ -106,7 +183,7 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
     let command = tiling_command_in_word(pixel_commands[c / 2u], c);
     let pixel = tiling_wave_tile_xy(wave.tile) * TILING_TILE_SIZE + tiling_unpack_pixel_command(command);
     let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
-    let r = resolve_pixel(pixel, word);
+    let r = resolve_pixel(pixel, word, resolve_pass.y);
     if r.ok {
         gbuffer_store(pixel, r.surface, frame.view_rotation);
     }
