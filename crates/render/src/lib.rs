@@ -127,6 +127,17 @@ pub enum LaydownArg {
     Compute,
 }
 
+/// `--vertex-ring`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum VertexRingArg {
+    /// No vertex side: the resolve transforms its triangle's vertices per pixel.
+    Off,
+    /// HFW's PS4 ring, 12 MiB (a pass at most 192k vertices).
+    Ps4,
+    /// HFW's PS5 ring, 24 MiB (a pass at most 384k vertices).
+    Ps5,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -196,6 +207,15 @@ pub struct Args {
     /// Use the workgroup-atomic fallback even where subgroups exist.
     #[arg(long)]
     pub no_subgroups: bool,
+    /// HFW's vertex ring on the deferred path: vertex wave commands from the vertex cull
+    /// buffer, each pass's visible chunks transformed into the ring, the resolve reading
+    /// its three vertices from it.
+    #[arg(long, value_enum, default_value = "ps5")]
+    pub vertex_ring: VertexRingArg,
+    /// With a vertex ring: fill it (and time its transform alone) but let the resolve
+    /// transform its vertices per pixel, for comparison.
+    #[arg(long)]
+    pub per_pixel_transform: bool,
     /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
     /// sways every alpha-tested instance otherwise).
     #[arg(long)]
@@ -694,6 +714,12 @@ pub fn run(args: &Args) -> Result<()> {
             LaydownArg::Compute => gpu::Laydown::Compute,
         },
         compute_laydown_max_extent: args.laydown_max_extent,
+        vertex_ring: match args.vertex_ring {
+            VertexRingArg::Off => None,
+            VertexRingArg::Ps4 => Some(gpu::RING_BYTES_PS4),
+            VertexRingArg::Ps5 => Some(gpu::RING_BYTES_PS5),
+        },
+        ring_resolve: !args.per_pixel_transform,
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -1081,6 +1107,9 @@ fn render_scene(
                 t.elapsed().as_secs_f64() * 1e3,
             );
             report.classification(&stats);
+            if let Some(ring) = renderer.read_vertex_ring(&prepared)? {
+                report.vertex_ring(&ring, &stats);
+            }
             if let Some(m) = &mismatch {
                 eprintln!("GPU classification differs from the CPU twin: {m}");
             }
