@@ -387,6 +387,7 @@ pub(crate) fn frame_uniforms(
         wind: wind.map_or([0.0; 4], crate::scene::Wind::uniform),
         prev_time: previous.map_or(frame.time, |p| p.time),
         _pad: [0.0; 3],
+        vrs: [0.0; 4],
     }
 }
 

@@ -118,7 +118,7 @@ pub use passes::vertex_ring::{
 pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting,
-    RenderPath, Renderer, RendererConfig, WARM_UP,
+    RenderPath, Renderer, RendererConfig, VrsConfig, WARM_UP,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};

@@ -225,6 +225,72 @@ pub struct RendererConfig {
     /// its resolve; default). Off: the ring is still filled (and timed alone), the resolve
     /// transforms per pixel, for comparison.
     pub ring_resolve: bool,
+    /// HFW's software variable-rate shading on the deferred path (`None`: off, the
+    /// default): a shading rate per triangle from its provoking vertex's distance and
+    /// screen speed, in the vis word's two rate bits (visbuf's VRS layout, 14-bit
+    /// micro-batch IDs), quad commands from the classification, and the resolve shading
+    /// one sample per quad command and broadcasting it through workgroup memory.
+    pub vrs: Option<VrsConfig>,
+}
+
+/// HFW's rule for the shading rate, chosen in the vertex stage ("blends through 1x1 and
+/// 2x1 to 2x2 depending on distance ... when we are moving at pace, everything blends
+/// towards using 2x2"): the coarser of the distance's rate and the speed's. Steps, not a
+/// blend: 1x1 nearer than `distance_2x1`, 2x1 up to `distance_2x2`, 2x2 beyond; at least
+/// 2x1 from `speed_2x1` pixels per frame of screen motion (camera and wind), 2x2 from
+/// `speed_2x2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VrsConfig {
+    /// View distance (metres, along the view axis) where 2x1 begins, > 0.
+    pub distance_2x1: f32,
+    /// Where 2x2 begins, >= `distance_2x1`.
+    pub distance_2x2: f32,
+    /// Screen speed (pixels per frame) from which a triangle shades at least 2x1, > 0.
+    pub speed_2x1: f32,
+    /// Screen speed from which it shades 2x2, >= `speed_2x1`.
+    pub speed_2x2: f32,
+}
+
+impl Default for VrsConfig {
+    /// 1x1 within 12 m, 2x1 to 30 m, 2x2 beyond; 2x1 from 8 px a frame, 2x2 from 24.
+    fn default() -> Self {
+        Self {
+            distance_2x1: 12.0,
+            distance_2x2: 30.0,
+            speed_2x1: 8.0,
+            speed_2x2: 24.0,
+        }
+    }
+}
+
+impl VrsConfig {
+    /// The frame uniform (`FrameUniforms::vrs`).
+    pub(crate) fn uniform(&self) -> [f32; 4] {
+        [
+            self.distance_2x1,
+            self.distance_2x2.max(f32::MIN_POSITIVE),
+            self.speed_2x1,
+            self.speed_2x2,
+        ]
+    }
+
+    fn validate(&self) -> Result<()> {
+        let ok = self.distance_2x1 > 0.0
+            && self.distance_2x2 >= self.distance_2x1
+            && self.speed_2x1 > 0.0
+            && self.speed_2x2 >= self.speed_2x1
+            && self.distance_2x2.is_finite()
+            && self.speed_2x2.is_finite();
+        if ok {
+            Ok(())
+        } else {
+            Error::config(
+                "RendererConfig::vrs",
+                f64::from(self.distance_2x1),
+                "finite thresholds, 0 < distance_2x1 <= distance_2x2, 0 < speed_2x1 <= speed_2x2",
+            )
+        }
+    }
 }
 
 impl RendererConfig {
@@ -276,6 +342,9 @@ impl RendererConfig {
                 );
             }
         }
+        if let Some(v) = &self.vrs {
+            v.validate()?;
+        }
         if self.msaa.is_some() && self.light_paths.volumes() {
             return bad(
                 "RendererConfig::msaa",
@@ -309,6 +378,7 @@ impl Default for RendererConfig {
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
             vertex_ring: None,
             ring_resolve: true,
+            vrs: None,
         }
     }
 }
@@ -743,6 +813,7 @@ impl Renderer {
                 baked_sun: self.config.baked_sun,
                 ring_bytes: self.config.vertex_ring,
                 ring_resolve: self.config.ring_resolve,
+                vrs: self.config.vrs.is_some(),
             },
             scene,
         )
@@ -781,6 +852,7 @@ impl Renderer {
             self.frame_index,
             previous,
         );
+        uniforms.vrs = self.config.vrs.map_or([0.0; 4], |v| v.uniform());
         self.bake_sun(scene, frame, &mut uniforms, statics)?;
         uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
         self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;

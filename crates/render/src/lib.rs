@@ -216,6 +216,11 @@ pub struct Args {
     /// transform its vertices per pixel, for comparison.
     #[arg(long)]
     pub per_pixel_transform: bool,
+    /// HFW's software VRS on the deferred path: a shading rate per triangle from distance
+    /// and screen speed (`gpu::VrsConfig::default`), quad commands, one shaded sample per
+    /// quad broadcast to its pixels.
+    #[arg(long)]
+    pub vrs: bool,
     /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
     /// sways every alpha-tested instance otherwise).
     #[arg(long)]
@@ -720,6 +725,7 @@ pub fn run(args: &Args) -> Result<()> {
             VertexRingArg::Ps5 => Some(gpu::RING_BYTES_PS5),
         },
         ring_resolve: !args.per_pixel_transform,
+        vrs: args.vrs.then(gpu::VrsConfig::default),
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -1122,6 +1128,18 @@ fn render_scene(
                 let file = args.out.join(format!("{name}_debug_waves_per_tile.png"));
                 heat.write_png(&file)?;
                 report.image_named(&format!("waves per tile (max {max})"), &file);
+                if args.vrs {
+                    let (rates, n) = gpu::debug::shading_rate(w, h, &classified.vis);
+                    let file = args.out.join(format!("{name}_debug_shading_rate.png"));
+                    rates.write_png(&file)?;
+                    report.image_named(
+                        &format!(
+                            "VRS shading rate per pixel (1x1 dark green {}, 2x1 orange {}, 2x2 red {}; 1x2 blue {})",
+                            n[0], n[2], n[3], n[1]
+                        ),
+                        &file,
+                    );
+                }
                 let (quads, mean) = gpu::debug::quad_overdraw(w, h, &classified.vis);
                 let file = args.out.join(format!("{name}_debug_quad_overdraw.png"));
                 quads.write_png(&file)?;

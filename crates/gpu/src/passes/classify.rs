@@ -203,6 +203,15 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
+    /// The vis words' layout the phases decode (VRS: quad commands).
+    pub(crate) fn layout(&self) -> visbuf::VisLayout {
+        if self.params.flags & tiling::classify::FLAG_VRS != 0 {
+            visbuf::VisLayout::Vrs
+        } else {
+            visbuf::VisLayout::Standard
+        }
+    }
+
     /// The MicroBatchInfoTable the phases read (indexed by micro-batch ID).
     pub(crate) fn table(&self) -> &wgpu::Buffer {
         &self._kept[2]
@@ -228,7 +237,12 @@ impl Buffers {
             tiles_y: s.height.div_ceil(tiling::TILE_SIZE),
             pass_count: s.passes,
             wave_width: config.wave_width.lanes(),
-            flags: 0,
+            // The plan's word layout: with VRS the commands are quad commands.
+            flags: if plan.layout == visbuf::VisLayout::Vrs {
+                tiling::classify::FLAG_VRS
+            } else {
+                0
+            },
             table_len: table.len() as u32,
             micro_batch_count,
             chunk_count: config.chunk_count,

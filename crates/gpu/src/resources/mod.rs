@@ -189,6 +189,8 @@ pub(crate) struct PrepareContext<'a> {
     pub ring_bytes: Option<u64>,
     /// Whether the resolve reads the ring (`RendererConfig::ring_resolve`).
     pub ring_resolve: bool,
+    /// HFW's software VRS (`RendererConfig::vrs`): the plan uses visbuf's VRS layout.
+    pub vrs: bool,
 }
 
 /// One sun shadow view's static content (a slice's, and the baked map's in set 0): the
@@ -393,6 +395,12 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
     });
     let config = tiling::PlanConfig {
         ring_bytes: c.ring_bytes.unwrap_or(tiling::RING_BYTES_PS5),
+        // HFW's VRS steals the micro-batch ID's top two bits for the shading rate.
+        layout: if c.vrs {
+            visbuf::VisLayout::Vrs
+        } else {
+            visbuf::VisLayout::Standard
+        },
         ..tiling::PlanConfig::default()
     };
     let mut tiling_plan = tiling::build_plan(&batches, &config)

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Per-frame constants (WGSL `FrameUniforms`): 480 bytes. See `wgsl/frame.wgsl` for the
+/// Per-frame constants (WGSL `FrameUniforms`): 496 bytes. See `wgsl/frame.wgsl` for the
 /// spaces: positions are camera-relative, stored origin-relative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -49,10 +49,14 @@ pub(crate) struct FrameUniforms {
     /// The previous frame's time (seconds; this frame's on a first frame), for the
     /// animated foliage's motion vectors.
     pub prev_time: f32,
-    /// Padding to the WGSL struct's 16-byte size.
+    /// Padding to `vrs`'s 16-byte alignment.
     pub _pad: [f32; 3],
+    /// HFW's software VRS (`VrsConfig::uniform`): distances (metres) where 2x1 and 2x2
+    /// begin, screen speeds (pixels per frame) that force 2x1 and 2x2; all zero: off (the
+    /// standard vis layout).
+    pub vrs: [f32; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 480);
+const _: () = assert!(size_of::<FrameUniforms>() == 496);
 
 /// One instance (WGSL `GpuInstance`): object-to-origin-relative transform rows and its
 /// place in the vis buffer. 64 bytes.
@@ -300,6 +304,7 @@ mod tests {
                 view_rotation,
                 wind,
                 prev_time,
+                vrs,
             }),
         );
         // The Rust rows array is three WGSL members.

@@ -40,5 +40,5 @@ fn vs_hybrid(@builtin(vertex_index) vertex: u32) -> LaydownOut {
 fn fs_hybrid(in: LaydownOut) -> @location(0) u32 {
     // Opaque materials have a cutoff of 0: the test keeps every fragment.
     alpha_test(in.uv, in.instance, in.clip.xy);
-    return vis_word(in.instance, in.payload);
+    return vis_word(in.instance, in.payload, in.rate);
 }

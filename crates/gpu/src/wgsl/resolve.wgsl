@@ -99,7 +99,8 @@ fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchI
 fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
     var out: ResolvedPixel;
     out.ok = false;
-    let id = visbuf_micro_batch(word);
+    // With VRS the top two bits are the shading rate (visbuf's VRS layout).
+    let id = select(visbuf_micro_batch(word), visbuf_micro_batch_vrs(word), gpu_vrs_layout());
     if visbuf_is_none(word) || id >= arrayLength(&micro_batches) {
         return out;
     }
@@ -159,14 +160,30 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // The wave-command resolve (seed 000's "shade pixels"): one workgroup of RESOLVE_WAVE_WIDTH
 // lanes per wave command, one `dispatch_workgroups_indirect` per pass with that pass's
-// PassDispatch. Each lane takes one pixel command of its wave: a pixel of the wave's
-// 128x128 tile that shows the wave's (pass, batch group).
+// PassDispatch. Each lane takes one command of its wave: a pixel of the wave's 128x128
+// tile that shows the wave's (pass, batch group), or with VRS a quad command (the sample's
+// quad and the mask of the quad's pixels that receive it).
 @group(3) @binding(0) var<storage, read> wave_commands: array<TilingWaveCommand>;
 @group(3) @binding(1) var<storage, read> pixel_commands: array<u32>;
 @group(3) @binding(2) var<storage, read> pass_dispatches: array<TilingPassDispatch>;
 // x: the pass this dispatch shades; y: its half of the vertex ring (GPU_RING_NONE: the
 // per-pixel transform). A uniform at a dynamic offset per pass.
 @group(3) @binding(3) var<uniform> resolve_pass: vec4<u32>;
+
+// The talk's work expansion (BroadcastOutput): whether any lane broadcasts, each lane's
+// first entry and receiving-pixel count, the expanded list (lane | dx << 6 | dy << 7, the
+// talk's sPixelCommands), each lane's quad origin (sIntermediatePixelX/Y) and its shaded
+// result (sIntermediateSpace; the surface, which gbuffer_store packs per target).
+var<workgroup> wg_broadcast: atomic<u32>;
+var<workgroup> wg_counts: array<u32, RESOLVE_WAVE_WIDTH>;
+var<workgroup> wg_total: u32;
+var<workgroup> wg_list: array<u32, RESOLVE_LIST_LEN>;
+var<workgroup> wg_origin: array<vec2<u32>, RESOLVE_WAVE_WIDTH>;
+var<workgroup> wg_surface: array<DeferredSurface, RESOLVE_WAVE_WIDTH>;
+var<workgroup> wg_ok: array<u32, RESOLVE_WAVE_WIDTH>;
+
+// Four receiving pixels per lane at most.
+override RESOLVE_LIST_LEN: u32 = 4u * RESOLVE_WAVE_WIDTH;
 
 @compute @workgroup_size(RESOLVE_WAVE_WIDTH)
 fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
@@ -176,15 +193,84 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
         return;
     }
     let wave = wave_commands[dispatch.first + k];
-    if lane >= wave.command_count {
+    let live = lane < wave.command_count;
+    let tile = tiling_wave_tile_xy(wave.tile) * TILING_TILE_SIZE;
+    var pixel = vec2<u32>(0u);
+    var mask = 1u;
+    if live {
+        let c = wave.first_command + lane;
+        let command = tiling_command_in_word(pixel_commands[c / 2u], c);
+        if gpu_vrs_layout() {
+            // The sample: the quad's pixel of the mask's lowest bit (tiling::sample_pixel).
+            let quad = vec2<u32>(command & TILING_QUAD_COORD_MASK, (command >> TILING_QUAD_Y_SHIFT) & TILING_QUAD_COORD_MASK);
+            mask = (command >> TILING_QUAD_PIXELS_SHIFT) & 0xfu;
+            let b = select(0u, firstTrailingBit(mask), mask != 0u);
+            pixel = tile + 2u * quad + vec2<u32>(b & 1u, b >> 1u);
+        } else {
+            pixel = tile + tiling_unpack_pixel_command(command);
+        }
+    }
+    var r: ResolvedPixel;
+    r.ok = false;
+    if live {
+        let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
+        r = resolve_pixel(pixel, word, resolve_pass.y);
+    }
+    if !gpu_vrs_layout() {
+        if r.ok {
+            gbuffer_store(pixel, r.surface, frame.view_rotation);
+        }
         return;
     }
-    let c = wave.first_command + lane;
-    let command = tiling_command_in_word(pixel_commands[c / 2u], c);
-    let pixel = tiling_wave_tile_xy(wave.tile) * TILING_TILE_SIZE + tiling_unpack_pixel_command(command);
-    let word = textureLoad(vis_texture, vec2<i32>(pixel), 0).x;
-    let r = resolve_pixel(pixel, word, resolve_pass.y);
-    if r.ok {
-        gbuffer_store(pixel, r.surface, frame.view_rotation);
+    // Does any lane broadcast? (More than one receiving pixel.)
+    if lane == 0u {
+        atomicStore(&wg_broadcast, 0u);
+    }
+    workgroupBarrier();
+    let receivers = select(0u, countOneBits(mask), live && r.ok);
+    if receivers > 1u {
+        atomicOr(&wg_broadcast, 1u);
+    }
+    wg_counts[lane] = receivers;
+    workgroupBarrier();
+    if atomicLoad(&wg_broadcast) == 0u {
+        // Fast path: every lane writes its own pixel.
+        if r.ok {
+            gbuffer_store(pixel, r.surface, frame.view_rotation);
+        }
+        return;
+    }
+    // Expansion: each lane's run of the list starts at the sum of the counts below it.
+    var start = 0u;
+    for (var l = 0u; l < lane; l++) {
+        start += wg_counts[l];
+    }
+    if lane == RESOLVE_WAVE_WIDTH - 1u {
+        wg_total = start + receivers;
+    }
+    if receivers > 0u {
+        var j = start;
+        for (var bit = 0u; bit < 4u; bit++) {
+            if (mask & (1u << bit)) != 0u && j < RESOLVE_LIST_LEN {
+                wg_list[j] = lane | ((bit & 1u) << 6u) | ((bit >> 1u) << 7u);
+                j++;
+            }
+        }
+    }
+    wg_origin[lane] = pixel & vec2<u32>(~1u);
+    wg_surface[lane] = r.surface;
+    wg_ok[lane] = select(0u, 1u, r.ok);
+    workgroupBarrier();
+    // BroadcastOutput: the lanes walk the expanded list, each entry writing one pixel
+    // with its sample's stashed result; every covered pixel is written once.
+    let total = min(wg_total, RESOLVE_LIST_LEN);
+    let size = vec2<u32>(frame.viewport.xy);
+    for (var i = lane; i < total; i += RESOLVE_WAVE_WIDTH) {
+        let e = wg_list[i];
+        let l = e & 63u;
+        let out = wg_origin[l] + vec2<u32>((e >> 6u) & 1u, (e >> 7u) & 1u);
+        if wg_ok[l] != 0u && out.x < size.x && out.y < size.y {
+            gbuffer_store(out, wg_surface[l], frame.view_rotation);
+        }
     }
 }

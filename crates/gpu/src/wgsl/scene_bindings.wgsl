@@ -13,6 +13,11 @@
 // The baked sun map (gpu::shadows::BakedSun); a 1x1 stand-in where it is the attachment.
 @group(0) @binding(6) var baked_sun_map: texture_depth_2d;
 
+// Whether the vis words carry a shading rate (visbuf's VRS layout: RendererConfig::vrs).
+fn gpu_vrs_layout() -> bool {
+    return frame.vrs.y > 0.0;
+}
+
 // Camera-relative position of object-space point `p` of `inst`, unanimated.
 fn gpu_camera_relative(inst: GpuInstance, p: vec3<f32>) -> vec3<f32> {
     return gpu_transform_point(inst, p) + frame.origin_offset.xyz;
