@@ -127,6 +127,17 @@ pub enum LaydownArg {
     Compute,
 }
 
+/// `--vrs`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum VrsArg {
+    /// Every pixel shaded.
+    Off,
+    /// HFW's rule (`gpu::VrsConfig::default`): by distance, coarser when moving.
+    On,
+    /// Every triangle 2x2 (the rule's result at speed).
+    All2x2,
+}
+
 /// `--vertex-ring`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum VertexRingArg {
@@ -218,9 +229,10 @@ pub struct Args {
     pub per_pixel_transform: bool,
     /// HFW's software VRS on the deferred path: a shading rate per triangle from distance
     /// and screen speed (`gpu::VrsConfig::default`), quad commands, one shaded sample per
-    /// quad broadcast to its pixels.
-    #[arg(long)]
-    pub vrs: bool,
+    /// quad broadcast to its pixels. `all-2x2` rates everything 2x2, what HFW's rule gives
+    /// "when we are moving at pace" (the measured frames hold the camera still).
+    #[arg(long, value_enum, default_value = "off")]
+    pub vrs: VrsArg,
     /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
     /// sways every alpha-tested instance otherwise).
     #[arg(long)]
@@ -725,7 +737,15 @@ pub fn run(args: &Args) -> Result<()> {
             VertexRingArg::Ps5 => Some(gpu::RING_BYTES_PS5),
         },
         ring_resolve: !args.per_pixel_transform,
-        vrs: args.vrs.then(gpu::VrsConfig::default),
+        vrs: match args.vrs {
+            VrsArg::Off => None,
+            VrsArg::On => Some(gpu::VrsConfig::default()),
+            VrsArg::All2x2 => Some(gpu::VrsConfig {
+                distance_2x1: 1e-6,
+                distance_2x2: 1e-6,
+                ..gpu::VrsConfig::default()
+            }),
+        },
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -1128,7 +1148,7 @@ fn render_scene(
                 let file = args.out.join(format!("{name}_debug_waves_per_tile.png"));
                 heat.write_png(&file)?;
                 report.image_named(&format!("waves per tile (max {max})"), &file);
-                if args.vrs {
+                if args.vrs != VrsArg::Off {
                     let (rates, n) = gpu::debug::shading_rate(w, h, &classified.vis);
                     let file = args.out.join(format!("{name}_debug_shading_rate.png"));
                     rates.write_png(&file)?;
