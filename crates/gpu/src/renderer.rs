@@ -855,7 +855,9 @@ impl Renderer {
         uniforms.vrs = self.config.vrs.map_or([0.0; 4], |v| v.uniform());
         self.bake_sun(scene, frame, &mut uniforms, statics)?;
         uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
-        self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
+        // Swaying foliage moves its shadows: a cached slice is stale once time moved.
+        let animated = scene.wind.is_some() && uniforms.prev_time != uniforms.time;
+        self.upload_shadows(scene.id, static_frame || animated, frame, &uniforms)?;
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         self.view_rotation = frame.camera.view_rotation();
