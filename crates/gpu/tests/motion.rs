@@ -227,7 +227,7 @@ fn animated_foliage_moves_as_the_cpu_reference_and_has_motion_vectors() {
             .positions
             .iter()
             .map(|&c| {
-                let world = Vec3::from(instance.transform_point3(c)).as_dvec3() + d1;
+                let world = instance.transform_point3(c).as_dvec3() + d1;
                 pixels(clip(&camera, world))
             })
             .collect();

@@ -135,6 +135,7 @@ pub enum VrsArg {
     /// HFW's rule (`gpu::VrsConfig::default`): by distance, coarser when moving.
     On,
     /// Every triangle 2x2 (the rule's result at speed).
+    #[value(name = "all-2x2")]
     All2x2,
 }
 

@@ -330,7 +330,7 @@ impl Report {
                 pct(ring.vertices_transformed(), s.scene_vertices),
                 group_digits(u64::from(ring.visible_chunks)),
                 ring.half_base.len(),
-                u64::from(ring.ring_vertices) * gpu::RING_VERTEX_BYTES >> 20,
+                (u64::from(ring.ring_vertices) * gpu::RING_VERTEX_BYTES) >> 20,
                 if ring.vertices_transformed() == s.vertices_after_chunk_culling {
                     " (= read-back)"
                 } else {
