@@ -186,6 +186,7 @@ fn reference() -> gpu::Scene {
             },
         ],
         static_setups: Vec::new(),
+        wind: None,
     }
 }
 

@@ -22,6 +22,29 @@ pub fn vis_ids(width: u32, height: u32, vis: &[u32]) -> Rgba8Image {
     img
 }
 
+/// HFW's software VRS: the shading rate of every pixel from the rate bits of its vis word
+/// (visbuf's VRS layout: `RendererConfig::vrs`): 1x1 dark green, 1x2 blue, 2x1 orange,
+/// 2x2 red; pixels without geometry yellow. Returns the image and the pixels at each rate
+/// (code order: 1x1, 1x2, 2x1, 2x2).
+pub fn shading_rate(width: u32, height: u32, vis: &[u32]) -> (Rgba8Image, [u64; 4]) {
+    const COLOURS: [[u8; 4]; 4] = [
+        [20, 90, 30, 255],
+        [40, 90, 230, 255],
+        [240, 150, 30, 255],
+        [220, 30, 30, 255],
+    ];
+    let mut img = Rgba8Image::new(width, height, EMPTY);
+    let mut counts = [0u64; 4];
+    for (p, &w) in img.pixels.iter_mut().zip(vis) {
+        if w != visbuf::VIS_NONE {
+            let code = (w >> 30) as usize;
+            counts[code] += 1;
+            *p = COLOURS[code];
+        }
+    }
+    (img, counts)
+}
+
 /// Wave commands per 128x128 tile (summed over passes and batch groups) as a heat map
 /// scaled to the busiest tile, blended over a grey version of the vis buffer so the scene
 /// shows through; tile borders are drawn dark. Returns the image and the busiest tile's

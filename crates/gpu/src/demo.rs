@@ -930,6 +930,7 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             albedo_layers,
             batches,
             static_setups: Vec::new(),
+            wind: None,
         },
         FrameInput {
             camera,
@@ -1026,6 +1027,7 @@ fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
             albedo_layers,
             batches,
             static_setups: Vec::new(),
+            wind: None,
         },
         FrameInput::new(camera),
     )

@@ -337,13 +337,16 @@ pub(crate) struct PreviousCamera {
     pub view_proj: Mat4,
     /// Its position (world).
     pub position: Vec3,
+    /// Its time (seconds): the animated foliage's previous pose.
+    pub time: f32,
 }
 
 /// The frame constants of `frame` for a scene prepared around `origin`, at
 /// `width` × `height` pixels. `previous`: the last frame's camera on the same scene (none on
-/// a first frame: no motion).
+/// a first frame: no motion). `wind`: the scene's (`None`: nothing sways).
 pub(crate) fn frame_uniforms(
     frame: &FrameInput,
+    wind: Option<&crate::scene::Wind>,
     origin: Vec3,
     (width, height): (u32, u32),
     mip_bias: f32,
@@ -381,6 +384,10 @@ pub(crate) fn frame_uniforms(
         time: frame.time,
         baked_sun: [[0.0; 4]; 4],
         view_rotation: camera.view_rotation().to_cols_array_2d(),
+        wind: wind.map_or([0.0; 4], crate::scene::Wind::uniform),
+        prev_time: previous.map_or(frame.time, |p| p.time),
+        _pad: [0.0; 3],
+        vrs: [0.0; 4],
     }
 }
 
@@ -487,9 +494,11 @@ mod tests {
         let prev = PreviousCamera {
             view_proj: before.relative_view_projection(2.0),
             position: before.position,
+            time: 0.0,
         };
         let u = frame_uniforms(
             &FrameInput::new(now),
+            None,
             origin,
             (200, 100),
             0.0,
@@ -507,7 +516,15 @@ mod tests {
         let o = Vec4::from(u.origin_offset).truncate();
         assert!(((p - origin) + o - (p - now.position)).abs().max_element() < 1e-5);
         // No previous frame: no motion.
-        let first = frame_uniforms(&FrameInput::new(now), origin, (200, 100), 0.0, 0, None);
+        let first = frame_uniforms(
+            &FrameInput::new(now),
+            None,
+            origin,
+            (200, 100),
+            0.0,
+            0,
+            None,
+        );
         assert_eq!(first.prev_view_proj, first.view_proj);
     }
 

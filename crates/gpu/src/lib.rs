@@ -61,6 +61,7 @@
 //!             .collect(),
 //!     }],
 //!     static_setups: vec![],
+//!     wind: None,
 //! };
 //!
 //! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
@@ -111,17 +112,20 @@ pub use passes::compute_laydown::{
     LAYDOWN_TEXTURE_FEATURES, LaydownStats, LaydownTarget,
 };
 pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
+pub use passes::vertex_ring::{
+    RING_UV_FROM_VERTICES, RING_VERTEX_BYTES, VertexRingReadback, ring_slot,
+};
 #[doc(hidden)]
 pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting,
-    RenderPath, Renderer, RendererConfig, WARM_UP,
+    RenderPath, Renderer, RendererConfig, VrsConfig, WARM_UP,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
 pub use scene::{
     AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
-    MeshId, Scene, ShaderKind, StaticSetup,
+    MeshId, Scene, ShaderKind, StaticSetup, Wind,
 };
 pub use shadows::ShadowConfig;
 pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
@@ -132,4 +136,6 @@ pub use statics::{
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;
 pub use stats::{ClassificationStats, GpuClassification};
+/// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::vertex_ring`.
+pub use tiling::{RING_BYTES_PS4, RING_BYTES_PS5};
 pub use timing::Timing;

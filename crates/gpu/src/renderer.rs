@@ -237,6 +237,83 @@ pub struct RendererConfig {
     /// shader clears a bit). Off (the default): today's all-vis-buffer frame. Other paths
     /// are unchanged either way.
     pub mixed_frame: bool,
+    /// HFW's vertex ring (seed 000: 12 MiB on PS4, 24 MiB on PS5; `gpu::RING_BYTES_PS4`,
+    /// `gpu::RING_BYTES_PS5`): bytes of the ring the deferred path transforms each pass's
+    /// visible 64-vertex chunks into (tiling's vertex wave commands, built on the GPU from
+    /// the vertex cull buffer), a pass never more than half of it. `None` (the default):
+    /// no vertex side, the resolve transforms its triangle's vertices per pixel.
+    pub vertex_ring: Option<u64>,
+    /// With [`vertex_ring`](Self::vertex_ring): the resolve reads its triangle's three
+    /// transformed vertices from the ring (each pass's transform recorded right before
+    /// its resolve; default). Off: the ring is still filled (and timed alone), the resolve
+    /// transforms per pixel, for comparison.
+    pub ring_resolve: bool,
+    /// HFW's software variable-rate shading on the deferred path (`None`: off, the
+    /// default): a shading rate per triangle from its provoking vertex's distance and
+    /// screen speed, in the vis word's two rate bits (visbuf's VRS layout, 14-bit
+    /// micro-batch IDs), quad commands from the classification, and the resolve shading
+    /// one sample per quad command and broadcasting it through workgroup memory.
+    pub vrs: Option<VrsConfig>,
+}
+
+/// HFW's rule for the shading rate, chosen in the vertex stage ("blends through 1x1 and
+/// 2x1 to 2x2 depending on distance ... when we are moving at pace, everything blends
+/// towards using 2x2"): the coarser of the distance's rate and the speed's. Steps, not a
+/// blend: 1x1 nearer than `distance_2x1`, 2x1 up to `distance_2x2`, 2x2 beyond; at least
+/// 2x1 from `speed_2x1` pixels per frame of screen motion (camera and wind), 2x2 from
+/// `speed_2x2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VrsConfig {
+    /// View distance (metres, along the view axis) where 2x1 begins, > 0.
+    pub distance_2x1: f32,
+    /// Where 2x2 begins, >= `distance_2x1`.
+    pub distance_2x2: f32,
+    /// Screen speed (pixels per frame) from which a triangle shades at least 2x1, > 0.
+    pub speed_2x1: f32,
+    /// Screen speed from which it shades 2x2, >= `speed_2x1`.
+    pub speed_2x2: f32,
+}
+
+impl Default for VrsConfig {
+    /// 1x1 within 12 m, 2x1 to 30 m, 2x2 beyond; 2x1 from 8 px a frame, 2x2 from 24.
+    fn default() -> Self {
+        Self {
+            distance_2x1: 12.0,
+            distance_2x2: 30.0,
+            speed_2x1: 8.0,
+            speed_2x2: 24.0,
+        }
+    }
+}
+
+impl VrsConfig {
+    /// The frame uniform (`FrameUniforms::vrs`).
+    pub(crate) fn uniform(&self) -> [f32; 4] {
+        [
+            self.distance_2x1,
+            self.distance_2x2.max(f32::MIN_POSITIVE),
+            self.speed_2x1,
+            self.speed_2x2,
+        ]
+    }
+
+    fn validate(&self) -> Result<()> {
+        let ok = self.distance_2x1 > 0.0
+            && self.distance_2x2 >= self.distance_2x1
+            && self.speed_2x1 > 0.0
+            && self.speed_2x2 >= self.speed_2x1
+            && self.distance_2x2.is_finite()
+            && self.speed_2x2.is_finite();
+        if ok {
+            Ok(())
+        } else {
+            Error::config(
+                "RendererConfig::vrs",
+                f64::from(self.distance_2x1),
+                "finite thresholds, 0 < distance_2x1 <= distance_2x2, 0 < speed_2x1 <= speed_2x2",
+            )
+        }
+    }
 }
 
 impl RendererConfig {
@@ -277,6 +354,20 @@ impl RendererConfig {
                 "[0, 254] pixels",
             );
         }
+        if let Some(bytes) = self.vertex_ring {
+            // Two halves of at least one 64-vertex chunk; slots in u32.
+            let min = 2 * 64 * passes::vertex_ring::RING_VERTEX_BYTES;
+            if !(min..=1 << 36).contains(&bytes) {
+                return bad(
+                    "RendererConfig::vertex_ring",
+                    bytes as f64,
+                    "4096 bytes to 64 GiB (the device's storage binding limit applies)",
+                );
+            }
+        }
+        if let Some(v) = &self.vrs {
+            v.validate()?;
+        }
         if self.msaa.is_some() && self.light_paths.volumes() {
             return bad(
                 "RendererConfig::msaa",
@@ -310,6 +401,9 @@ impl Default for RendererConfig {
             compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
             compute_laydown_target: None,
             mixed_frame: false,
+            vertex_ring: None,
+            ring_resolve: true,
+            vrs: None,
         }
     }
 }
@@ -682,7 +776,7 @@ impl Renderer {
                     .transpose()?,
             };
             // The frame's passes, and up to 8 slices' static shadow query and placement.
-            let timer = GpuTimer::new(device, queue, 64);
+            let timer = GpuTimer::new(device, queue, 256);
             let uploads = Uploads::new(device, config.upload_pool)?;
             Ok(Self {
                 device: device.clone(),
@@ -778,6 +872,9 @@ impl Renderer {
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
                 baked_sun: self.config.baked_sun,
+                ring_bytes: self.config.vertex_ring,
+                ring_resolve: self.config.ring_resolve,
+                vrs: self.config.vrs.is_some(),
             },
             scene,
         )
@@ -809,15 +906,19 @@ impl Renderer {
         let origin = scene.summary.origin;
         let mut uniforms = frame_uniforms(
             frame,
+            scene.wind.as_ref(),
             origin,
             (self.config.width, self.config.height),
             self.config.mip_bias,
             self.frame_index,
             previous,
         );
+        uniforms.vrs = self.config.vrs.map_or([0.0; 4], |v| v.uniform());
         self.bake_sun(scene, frame, &mut uniforms, statics)?;
         uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
-        self.upload_shadows(scene.id, static_frame, frame, &uniforms)?;
+        // Swaying foliage moves its shadows: a cached slice is stale once time moved.
+        let animated = scene.wind.is_some() && uniforms.prev_time != uniforms.time;
+        self.upload_shadows(scene.id, static_frame || animated, frame, &uniforms)?;
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         self.view_rotation = frame.camera.view_rotation();
@@ -829,6 +930,7 @@ impl Renderer {
             PreviousCamera {
                 view_proj: frame.camera.relative_view_projection(aspect),
                 position: frame.camera.position,
+                time: frame.time,
             },
         ));
         self.frame_index = self.frame_index.wrapping_add(1);
@@ -1839,6 +1941,24 @@ impl Renderer {
             &scene.classification,
             &self.targets.vis_words,
         )
+    }
+
+    /// What HFW's vertex side wrote in the last deferred frame of `scene` (vertex wave
+    /// commands, dispatches, the ring), read back; `None` without
+    /// [`RendererConfig::vertex_ring`].
+    ///
+    /// # Errors
+    /// A scene of another renderer, or a device error.
+    pub fn read_vertex_ring(
+        &self,
+        scene: &PreparedScene,
+    ) -> Result<Option<crate::VertexRingReadback>> {
+        self.check_scene(scene)?;
+        scene
+            .vertex_ring
+            .as_ref()
+            .map(|b| crate::VertexRingReadback::read(&self.device, &self.queue, b))
+            .transpose()
     }
 
     /// Uploads `words` (row-major, `width * height`, any values: bad IDs are the

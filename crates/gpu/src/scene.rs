@@ -235,6 +235,131 @@ pub struct Scene {
     /// without static content. Frames with a static query
     /// ([`Renderer::render_static`](crate::Renderer::render_static)) draw its output.
     pub static_setups: Vec<StaticSetup>,
+    /// HFW's animated foliage ("All our foliage is animated"): the wind that sways every
+    /// [`ShaderKind::AlphaTested`] instance, `None` for a still scene (the default).
+    pub wind: Option<Wind>,
+}
+
+/// A wind that sways the alpha-tested (foliage) instances in every pass that positions
+/// vertices, so all paths see the same animated geometry (and bit-identical depths).
+///
+/// Displacement of object-space point `p` of an instance with origin-relative
+/// translation `t` at time `s` (seconds), in world space (horizontal only):
+///
+/// ```text
+/// bend  = clamp(p.y / height, 0, 1)²                   per-vertex bend weight
+/// phase = 2π · fract(0.37 t.x + 0.23 t.z)              per-instance phase
+/// sway  = sin(2π f s + phase) + 0.3 sin(2π 2.3 f s + 2 phase)
+/// d     = amplitude · bend · sway · (direction.x, 0, direction.y)
+/// ```
+///
+/// [`Wind::displacement`] is the CPU reference of the shader (`gpu::scene_bindings`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wind {
+    /// Horizontal direction (world x, z); normalised on upload (zero: no sway).
+    pub direction: Vec2,
+    /// Sway at bend weight 1 (metres), finite, >= 0.
+    pub amplitude: f32,
+    /// Main sway frequency (Hz), finite, >= 0.
+    pub frequency: f32,
+    /// Object-space height at which the bend weight reaches 1 (metres), > 0.
+    pub height: f32,
+}
+
+impl Default for Wind {
+    /// A breeze: 8 cm of sway at 1 m and above, 0.6 Hz, along +x and a little +z.
+    fn default() -> Self {
+        Self {
+            direction: Vec2::new(1.0, 0.35),
+            amplitude: 0.08,
+            frequency: 0.6,
+            height: 1.0,
+        }
+    }
+}
+
+impl Wind {
+    /// Checks every field (finite, non-negative amplitude and frequency, positive height).
+    ///
+    /// # Errors
+    /// [`SceneError::OutOfRange`] naming the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let field = |f: &'static str| move || format!("wind.{f}");
+        check_range(
+            field("direction.x"),
+            self.direction.x,
+            f32::MIN,
+            f32::MAX,
+            "finite",
+        )
+        .and(check_range(
+            field("direction.y"),
+            self.direction.y,
+            f32::MIN,
+            f32::MAX,
+            "finite",
+        ))
+        .and(check_range(
+            field("amplitude"),
+            self.amplitude,
+            0.0,
+            f32::MAX,
+            "finite, >= 0 metres",
+        ))
+        .and(check_range(
+            field("frequency"),
+            self.frequency,
+            0.0,
+            f32::MAX,
+            "finite, >= 0 Hz",
+        ))
+        .and(check_range(
+            field("height"),
+            self.height,
+            f32::MIN_POSITIVE,
+            f32::MAX,
+            "finite, > 0 metres",
+        ))
+        .map_err(|(field, value, allowed)| SceneError::OutOfRange {
+            field,
+            value,
+            allowed,
+        })
+    }
+
+    /// The four constants the shaders read (`FrameUniforms::wind`): direction times
+    /// amplitude (x, z), angular frequency (rad/s), 1 / height.
+    pub(crate) fn uniform(&self) -> [f32; 4] {
+        let d = self.direction.normalize_or_zero() * self.amplitude;
+        [
+            d.x,
+            d.y,
+            std::f32::consts::TAU * self.frequency,
+            1.0 / self.height,
+        ]
+    }
+
+    /// CPU reference of the shader's displacement (world metres, added to the transformed
+    /// position) of object-space point `p` of an instance whose origin-relative
+    /// translation is `translation`, at `time` seconds. The same f32 arithmetic as the
+    /// WGSL (`sin` may differ in its last bits).
+    #[must_use]
+    pub fn displacement(&self, translation: Vec3, p: Vec3, time: f32) -> Vec3 {
+        wind_displacement(self.uniform(), translation, p, time)
+    }
+}
+
+/// `Wind::displacement` from the uploaded constants (all zero: none).
+pub(crate) fn wind_displacement(w: [f32; 4], t: Vec3, p: Vec3, time: f32) -> Vec3 {
+    let bend = (p.y * w[3]).clamp(0.0, 1.0);
+    let weight = bend * bend;
+    let phase = std::f32::consts::TAU * {
+        let x = 0.37 * t.x + 0.23 * t.z;
+        x - x.floor()
+    };
+    let a = w[2] * time;
+    let sway = (a + phase).sin() + 0.3 * (2.3 * a + 2.0 * phase).sin();
+    Vec3::new(w[0], 0.0, w[1]) * (weight * sway)
 }
 
 impl Scene {
@@ -242,6 +367,9 @@ impl Scene {
     pub fn validate(&self) -> Result<(), SceneError> {
         for m in &self.meshes {
             m.validate()?;
+        }
+        if let Some(w) = &self.wind {
+            w.validate()?;
         }
         let size = self.albedo_layers.first().map_or(1, |l| l.size);
         for (i, l) in self.albedo_layers.iter().enumerate() {

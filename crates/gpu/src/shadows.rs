@@ -52,7 +52,9 @@ pub struct ShadowConfig {
     /// Keep a slice's map while its world-space matrix and the scene stay the same (the
     /// stable cascades keep it while the camera holds still or moves within a texel):
     /// KZ2's stability turned into skipped passes. Frames with a static query always
-    /// re-render (their static casters change per frame). Off: every slice every frame.
+    /// re-render (their static casters change per frame), and so do frames whose time
+    /// moved in a scene with wind (its foliage's shadows sway). Off: every slice every
+    /// frame.
     pub cache: bool,
     /// KZ2's removal of small objects from shadow maps, for static content: in a frame
     /// with a static query, each re-rendered slice runs the query's shadow view over its

@@ -148,6 +148,7 @@ pub fn scene_from_query(
     let origin = Affine3A::from_translation(Vec3::new(o[0] as f32, o[1] as f32, o[2] as f32));
     let mut planned = Scene {
         static_setups: Vec::new(),
+        wind: None,
         ..scene.clone()
     };
     for (i, b) in out.batches.iter().enumerate() {

@@ -3,7 +3,6 @@
 //! (`tiling::measure`).
 
 use tiling::{Classification, PassDispatch, PixelStats, Totals, WaveCommand, canonical_sort};
-use visbuf::VisLayout;
 
 use crate::error::{Error, Result, SceneError};
 use crate::passes::classify::Buffers;
@@ -112,12 +111,7 @@ impl GpuClassification {
             .flat_map(|w| [*w as u16, (*w >> 16) as u16])
             .take(commands as usize)
             .collect();
-        canonical_sort(
-            &mut cmds,
-            &pixel_offsets,
-            &final_counts,
-            VisLayout::Standard,
-        );
+        canonical_sort(&mut cmds, &pixel_offsets, &final_counts, b.layout());
         let cull_bytes = read_buffer(device, queue, &b.vertex_cull, 0, b.vertex_cull.size())?;
         let stats = |b: &wgpu::Buffer| -> Result<PixelStats> {
             Ok(bytemuck::pod_read_unaligned(&read_buffer(
@@ -206,8 +200,7 @@ pub(crate) fn classification_statistics(
     let s = b.sizes;
     let t = &scene.tiling;
     let err = |e: tiling::Error| Error::Scene(SceneError::Tiling(e.to_string()));
-    let vis =
-        tiling::VisBuffer::new(&gpu.vis, s.width, s.height, VisLayout::Standard).map_err(err)?;
+    let vis = tiling::VisBuffer::new(&gpu.vis, s.width, s.height, b.layout()).map_err(err)?;
     let config = b.config;
     let (cpu, vis) = match &gpu.validity {
         None => (

@@ -71,6 +71,7 @@ fn test_scene() -> (Scene, FrameInput) {
             },
         ],
         static_setups: Vec::new(),
+        wind: None,
     };
     let camera = Camera {
         fov_y: 1.0,
@@ -421,6 +422,7 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
             ],
         }],
         static_setups: Vec::new(),
+        wind: None,
     };
     let camera = Camera {
         fov_y: 1.0,

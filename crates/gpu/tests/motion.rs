@@ -1,12 +1,17 @@
 //! Motion vectors: the G-buffer's motion (pixels, current minus previous, `+y` down) of a
 //! still scene under a moving camera equals an f64 reprojection of each pixel's depth
-//! through the two cameras, on both paths; a scene's first frame has none.
+//! through the two cameras, on both paths; a scene's first frame has none. Animated
+//! foliage (HFW's wind) sits where the CPU reference of the animation puts it and its
+//! motion vectors add the sway between the two frames' times.
 
 mod common;
 
-use glam::{DMat4, DVec3, DVec4, Vec3};
+use glam::{Affine3A, DMat4, DVec3, DVec4, Vec2, Vec3, Vec4};
 use gpu::demo::{self, DemoOptions, DemoScene};
-use gpu::{Camera, RenderPath};
+use gpu::{
+    AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath, Scene,
+    ShaderKind, Wind,
+};
 
 const W: u32 = 240;
 const H: u32 = 136;
@@ -67,7 +72,7 @@ fn motion_vectors_reproject_the_depth_through_both_cameras() {
         first.render(&p, &frame, path).unwrap();
         let still = first.read_gbuffer().unwrap();
         assert!(
-            still.iter().all(|s| s.motion == glam::Vec2::ZERO),
+            still.iter().all(|s| s.motion == Vec2::ZERO),
             "{path:?}: first frame"
         );
 
@@ -114,4 +119,202 @@ fn motion_vectors_reproject_the_depth_through_both_cameras() {
         // of a quad's fragment interpolation (baseline) or be a tie; a handful at most.
         assert!(off * 200 <= checked, "{path:?}: {off} of {checked} off");
     }
+}
+
+/// A 4 m horizontal alpha-tested (fully opaque) quad at object height 1 m, swaying in a
+/// strong wind; the wind itself, optional.
+fn swaying_quad(wind: Option<Wind>) -> (Scene, Affine3A) {
+    let h = 1.0;
+    let corners = [
+        Vec3::new(-2.0, h, -2.0),
+        Vec3::new(2.0, h, -2.0),
+        Vec3::new(2.0, h, 2.0),
+        Vec3::new(-2.0, h, 2.0),
+    ];
+    let mesh = Mesh {
+        name: "card".into(),
+        positions: corners.to_vec(),
+        normals: vec![Vec3::Y; 4],
+        uvs: vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y],
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+        indices: vec![0, 2, 1, 0, 3, 2],
+    };
+    let instance = Affine3A::from_translation(Vec3::new(0.3, 0.0, -0.2));
+    let scene = Scene {
+        meshes: vec![mesh],
+        materials: vec![Material {
+            name: "leaf".into(),
+            shader: ShaderKind::AlphaTested,
+            albedo_layer: 0,
+            tint: Vec3::ONE,
+            alpha_cutoff: 0.5,
+            roughness: 0.5,
+            specular: 0.5,
+            regular: false,
+        }],
+        albedo_layers: vec![AlbedoLayer {
+            size: 4,
+            texels: vec![[90, 160, 60, 255]; 16],
+        }],
+        batches: vec![Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![instance],
+        }],
+        static_setups: Vec::new(),
+        wind,
+    };
+    (scene, instance)
+}
+
+/// Twice-signed area test: is `p` at least `margin` pixels inside (positive) or outside
+/// (negative) the convex polygon `poly` (pixels, either winding)?
+fn signed_inset(poly: &[(f64, f64)], p: (f64, f64)) -> f64 {
+    let n = poly.len();
+    let area: f64 = (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum();
+    let sign = area.signum();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % n]);
+            let (ex, ey) = (b.0 - a.0, b.1 - a.1);
+            sign * (ex * (p.1 - a.1) - ey * (p.0 - a.0)) / ex.hypot(ey)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// HFW's animated foliage: with a still camera, the quad's pixels sit where the CPU
+/// reference of the wind (`Wind::displacement`) puts its four corners at this frame's
+/// time, and their motion vectors are the displacement between the previous frame's time
+/// and this one's, reprojected (f64) from each pixel's depth; both paths agree and their
+/// depths are bit-identical. Without wind the quad does not move.
+#[test]
+fn animated_foliage_moves_as_the_cpu_reference_and_has_motion_vectors() {
+    let wind = Wind {
+        direction: Vec2::new(1.0, 0.5),
+        amplitude: 0.6,
+        frequency: 0.2,
+        height: 1.0,
+    };
+    let camera = Camera::look_at(Vec3::new(0.0, 7.0, 6.0), Vec3::new(0.0, 0.5, 0.0));
+    let (t0, t1) = (0.4_f32, 1.5_f32);
+    let mut depths = Vec::new();
+    for path in [RenderPath::Deferred, RenderPath::Baseline] {
+        let (scene, instance) = swaying_quad(Some(wind));
+        let mut r = common::renderer(W, H, true);
+        let prepared = r.prepare(&scene).unwrap();
+        let origin = prepared.summary().origin;
+        let t = Vec3::from(instance.translation) - origin;
+        let top = Vec3::new(0.0, 1.0, 0.0);
+        let (d0, d1) = (
+            wind.displacement(t, top, t0).as_dvec3(),
+            wind.displacement(t, top, t1).as_dvec3(),
+        );
+        assert!((d1 - d0).length() > 0.2, "the test needs motion: {d0} {d1}");
+        let mut frame = FrameInput::new(camera);
+        frame.time = t0;
+        r.render(&prepared, &frame, path).unwrap();
+        frame.time = t1;
+        r.render(&prepared, &frame, path).unwrap();
+        let surfaces = r.read_gbuffer().unwrap();
+        let depth = r.read_depth().unwrap();
+
+        // Coverage: the corners displaced by the reference, projected.
+        let poly: Vec<(f64, f64)> = swaying_quad(None).0.meshes[0]
+            .positions
+            .iter()
+            .map(|&c| {
+                let world = instance.transform_point3(c).as_dvec3() + d1;
+                pixels(clip(&camera, world))
+            })
+            .collect();
+        let (mut inside, mut outside, mut wrong) = (0, 0, 0);
+        let (mut checked, mut off, mut worst) = (0, 0, 0.0_f64);
+        for y in 0..H {
+            for x in 0..W {
+                let i = (y * W + x) as usize;
+                let s = signed_inset(&poly, (f64::from(x) + 0.5, f64::from(y) + 0.5));
+                let covered = depth[i] > 0.0;
+                if s > 0.75 {
+                    inside += 1;
+                    wrong += usize::from(!covered);
+                } else if s < -0.75 {
+                    outside += 1;
+                    wrong += usize::from(covered);
+                }
+                if !covered || s < 1.0 {
+                    continue;
+                }
+                // The pixel's point now, and where it was at t0 (the quad translates
+                // rigidly: every corner has bend weight 1).
+                let now = unproject(&camera, x, y, depth[i]);
+                let before = now - d1 + d0;
+                let (nx, ny) = pixels(clip(&camera, now));
+                let (px, py) = pixels(clip(&camera, before));
+                let want = (nx - px, ny - py);
+                let got = surfaces[i].motion.as_dvec2();
+                let err = (got.x - want.0).hypot(got.y - want.1);
+                checked += 1;
+                if err > 0.05 + 0.01 * want.0.hypot(want.1) {
+                    off += 1;
+                    worst = worst.max(err);
+                }
+            }
+        }
+        eprintln!(
+            "{path:?}: {inside} pixels inside, {outside} outside, {wrong} wrong; motion: {checked} checked, {off} off (worst {worst:.3} px)"
+        );
+        assert!(inside > 1000 && outside > 1000, "{inside} / {outside}");
+        assert_eq!(wrong, 0, "{path:?}: coverage differs from the reference");
+        assert!(checked > 1000 && off == 0, "{path:?}: {off} of {checked}");
+        depths.push(depth);
+
+        // Without wind: no motion at all.
+        let (still, _) = swaying_quad(None);
+        let mut r = common::renderer(W, H, true);
+        let prepared = r.prepare(&still).unwrap();
+        frame.time = t0;
+        r.render(&prepared, &frame, path).unwrap();
+        frame.time = t1;
+        r.render(&prepared, &frame, path).unwrap();
+        let surfaces = r.read_gbuffer().unwrap();
+        assert!(surfaces.iter().all(|s| s.motion == Vec2::ZERO));
+    }
+    assert!(depths[0] == depths[1], "the paths' depths differ");
+}
+
+/// The CPU reference itself: no sway at the root, the full amplitude's bend at the bend
+/// height and above, horizontal only, periodic in the main frequency's period when the
+/// second term's is commensurate (10 periods of 2.3 f = 23 of f).
+#[test]
+fn wind_reference_bends_with_height() {
+    let w = Wind {
+        direction: Vec2::new(3.0, 4.0),
+        amplitude: 0.5,
+        frequency: 1.0,
+        height: 2.0,
+    };
+    let t = Vec3::new(1.0, 0.0, 2.0);
+    for time in [0.0_f32, 0.3, 1.7] {
+        assert_eq!(
+            w.displacement(t, Vec3::new(0.1, 0.0, 0.2), time),
+            Vec3::ZERO
+        );
+        let top = w.displacement(t, Vec3::new(0.0, 2.0, 0.0), time);
+        let above = w.displacement(t, Vec3::new(0.0, 5.0, 0.0), time);
+        let half = w.displacement(t, Vec3::new(0.0, 1.0, 0.0), time);
+        assert_eq!(top, above);
+        assert_eq!(top.y, 0.0);
+        assert!((half - top * 0.25).length() < 1e-6);
+        // Along (3, 4)/5, at most 1.3 amplitudes.
+        assert!((top.x * 4.0 - top.z * 3.0).abs() < 1e-6);
+        assert!(top.length() <= 0.5 * 1.3 + 1e-6);
+    }
+    let a = w.displacement(t, Vec3::Y * 2.0, 0.25);
+    let b = w.displacement(t, Vec3::Y * 2.0, 10.25);
+    assert!((a - b).length() < 1e-4, "{a} {b}");
 }

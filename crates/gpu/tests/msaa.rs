@@ -60,6 +60,7 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
             instances: vec![Affine3A::IDENTITY],
         }],
         static_setups: Vec::new(),
+        wind: None,
     };
     let mut frame = FrameInput::new(Camera::look_at(Vec3::new(0.0, 0.0, 2.6), Vec3::ZERO));
     frame.lighting.sun_direction = Vec3::new(0.3, 0.4, 0.9);

@@ -140,6 +140,7 @@ fn scene(statics: bool, layout: Layout) -> Scene {
             instances: vec![Affine3A::IDENTITY],
         }],
         static_setups: Vec::new(),
+        wind: None,
     };
     if statics {
         scene.static_setups = (0..2)

@@ -165,6 +165,29 @@ pub enum LaydownTargetArg {
     Texture,
 }
 
+/// `--vrs`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum VrsArg {
+    /// Every pixel shaded.
+    Off,
+    /// HFW's rule (`gpu::VrsConfig::default`): by distance, coarser when moving.
+    On,
+    /// Every triangle 2x2 (the rule's result at speed).
+    #[value(name = "all-2x2")]
+    All2x2,
+}
+
+/// `--vertex-ring`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum VertexRingArg {
+    /// No vertex side: the resolve transforms its triangle's vertices per pixel.
+    Off,
+    /// HFW's PS4 ring, 12 MiB (a pass at most 192k vertices).
+    Ps4,
+    /// HFW's PS5 ring, 24 MiB (a pass at most 384k vertices).
+    Ps5,
+}
+
 /// `--primitive-id`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PrimitiveIdArg {
@@ -241,6 +264,25 @@ pub struct Args {
     /// pixel's ray against its triangle (its fallback) even where the adapter has them.
     #[arg(long)]
     pub no_barycentrics: bool,
+    /// HFW's vertex ring on the deferred path: vertex wave commands from the vertex cull
+    /// buffer, each pass's visible chunks transformed into the ring, the resolve reading
+    /// its three vertices from it.
+    #[arg(long, value_enum, default_value = "ps5")]
+    pub vertex_ring: VertexRingArg,
+    /// With a vertex ring: fill it (and time its transform alone) but let the resolve
+    /// transform its vertices per pixel, for comparison.
+    #[arg(long)]
+    pub per_pixel_transform: bool,
+    /// HFW's software VRS on the deferred path: a shading rate per triangle from distance
+    /// and screen speed (`gpu::VrsConfig::default`), quad commands, one shaded sample per
+    /// quad broadcast to its pixels. `all-2x2` rates everything 2x2, what HFW's rule gives
+    /// "when we are moving at pace" (the measured frames hold the camera still).
+    #[arg(long, value_enum, default_value = "off")]
+    pub vrs: VrsArg,
+    /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
+    /// sways every alpha-tested instance otherwise).
+    #[arg(long)]
+    pub no_wind: bool,
     /// Skip writing the debug views.
     #[arg(long)]
     pub no_debug_views: bool,
@@ -520,8 +562,9 @@ fn shadow_views(
 }
 
 /// The motion-vector debug view: one frame from the camera 0.3 m to the left and 0.2 m
-/// back, then the scene's own frame (the measured frames hold the camera still, so their
-/// motion is zero), its G-buffer motion as `{name}_debug_motion.png`.
+/// back a 30th of a second earlier, then the scene's own frame (the measured frames hold
+/// the camera still, so their motion is the wind's alone), its G-buffer motion (camera
+/// and swaying foliage) as `{name}_debug_motion.png`.
 fn motion_view(
     args: &Args,
     report: &mut Report,
@@ -537,6 +580,7 @@ fn motion_view(
     let shift = -0.3 * right - 0.2 * forward;
     before.camera.position += shift;
     before.camera.target += shift;
+    before.time = frame.time - 1.0 / 30.0;
     renderer.render(prepared, &before, RenderPath::Deferred)?;
     renderer.render(prepared, frame, RenderPath::Deferred)?;
     let (img, scale) =
@@ -545,8 +589,8 @@ fn motion_view(
     img.write_png(&file)?;
     report.image_named(
         &format!(
-            "motion vectors after a 0.3 m step right and 0.2 m forward (hue: direction, full \
-             brightness at {scale:.1} px)"
+            "motion vectors after a 0.3 m step right and 0.2 m forward and 1/30 s of wind \
+             (hue: direction, full brightness at {scale:.1} px)"
         ),
         &file,
     );
@@ -749,6 +793,21 @@ pub fn run(args: &Args) -> Result<()> {
             LaydownTargetArg::Texture => Some(gpu::LaydownTarget::Texture),
         },
         mixed_frame: args.mixed_frame,
+        vertex_ring: match args.vertex_ring {
+            VertexRingArg::Off => None,
+            VertexRingArg::Ps4 => Some(gpu::RING_BYTES_PS4),
+            VertexRingArg::Ps5 => Some(gpu::RING_BYTES_PS5),
+        },
+        ring_resolve: !args.per_pixel_transform,
+        vrs: match args.vrs {
+            VrsArg::Off => None,
+            VrsArg::On => Some(gpu::VrsConfig::default()),
+            VrsArg::All2x2 => Some(gpu::VrsConfig {
+                distance_2x1: 1e-6,
+                distance_2x2: 1e-6,
+                ..gpu::VrsConfig::default()
+            }),
+        },
         ..RendererConfig::default()
     };
     // `--msaa compare`: a second renderer lighting every sample.
@@ -774,11 +833,12 @@ pub fn run(args: &Args) -> Result<()> {
         }
         println!("== {} ==", scene_kind.name());
         let t0 = std::time::Instant::now();
-        let (scene, frame) = demo::build(&DemoOptions {
+        let (mut scene, frame) = demo::build(&DemoOptions {
             scene: scene_kind,
             seed: args.seed,
             density: args.density,
         });
+        scene.wind = (!args.no_wind).then(gpu::Wind::default);
         let frame = with_lights(args, frame, 25.0);
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let built = Built {
@@ -1127,6 +1187,9 @@ fn render_scene(
                 t.elapsed().as_secs_f64() * 1e3,
             );
             report.classification(&stats);
+            if let Some(ring) = renderer.read_vertex_ring(&prepared)? {
+                report.vertex_ring(&ring, &stats);
+            }
             if let Some(m) = &mismatch {
                 eprintln!("GPU classification differs from the CPU twin: {m}");
             }
@@ -1139,6 +1202,18 @@ fn render_scene(
                 let file = args.out.join(format!("{name}_debug_waves_per_tile.png"));
                 heat.write_png(&file)?;
                 report.image_named(&format!("waves per tile (max {max})"), &file);
+                if args.vrs != VrsArg::Off {
+                    let (rates, n) = gpu::debug::shading_rate(w, h, &classified.vis);
+                    let file = args.out.join(format!("{name}_debug_shading_rate.png"));
+                    rates.write_png(&file)?;
+                    report.image_named(
+                        &format!(
+                            "VRS shading rate per pixel (1x1 dark green {}, 2x1 orange {}, 2x2 red {}; 1x2 blue {})",
+                            n[0], n[2], n[3], n[1]
+                        ),
+                        &file,
+                    );
+                }
                 let (quads, mean) = gpu::debug::quad_overdraw(w, h, &classified.vis);
                 let file = args.out.join(format!("{name}_debug_quad_overdraw.png"));
                 quads.write_png(&file)?;

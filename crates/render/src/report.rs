@@ -336,6 +336,29 @@ impl Report {
         }
     }
 
+    /// HFW's vertex side, from the GPU's own counters: vertices transformed into the ring
+    /// (the dispatches' items) against the scene's and the read-back measurement.
+    pub fn vertex_ring(&mut self, ring: &gpu::VertexRingReadback, s: &ClassificationStats) {
+        let held = ring.half_base.iter().filter(|&&h| h != u32::MAX).count();
+        self.row(
+            "vertex ring: vertices transformed (GPU counters) / scene",
+            format!(
+                "{} / {} = {:.0}% in {} chunks, {held} of {} passes in a {} MiB ring{}",
+                group_digits(ring.vertices_transformed()),
+                group_digits(s.scene_vertices),
+                pct(ring.vertices_transformed(), s.scene_vertices),
+                group_digits(u64::from(ring.visible_chunks)),
+                ring.half_base.len(),
+                (u64::from(ring.ring_vertices) * gpu::RING_VERTEX_BYTES) >> 20,
+                if ring.vertices_transformed() == s.vertices_after_chunk_culling {
+                    " (= read-back)"
+                } else {
+                    " (differs from the read-back's count)"
+                }
+            ),
+        );
+    }
+
     /// The classification counters and the talk's ratios.
     pub fn classification(&mut self, s: &ClassificationStats) {
         self.row("vis pixels", group_digits(s.vis_pixels));

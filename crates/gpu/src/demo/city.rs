@@ -305,6 +305,7 @@ pub fn city_with(config: CityConfig) -> City {
         albedo_layers,
         batches,
         static_setups,
+        wind: None,
     };
     let street = street_camera(&config);
     let forward = (street.rotation * DVec3::NEG_Z).as_vec3();

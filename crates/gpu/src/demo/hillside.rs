@@ -148,6 +148,7 @@ pub(super) fn hillside(seed: u64, density: f32, paint: bool) -> (Scene, FrameInp
             albedo_layers,
             batches,
             static_setups: Vec::new(),
+            wind: None,
         },
         FrameInput::new(camera),
     )

@@ -256,6 +256,20 @@ pub(crate) struct Buffers {
 }
 
 impl Buffers {
+    /// The vis words' layout the phases decode (VRS: quad commands).
+    pub(crate) fn layout(&self) -> visbuf::VisLayout {
+        if self.params.flags & tiling::classify::FLAG_VRS != 0 {
+            visbuf::VisLayout::Vrs
+        } else {
+            visbuf::VisLayout::Standard
+        }
+    }
+
+    /// The MicroBatchInfoTable the phases read (indexed by micro-batch ID).
+    pub(crate) fn table(&self) -> &wgpu::Buffer {
+        &self._kept[2]
+    }
+
     /// The buffers and bind groups of one prepared scene: `plan`'s table and order
     /// buffer, classified at `sizes` with `config`, reading `vis_words` and `indices`;
     /// with `validity` (the mixed frame), a validity bitmask of `ceil(width * height / 32)`
@@ -280,8 +294,14 @@ impl Buffers {
             tiles_y: s.height.div_ceil(tiling::TILE_SIZE),
             pass_count: s.passes,
             wave_width: config.wave_width.lanes(),
-            flags: if validity {
+            // The validity bitmask applies (the mixed frame); the plan's word layout: with
+            // VRS the commands are quad commands.
+            flags: (if validity {
                 tiling::classify::FLAG_VALIDITY
+            } else {
+                0
+            }) | if plan.layout == visbuf::VisLayout::Vrs {
+                tiling::classify::FLAG_VRS
             } else {
                 0
             },

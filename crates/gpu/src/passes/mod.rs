@@ -13,6 +13,7 @@
 //! | compute laydown | [`compute_laydown`] | triangles rasterised in compute into a 64-bit target (hardware part for large and near-plane ones), then depth + vis texture + vis words |
 //! | vis copy | [`vis_copy`] | vis texture -> word buffer |
 //! | classification | [`classify`] | `tiling`'s three phases, and the zero fill before them |
+//! | vertex ring | [`vertex_ring`] | vertex wave commands from the vertex cull buffer (`tiling`'s pass), then per pass the transform of its visible chunks into the 32-byte vertex ring |
 //! | resolve | [`resolve`] | material resolve by wave commands (or full screen) -> G-buffer |
 //! | baseline | [`baseline`] | HZD's depth-equal geometry pass -> G-buffer |
 //! | pixel pull | [`pixel_pull`] | seed 004's depth-equal pass: position-only vertex stage, vertices pulled in the fragment stage -> G-buffer |
@@ -46,6 +47,7 @@ pub(crate) mod query;
 pub(crate) mod regular;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
+pub(crate) mod vertex_ring;
 pub(crate) mod vis_copy;
 
 macro_rules! gpu_modules {
@@ -90,6 +92,8 @@ gpu_modules!(
     STATIC_PLACE = "static_place",
     HIZ_DEPTH = "hiz_depth",
     TILE_DEPTH = "tile_depth",
+    RING_SLOTS = "ring_slots",
+    VERTEX_RING = "vertex_ring",
 );
 
 /// Every module list the renderer's passes import from.
@@ -123,6 +127,8 @@ pub(crate) fn stage_counts() -> StageCounts {
         lights::TILE_DEPTH.stage_counts(),
         deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
+        vertex_ring::VERTEX_RING.stage_counts(),
+        tiling::wgsl::VERTEX_WAVES.stage_counts(),
     ]
     .into_iter()
     .chain(
@@ -157,6 +163,8 @@ pub(crate) struct Pipelines {
     /// on a device with `INDIRECT_FIRST_INSTANCE`.
     pub conditional: Option<conditional::Conditional>,
     pub static_place: static_place::StaticPlace,
+    /// HFW's vertex side: vertex wave commands and the transform into the ring.
+    pub vertex_ring: vertex_ring::VertexRing,
 }
 
 impl Pipelines {
@@ -216,6 +224,7 @@ impl Pipelines {
                 None
             },
             static_place: static_place::StaticPlace::new(device)?,
+            vertex_ring: vertex_ring::VertexRing::new(device)?,
             conditional: if light_paths.volumes() && conditional {
                 Some(conditional::Conditional::new(device)?)
             } else {
@@ -405,7 +414,17 @@ impl Pipelines {
                     self.vis_copy.record_depth(e, f, timer);
                 }
                 self.classify.record_output(e, f, timer);
-                self.resolve.record_waves(e, f, timer);
+                // HFW's vertex side (RendererConfig::vertex_ring): the vertex wave
+                // commands from the cull buffer, then each pass's transform into the ring.
+                // With the resolve reading the ring, each pass's transform is recorded
+                // right before its resolve; else all of them here (measured alone).
+                if let Some(b) = &f.scene.vertex_ring {
+                    self.vertex_ring.record_waves(e, b, timer);
+                    if !f.scene.resolve.reads_ring {
+                        self.vertex_ring.record_transforms(e, f, timer);
+                    }
+                }
+                self.resolve.record_waves(e, f, timer, &self.vertex_ring);
             }
             Recording::DeferredFullScreen => {
                 if !self.laid_down_in_compute(f) {

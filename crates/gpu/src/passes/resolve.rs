@@ -34,6 +34,11 @@ pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
                 Binding::new("meshes", Kind::read(size_of::<GpuMesh>())),
                 Binding::new("micro_batches", Kind::read(size_of::<GpuMicroBatch>())),
                 Binding::new("vis_texture", Kind::texture_2d(Sample::Uint)),
+                Binding::new(
+                    "ring",
+                    Kind::read(super::vertex_ring::RING_VERTEX_BYTES as usize),
+                ),
+                Binding::new("table", Kind::read(size_of::<tiling::MicroBatchInfo>())),
             ],
         },
         Group {
@@ -110,7 +115,11 @@ pub(crate) struct Groups {
     pub inputs: wgpu::BindGroup,
     pub waves: wgpu::BindGroup,
     pub pass_stride: u32,
+    /// Whether the wave-command resolve reads the vertex ring (its passes interleaved
+    /// with the ring's transforms).
+    pub reads_ring: bool,
     _pass_uniforms: wgpu::Buffer,
+    _ring_stand_in: wgpu::Buffer,
 }
 
 impl Resolve {
@@ -165,15 +174,29 @@ impl Resolve {
         micro_batches: &wgpu::Buffer,
         vis_view: &wgpu::TextureView,
         classification: &super::classify::Buffers,
+        ring: Option<&super::vertex_ring::Buffers>,
     ) -> Result<Groups> {
         let passes = classification.sizes.passes;
+        // The pass's half of the ring, where the ring holds it.
+        let half = |p: u32| {
+            ring.and_then(|r| r.half_base.get(p as usize).copied())
+                .unwrap_or(super::vertex_ring::RING_NONE)
+        };
         let stride =
             u64::from(device.limits().min_uniform_buffer_offset_alignment).max(PASS_UNIFORM_BYTES);
         let mut words = vec![0u8; (stride * u64::from(passes)) as usize];
         for p in 0..passes {
             let at = (stride * u64::from(p)) as usize;
             words[at..at + 4].copy_from_slice(&p.to_le_bytes());
+            words[at + 4..at + 8].copy_from_slice(&half(p).to_le_bytes());
         }
+        let stand_in = crate::resources::buffer_init(
+            device,
+            "vertex ring stand-in",
+            &[0u8; super::vertex_ring::RING_VERTEX_BYTES as usize],
+            0,
+            wgpu::BufferUsages::STORAGE,
+        );
         let pass_uniforms = crate::resources::buffer_init(
             device,
             "resolve pass index",
@@ -214,11 +237,18 @@ impl Resolve {
                     ("meshes", meshes.as_entire_binding()),
                     ("micro_batches", micro_batches.as_entire_binding()),
                     ("vis_texture", wgpu::BindingResource::TextureView(vis_view)),
+                    (
+                        "ring",
+                        ring.map_or(&stand_in, |r| &r.ring).as_entire_binding(),
+                    ),
+                    ("table", classification.table().as_entire_binding()),
                 ],
             )?,
             waves,
             pass_stride: stride as u32,
+            reads_ring: ring.is_some(),
             _pass_uniforms: pass_uniforms,
+            _ring_stand_in: stand_in,
         })
     }
 
@@ -229,15 +259,37 @@ impl Resolve {
         pass.set_bind_group(2, &f.groups.gbuffer_store, &[]);
     }
 
-    /// Records the resolve by wave commands: one indirect dispatch per pass.
+    /// Records the resolve by wave commands: one indirect dispatch per pass; with the
+    /// vertex ring, each pass's transform (`ring`) right before its resolve, each in its
+    /// own timed compute pass (a single queue runs them in order: pass p + 1's transform
+    /// waits for pass p's resolve, which the alternating halves would let overlap on an
+    /// async compute queue).
     pub(crate) fn record_waves(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
+        ring: &super::vertex_ring::VertexRing,
     ) {
         let c = &f.scene.classification;
         let g = &f.scene.resolve;
+        if let (true, Some(b)) = (g.reads_ring, &f.scene.vertex_ring) {
+            for p in 0..c.sizes.passes {
+                ring.record_transform_timed(encoder, b, p, timer);
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("material resolve (wave commands, ring)"),
+                    timestamp_writes: timer.compute("resolve (wave commands)"),
+                });
+                self.bind(&mut pass, f);
+                pass.set_pipeline(&self.pass.steps[self.waves].pipeline);
+                pass.set_bind_group(3, &g.waves, &[p * g.pass_stride]);
+                pass.dispatch_workgroups_indirect(
+                    &c.pass_dispatch,
+                    u64::from(p) * size_of::<PassDispatch>() as u64,
+                );
+            }
+            return;
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("material resolve (wave commands)"),
             timestamp_writes: timer.compute("resolve (wave commands)"),

@@ -102,6 +102,8 @@ pub struct SceneSummary {
 pub struct PreparedScene {
     pub(crate) id: u64,
     pub(crate) summary: SceneSummary,
+    /// The scene's wind (`Scene::wind`), uploaded with every frame's constants.
+    pub(crate) wind: Option<crate::scene::Wind>,
     pub(crate) geometry: Geometry,
     pub(crate) tiling: tiling::Plan,
     pub(crate) draws: Vec<Draw>,
@@ -129,6 +131,9 @@ pub struct PreparedScene {
     pub(crate) pixel_pull: crate::passes::pixel_pull::Groups,
     pub(crate) classification: classify::Buffers,
     pub(crate) resolve: resolve::Groups,
+    /// HFW's vertex side (with `RendererConfig::vertex_ring`): vertex wave commands and
+    /// the ring.
+    pub(crate) vertex_ring: Option<crate::passes::vertex_ring::Buffers>,
     /// The instance table (planned instances, then the static setups' reserved slots).
     pub(crate) instances: wgpu::Buffer,
     /// The static setups' table, counters and draw lists (`None` without static setups).
@@ -198,6 +203,12 @@ pub(crate) struct PrepareContext<'a> {
     pub indirect_first_instance: bool,
     /// Whether the renderer bakes KZ2's pre-rendered sun map.
     pub baked_sun: bool,
+    /// The vertex ring's bytes (`RendererConfig::vertex_ring`; `None`: no ring).
+    pub ring_bytes: Option<u64>,
+    /// Whether the resolve reads the ring (`RendererConfig::ring_resolve`).
+    pub ring_resolve: bool,
+    /// HFW's software VRS (`RendererConfig::vrs`): the plan uses visbuf's VRS layout.
+    pub vrs: bool,
 }
 
 /// One sun shadow view's static content (a slice's, and the baked map's in set 0): the
@@ -400,7 +411,16 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             base_vertex: m.base_vertex,
         }
     });
-    let config = tiling::PlanConfig::default();
+    let config = tiling::PlanConfig {
+        ring_bytes: c.ring_bytes.unwrap_or(tiling::RING_BYTES_PS5),
+        // HFW's VRS steals the micro-batch ID's top two bits for the shading rate.
+        layout: if c.vrs {
+            visbuf::VisLayout::Vrs
+        } else {
+            visbuf::VisLayout::Standard
+        },
+        ..tiling::PlanConfig::default()
+    };
     let mut tiling_plan = tiling::build_plan(&batches, &config)
         .map_err(|e| Error::Scene(SceneError::Tiling(e.to_string())))?;
     let planned = tiling_plan.micro_batches.len();
@@ -553,6 +573,21 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &scene_group,
             [&payloads, &index_buffer, &meshes, &micro_batches],
         )?;
+        let vertex_ring = c
+            .ring_bytes
+            .map(|bytes| {
+                p.vertex_ring.buffers(
+                    device,
+                    &tiling_plan,
+                    classification.params,
+                    &classification.vertex_cull,
+                    &scene_group,
+                    &meshes,
+                    &micro_batches,
+                    bytes,
+                )
+            })
+            .transpose()?;
         let resolve = p.resolve.groups(
             device,
             &scene_group,
@@ -561,6 +596,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &micro_batches,
             &c.targets.vis_view,
             &classification,
+            vertex_ring.as_ref().filter(|_| c.ring_resolve),
         )?;
         let summary = SceneSummary {
             instances: scene.instance_count() as u64,
@@ -633,6 +669,8 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         Ok(PreparedScene {
             id: c.id,
             summary,
+            wind: scene.wind,
+            vertex_ring,
             compute_laydown,
             laydown: p.laydown.groups(device, &scene_group, &payloads)?,
             bake_scene,

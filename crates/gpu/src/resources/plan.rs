@@ -97,6 +97,12 @@ impl Plan {
                 .expect("meshes were validated against the 64k primitive limit");
             let first_global = plan.instances.len() as u32;
             let first_chunk = plan.chunks.len() as u32;
+            // The wind sways alpha-tested instances by at most 1.3 amplitudes (world
+            // metres, `Wind`'s two sines), beyond their mesh's reach.
+            let sway = match (&scene.wind, scene.materials.get(batch.material.0)) {
+                (Some(w), Some(m)) if m.shader == ShaderKind::AlphaTested => 1.3 * w.amplitude,
+                _ => 0.0,
+            };
             let instance = |i: u32| {
                 let k = mb.batch_first_instance + i;
                 let k = order
@@ -117,7 +123,7 @@ impl Plan {
                         .length()
                         .max(t.matrix3.y_axis.length())
                         .max(t.matrix3.z_axis.length());
-                    let r = reach[batch.mesh.0] * scale;
+                    let r = reach[batch.mesh.0] * scale + sway;
                     let c = Vec3::from(t.translation) - origin;
                     lo = lo.min(c - r);
                     hi = hi.max(c + r);

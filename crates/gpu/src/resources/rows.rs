@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Per-frame constants (WGSL `FrameUniforms`): 448 bytes. See `wgsl/frame.wgsl` for the
+/// Per-frame constants (WGSL `FrameUniforms`): 496 bytes. See `wgsl/frame.wgsl` for the
 /// spaces: positions are camera-relative, stored origin-relative.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -43,8 +43,20 @@ pub(crate) struct FrameUniforms {
     /// Camera-relative world to view space: the camera's rotation (the KZ2 G-buffer
     /// stores view-space normals).
     pub view_rotation: [[f32; 4]; 4],
+    /// The scene's wind (`Wind::uniform`: direction times amplitude in x, z, angular
+    /// frequency, 1 / height); all zero without one (nothing sways).
+    pub wind: [f32; 4],
+    /// The previous frame's time (seconds; this frame's on a first frame), for the
+    /// animated foliage's motion vectors.
+    pub prev_time: f32,
+    /// Padding to `vrs`'s 16-byte alignment.
+    pub _pad: [f32; 3],
+    /// HFW's software VRS (`VrsConfig::uniform`): distances (metres) where 2x1 and 2x2
+    /// begin, screen speeds (pixels per frame) that force 2x1 and 2x2; all zero: off (the
+    /// standard vis layout).
+    pub vrs: [f32; 4],
 }
-const _: () = assert!(size_of::<FrameUniforms>() == 448);
+const _: () = assert!(size_of::<FrameUniforms>() == 496);
 
 /// One instance (WGSL `GpuInstance`): object-to-origin-relative transform rows and its
 /// place in the vis buffer. 64 bytes.
@@ -253,6 +265,17 @@ mod tests {
         ] {
             assert_eq!(shadercheck::const_u32(&m, name), Some(v), "{name}");
         }
+        // The wind sways the alpha-tested materials (GpuMaterial::shader).
+        let m = shadercheck::assert_composed(
+            LIBRARY,
+            "gpu::scene_bindings",
+            &[],
+            shadercheck::Caps::CORE,
+        );
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
+            Some(crate::scene::ShaderKind::AlphaTested.id())
+        );
     }
 
     #[test]
@@ -279,6 +302,9 @@ mod tests {
                 time,
                 baked_sun,
                 view_rotation,
+                wind,
+                prev_time,
+                vrs,
             }),
         );
         // The Rust rows array is three WGSL members.

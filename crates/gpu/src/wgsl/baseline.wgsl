@@ -14,6 +14,8 @@ struct BaselineOut {
     @location(2) normal: vec3<f32>,
     // camera-relative position (for the motion vector)
     @location(3) relative: vec3<f32>,
+    // the same point at the previous frame's time (animated foliage's motion)
+    @location(4) previous: vec3<f32>,
 }
 
 @vertex
@@ -24,7 +26,8 @@ fn vs_baseline(@builtin(vertex_index) vertex: u32, @builtin(instance_index) inst
     out.uv = l.uv;
     out.instance = instance;
     out.normal = gpu_transform_normal(instances[instance], vertices[vertex].normal);
-    out.relative = gpu_camera_relative(instances[instance], vertices[vertex].position);
+    out.relative = gpu_position(instances[instance], vertices[vertex].position);
+    out.previous = gpu_previous_position(instances[instance], vertices[vertex].position);
     return out;
 }
 
@@ -44,7 +47,7 @@ fn fs_baseline(in: BaselineOut) -> GBufferOut {
 }
 
 fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
-    let s = material_surface(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.relative);
+    let s = material_surface_moved(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.relative, in.previous);
     return gbuffer_fragment(s, frame.view_rotation);
 }
 

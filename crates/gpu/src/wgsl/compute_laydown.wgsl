@@ -230,7 +230,7 @@ fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
     // Analytic derivatives of the barycentrics (weights of a, b, c) per pixel.
     sh.dbdx = vec3<f32>(-ebc.y, -eca.y, -eab.y) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
     sh.dbdy = vec3<f32>(ebc.x, eca.x, eab.x) * (GPU_LAYDOWN_SUBPIXELS * inv_area);
-    sh.word = vis_word(t.instance, t.primitive);
+    sh.word = vis_word(t.instance, t.primitive, o0.rate);
     sh.alpha = (t.flags & GPU_LAYDOWN_DRAW_ALPHA_TESTED) != 0u;
     let inst = instances[t.instance];
     sh.fade_bits = inst.primitive_bits;

@@ -41,6 +41,6 @@ fn vs_hybrid(@builtin(vertex_index) vertex: u32) -> LaydownOut {
 fn fs_hybrid(in: LaydownOut) {
     // Opaque materials have a cutoff of 0: the test keeps every fragment.
     alpha_test(in.uv, in.instance, in.clip.xy);
-    let value = gpu_laydown_value(in.clip.z, vis_word(in.instance, in.payload));
+    let value = gpu_laydown_value(in.clip.z, vis_word(in.instance, in.payload, in.rate));
     gpu_laydown_plot(vec2<u32>(in.clip.xy), u32(frame.viewport.x), value);
 }

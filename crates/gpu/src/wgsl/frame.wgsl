@@ -39,7 +39,18 @@ struct FrameUniforms {
     baked_sun: mat4x4<f32>,
     // camera-relative world -> view space (the camera's rotation)
     view_rotation: mat4x4<f32>,
+    // the scene's wind (gpu::Wind): direction times amplitude (metres) in x (world x) and
+    // y (world z), angular frequency (rad/s) in z, 1 / bend height (1/metres) in w; all
+    // zero without one
+    wind: vec4<f32>,
+    // the previous frame's time (seconds; this frame's on a first frame)
+    prev_time: f32,
+    // HFW's software VRS (gpu::VrsConfig): x, y the view distances (metres) where 2x1 and
+    // 2x2 begin, z, w the screen speeds (pixels per frame) that force 2x1 and 2x2; all zero:
+    // off, and the vis words use the standard layout
+    vrs: vec4<f32>,
 }
+
 
 // One instance: object-to-origin-relative 3x4 transform (rows), and where it sits in the
 // vis buffer: its micro batch, instance field, the mesh's primitive bits (low 8 bits; the

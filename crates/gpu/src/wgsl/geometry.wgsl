@@ -10,16 +10,52 @@ struct LaydownOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) instance: u32,
     @location(2) @interpolate(flat) payload: u32,
+    // HFW's software VRS: the vertex's shading rate, already in the vis word's rate bits
+    // (0 without VRS); the provoking vertex's rates the triangle.
+    @location(3) @interpolate(flat) rate: u32,
+}
+
+// The shading rate's vis-word bits (visbuf VRS layout, bits 31..30) of a vertex at clip
+// position `now` that was at `before` in the previous frame's clip space: HFW's rule
+// (gpu::VrsConfig), the coarser of the distance's rate (1x1, then 2x1 from frame.vrs.x
+// metres, 2x2 from frame.vrs.y) and the screen speed's (2x1 from frame.vrs.z pixels per
+// frame, 2x2 from frame.vrs.w). 0 (1x1) without VRS.
+fn gpu_shading_rate_bits(now: vec4<f32>, before: vec4<f32>) -> u32 {
+    if (!gpu_vrs_layout()) {
+        return 0u;
+    }
+    var level = 0u;
+    if (now.w >= frame.vrs.y) {
+        level = 2u;
+    } else if (now.w >= frame.vrs.x) {
+        level = 1u;
+    }
+    if (now.w > 0.0 && before.w > 0.0) {
+        let speed = length((now.xy / now.w - before.xy / before.w) * frame.viewport.xy * 0.5);
+        if (speed >= frame.vrs.w) {
+            level = 2u;
+        } else if (speed >= frame.vrs.z) {
+            level = max(level, 1u);
+        }
+    }
+    // visbuf::ShadingRate codes: 2x1 = 2, 2x2 = 3.
+    let code = select(0u, level + 1u, level > 0u);
+    return code << VISBUF_RATE_SHIFT;
 }
 
 fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
     let v = vertices[vertex];
     let inst = instances[instance];
     var out: LaydownOut;
-    out.clip = frame.view_proj * vec4<f32>(gpu_camera_relative(inst, v.position), 1.0);
+    out.clip = frame.view_proj * vec4<f32>(gpu_position(inst, v.position), 1.0);
     out.uv = vec2<f32>(v.u, v.v);
     out.instance = instance;
     out.payload = 0u;
+    out.rate = 0u;
+    if (gpu_vrs_layout()) {
+        let before = frame.prev_view_proj * vec4<f32>(gpu_previous_position(inst, v.position), 1.0);
+        out.rate = gpu_shading_rate_bits(out.clip, before);
+    }
     return out;
 }
 
@@ -55,7 +91,9 @@ fn alpha_test(uv: vec2<f32>, instance: u32, pixel: vec2<f32>) {
     }
 }
 
-fn vis_word(instance: u32, primitive: u32) -> u32 {
+// `rate`: the shading rate's bits (LaydownOut::rate; 0 without VRS, whose micro-batch
+// IDs stay below 2^14 so the bits are free).
+fn vis_word(instance: u32, primitive: u32, rate: u32) -> u32 {
     let inst = instances[instance];
-    return visbuf_pack_id(inst.micro_batch, inst.instance_field, primitive, inst.primitive_bits & GPU_INSTANCE_PRIMITIVE_BITS_MASK);
+    return visbuf_pack_id(inst.micro_batch, inst.instance_field, primitive, inst.primitive_bits & GPU_INSTANCE_PRIMITIVE_BITS_MASK) | rate;
 }

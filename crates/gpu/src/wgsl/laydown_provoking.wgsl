@@ -4,11 +4,11 @@
 
 @fragment
 fn fs_vis(in: LaydownOut) -> @location(0) u32 {
-    return vis_word(in.instance, in.payload);
+    return vis_word(in.instance, in.payload, in.rate);
 }
 
 @fragment
 fn fs_vis_alpha(in: LaydownOut) -> @location(0) u32 {
     alpha_test(in.uv, in.instance, in.clip.xy);
-    return vis_word(in.instance, in.payload);
+    return vis_word(in.instance, in.payload, in.rate);
 }

@@ -7,13 +7,14 @@
 #import gpu::scene_bindings
 
 // Screen-space motion in pixels (current minus previous, +y down) of a point at
-// camera-relative position `p` that did not move in the world: the camera's motion alone
+// camera-relative position `p` this frame and `p_prev` at the previous frame's time (the
+// same for anything that does not animate): the camera's motion and the foliage's
 // (frame.prev_view_proj takes this frame's camera-relative positions to last frame's
-// clip; equal to view_proj on a first frame, so no motion). Zero where either projection
-// is behind the eye.
-fn material_motion(p: vec3<f32>) -> vec2<f32> {
+// clip; equal to view_proj on a first frame, so no camera motion). Zero where either
+// projection is behind the eye.
+fn material_motion(p: vec3<f32>, p_prev: vec3<f32>) -> vec2<f32> {
     let now = frame.view_proj * vec4<f32>(p, 1.0);
-    let before = frame.prev_view_proj * vec4<f32>(p, 1.0);
+    let before = frame.prev_view_proj * vec4<f32>(p_prev, 1.0);
     if (!(now.w > 0.0 && before.w > 0.0)) {
         return vec2<f32>(0.0);
     }
@@ -47,8 +48,22 @@ fn material_baked_sun(p: vec3<f32>, n: vec3<f32>) -> f32 {
     return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
 }
 
-// `p`: the sample's camera-relative position (for its motion and the baked sun).
+// `p`: the sample's camera-relative position (for its motion and the baked sun), a point
+// that does not animate.
 fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>) -> DeferredSurface {
+    return material_surface_moved(material_index, uv, duv_dx, duv_dy, normal, p, p);
+}
+
+// `p`: the sample's camera-relative position (for its motion and the baked sun);
+// `p_prev`: where it was at the previous frame's time, in this frame's camera-relative
+// space (gpu_previous_position interpolated).
+fn material_surface_moved(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, p_prev: vec3<f32>) -> DeferredSurface {
+    return material_surface_motion(material_index, uv, duv_dx, duv_dy, normal, p, material_motion(p, p_prev));
+}
+
+// `motion`: the sample's screen motion in pixels, already known (the vertex ring's
+// interpolated current and previous HPOS).
+fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, motion: vec2<f32>) -> DeferredSurface {
     let m = materials[material_index];
     let texel = textureSampleGrad(albedo, albedo_sampler, uv, m.albedo_layer, duv_dx, duv_dy);
     var s: DeferredSurface;
@@ -58,7 +73,6 @@ fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_d
     s.roughness = m.roughness;
     s.specular = m.specular;
     s.sun_shadow = material_baked_sun(p, s.normal);
-    // The scene does not animate yet: the camera's motion is all there is.
-    s.motion = material_motion(p);
+    s.motion = motion;
     return s;
 }
