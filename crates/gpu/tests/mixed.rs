@@ -163,6 +163,19 @@ fn the_mixed_frame_looks_like_the_all_vis_buffer_frame() {
         for mixed in [false, true] {
             let mut r = renderer(mixed, Laydown::Hardware);
             let prepared = r.prepare(&scene).unwrap();
+            if mixed {
+                // The diagnostic full-screen resolve draws the regular batches after it.
+                r.render(&prepared, &frame, RenderPath::DeferredFullScreen)
+                    .unwrap();
+                let full = r.read_output().unwrap();
+                let (mean, _) = diff_metrics(&full, &images[0], 0.5).unwrap();
+                let (_, p99) = diff_metrics(&full, &images[0], 0.99).unwrap();
+                assert!(
+                    mean <= MAX_MEAN_ERROR && p99 <= MAX_P99_ERROR,
+                    "{}: mixed full-screen resolve mean {mean:.3}, p99 {p99}",
+                    kind.name()
+                );
+            }
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             images.push(r.read_output().unwrap());
             depths.push(r.read_depth().unwrap());

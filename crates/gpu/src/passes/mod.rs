@@ -380,7 +380,14 @@ impl Pipelines {
                 self.classify.record_output(e, f, timer);
                 self.resolve.record_waves(e, f, timer);
             }
-            Recording::DeferredFullScreen => self.resolve.record_full_screen(e, f, timer),
+            Recording::DeferredFullScreen => {
+                self.resolve.record_full_screen(e, f, timer);
+                // The mixed frame's regular batches, drawn over whatever the resolve wrote
+                // (no classification here: the depth test alone decides).
+                if let Some(r) = &self.regular {
+                    r.record(e, f, timer);
+                }
+            }
             Recording::Baseline => self.baseline.record(e, f, timer),
             Recording::PixelPull => self.pixel_pull.record(e, f, timer),
             Recording::Laydown => return,
