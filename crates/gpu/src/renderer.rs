@@ -234,8 +234,9 @@ pub struct RendererConfig {
     /// pixels still valid are classified and resolved. Mid classify is recorded before
     /// that pass (its counts conservative), classify output after it. Needs
     /// `Features::SHADER_EARLY_DEPTH_TEST` (the pass's depth test must run before its
-    /// shader clears a bit). Off (the default): today's all-vis-buffer frame. Other paths
-    /// are unchanged either way.
+    /// shader clears a bit). Off (the default): today's all-vis-buffer frame.
+    /// [`RenderPath::DeferredFullScreen`] draws the regular batches after its resolve;
+    /// the other paths are unchanged either way.
     pub mixed_frame: bool,
     /// HFW's vertex ring (seed 000: 12 MiB on PS4, 24 MiB on PS5; `gpu::RING_BYTES_PS4`,
     /// `gpu::RING_BYTES_PS5`): bytes of the ring the deferred path transforms each pass's

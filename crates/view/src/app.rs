@@ -501,6 +501,7 @@ impl State {
             KeyCode::KeyP => {
                 self.path = match self.path {
                     RenderPath::Deferred => RenderPath::Baseline,
+                    RenderPath::Baseline => RenderPath::PixelPull,
                     _ => RenderPath::Deferred,
                 }
             }
@@ -901,6 +902,7 @@ impl State {
                     ui.label("path (P)");
                     ui.selectable_value(&mut self.path, RenderPath::Deferred, "deferred (HFW)");
                     ui.selectable_value(&mut self.path, RenderPath::Baseline, "baseline (HZD)");
+                    ui.selectable_value(&mut self.path, RenderPath::PixelPull, "pixel pull (004)");
                 });
                 egui::ComboBox::from_label("view (0-8, V)")
                     .selected_text(self.view.name())
@@ -912,7 +914,7 @@ impl State {
                 if self.view != DebugView::Image {
                     ui.label(&self.caption);
                     if self.view.needs_deferred() && self.path != RenderPath::Deferred {
-                        ui.label("(from a deferred frame: the baseline writes no vis buffer)");
+                        ui.label("(from a deferred frame: this path writes no vis buffer)");
                     }
                 }
                 if let Some(s) = &mut self.statics {

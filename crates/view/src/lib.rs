@@ -21,7 +21,7 @@
 //!
 //! Keys (when the overlay does not hold the keyboard): `W`/`A`/`S`/`D` move, `Q`/`E` down
 //! and up, `Shift` four times faster, the wheel changes the speed, a held mouse button
-//! looks around; `P` switches the path; `0`-`8` pick a view (0 the image), `V`/`Shift+V`
+//! looks around; `P` cycles the path (deferred, baseline, pixel pull); `0`-`8` pick a view (0 the image), `V`/`Shift+V`
 //! cycle them; `M` cycles MSAA, `L` the light paths, `O` toggles the sun shadows, `C` the
 //! city's static occlusion (off, the previous frame's depth, two-pass); `R` resets the
 //! camera; `F1` hides the overlay; `F12` writes a screenshot; `Esc` quits.
@@ -78,6 +78,8 @@ pub enum PathArg {
     Deferred,
     /// Depth prepass + depth-equal geometry pass (HZD).
     Baseline,
+    /// Depth prepass + depth-equal pass pulling vertices in the pixel shader (seed 004).
+    PixelPull,
 }
 
 impl PathArg {
@@ -86,6 +88,7 @@ impl PathArg {
         match self {
             PathArg::Deferred => RenderPath::Deferred,
             PathArg::Baseline => RenderPath::Baseline,
+            PathArg::PixelPull => RenderPath::PixelPull,
         }
     }
 }

@@ -387,7 +387,8 @@ impl Pipelines {
     fn needs_depth_target(&self, what: Recording) -> bool {
         what == Recording::Laydown
             || (what.lights() && self.light_volumes.is_some())
-            || (what == Recording::Deferred && self.regular.is_some())
+            || (matches!(what, Recording::Deferred | Recording::DeferredFullScreen)
+                && self.regular.is_some())
     }
 
     /// Everything after the geometry pass: classification, resolve or the baseline's
@@ -431,6 +432,12 @@ impl Pipelines {
                     self.vis_copy.record_depth(e, f, timer);
                 }
                 self.resolve.record_full_screen(e, f, timer);
+                // The mixed frame's regular batches, drawn over whatever the resolve wrote
+                // (no classification here: the depth test alone decides).
+                if let Some(r) = &self.regular {
+                    r.record(e, f, timer);
+                    self.vis_copy.record_depth(e, f, timer);
+                }
             }
             Recording::Baseline => {
                 if !f.msaa {

@@ -3,8 +3,7 @@
 //! those batches are drawn the ordinary way, depth test `Greater` and depth writes over the
 //! laydown's depth, their fragment shader writing the G-buffer (the baseline's,
 //! `gpu::baseline` with feature `regular`) and clearing each drawn pixel's bit in the
-//! classification's validity bitmask (where the laydown left a vis word: the others need
-//! no bit), so classify output and the resolve shade only the
+//! classification's validity bitmask, so classify output and the resolve shade only the
 //! vis-buffer pixels still in front. The talk's stencil bit, written by laydown finalize
 //! through a UAV: wgpu has no stencil storage view, so the bit lives in a buffer
 //! (`atomicAnd`), filled with ones before laydown finalize. The depth test runs before the
@@ -31,10 +30,7 @@ pub(crate) const REGULAR: Pass = Pass {
         SCENE_GROUP,
         Group {
             name: "validity",
-            bindings: &[
-                Binding::new("validity", Kind::read_write(4)),
-                Binding::new("regular_vis", Kind::read(4)),
-            ],
+            bindings: &[Binding::new("validity", Kind::read_write(4))],
         },
     ],
     entries: &[
@@ -96,24 +92,20 @@ impl Regular {
         Ok(Self { layouts, pipeline })
     }
 
-    /// A prepared scene's groups: its `scene` resources by binding name, the
-    /// classification's validity bitmask and the vis words it reads.
+    /// A prepared scene's groups: its `scene` resources by binding name and the
+    /// classification's validity bitmask.
     pub(crate) fn groups(
         &self,
         device: &wgpu::Device,
         scene: &[(&str, wgpu::BindingResource<'_>)],
         validity: &wgpu::Buffer,
-        vis_words: &wgpu::Buffer,
     ) -> Result<Groups> {
         Ok(Groups {
             scene: self.layouts.bind_group(device, "scene", scene)?,
             validity: self.layouts.bind_group(
                 device,
                 "validity",
-                &[
-                    ("validity", validity.as_entire_binding()),
-                    ("regular_vis", vis_words.as_entire_binding()),
-                ],
+                &[("validity", validity.as_entire_binding())],
             )?,
         })
     }

@@ -559,14 +559,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         let regular = p
             .regular
             .as_ref()
-            .map(|r| {
-                r.groups(
-                    device,
-                    &scene_group,
-                    classification.validity(),
-                    &c.targets.vis_words,
-                )
-            })
+            .map(|r| r.groups(device, &scene_group, classification.validity()))
             .transpose()?;
         let pixel_pull = p.pixel_pull.groups(
             device,

@@ -60,12 +60,8 @@ fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
 // before the shader (`early_depth_test(force)`): a fragment behind the vis buffer's must
 // not clear the bit. Any fragment that passes is in front of the laydown's surface, and
 // later fragments of this pass can only replace it, so the bit is cleared exactly where
-// the final pixel is this pass's. Only pixels the laydown wrote a vis word to have a bit
-// that matters (classification skips VISBUF_NONE regardless), so the others, most of
-// what this pass draws, skip the atomic.
+// the final pixel is this pass's.
 @group(1) @binding(0) var<storage, read_write> validity: array<atomic<u32>>;
-// The laydown's vis words (row-major), as the classification reads them.
-@group(1) @binding(1) var<storage, read> regular_vis: array<u32>;
 
 @fragment
 @early_depth_test(force)
@@ -73,8 +69,8 @@ fn fs_regular(in: BaselineOut) -> GBufferOut {
     let out = baseline_gbuffer(in);
     let p = vec2<u32>(in.clip.xy);
     let i = p.y * u32(frame.viewport.x) + p.x;
-    // Bounds-checked: a pixel past the mask or the words clears nothing.
-    if (i < arrayLength(&regular_vis) && regular_vis[i] != VISBUF_NONE && (i >> 5u) < arrayLength(&validity)) {
+    // Bounds-checked: a pixel past the mask (a mask sized for another image) clears nothing.
+    if ((i >> 5u) < arrayLength(&validity)) {
         atomicAnd(&validity[i >> 5u], ~(1u << (i & 31u)));
     }
     return out;
