@@ -194,6 +194,8 @@ pub enum Format {
     R32Uint,
     /// `r32float`.
     R32Float,
+    /// `rgba32float`.
+    Rgba32Float,
 }
 
 /// A dimension of a compute entry point's workgroup size.

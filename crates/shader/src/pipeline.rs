@@ -17,6 +17,7 @@ pub fn texture_format(f: Format) -> wgpu::TextureFormat {
         Format::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
         Format::R32Uint => wgpu::TextureFormat::R32Uint,
         Format::R32Float => wgpu::TextureFormat::R32Float,
+        Format::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
     }
 }
 

@@ -140,6 +140,7 @@ fn format_of(f: StorageFormat) -> Option<Format> {
         StorageFormat::Rgba16Float => Format::Rgba16Float,
         StorageFormat::R32Uint => Format::R32Uint,
         StorageFormat::R32Float => Format::R32Float,
+        StorageFormat::Rgba32Float => Format::Rgba32Float,
         _ => return None,
     })
 }
