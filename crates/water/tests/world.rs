@@ -323,7 +323,11 @@ fn body_bounds_hold_every_point_the_query_finds() {
         speed: 2.0,
     };
     b.rivers.push(River {
-        points: vec![point(0.0, 500.0, 30.0), point(300.0, 420.0, 20.0), point(600.0, 520.0, 8.0)],
+        points: vec![
+            point(0.0, 500.0, 30.0),
+            point(300.0, 420.0, 20.0),
+            point(600.0, 520.0, 8.0),
+        ],
         material: 5,
     });
     let world = b.build(&mut water::no_progress).unwrap();
@@ -338,8 +342,14 @@ fn body_bounds_hold_every_point_the_query_finds() {
         if l.body == BodyId::OCEAN {
             continue;
         }
-        let bb = bodies.iter().find(|x| x.body == l.body).expect("a body of the list");
-        assert!(p.cmpge(bb.min).all() && p.cmple(bb.max).all(), "{p} outside {bb:?}");
+        let bb = bodies
+            .iter()
+            .find(|x| x.body == l.body)
+            .expect("a body of the list");
+        assert!(
+            p.cmpge(bb.min).all() && p.cmple(bb.max).all(),
+            "{p} outside {bb:?}"
+        );
         assert!(l.height >= bb.height.0 - 1e-4 && l.height <= bb.height.1 + 1e-4);
         assert_eq!(l.material, bb.material);
         found += 1;
@@ -372,7 +382,11 @@ fn candidates_hold_the_query_and_every_covering_body() {
         speed: 2.0,
     };
     b.rivers.push(River {
-        points: vec![p(30.0, 120.0, 20.0), p(30.0, 60.0, 14.0), p(30.0, 20.0, 9.0)],
+        points: vec![
+            p(30.0, 120.0, 20.0),
+            p(30.0, 60.0, 14.0),
+            p(30.0, 20.0, 9.0),
+        ],
         material: 2,
     });
     let world = b.build(&mut water::no_progress).unwrap();
@@ -387,7 +401,9 @@ fn candidates_hold_the_query_and_every_covering_body() {
                 assert!(c.contains(&b));
                 assert!(c.iter().all(|l| l.height <= b.height));
             }
-            if c.iter().any(|l| l.body == BodyId::lake(0)) && c.iter().any(|l| l.body == BodyId::river(0)) {
+            if c.iter().any(|l| l.body == BodyId::lake(0))
+                && c.iter().any(|l| l.body == BodyId::river(0))
+            {
                 both += 1;
             }
         }

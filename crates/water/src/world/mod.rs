@@ -434,7 +434,10 @@ impl WaterWorld {
     #[must_use]
     pub fn root(&self) -> (Vec2, f32) {
         let f = |i: usize| f32::from_bits(self.words[i]);
-        (Vec2::new(f(header::ROOT_X), f(header::ROOT_Y)), f(header::ROOT_SIZE))
+        (
+            Vec2::new(f(header::ROOT_X), f(header::ROOT_Y)),
+            f(header::ROOT_SIZE),
+        )
     }
 
     /// Lakes baked.
