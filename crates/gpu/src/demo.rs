@@ -11,6 +11,7 @@ use crate::frame::{Camera, FrameInput, Lighting, PointLight, SpotLight};
 use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
 pub mod city;
+pub mod river;
 
 /// Which demo scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -88,6 +88,7 @@ mod spot_shadows;
 mod statics;
 mod stats;
 mod timing;
+mod water_scene;
 
 pub use context::{
     ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,
@@ -114,7 +115,8 @@ pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting,
-    RenderPath, Renderer, RendererConfig, WARM_UP,
+    RenderPath, Renderer, RendererConfig, WARM_UP, WaterGBuffer, WaterGBufferInput, WaterTiles,
+    WaterView,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
@@ -132,3 +134,11 @@ pub use statics::{
 pub use staticscene;
 pub use stats::{ClassificationStats, GpuClassification};
 pub use timing::Timing;
+/// The `water` version this crate's API uses (worlds, materials, flow atlases, decals).
+pub use water;
+pub use water_scene::{
+    MAX_WATER_BODIES, MAX_WATER_BODY_CELLS, MAX_WATER_DECAL_LAYERS, MAX_WATER_DECAL_SIZE,
+    MAX_WATER_DECALS, MAX_WATER_MATERIAL_MAP, MAX_WATER_MATERIALS, MAX_WATER_MESH_VERTICES,
+    MAX_WATER_SECTORS_PER_SIDE, ShoreField, WaterDecal, WaterOptions, WaterScene, WaterStats,
+    WaterSummary,
+};

@@ -40,7 +40,11 @@ pub enum SceneArg {
     /// HZD's static city (`--instances` of them) through the GPU static query, with
     /// foliage batches along the streets.
     City,
-    /// All three, one after the other (the same renderer and device).
+    /// Far Cry 5's water: a river with rapids and rocks, a waterfall into a lake, its
+    /// outflow to the ocean's edge, trees and rocks on the banks (the flow baked on the
+    /// CPU first, with a progress bar).
+    River,
+    /// All four, one after the other (the same renderer and device).
     All,
 }
 
@@ -524,9 +528,14 @@ impl Args {
         match self.scene {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
-            SceneArg::City => &[],
+            SceneArg::City | SceneArg::River => &[],
             SceneArg::All => &DemoScene::ALL,
         }
+    }
+
+    /// Whether the river is rendered (not with `--gltf`).
+    pub fn river(&self) -> bool {
+        self.gltf.is_none() && matches!(self.scene, SceneArg::River | SceneArg::All)
     }
 
     /// Whether the city is rendered (not with `--gltf`).
@@ -725,6 +734,7 @@ pub fn run(args: &Args) -> Result<()> {
             scene: &scene,
             frame: &frame,
             build: ("scene build (CPU)", build_ms),
+            water: None,
         };
         render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), &built)?;
     }
@@ -735,7 +745,75 @@ pub fn run(args: &Args) -> Result<()> {
         println!("== city ==");
         render_city(args, &ctx, &mut renderer)?;
     }
+    if args.river() {
+        if !args.scenes().is_empty() || args.city() {
+            println!();
+        }
+        println!("== river ==");
+        render_river(args, &ctx, &mut renderer, every_sample.as_mut())?;
+    }
     Ok(())
+}
+
+/// A one-line progress bar on stderr for the water bakes (world, distance field, flow,
+/// atlas), redrawn when a stage's percentage changes.
+#[derive(Default)]
+struct WaterProgressBar {
+    last: Option<(gpu::water::Stage, u32)>,
+}
+
+impl WaterProgressBar {
+    fn show(&mut self, p: gpu::water::Progress) -> std::ops::ControlFlow<()> {
+        let percent = (p.fraction() * 100.0) as u32;
+        if self.last == Some((p.stage, percent)) {
+            return std::ops::ControlFlow::Continue(());
+        }
+        if self.last.is_some_and(|(s, pc)| s != p.stage && pc < 100) {
+            eprintln!();
+        }
+        self.last = Some((p.stage, percent));
+        let filled = (percent / 5) as usize;
+        let stage = format!("{:?}", p.stage);
+        eprint!(
+            "\rwater bake: {stage:<16} [{}{}] {percent:3}%",
+            "#".repeat(filled),
+            "-".repeat(20 - filled),
+        );
+        if percent == 100 {
+            eprintln!();
+        }
+        std::ops::ControlFlow::Continue(())
+    }
+}
+
+/// The river: built (the water bakes behind a progress bar), given to the renderer as its
+/// water, rendered as a demo scene with the water passes' statistics; the renderer's water
+/// taken away after.
+fn render_river(
+    args: &Args,
+    ctx: &gpu::GpuContext,
+    renderer: &mut Renderer,
+    every_sample: Option<&mut Renderer>,
+) -> Result<()> {
+    if renderer.config().msaa.is_some() {
+        eprintln!("--msaa: the river renders without water (its passes are single-sample)");
+    }
+    let t0 = std::time::Instant::now();
+    let mut bar = WaterProgressBar::default();
+    let demo = demo::river::river(args.seed, args.density, &mut |p| bar.show(p))
+        .context("building the river scene")?;
+    let frame = with_lights(args, demo.frame.clone(), 40.0);
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let built = Built {
+        name: "river",
+        scene: &demo.scene,
+        frame: &frame,
+        build: ("scene build and water bakes (CPU)", build_ms),
+        water: (renderer.config().msaa.is_none()).then_some((&demo.water, demo.decals.as_slice())),
+    };
+    let out = render_scene(args, ctx, renderer, every_sample, &built);
+    renderer.set_water(None)?;
+    out
 }
 
 /// The city: streamed into the GPU static query, prepared with its static setups, rendered
@@ -940,6 +1018,8 @@ struct Built<'a> {
     frame: &'a gpu::FrameInput,
     /// What building it is called in the report, and its CPU time (ms).
     build: (&'a str, f64),
+    /// Its water and this frame's decals, if any.
+    water: Option<(&'a gpu::WaterScene, &'a [gpu::WaterDecal])>,
 }
 
 /// A glTF file (`--gltf`) imported (its path, what came of it, the import's CPU time in
@@ -994,6 +1074,7 @@ fn render_gltf(
             "glTF import: parse, decode, build the scene (CPU)",
             build_ms,
         ),
+        water: None,
     };
     render_scene(args, ctx, renderer, every_sample, &built)
 }
@@ -1023,6 +1104,13 @@ fn render_scene(
         "prepare: encode meshes, micro batches, upload (CPU)",
         prepare_ms,
     );
+    if let Some((water, decals)) = built.water {
+        let summary = renderer.set_water(Some(water))?;
+        renderer.set_water_decals(decals)?;
+        if let Some(s) = summary {
+            report.water_summary(&s);
+        }
+    }
     let mut images = Vec::new();
     for &path in paths {
         let frames = renderer.render_frames(&prepared, frame, path, args.frames)?;
@@ -1064,6 +1152,9 @@ fn render_scene(
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
             if let Some(s) = renderer.read_laydown_stats(&prepared)? {
                 report.laydown_stats(&s);
+            }
+            if let Some(s) = renderer.water_stats()? {
+                report.water_stats(&s);
             }
             report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();

@@ -22,6 +22,7 @@
 //! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
 //! | static placement | [`static_place`] | the query's batches -> instance rows and indirect draws |
 //! | HiZ build | [`query`] | the depth target -> HZD's HiZ pyramid (`gpu::hiz_depth`, then `staticscene`'s reduction) |
+//! | water | [`water`] | FC5's water after lighting: visibility, the mini G-buffer, displacement, tiles, screen-space tessellation, normals, foam, composite (the table in `crate::water_scene`) |
 
 use shader::{Module, StageCounts};
 
@@ -43,6 +44,7 @@ pub(crate) mod query;
 pub(crate) mod resolve;
 pub(crate) mod static_place;
 pub(crate) mod vis_copy;
+pub(crate) mod water;
 
 macro_rules! gpu_modules {
     ($($name:ident = $file:literal),+ $(,)?) => {
@@ -84,6 +86,15 @@ gpu_modules!(
     STATIC_PLACE = "static_place",
     HIZ_DEPTH = "hiz_depth",
     TILE_DEPTH = "tile_depth",
+    WATER_FRAME = "water_frame",
+    WATER_VISIBILITY = "water_visibility",
+    WATER_POSITION = "water_position",
+    WATER_DISPLACEMENT = "water_displacement",
+    WATER_TILES = "water_tiles",
+    WATER_TESSELLATION = "water_tessellation",
+    WATER_NORMALS = "water_normals",
+    WATER_FOAM = "water_foam",
+    WATER_COMPOSITE = "water_composite",
 );
 
 /// Every module list the renderer's passes import from.
@@ -93,6 +104,7 @@ pub(crate) const LIBRARY: &[&[Module]] = &[
     tiling::wgsl::MODULES,
     deferred::wgsl::MODULES,
     staticscene::wgsl::MODULES,
+    ::water::wgsl::MODULES,
     MODULES,
 ];
 
@@ -114,6 +126,15 @@ pub(crate) fn stage_counts() -> StageCounts {
         lights::TILE_DEPTH.stage_counts(),
         deferred::pass::LIGHT_CULL_PASS.stage_counts(),
         static_place::STATIC_PLACE.stage_counts(),
+        water::visibility::VISIBILITY.stage_counts(),
+        water::position::POSITION.stage_counts(),
+        water::displacement::DISPLACEMENT.stage_counts(),
+        water::tiles::TILES.stage_counts(),
+        water::tessellation::TESSELLATION.stage_counts(),
+        water::normals::NORMALS.stage_counts(),
+        water::foam::FOAM.stage_counts(),
+        water::composite::COMPOSITE.stage_counts(),
+        lighting::LIGHTING_WATER.stage_counts(),
     ]
     .into_iter()
     .chain(
@@ -246,6 +267,9 @@ pub(crate) struct FrameContext<'a> {
     /// where the device and the scene have its resources, in frames without a static
     /// query, whose indirect draw lists only the hardware laydown draws).
     pub compute_laydown: bool,
+    /// FC5's water, when the renderer has a water scene and the frame lights (lighting
+    /// keeps its HDR colour, the water passes run after it).
+    pub water: Option<&'a water::WaterState>,
 }
 
 /// What a command buffer records.
@@ -360,6 +384,9 @@ impl Pipelines {
         }
         self.lights.record(e, f, timer);
         self.lighting.record(e, f, timer);
+        if let Some(w) = f.water {
+            w.record(e, f, timer);
+        }
     }
 }
 
