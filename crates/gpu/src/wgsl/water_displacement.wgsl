@@ -73,29 +73,42 @@ fn gpu_water_decals(p: vec3<f32>) -> vec3<f32> {
     return water_decal_resolve(best);
 }
 
-// Whether neighbour `q` of a pixel of material `m` at depth `d` is across a seam: water of
-// another material, or water at a depth step.
-fn gpu_water_seam_at(q: vec2<i32>, m: u32, d: f32, r: f32) -> bool {
+// The world height (+Y) of mini G-buffer pixel `q` at view depth `d`.
+fn gpu_water_height_at(q: vec2<i32>, d: f32) -> f32 {
+    return gpu_water_relative(water, vec2<f32>(q) + 0.5, d, water.size.zw, water.tan_half.zw).y;
+}
+
+// Whether neighbour `q`, `r` pixels from a pixel of material `m` at height `y` whose
+// pixels span `footprint` metres, is across a seam between two bodies: water of another
+// material, or water at a height step steeper than a river's slope over that distance
+// (a waterfall's foot, a river above a lake). The depth alone would not do: a plane seen
+// at a grazing angle steps in depth from pixel to pixel.
+fn gpu_water_seam_at(q: vec2<i32>, m: u32, y: f32, footprint: f32, r: f32) -> bool {
     let size = vec2<i32>(water.size.zw);
     if (any(q < vec2<i32>(0)) || any(q >= size)) {
         return false;
     }
     let w = textureLoad(data, q, 0).r;
-    if (!water_data_is_valid(w)) {
+    let dq = textureLoad(depth, q, 0).r;
+    if (!water_data_is_valid(w) || !gpu_water_depth_ok(dq)) {
         return false;
     }
-    let dq = textureLoad(depth, q, 0).r;
-    return (w >> WATER_MATERIAL_SHIFT) != m || abs(dq - d) > d * 0.02 * r + 0.25;
+    let step = abs(gpu_water_height_at(q, dq) - y);
+    return (w >> WATER_MATERIAL_SHIFT) != m || !(step <= 0.5 + 0.5 * footprint * r);
 }
 
-// How much of the displacement a pixel keeps: 1 away from seams, falling to 0 at one
-// (the talk's "lowers the displacement ... then blur", as a distance falloff).
+// How much of the displacement a pixel keeps: 1 from 8 pixels away from a seam, falling
+// to 0 at one (the talk's "lowers the displacement ... then blur", as a falloff with the
+// distance to the nearest seam found at 1, 2, 4 and 8 pixels).
 fn gpu_water_seam(p: vec2<i32>, m: u32, d: f32) -> f32 {
+    let y = gpu_water_height_at(p, d);
+    // Metres per mini G-buffer pixel at this depth.
+    let footprint = d * 2.0 * water.tan_half.w / f32(max(water.size.w, 1u));
     var r = 1;
     for (var k = 0u; k < 4u; k++) {
         let rf = f32(r);
-        if (gpu_water_seam_at(p + vec2<i32>(r, 0), m, d, rf) || gpu_water_seam_at(p - vec2<i32>(r, 0), m, d, rf)
-            || gpu_water_seam_at(p + vec2<i32>(0, r), m, d, rf) || gpu_water_seam_at(p - vec2<i32>(0, r), m, d, rf)) {
+        if (gpu_water_seam_at(p + vec2<i32>(r, 0), m, y, footprint, rf) || gpu_water_seam_at(p - vec2<i32>(r, 0), m, y, footprint, rf)
+            || gpu_water_seam_at(p + vec2<i32>(0, r), m, y, footprint, rf) || gpu_water_seam_at(p - vec2<i32>(0, r), m, y, footprint, rf)) {
             return smoothstep(0.0, 8.0, rf - 1.0);
         }
         r *= 2;
