@@ -268,11 +268,40 @@ pub struct Args {
     /// is ignored): both paths, every debug view, the statistics and the import summary.
     #[arg(long, value_name = "FILE")]
     pub gltf: Option<PathBuf>,
+    /// The water composite's precision (the river): `f16` where the adapter has
+    /// SHADER_F16 (else f32), or `f32` always.
+    #[arg(long, value_enum, default_value = "f16")]
+    pub water_precision: WaterPrecisionArg,
+    /// The water's mini G-buffer size over the image's, per axis (the river; 0.125 to 1).
+    #[arg(long, default_value_t = gpu::WaterOptions::default().resolution_scale, value_parser = parse_water_scale)]
+    pub water_scale: f32,
     /// The glTF file's camera: `file` (its first perspective camera, else `auto`), `auto`
     /// (framing the scene's bounds: gltf_scene::framing_camera) or the eye and the point
     /// looked at, `EX,EY,EZ,TX,TY,TZ` (metres, +Y up).
     #[arg(long, default_value = "file", value_parser = parse_camera, allow_hyphen_values = true)]
     pub camera: CameraArg,
+}
+
+/// `--water-precision`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WaterPrecisionArg {
+    /// Half precision where the adapter has SHADER_F16.
+    F16,
+    /// Single precision.
+    F32,
+}
+
+/// A water resolution scale given on the command line: 0.125 to 1.
+fn parse_water_scale(s: &str) -> Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.125..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{s} is not between 0.125 and 1"))
+    }
 }
 
 /// A shadow size threshold given on the command line: finite, 0 to 64 texels.
@@ -804,12 +833,15 @@ fn render_river(
         .context("building the river scene")?;
     let frame = with_lights(args, demo.frame.clone(), 40.0);
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let mut water = demo.water.clone();
+    water.options.half_precision = args.water_precision == WaterPrecisionArg::F16;
+    water.options.resolution_scale = args.water_scale;
     let built = Built {
         name: "river",
         scene: &demo.scene,
         frame: &frame,
         build: ("scene build and water bakes (CPU)", build_ms),
-        water: (renderer.config().msaa.is_none()).then_some((&demo.water, demo.decals.as_slice())),
+        water: (renderer.config().msaa.is_none()).then_some((&water, demo.decals.as_slice())),
     };
     let out = render_scene(args, ctx, renderer, every_sample, &built);
     renderer.set_water(None)?;
