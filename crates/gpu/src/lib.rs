@@ -14,6 +14,14 @@
 //! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
 //! crate owns devices, buffers, pipelines and passes.
 //!
+//! Beside the scene the renderer draws Far Cry 5's water ([`Renderer::set_water`] with a
+//! [`WaterScene`]: a baked `water::world::WaterWorld`, its materials, the flow atlas and
+//! shore field for foam, decal textures): after lighting, a HiZ-culled visibility pass, a
+//! reduced-resolution mini G-buffer at a wider field of view, FBM and decal displacement,
+//! 32x32 tiles, screen-space tessellation by indirect draws, normals from depth, foam and
+//! a scattering composite over the lit image; the water writes a second depth buffer
+//! ([`water_scene`]'s docs say which passes read which).
+//!
 //! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
 //! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun, point
 //! and spot lights) and uploads its constants. The renderer runs on your device: ask for
@@ -88,7 +96,7 @@ mod spot_shadows;
 mod statics;
 mod stats;
 mod timing;
-mod water_scene;
+pub mod water_scene;
 
 pub use context::{
     ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,

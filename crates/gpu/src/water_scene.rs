@@ -40,7 +40,7 @@
 //! # Limits
 //!
 //! Every limit is a named `pub const` here; a scene over one is an
-//! [`Error::WaterLimit`](crate::Error::WaterLimit), never a panic.
+//! [`Error::WaterLimit`], never a panic.
 
 use glam::{Affine3A, Mat4, Vec2, Vec3};
 use water::atlas::FlowAtlas;
@@ -297,6 +297,10 @@ pub(crate) struct SectorTree {
 pub(crate) const NODE_WATER: u32 = 1;
 pub(crate) const NODE_OCEAN: u32 = 2;
 pub(crate) const NODE_FLAT: u32 = 4;
+pub(crate) const NODE_PURE: u32 = 8;
+/// A leaf's flags hold the ocean's material from this bit (WGSL
+/// `GPU_WATER_NODE_MATERIAL_SHIFT`).
+pub(crate) const NODE_MATERIAL_SHIFT: u32 = 8;
 
 /// The material map: per texel own material, the other material within half the blend
 /// distance and the distance to their boundary (see `gpu::water_composite`).
@@ -752,6 +756,11 @@ pub(crate) fn sector_tree(
             }
             if found && hmin == hmax && bodies_seen <= 1 {
                 flags |= NODE_FLAT;
+                // Ocean alone: every fragment is the ocean's (its material in the flags).
+                if let (true, Some(o)) = (has_ocean, ocean) {
+                    flags |=
+                        NODE_PURE | o.material.min(WATER_NO_MATERIAL - 1) << NODE_MATERIAL_SHIFT;
+                }
             }
             if !found {
                 hmin = 0.0;

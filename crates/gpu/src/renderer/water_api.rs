@@ -80,7 +80,7 @@ impl Renderer {
     /// the far sectors' quadtree and the material map from the baked world (CPU), uploads
     /// them and the world, flow atlas, shore field, noise and decal textures, and makes
     /// the water passes' pipelines and targets (once). Every later frame of every path
-    /// draws the water after lighting (see `crate::water_scene` for the passes and the two
+    /// draws the water after lighting (see [`crate::water_scene`] for the passes and the two
     /// depth buffers). On an error the renderer has no water.
     ///
     /// # Errors
@@ -380,7 +380,7 @@ impl Renderer {
     }
 
     /// Reads the last frame's depth with water back (row-major, reversed Z): the opaque
-    /// depth with the tessellated water drawn into it. See `crate::water_scene` for which
+    /// depth with the tessellated water drawn into it. See [`crate::water_scene`] for which
     /// passes read which depth.
     ///
     /// # Errors

@@ -8,7 +8,8 @@
 // `combined_displacement`). Then the seam fix: where a pixel's neighbours within 8 pixels
 // belong to another material or lie at another depth (two bodies meeting), the
 // displacement is lowered towards the seam so the two meshes do not tear apart.
-// Output: xyz the displacement (metres, +Y up), w the decals' foam.
+// Output: xyz the displacement (metres, +Y up), w the decals' foam; and each pixel's
+// displaced point in the camera's clip space, the tessellation's vertex.
 
 #import gpu::frame
 #import gpu::water_frame
@@ -25,6 +26,21 @@
 @group(0) @binding(6) var<storage, read> decals: array<GpuWaterDecal>;
 @group(0) @binding(7) var decal_texels: texture_2d_array<f32>;
 @group(0) @binding(8) var displacement: texture_storage_2d<rgba32float, write>;
+// The tessellation's vertices, one per pixel (row-major): the displaced point in the
+// camera's clip space, w <= 0 where there is no water. The talk's "we could do a compute
+// pass which does all the ALU operations beforehand, and then we simply do a fetch from
+// a buffer": the grid's vertex shader fetches three of these and nothing else.
+@group(0) @binding(9) var<storage, read_write> vertices: array<vec4<f32>>;
+
+// A pixel without water: its vertices kill their triangles.
+const GPU_WATER_NO_VERTEX: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, -1.0);
+
+fn gpu_water_store_vertex(p: vec2<u32>, v: vec4<f32>) {
+    let at = p.y * water.size.z + p.x;
+    if (at < arrayLength(&vertices)) {
+        vertices[at] = v;
+    }
+}
 
 // Texel (x, y) of layer `layer` clamped to the decal texture's own size `size`.
 fn gpu_water_decal_texel(layer: u32, x: i32, y: i32, size: vec2<u32>) -> vec3<f32> {
@@ -125,12 +141,14 @@ fn displace(@builtin(global_invocation_id) id: vec3<u32>) {
     let dims = min(textureDimensions(data), textureDimensions(depth));
     if (id.x >= dims.x || id.y >= dims.y) {
         textureStore(displacement, id.xy, vec4<f32>(0.0));
+        gpu_water_store_vertex(id.xy, GPU_WATER_NO_VERTEX);
         return;
     }
     let word = textureLoad(data, id.xy, 0).r;
     let d = textureLoad(depth, id.xy, 0).r;
     if (!water_data_is_valid(word) || !gpu_water_depth_ok(d)) {
         textureStore(displacement, id.xy, vec4<f32>(0.0));
+        gpu_water_store_vertex(id.xy, GPU_WATER_NO_VERTEX);
         return;
     }
     let rel = gpu_water_relative(water, vec2<f32>(id.xy) + 0.5, d, size, water.tan_half.zw);
@@ -143,6 +161,10 @@ fn displace(@builtin(global_invocation_id) id: vec3<u32>) {
     total += decal;
     let keep = gpu_water_seam(vec2<i32>(id.xy), word >> WATER_MATERIAL_SHIFT, d);
     let limit = vec3<f32>(max(water.shore.w, 0.0));
-    let out = clamp(total * keep, -limit, limit);
-    textureStore(displacement, id.xy, vec4<f32>(select(vec3<f32>(0.0), out, out == out), saturate(length(decal))));
+    let out = select(vec3<f32>(0.0), clamp(total * keep, -limit, limit), total == total);
+    textureStore(displacement, id.xy, vec4<f32>(out, saturate(length(decal))));
+    // The grid vertex at this pixel: the displaced point seen by the camera.
+    let clip = frame.view_proj * vec4<f32>(rel + out, 1.0);
+    let finite = all(abs(clip) < vec4<f32>(1.0e30));
+    gpu_water_store_vertex(id.xy, select(GPU_WATER_NO_VERTEX, clip, finite && clip.w > 0.0));
 }

@@ -101,6 +101,10 @@ const GPU_WATER_FLAG_MATERIAL_MAP: u32 = 8u;
 const GPU_WATER_NODE_WATER: u32 = 1u;
 const GPU_WATER_NODE_OCEAN: u32 = 2u;
 const GPU_WATER_NODE_FLAT: u32 = 4u;
+// A leaf of ocean alone (no other body's bounds reach it): its fragments skip the query.
+const GPU_WATER_NODE_PURE: u32 = 8u;
+// A leaf's flags hold the ocean's material from this bit.
+const GPU_WATER_NODE_MATERIAL_SHIFT: u32 = 8u;
 
 // The body word the far draw's vertices carry (no near body).
 const GPU_WATER_FAR_BODY: u32 = 4294967295u;

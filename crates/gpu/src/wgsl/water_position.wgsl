@@ -61,15 +61,18 @@ struct GpuWaterVarying {
     // camera-relative position
     @location(0) rel: vec3<f32>,
     @location(1) normal: vec3<f32>,
-    // the near body's word, or GPU_WATER_FAR_BODY
+    // the near body's word, or GPU_WATER_FAR_BODY, or GPU_WATER_OCEAN_BODY for a far
+    // sector of ocean alone (no query needed)
     @location(2) @interpolate(flat) body: u32,
+    // a near body's or a pure ocean sector's material
+    @location(3) @interpolate(flat) material: u32,
 }
 
 @vertex
 fn vs_near(@builtin(vertex_index) vi: u32) -> GpuWaterVarying {
     let v = vertices[min(vi, arrayLength(&vertices) - 1u)];
     let rel = v.position - water.camera.xyz;
-    return GpuWaterVarying(water.view_proj * vec4<f32>(rel, 1.0), rel, v.normal, v.body);
+    return GpuWaterVarying(water.view_proj * vec4<f32>(rel, 1.0), rel, v.normal, v.body, v.material);
 }
 
 // Vertex `vi` of a far sector's grid of `quads` x `quads` quads: its corner in the
@@ -85,13 +88,16 @@ fn gpu_water_far_vertex(sector: u32, vi: u32, quads: u32) -> GpuWaterVarying {
     let leaf = ((1u << (2u * (levels - 1u))) - 1u) / 3u + s;
     let node = nodes[min(leaf, arrayLength(&nodes) - 1u)];
     let xz = mix(node.min.xz, node.max.xz, vec2<f32>(c) / f32(quads));
+    let flags = bitcast<u32>(node.min.w);
     var h = node.max.w;
-    if ((bitcast<u32>(node.min.w) & GPU_WATER_NODE_FLAT) == 0u) {
+    if ((flags & GPU_WATER_NODE_FLAT) == 0u) {
         let q = water_world_query(world, vec2<f32>(xz.x, -xz.y));
         h = select(node.min.y, q.height, q.found != 0u);
     }
     let rel = vec3<f32>(xz.x, h, xz.y) - water.camera.xyz;
-    return GpuWaterVarying(water.view_proj * vec4<f32>(rel, 1.0), rel, vec3<f32>(0.0, 1.0, 0.0), GPU_WATER_FAR_BODY);
+    let pure = (flags & GPU_WATER_NODE_PURE) != 0u;
+    let body = select(GPU_WATER_FAR_BODY, GPU_WATER_OCEAN_BODY, pure);
+    return GpuWaterVarying(water.view_proj * vec4<f32>(rel, 1.0), rel, vec3<f32>(0.0, 1.0, 0.0), body, flags >> GPU_WATER_NODE_MATERIAL_SHIFT);
 }
 
 // The far draw of flat sectors (the talk's "flat water"): one quad each, from the front
@@ -133,22 +139,11 @@ fn fs_position(in: GpuWaterVarying, @builtin(front_facing) front: bool) -> GpuWa
     let foam_mip = water_mip_level(dpdx(uv), dpdy(uv), tex);
     let algae_mip = water_mip_level(dpdx(uv * 0.25), dpdy(uv * 0.25), tex);
     let d = length(in.rel);
-    let q = water_world_query(world, wp);
-    if (q.found == 0u) {
-        discard;
-    }
-    if (in.body == GPU_WATER_FAR_BODY) {
-        // The far draw: the ocean everywhere, other water beyond the near radius.
-        if (q.body != GPU_WATER_OCEAN_BODY && d < water.sectors.w) {
-            discard;
-        }
-    } else if (q.body != in.body || d >= water.sectors.w) {
-        discard;
-    }
     // Hidden behind the opaque scene (beyond what displacement can lift) over the whole
     // neighbourhood a tessellated triangle can reach: no water here, and no tile. Only
     // there: a pixel dropped next to a silhouette would kill the triangles around it and
-    // let the sky show between the water and the object.
+    // let the sky show between the water and the object. Tested first: it is cheap, the
+    // water query is not.
     let clip = frame.view_proj * vec4<f32>(in.rel, 1.0);
     if (clip.w > 0.0) {
         let ndc = clip.xy / clip.w;
@@ -162,8 +157,29 @@ fn fs_position(in: GpuWaterVarying, @builtin(front_facing) front: bool) -> GpuWa
             }
         }
     }
+    var found = true;
+    var body = in.body;
+    var material = in.material;
+    if (in.body != GPU_WATER_OCEAN_BODY) {
+        // Which body the baked world says is here (the highest surface).
+        let q = water_world_query(world, wp);
+        found = q.found != 0u;
+        body = q.body;
+        material = q.material;
+    }
+    if (!found) {
+        discard;
+    }
+    if (in.body == GPU_WATER_FAR_BODY) {
+        // The far draw: the ocean everywhere, other water beyond the near radius.
+        if (body != GPU_WATER_OCEAN_BODY && d < water.sectors.w) {
+            discard;
+        }
+    } else if (in.body != GPU_WATER_OCEAN_BODY && (body != in.body || d >= water.sectors.w)) {
+        discard;
+    }
     let count = max(water.counts.x, 1u);
-    let material = min(q.material, count - 1u);
+    material = min(material, count - 1u);
     let shader = materials[min(material, arrayLength(&materials) - 1u)].ids & WATER_SHADER_ID_MASK;
     var flags = WATER_FLAG_VALID | WATER_FLAG_LIT;
     if (front) {

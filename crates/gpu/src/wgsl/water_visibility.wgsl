@@ -80,10 +80,16 @@ fn gpu_water_occluded(lo: vec3<f32>, hi: vec3<f32>) -> bool {
         rmax = max(rmax, px);
         zmax = max(zmax, ndc.z);
     }
+    // The part on the camera's image: a box wholly in the water view's margin is kept
+    // (no depth there); one reaching into the margin is tested by its part on the image
+    // (a margin holds only what displacement could pull a few pixels in, behind the same
+    // occluders).
     let size = frame.viewport.xy;
-    if (!(all(rmin >= vec2<f32>(0.0)) && all(rmax <= size))) {
+    if (any(rmax <= vec2<f32>(0.0)) || any(rmin >= size)) {
         return false;
     }
+    rmin = clamp(rmin, vec2<f32>(0.0), size - 1.0);
+    rmax = clamp(rmax, vec2<f32>(0.0), size - 1.0);
     let extent = max(rmax.x - rmin.x, rmax.y - rmin.y);
     // At this level the box spans at most two texels a side (three with an odd start).
     let level = u32(clamp(ceil(log2(max(extent, 1.0))), 0.0, f32(levels - 1u)));

@@ -46,6 +46,7 @@ pub(crate) const DISPLACEMENT: Pass<[u32; 2]> = Pass {
                 "displacement",
                 Kind::storage_texture_2d(Format::Rgba32Float),
             ),
+            Binding::new("vertices", Kind::read_write(16)),
         ],
     }],
     entries: &[Entry::grid("displace", 8, 8, |s| *s)],

@@ -116,6 +116,9 @@ pub(crate) struct WaterTargets {
     pub linear: (wgpu::Texture, wgpu::TextureView),
     pub depth: wgpu::TextureView,
     pub displacement: (wgpu::Texture, wgpu::TextureView),
+    /// The tessellation's vertices: per mini G-buffer pixel the displaced point in clip
+    /// space (the displacement pass writes them).
+    pub vertices: wgpu::Buffer,
     /// The depth with water (full resolution).
     pub depth_water: (wgpu::Texture, wgpu::TextureView),
     /// The tessellation's view depth and mini G-buffer UV (full resolution).
@@ -218,6 +221,12 @@ impl WaterTargets {
                 h,
                 wgpu::TextureFormat::Rgba32Float,
                 sw,
+            ),
+            vertices: storage(
+                device,
+                "water grid vertices",
+                u64::from(w) * u64::from(h) * 16,
+                wgpu::BufferUsages::empty(),
             ),
             depth_water: texture(
                 device,
@@ -877,6 +886,7 @@ impl WaterState {
                     ("decals", b(&d.decals)),
                     ("decal_texels", T(&d.decal_texels)),
                     ("displacement", T(&t.displacement.1)),
+                    ("vertices", b(&t.vertices)),
                 ],
             )?,
             tiles: passes.tiles.pass.bind_group(
@@ -896,9 +906,7 @@ impl WaterState {
                 &[
                     ("frame", b(s.frame)),
                     ("water", b(&d.frame)),
-                    ("data", T(&t.data.1)),
-                    ("depth", T(&t.linear.1)),
-                    ("displacement", T(&t.displacement.1)),
+                    ("vertices", b(&t.vertices)),
                     ("tile_list", b(&t.tile_list)),
                 ],
             )?,
@@ -1153,7 +1161,14 @@ mod tests {
         assert_eq!(u("GPU_WATER_FLAG_SHORE"), Some(FLAG_SHORE));
         assert_eq!(u("GPU_WATER_FLAG_SSR"), Some(FLAG_SSR));
         assert_eq!(u("GPU_WATER_FLAG_MATERIAL_MAP"), Some(FLAG_MATERIAL_MAP));
-        use crate::water_scene::{NODE_FLAT, NODE_OCEAN, NODE_WATER, WATER_NO_MATERIAL};
+        use crate::water_scene::{
+            NODE_FLAT, NODE_MATERIAL_SHIFT, NODE_OCEAN, NODE_PURE, NODE_WATER, WATER_NO_MATERIAL,
+        };
+        assert_eq!(u("GPU_WATER_NODE_PURE"), Some(NODE_PURE));
+        assert_eq!(
+            u("GPU_WATER_NODE_MATERIAL_SHIFT"),
+            Some(NODE_MATERIAL_SHIFT)
+        );
         assert_eq!(u("GPU_WATER_NODE_WATER"), Some(NODE_WATER));
         assert_eq!(u("GPU_WATER_NODE_OCEAN"), Some(NODE_OCEAN));
         assert_eq!(u("GPU_WATER_NODE_FLAT"), Some(NODE_FLAT));

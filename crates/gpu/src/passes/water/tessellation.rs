@@ -3,7 +3,7 @@
 //! `draw_indexed_indirect` into the depth with water.
 
 use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::{Binding, Entry, Group, Kind, Pass, Stage};
 
 use super::super::LIBRARY;
 use super::{GpuWaterFrame, WaterGroups, WaterTargets};
@@ -22,15 +22,7 @@ pub(crate) const TESSELLATION: Pass = Pass {
         bindings: &[
             Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
             Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
-            Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "depth",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "displacement",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            Binding::new("vertices", Kind::read(16)),
             Binding::new("tile_list", Kind::read(4)),
         ],
     }],
