@@ -16,6 +16,7 @@ use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene
 
 pub mod city;
 mod hillside;
+pub mod river;
 
 /// Which demo scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

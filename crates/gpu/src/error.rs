@@ -76,6 +76,22 @@ pub enum Error {
     },
     /// The upload allocator refused a request (a bug: every upload is sized to fit).
     Upload(String),
+    /// The water crate refused the water scene (a world, an atlas, a noise texture, FBM
+    /// parameters: each names the limit or the field).
+    Water(water::Error),
+    /// The water scene breaks one of the renderer's water limits (named `pub const`s of
+    /// this crate, from the talk where it gives one: `MAX_WATER_SECTORS_PER_SIDE` is Far
+    /// Cry's 64 x 64 sectors).
+    WaterLimit {
+        /// What exceeded it.
+        what: &'static str,
+        /// The value.
+        value: u64,
+        /// The limit.
+        limit: u64,
+        /// The limit's name.
+        limit_name: &'static str,
+    },
     /// A [`RendererConfig`](crate::RendererConfig) value outside its range.
     Config {
         /// Which value (`RendererConfig::width`).
@@ -304,6 +320,16 @@ impl fmt::Display for Error {
                 value,
                 allowed,
             } => write!(f, "{field} is {value}, allowed: {allowed}"),
+            Error::Water(e) => write!(f, "water: {e}"),
+            Error::WaterLimit {
+                what,
+                value,
+                limit,
+                limit_name,
+            } => write!(
+                f,
+                "water: {what} is {value}, over the limit {limit_name} = {limit}"
+            ),
         }
     }
 }
@@ -428,6 +454,12 @@ impl From<staticscene::Error> for Error {
 impl From<shader::Error> for Error {
     fn from(e: shader::Error) -> Self {
         Error::Shader(e)
+    }
+}
+
+impl From<water::Error> for Error {
+    fn from(e: water::Error) -> Self {
+        Error::Water(e)
     }
 }
 

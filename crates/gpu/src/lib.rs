@@ -14,6 +14,14 @@
 //! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
 //! crate owns devices, buffers, pipelines and passes.
 //!
+//! Beside the scene the renderer draws Far Cry 5's water ([`Renderer::set_water`] with a
+//! [`WaterScene`]: a baked `water::world::WaterWorld`, its materials, the flow atlas and
+//! shore field for foam, decal textures): after lighting, a HiZ-culled visibility pass, a
+//! reduced-resolution mini G-buffer at a wider field of view, FBM and decal displacement,
+//! 32x32 tiles, screen-space tessellation by indirect draws, normals from depth, foam and
+//! a scattering composite over the lit image; the water writes a second depth buffer
+//! ([`water_scene`]'s docs say which passes read which).
+//!
 //! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
 //! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun, point
 //! and spot lights) and uploads its constants. The renderer runs on your device: ask for
@@ -90,6 +98,7 @@ mod spot_shadows;
 mod statics;
 mod stats;
 mod timing;
+pub mod water_scene;
 
 pub use context::{
     ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,
@@ -119,7 +128,8 @@ pub use passes::vertex_ring::{
 pub use renderer::ConditionalLight;
 pub use renderer::{
     FrameOutput, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting,
-    RenderPath, Renderer, RendererConfig, VrsConfig, WARM_UP,
+    RenderPath, Renderer, RendererConfig, VrsConfig, WARM_UP, WaterGBuffer, WaterGBufferInput,
+    WaterTiles, WaterView,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
@@ -139,3 +149,11 @@ pub use stats::{ClassificationStats, GpuClassification};
 /// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::vertex_ring`.
 pub use tiling::{RING_BYTES_PS4, RING_BYTES_PS5};
 pub use timing::Timing;
+/// The `water` version this crate's API uses (worlds, materials, flow atlases, decals).
+pub use water;
+pub use water_scene::{
+    MAX_WATER_BODIES, MAX_WATER_BODY_CELLS, MAX_WATER_DECAL_LAYERS, MAX_WATER_DECAL_SIZE,
+    MAX_WATER_DECALS, MAX_WATER_MATERIAL_MAP, MAX_WATER_MATERIALS, MAX_WATER_MESH_VERTICES,
+    MAX_WATER_SECTORS_PER_SIDE, ShoreField, WaterDecal, WaterOptions, WaterScene, WaterStats,
+    WaterSummary,
+};

@@ -31,6 +31,9 @@ use crate::statics::{StaticFrameStats, StaticOcclusion, StaticShadowStats, Stati
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
 use crate::timing::{GpuTimer, Timing};
 
+mod water_api;
+pub use water_api::{WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView};
+
 /// Wall time [`Renderer::render_frames`] renders before it starts measuring.
 pub const WARM_UP: Duration = Duration::from_millis(500);
 
@@ -547,6 +550,8 @@ pub struct Renderer {
     static_slices: Vec<bool>,
     /// The last bake's static shadow view, until a frame's statistics report it.
     bake_stats: Option<StaticShadowStats>,
+    /// FC5's water ([`Renderer::set_water`]).
+    water: Option<passes::water::WaterState>,
 }
 
 /// A frame's static query as recorded: the prepared view, whether its second pass
@@ -811,6 +816,7 @@ impl Renderer {
                 depth_camera: None,
                 static_slices: Vec::new(),
                 bake_stats: None,
+                water: None,
             })
         })
     }
@@ -922,6 +928,15 @@ impl Renderer {
         self.upload_shadows(scene.id, static_frame || animated, frame, &uniforms)?;
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
+        if let Some(w) = &self.water {
+            let aspect = self.config.width as f32 / self.config.height as f32;
+            let u = w.data.frame_constants(frame, aspect);
+            self.uploads.write(&w.data.frame, 0, bytemuck::bytes_of(&u));
+            if !w.data.decals_cpu.is_empty() {
+                self.uploads
+                    .write(&w.data.decals, 0, bytemuck::cast_slice(&w.data.decals_cpu));
+            }
+        }
         self.view_rotation = frame.camera.view_rotation();
         self.origin_offset = glam::Vec4::from(uniforms.origin_offset).truncate();
         self.plan_conditional(scene)?;
@@ -988,6 +1003,13 @@ impl Renderer {
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
                         compute_laydown: !static_query,
+                        water: if what.lights()
+                            && !(what == Recording::Baseline && self.targets.msaa.is_some())
+                        {
+                            self.water.as_ref()
+                        } else {
+                            None
+                        },
                     }
                 };
             }
@@ -1999,6 +2021,7 @@ impl Renderer {
                 origin_offset: self.origin_offset,
                 msaa: false,
                 compute_laydown: false,
+                water: None,
             };
             self.pipelines
                 .record(Recording::Classification, &mut encoder, &f, &mut self.timer);
@@ -2417,6 +2440,7 @@ impl Renderer {
                     )
                 })
                 .transpose()?;
+            self.refresh_water_groups()?;
         }
         let b = &self.lights;
         self.uploads

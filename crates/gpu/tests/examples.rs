@@ -1,4 +1,4 @@
-//! The example refuses bad arguments with a usage error, never a panic.
+//! The examples refuse bad arguments with a usage error, never a panic.
 
 #[test]
 fn classify_variants_refuses_bad_arguments() {
@@ -17,6 +17,19 @@ fn static_query_refuses_bad_arguments() {
             &["--width", "0"],
             &["--frames", "0"],
             &["--camera", "orbit"],
+        ],
+    );
+}
+
+#[test]
+fn float_river_refuses_bad_arguments() {
+    testkit::check_example_cli(
+        "float_river",
+        &[
+            &["--crates", "0"],
+            &["--seconds", "-1"],
+            &["--frames", "0"],
+            &["--width", "0"],
         ],
     );
 }

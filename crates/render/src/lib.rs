@@ -43,7 +43,11 @@ pub enum SceneArg {
     /// HZD's static city (`--instances` of them) through the GPU static query, with
     /// foliage batches along the streets.
     City,
-    /// All three, one after the other (the same renderer and device).
+    /// Far Cry 5's water: a river with rapids and rocks, a waterfall into a lake, its
+    /// outflow to the ocean's edge, trees and rocks on the banks (the flow baked on the
+    /// CPU first, with a progress bar).
+    River,
+    /// All four, one after the other (the same renderer and device).
     All,
 }
 
@@ -357,11 +361,40 @@ pub struct Args {
     /// is ignored): both paths, every debug view, the statistics and the import summary.
     #[arg(long, value_name = "FILE")]
     pub gltf: Option<PathBuf>,
+    /// The water composite's precision (the river): `f16` where the adapter has
+    /// SHADER_F16 (else f32), or `f32` always.
+    #[arg(long, value_enum, default_value = "f16")]
+    pub water_precision: WaterPrecisionArg,
+    /// The water's mini G-buffer size over the image's, per axis (the river; 0.125 to 1).
+    #[arg(long, default_value_t = gpu::WaterOptions::default().resolution_scale, value_parser = parse_water_scale)]
+    pub water_scale: f32,
     /// The glTF file's camera: `file` (its first perspective camera, else `auto`), `auto`
     /// (framing the scene's bounds: gltf_scene::framing_camera) or the eye and the point
     /// looked at, `EX,EY,EZ,TX,TY,TZ` (metres, +Y up).
     #[arg(long, default_value = "file", value_parser = parse_camera, allow_hyphen_values = true)]
     pub camera: CameraArg,
+}
+
+/// `--water-precision`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WaterPrecisionArg {
+    /// Half precision where the adapter has SHADER_F16.
+    F16,
+    /// Single precision.
+    F32,
+}
+
+/// A water resolution scale given on the command line: 0.125 to 1.
+fn parse_water_scale(s: &str) -> Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number"))?;
+    if (0.125..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{s} is not between 0.125 and 1"))
+    }
 }
 
 /// A shadow size threshold given on the command line: finite, 0 to 64 texels.
@@ -620,9 +653,14 @@ impl Args {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
             SceneArg::Hillside => &[DemoScene::Hillside],
-            SceneArg::City => &[],
+            SceneArg::City | SceneArg::River => &[],
             SceneArg::All => &DemoScene::ALL,
         }
+    }
+
+    /// Whether the river is rendered (not with `--gltf`).
+    pub fn river(&self) -> bool {
+        self.gltf.is_none() && matches!(self.scene, SceneArg::River | SceneArg::All)
     }
 
     /// Whether the city is rendered (not with `--gltf`).
@@ -846,6 +884,7 @@ pub fn run(args: &Args) -> Result<()> {
             scene: &scene,
             frame: &frame,
             build: ("scene build (CPU)", build_ms),
+            water: None,
         };
         render_scene(args, &ctx, &mut renderer, every_sample.as_mut(), &built)?;
     }
@@ -856,7 +895,78 @@ pub fn run(args: &Args) -> Result<()> {
         println!("== city ==");
         render_city(args, &ctx, &mut renderer)?;
     }
+    if args.river() {
+        if !args.scenes().is_empty() || args.city() {
+            println!();
+        }
+        println!("== river ==");
+        render_river(args, &ctx, &mut renderer, every_sample.as_mut())?;
+    }
     Ok(())
+}
+
+/// A one-line progress bar on stderr for the water bakes (world, distance field, flow,
+/// atlas), redrawn when a stage's percentage changes.
+#[derive(Default)]
+struct WaterProgressBar {
+    last: Option<(gpu::water::Stage, u32)>,
+}
+
+impl WaterProgressBar {
+    fn show(&mut self, p: gpu::water::Progress) -> std::ops::ControlFlow<()> {
+        let percent = (p.fraction() * 100.0) as u32;
+        if self.last == Some((p.stage, percent)) {
+            return std::ops::ControlFlow::Continue(());
+        }
+        if self.last.is_some_and(|(s, pc)| s != p.stage && pc < 100) {
+            eprintln!();
+        }
+        self.last = Some((p.stage, percent));
+        let filled = (percent / 5) as usize;
+        let stage = format!("{:?}", p.stage);
+        eprint!(
+            "\rwater bake: {stage:<16} [{}{}] {percent:3}%",
+            "#".repeat(filled),
+            "-".repeat(20 - filled),
+        );
+        if percent == 100 {
+            eprintln!();
+        }
+        std::ops::ControlFlow::Continue(())
+    }
+}
+
+/// The river: built (the water bakes behind a progress bar), given to the renderer as its
+/// water, rendered as a demo scene with the water passes' statistics; the renderer's water
+/// taken away after.
+fn render_river(
+    args: &Args,
+    ctx: &gpu::GpuContext,
+    renderer: &mut Renderer,
+    every_sample: Option<&mut Renderer>,
+) -> Result<()> {
+    if renderer.config().msaa.is_some() {
+        eprintln!("--msaa: the river renders without water (its passes are single-sample)");
+    }
+    let t0 = std::time::Instant::now();
+    let mut bar = WaterProgressBar::default();
+    let demo = demo::river::river(args.seed, args.density, &mut |p| bar.show(p))
+        .context("building the river scene")?;
+    let frame = with_lights(args, demo.frame.clone(), 40.0);
+    let build_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let mut water = demo.water.clone();
+    water.options.half_precision = args.water_precision == WaterPrecisionArg::F16;
+    water.options.resolution_scale = args.water_scale;
+    let built = Built {
+        name: "river",
+        scene: &demo.scene,
+        frame: &frame,
+        build: ("scene build and water bakes (CPU)", build_ms),
+        water: (renderer.config().msaa.is_none()).then_some((&water, demo.decals.as_slice())),
+    };
+    let out = render_scene(args, ctx, renderer, every_sample, &built);
+    renderer.set_water(None)?;
+    out
 }
 
 /// The city: streamed into the GPU static query, prepared with its static setups, rendered
@@ -1057,6 +1167,8 @@ struct Built<'a> {
     frame: &'a gpu::FrameInput,
     /// What building it is called in the report, and its CPU time (ms).
     build: (&'a str, f64),
+    /// Its water and this frame's decals, if any.
+    water: Option<(&'a gpu::WaterScene, &'a [gpu::WaterDecal])>,
 }
 
 /// A glTF file (`--gltf`) imported (its path, what came of it, the import's CPU time in
@@ -1111,6 +1223,7 @@ fn render_gltf(
             "glTF import: parse, decode, build the scene (CPU)",
             build_ms,
         ),
+        water: None,
     };
     render_scene(args, ctx, renderer, every_sample, &built)
 }
@@ -1136,6 +1249,13 @@ fn render_scene(
         "prepare: encode meshes, micro batches, upload (CPU)",
         prepare_ms,
     );
+    if let Some((water, decals)) = built.water {
+        let summary = renderer.set_water(Some(water))?;
+        renderer.set_water_decals(decals)?;
+        if let Some(s) = summary {
+            report.water_summary(&s);
+        }
+    }
     let mut images = Vec::new();
     for &path in paths {
         let frames = renderer.render_frames(&prepared, frame, path, args.frames)?;
@@ -1177,6 +1297,9 @@ fn render_scene(
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
             if let Some(s) = renderer.read_laydown_stats(&prepared)? {
                 report.laydown_stats(&s);
+            }
+            if let Some(s) = renderer.water_stats()? {
+                report.water_stats(&s);
             }
             report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();

@@ -203,6 +203,53 @@ impl Report {
         );
     }
 
+    /// What `set_water` built: bodies and their meshes, the far sectors, the world.
+    pub fn water_summary(&mut self, s: &gpu::WaterSummary) {
+        self.row(
+            "water: bodies drawn per body (mesh triangles) / far sectors (levels, with water) / world words",
+            format!(
+                "{} ({}) / {}x{} ({}, {}) / {}",
+                s.bodies,
+                group_digits(s.mesh_triangles),
+                s.sectors_per_side,
+                s.sectors_per_side,
+                s.quadtree_levels,
+                s.water_sectors,
+                group_digits(s.world_words)
+            ),
+        );
+        self.cpu_ms(
+            "water: meshes, sector quadtree, material map, upload (CPU)",
+            s.build_ms,
+        );
+    }
+
+    /// What the last frame's water passes did.
+    pub fn water_stats(&mut self, s: &gpu::WaterStats) {
+        self.row(
+            "water: mini G-buffer (precision) / near bodies, far sectors drawn (nodes tested)",
+            format!(
+                "{} x {} ({}) / {}, {} ({})",
+                s.buffer[0],
+                s.buffer[1],
+                if s.half_precision { "f16" } else { "f32" },
+                s.near_bodies,
+                s.far_sectors,
+                s.nodes_tested
+            ),
+        );
+        self.row(
+            "water: pixels / 32x32 tiles visible / triangles tessellated",
+            format!(
+                "{} / {} of {} / {}",
+                group_digits(s.water_pixels),
+                group_digits(u64::from(s.tiles)),
+                group_digits(u64::from(s.tiles_total)),
+                group_digits(s.triangles)
+            ),
+        );
+    }
+
     /// A CPU time.
     pub fn cpu_ms(&mut self, what: &str, ms: f64) {
         self.row(what, format!("{ms:.1} ms"));

@@ -212,6 +212,8 @@ pub enum Format {
     R32Float,
     /// `r64uint` (`Features::TEXTURE_INT64_ATOMIC`; atomic min and max).
     R64Uint,
+    /// `rgba32float`.
+    Rgba32Float,
 }
 
 /// A dimension of a compute entry point's workgroup size.

@@ -18,6 +18,7 @@ pub fn texture_format(f: Format) -> wgpu::TextureFormat {
         Format::R32Uint => wgpu::TextureFormat::R32Uint,
         Format::R32Float => wgpu::TextureFormat::R32Float,
         Format::R64Uint => wgpu::TextureFormat::R64Uint,
+        Format::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
     }
 }
 

@@ -141,6 +141,7 @@ fn format_of(f: StorageFormat) -> Option<Format> {
         StorageFormat::R32Uint => Format::R32Uint,
         StorageFormat::R32Float => Format::R32Float,
         StorageFormat::R64Uint => Format::R64Uint,
+        StorageFormat::Rgba32Float => Format::Rgba32Float,
         _ => return None,
     })
 }

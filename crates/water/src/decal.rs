@@ -80,6 +80,24 @@ impl DecalTexture {
         self.frames
     }
 
+    /// Width in texels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in texels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The texels, frame-major then row-major (what a renderer uploads).
+    #[must_use]
+    pub fn texels(&self) -> &[Vec3] {
+        &self.texels
+    }
+
     fn texel(&self, frame: u32, x: i64, y: i64) -> Vec3 {
         let x = x.clamp(0, i64::from(self.width) - 1) as usize;
         let y = y.clamp(0, i64::from(self.height) - 1) as usize;

@@ -297,3 +297,119 @@ fn words_roundtrip_and_corruption_is_rejected() {
     assert_eq!(tex.len(), (w * h) as usize);
     assert_eq!(&tex[..world.words().len()], world.words());
 }
+
+/// `WaterWorld::bodies` holds every point a query finds a body at: random points over
+/// lakes and rivers, each found body's point inside its bounds and height range.
+#[test]
+fn body_bounds_hold_every_point_the_query_finds() {
+    let mut rng = Rng::new(5);
+    let mut b = WaterWorldBuilder::new();
+    b.ocean = Some(Ocean {
+        level: -3.0,
+        material: 9,
+    });
+    for k in 0..3 {
+        let c = Vec2::new(100.0 + 250.0 * k as f32, 200.0);
+        b.lakes.push(Lake {
+            polygon: star(c, 80.0, 40, &mut rng),
+            height: 4.0 + k as f32,
+            material: k,
+        });
+    }
+    let point = |x: f32, y: f32, z: f32| RiverPoint {
+        position: Vec3::new(x, y, z),
+        width: 12.0,
+        depth: 2.0,
+        speed: 2.0,
+    };
+    b.rivers.push(River {
+        points: vec![
+            point(0.0, 500.0, 30.0),
+            point(300.0, 420.0, 20.0),
+            point(600.0, 520.0, 8.0),
+        ],
+        material: 5,
+    });
+    let world = b.build(&mut water::no_progress).unwrap();
+    let bodies = world.bodies();
+    assert_eq!(bodies.len(), 4);
+    assert_eq!(world.ocean(), b.ocean);
+    assert!(world.root().1 > 0.0);
+    let mut found = 0;
+    for _ in 0..20_000 {
+        let p = Vec2::new(rng.f32() * 800.0 - 50.0, rng.f32() * 700.0);
+        let Some(l) = world.query(p) else { continue };
+        if l.body == BodyId::OCEAN {
+            continue;
+        }
+        let bb = bodies
+            .iter()
+            .find(|x| x.body == l.body)
+            .expect("a body of the list");
+        assert!(
+            p.cmpge(bb.min).all() && p.cmple(bb.max).all(),
+            "{p} outside {bb:?}"
+        );
+        assert!(l.height >= bb.height.0 - 1e-4 && l.height <= bb.height.1 + 1e-4);
+        assert_eq!(l.material, bb.material);
+        found += 1;
+    }
+    assert!(found > 1000, "{found}");
+}
+
+/// `WaterWorld::candidates` holds the query's answer and every body covering the point.
+#[test]
+fn candidates_hold_the_query_and_every_covering_body() {
+    let mut b = WaterWorldBuilder::new();
+    b.ocean = Some(Ocean {
+        level: 0.0,
+        material: 0,
+    });
+    b.lakes.push(Lake {
+        polygon: vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(60.0, 0.0),
+            Vec2::new(60.0, 40.0),
+            Vec2::new(0.0, 40.0),
+        ],
+        height: 10.0,
+        material: 1,
+    });
+    let p = |x: f32, y: f32, z: f32| RiverPoint {
+        position: Vec3::new(x, y, z),
+        width: 8.0,
+        depth: 1.5,
+        speed: 2.0,
+    };
+    b.rivers.push(River {
+        points: vec![
+            p(30.0, 120.0, 20.0),
+            p(30.0, 60.0, 14.0),
+            p(30.0, 20.0, 9.0),
+        ],
+        material: 2,
+    });
+    let world = b.build(&mut water::no_progress).unwrap();
+    let mut both = 0;
+    for y in 0..120 {
+        for x in 0..60 {
+            let q = Vec2::new(x as f32 + 0.3, y as f32 + 0.6);
+            let c = world.candidates(q);
+            let best = world.query(q);
+            assert_eq!(best.is_some(), !c.is_empty());
+            if let Some(b) = best {
+                assert!(c.contains(&b));
+                assert!(c.iter().all(|l| l.height <= b.height));
+            }
+            if c.iter().any(|l| l.body == BodyId::lake(0))
+                && c.iter().any(|l| l.body == BodyId::river(0))
+            {
+                both += 1;
+            }
+        }
+    }
+    // The river runs into the lake: there both cover the point (the lake wins below the
+    // river's end, which is lower).
+    assert!(both > 50, "{both}");
+    assert!(world.candidates(Vec2::NAN).is_empty());
+}

@@ -171,6 +171,30 @@ pub(crate) const LIGHTING_KZ2: Pass<[u32; 2]> = Pass {
     ..LIGHTING
 };
 
+/// The group [`LIGHTING_WATER`] adds: the HDR colour the water refracts.
+const WATER_GROUP: Group = Group {
+    name: "water",
+    bindings: &[Binding::new(
+        "scene_hdr",
+        Kind::storage_texture_2d(Format::Rgba16Float),
+    )],
+};
+
+/// [`LIGHTING`] in a frame with FC5's water (feature `water`): the colour before tone
+/// mapping kept in `scene_hdr` too.
+pub(crate) const LIGHTING_WATER: Pass<[u32; 2]> = Pass {
+    groups: &[LIGHTING.groups[0], LIGHTING.groups[1], WATER_GROUP],
+    features: &["water", "all_lights", "light_volumes"],
+    ..LIGHTING
+};
+
+/// [`LIGHTING_KZ2`] with the water's HDR colour.
+pub(crate) const LIGHTING_KZ2_WATER: Pass<[u32; 2]> = Pass {
+    groups: &[LIGHTING_KZ2.groups[0], LIGHTING_KZ2.groups[1], WATER_GROUP],
+    features: &["water", "kz2_gbuffer", "all_lights", "light_volumes"],
+    ..LIGHTING
+};
+
 /// The bindings [`LIGHTING_MSAA`] adds to the frame group.
 const MSAA_FRAME_BINDINGS: [Binding; 14] = {
     let b = LIGHTING.groups[0].bindings;
@@ -263,7 +287,16 @@ pub(crate) struct Lighting {
     pass: ComputePass<[u32; 2]>,
     with_volumes: Option<ComputePass<[u32; 2]>>,
     msaa: Option<MsaaLighting>,
+    /// The water variants (without and with the volumes' accumulation), made when a water
+    /// scene is first set, and what they are made from.
+    water: Option<WaterVariants>,
+    water_pass: &'static Pass<[u32; 2]>,
+    features: Vec<&'static str>,
+    volume_features: Option<Vec<&'static str>>,
 }
+
+/// The water variants of lighting: without and with the volumes' accumulation.
+type WaterVariants = (ComputePass<[u32; 2]>, Option<ComputePass<[u32; 2]>>);
 
 /// The MSAA variant: its pipelines, its lighting mode and the tap split.
 struct MsaaLighting {
@@ -340,7 +373,40 @@ impl Lighting {
             } else {
                 None
             },
+            water: None,
+            water_pass: match layout {
+                GBufferLayout::Kz2 => &LIGHTING_KZ2_WATER,
+                GBufferLayout::Octahedral => &LIGHTING_WATER,
+            },
+            features,
+            volume_features: paths.volumes().then_some(volume_features),
         })
+    }
+
+    /// Makes the water variants (once): the same features plus `water`.
+    pub(crate) fn enable_water(&mut self, device: &wgpu::Device) -> Result<()> {
+        if self.water.is_some() {
+            return Ok(());
+        }
+        let with = |f: &[&'static str]| {
+            let mut f = f.to_vec();
+            f.push("water");
+            f
+        };
+        let plain = ComputePass::new(device, self.water_pass, &with(&self.features), &[])?;
+        let volumes = match &self.volume_features {
+            Some(v) => Some(ComputePass::new(device, self.water_pass, &with(v), &[])?),
+            None => None,
+        };
+        self.water = Some((plain, volumes));
+        Ok(())
+    }
+
+    /// The water variants' group 2 layout (after [`Lighting::enable_water`]).
+    pub(crate) fn water_layout(&self) -> Option<&wgpu::BindGroupLayout> {
+        self.water
+            .as_ref()
+            .and_then(|(p, _)| p.layouts.group("water").ok())
     }
 
     /// The groups over the renderer's targets, frame uniforms and light buffers.
@@ -450,6 +516,14 @@ impl Lighting {
             label: Some("lighting"),
             timestamp_writes: timer.compute("lighting"),
         });
+        if let (Some(w), Some((plain, volumes))) = (f.water, &self.water) {
+            let variant = match volumes {
+                Some(v) if !f.volumes.is_empty() => v,
+                _ => plain,
+            };
+            variant.record(&mut pass, &[&g.frame, &g.gbuffer, &w.groups.hdr], &size);
+            return;
+        }
         let pass_variant = match &self.with_volumes {
             Some(v) if !f.volumes.is_empty() => v,
             _ => &self.pass,
@@ -467,6 +541,10 @@ mod tests {
     fn description_matches_its_module() {
         shadercheck::check_pass(&LIGHTING, |_| Caps::CORE);
         shadercheck::check_pass_with(&LIGHTING_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);
+        shadercheck::check_pass_with(&LIGHTING_WATER, &["water"], |_| Caps::CORE);
+        shadercheck::check_pass_with(&LIGHTING_KZ2_WATER, &["water", "kz2_gbuffer"], |_| {
+            Caps::CORE
+        });
         let caps = |f: &[&str]| {
             if f.contains(&"subgroups") {
                 Caps::SUBGROUP

@@ -25,6 +25,7 @@
 //! | static query | [`query`] | HZD's static query over pooled tile records (`staticscene`'s pass) |
 //! | static placement | [`static_place`] | the query's batches -> instance rows and indirect draws |
 //! | HiZ build | [`query`] | the depth target -> HZD's HiZ pyramid (`gpu::hiz_depth`, then `staticscene`'s reduction) |
+//! | water | [`water`] | FC5's water after lighting: visibility, the mini G-buffer, displacement, tiles, screen-space tessellation, normals, foam, composite (the table in `crate::water_scene`) |
 
 use shader::{Module, StageCounts};
 
@@ -49,6 +50,7 @@ pub(crate) mod resolve;
 pub(crate) mod static_place;
 pub(crate) mod vertex_ring;
 pub(crate) mod vis_copy;
+pub(crate) mod water;
 
 macro_rules! gpu_modules {
     ($($name:ident = $file:literal),+ $(,)?) => {
@@ -94,6 +96,15 @@ gpu_modules!(
     TILE_DEPTH = "tile_depth",
     RING_SLOTS = "ring_slots",
     VERTEX_RING = "vertex_ring",
+    WATER_FRAME = "water_frame",
+    WATER_VISIBILITY = "water_visibility",
+    WATER_POSITION = "water_position",
+    WATER_DISPLACEMENT = "water_displacement",
+    WATER_TILES = "water_tiles",
+    WATER_TESSELLATION = "water_tessellation",
+    WATER_NORMALS = "water_normals",
+    WATER_FOAM = "water_foam",
+    WATER_COMPOSITE = "water_composite",
 );
 
 /// Every module list the renderer's passes import from.
@@ -103,6 +114,7 @@ pub(crate) const LIBRARY: &[&[Module]] = &[
     tiling::wgsl::MODULES,
     deferred::wgsl::MODULES,
     staticscene::wgsl::MODULES,
+    ::water::wgsl::MODULES,
     MODULES,
 ];
 
@@ -129,6 +141,15 @@ pub(crate) fn stage_counts() -> StageCounts {
         static_place::STATIC_PLACE.stage_counts(),
         vertex_ring::VERTEX_RING.stage_counts(),
         tiling::wgsl::VERTEX_WAVES.stage_counts(),
+        water::visibility::VISIBILITY.stage_counts(),
+        water::position::POSITION.stage_counts(),
+        water::displacement::DISPLACEMENT.stage_counts(),
+        water::tiles::TILES.stage_counts(),
+        water::tessellation::TESSELLATION.stage_counts(),
+        water::normals::NORMALS.stage_counts(),
+        water::foam::FOAM.stage_counts(),
+        water::composite::COMPOSITE.stage_counts(),
+        lighting::LIGHTING_WATER.stage_counts(),
     ]
     .into_iter()
     .chain(
@@ -280,6 +301,9 @@ pub(crate) struct FrameContext<'a> {
     /// where the device and the scene have its resources, in frames without a static
     /// query, whose indirect draw lists only the hardware laydown draws).
     pub compute_laydown: bool,
+    /// FC5's water, when the renderer has a water scene and the frame lights (lighting
+    /// keeps its HDR colour, the water passes run after it).
+    pub water: Option<&'a water::WaterState>,
 }
 
 /// What a command buffer records.
@@ -358,7 +382,7 @@ impl Pipelines {
                     && self
                         .compute_laydown
                         .as_ref()
-                        .is_some_and(|c| c.record(e, f, timer, self.needs_depth_target(what)));
+                        .is_some_and(|c| c.record(e, f, timer, self.needs_depth_target(what, f)));
                 if !compute {
                     self.laydown.record_vis(e, f, timer, late);
                 }
@@ -382,10 +406,12 @@ impl Pipelines {
 
     /// Whether a frame recording `what` has raster passes after its geometry that test
     /// against the depth target, which the compute laydown then writes too (the stencil
-    /// light volumes and their conditional tests, the mixed frame's regular geometry pass;
+    /// light volumes and their conditional tests, the mixed frame's regular geometry pass,
+    /// the water's HiZ, depth copy and tessellation;
     /// the laydown alone, whose depth tests read). Compute passes read the float depth.
-    fn needs_depth_target(&self, what: Recording) -> bool {
+    fn needs_depth_target(&self, what: Recording, f: &FrameContext<'_>) -> bool {
         what == Recording::Laydown
+            || f.water.is_some()
             || (what.lights() && self.light_volumes.is_some())
             || (matches!(what, Recording::Deferred | Recording::DeferredFullScreen)
                 && self.regular.is_some())
@@ -465,6 +491,9 @@ impl Pipelines {
         }
         self.lights.record(e, f, timer);
         self.lighting.record(e, f, timer);
+        if let Some(w) = f.water {
+            w.record(e, f, timer);
+        }
     }
 }
 

@@ -18,6 +18,9 @@
 // the sun with its own disjoint subset of the PCF taps (deferred::msaa::split_taps).
 // `msaa_every_sample`: every sample of every pixel lit with the full kernel (the
 // measurement baseline).
+//
+// With feature `water` (a frame with FC5's water) the colour before tone mapping is also
+// kept, in `scene_hdr`, for the water's refraction and reflections.
 
 #import gpu::frame
 #import gpu::gbuffer_load
@@ -103,6 +106,11 @@ const GPU_MAX_WORKGROUPS_X: u32 = 65535u;
 @group(0) @binding(13) var<storage, read_write> msaa_edges: GpuMsaaEdges;
 #endif
 // Group 1: the G-buffer (gpu::gbuffer_load).
+#if water
+// FC5's water composites over the lit image (passes/water): the colour before tone
+// mapping, which it refracts and reflects.
+@group(2) @binding(0) var scene_hdr: texture_storage_2d<rgba16float, write>;
+#endif
 
 // Narkowicz's ACES fit.
 fn lighting_tonemap(x: vec3<f32>) -> vec3<f32> {
@@ -460,6 +468,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>, @builtin(workgroup_id) wid
     }
 #endif
     let out = lighting_tonemap(b.color);
+#if water
+    if (write) {
+        textureStore(scene_hdr, vec2<i32>(pixel), vec4<f32>(b.color, 1.0));
+    }
+#endif
 #endif
     if (write) {
         textureStore(output, vec2<i32>(pixel), vec4<f32>(lighting_srgb(out), 1.0));

@@ -877,12 +877,19 @@ fn sample_tile(w: &[u32], tile: usize, p: Vec2) -> Option<WaterLevel> {
 
 /// The query over validated words.
 pub(crate) fn query(w: &[u32], p: Vec2) -> Option<WaterLevel> {
-    if !(p.x.is_finite() && p.y.is_finite()) {
-        return None;
-    }
     let mut best = Best { level: None };
+    visit(w, p, |l| best.offer(l));
+    best.level
+}
+
+/// Every body whose water covers `p` over validated words, in the query's order (the
+/// ocean first, then the quadtree leaf's items).
+pub(crate) fn visit(w: &[u32], p: Vec2, mut offer: impl FnMut(WaterLevel)) {
+    if !(p.x.is_finite() && p.y.is_finite()) {
+        return;
+    }
     if w[header::FLAGS] & 1 != 0 {
-        best.offer(WaterLevel {
+        offer(WaterLevel {
             height: f(w[header::OCEAN_LEVEL]),
             body: BodyId::OCEAN,
             material: w[header::OCEAN_MATERIAL],
@@ -893,7 +900,7 @@ pub(crate) fn query(w: &[u32], p: Vec2) -> Option<WaterLevel> {
     let size = f(w[header::ROOT_SIZE]);
     let (mut bx, mut by) = (f(w[header::ROOT_X]), f(w[header::ROOT_Y]));
     if !(size > 0.0 && p.x >= bx && p.y >= by && p.x < bx + size && p.y < by + size) {
-        return best.level;
+        return;
     }
     let nodes = w[header::NODES] as usize;
     let mut bs = size;
@@ -944,7 +951,7 @@ pub(crate) fn query(w: &[u32], p: Vec2) -> Option<WaterLevel> {
                     };
                     if inside {
                         let l = w[header::LAKES] as usize + index as usize * 2;
-                        best.offer(WaterLevel {
+                        offer(WaterLevel {
                             height: f(w[l]),
                             body: BodyId::lake(index),
                             material: w[l + 1],
@@ -955,7 +962,7 @@ pub(crate) fn query(w: &[u32], p: Vec2) -> Option<WaterLevel> {
                 }
                 ITEM_RIVER_TILE => {
                     if let Some(l) = sample_tile(w, index as usize, p) {
-                        best.offer(l);
+                        offer(l);
                     }
                 }
                 _ => {}
@@ -963,5 +970,93 @@ pub(crate) fn query(w: &[u32], p: Vec2) -> Option<WaterLevel> {
         }
         break;
     }
-    best.level
+}
+
+/// Every lake's and river's horizontal bounds, material and height range over validated
+/// words: lakes from the quadtree leaves that hold them (clamped to the leaf), rivers from
+/// their tiles (water texels only). Lakes first, by index, then rivers, by index.
+pub(crate) fn bodies(w: &[u32]) -> Vec<BodyBounds> {
+    let lakes = w[header::LAKE_COUNT] as usize;
+    let mut lake_boxes = vec![Aabb::empty(); lakes];
+    let size = f(w[header::ROOT_SIZE]);
+    if size > 0.0 {
+        let nodes = w[header::NODES] as usize;
+        let items = w[header::ITEMS] as usize;
+        let node_count = w[header::NODE_COUNT] as usize;
+        // Validated words have children after parents: the walk ends.
+        let mut stack = vec![(0usize, f(w[header::ROOT_X]), f(w[header::ROOT_Y]), size)];
+        while let Some((node, bx, by, bs)) = stack.pop() {
+            if node >= node_count {
+                continue;
+            }
+            let (a, b) = (w[nodes + 2 * node], w[nodes + 2 * node + 1]);
+            if b == NODE_INTERNAL {
+                let half = bs * 0.5;
+                for (k, (dx, dy)) in [(0.0, 0.0), (half, 0.0), (0.0, half), (half, half)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    stack.push((a as usize + k, bx + dx, by + dy, half));
+                }
+                continue;
+            }
+            for k in 0..b as usize {
+                let it = items + (a as usize + k) * ITEM_WORDS as usize;
+                let (kind, index) = (w[it] >> KIND_SHIFT, (w[it] & (MAX_BODIES - 1)) as usize);
+                if matches!(kind, ITEM_LAKE_INSIDE | ITEM_LAKE_PARTIAL) && index < lakes {
+                    lake_boxes[index].add(Vec2::new(bx, by));
+                    lake_boxes[index].add(Vec2::new(bx + bs, by + bs));
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for (i, b) in lake_boxes.iter().enumerate() {
+        if b.is_empty() {
+            continue;
+        }
+        let l = w[header::LAKES] as usize + i * LAKE_WORDS as usize;
+        let h = f(w[l]);
+        out.push(BodyBounds {
+            body: BodyId::lake(i as u32),
+            material: w[l + 1],
+            min: b.min,
+            max: b.max,
+            height: (h, h),
+        });
+    }
+    let n = w[header::TILE_TEXELS] as usize;
+    let side = n + 1;
+    let mut rivers: BTreeMap<u32, BodyBounds> = BTreeMap::new();
+    for t in 0..w[header::TILE_COUNT] as usize {
+        let r = w[header::TILES] as usize + t * TILE_WORDS as usize;
+        let origin = Vec2::new(f(w[r]), f(w[r + 1]));
+        let inv = f(w[r + 2]);
+        let (river, material, data) = (w[r + 3], w[r + 4], w[r + 5] as usize);
+        let mut lo = f32::INFINITY;
+        let mut hi = f32::NEG_INFINITY;
+        for k in 0..side * side {
+            let h = w[data + k * TEXEL_WORDS as usize];
+            if h != TEXEL_NONE {
+                lo = lo.min(f(h));
+                hi = hi.max(f(h));
+            }
+        }
+        if !(lo <= hi) || !(inv > 0.0) {
+            continue;
+        }
+        let far = origin + Vec2::splat(n as f32 / inv);
+        let e = rivers.entry(river).or_insert(BodyBounds {
+            body: BodyId::river(river),
+            material,
+            min: origin,
+            max: far,
+            height: (lo, hi),
+        });
+        e.min = e.min.min(origin);
+        e.max = e.max.max(far);
+        e.height = (e.height.0.min(lo), e.height.1.max(hi));
+    }
+    out.extend(rivers.into_values());
+    out
 }

@@ -313,6 +313,22 @@ impl WaterLevel {
     }
 }
 
+/// One lake's or river's extent in a baked world ([`WaterWorld::bodies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyBounds {
+    /// Which body.
+    pub body: BodyId,
+    /// Its material index (a river's first tile's).
+    pub material: u32,
+    /// Smallest horizontal corner, metres: every point where a query finds this body lies
+    /// in `[min, max]`.
+    pub min: Vec2,
+    /// Largest horizontal corner, metres.
+    pub max: Vec2,
+    /// Lowest and highest surface height, metres (equal for a lake).
+    pub height: (f32, f32),
+}
+
 /// A baked water world. See the module docs.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct WaterWorld {
@@ -370,6 +386,18 @@ impl WaterWorld {
         bake::query(&self.words, p)
     }
 
+    /// Every body whose water covers `p`, whether or not its surface is the highest there
+    /// (the ocean first, then lakes and river tiles in the quadtree's order; a river may
+    /// answer once per tile that holds `p`): what [`WaterWorld::query`] chooses from. A
+    /// renderer builds each body's mesh over all of its water with it, so that wherever a
+    /// body wins the query its mesh is there.
+    #[must_use]
+    pub fn candidates(&self, p: Vec2) -> Vec<WaterLevel> {
+        let mut out = Vec::new();
+        bake::visit(&self.words, p, |l| out.push(l));
+        out
+    }
+
     /// [`WaterWorld::query`] at a 3D position's `(x, y)`.
     #[must_use]
     pub fn water_level(&self, p: Vec3) -> Option<WaterLevel> {
@@ -380,6 +408,36 @@ impl WaterWorld {
     #[must_use]
     pub fn water_flow(&self, p: Vec2) -> Option<(Vec2, f32)> {
         self.query(p).map(|l| l.flow_direction_and_speed())
+    }
+
+    /// Every lake's and river's bounds, material and height range (lakes first, then
+    /// rivers, each by index; a body that covers no water is left out): what a renderer
+    /// builds the bodies' low-resolution meshes and visibility boxes from. Lake bounds are
+    /// those of the quadtree leaves holding the lake (conservative), river bounds those of
+    /// its height tiles.
+    #[must_use]
+    pub fn bodies(&self) -> Vec<BodyBounds> {
+        bake::bodies(&self.words)
+    }
+
+    /// The ocean, if the world has one.
+    #[must_use]
+    pub fn ocean(&self) -> Option<Ocean> {
+        (self.words[header::FLAGS] & 1 != 0).then(|| Ocean {
+            level: f32::from_bits(self.words[header::OCEAN_LEVEL]),
+            material: self.words[header::OCEAN_MATERIAL],
+        })
+    }
+
+    /// The quadtree's root square `(min corner, side)` in metres (side 0: no lakes or
+    /// rivers).
+    #[must_use]
+    pub fn root(&self) -> (Vec2, f32) {
+        let f = |i: usize| f32::from_bits(self.words[i]);
+        (
+            Vec2::new(f(header::ROOT_X), f(header::ROOT_Y)),
+            f(header::ROOT_SIZE),
+        )
     }
 
     /// Lakes baked.

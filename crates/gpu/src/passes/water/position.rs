@@ -1,0 +1,166 @@
+//! The position pass (`gpu::water_position`): the mini G-buffer at reduced resolution
+//! and a wider field of view, drawn from the near bodies' meshes (one indexed indirect
+//! draw per body, the visibility pass's arguments) and the far sectors (two indirect
+//! draws: flat sectors a quad each, height-map sectors a grid each).
+
+use shader::pipeline::Layouts;
+use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+
+use super::super::LIBRARY;
+use super::{GpuWaterFrame, WaterData, WaterGroups, WaterTargets};
+use crate::error::Result;
+use crate::resources::rows::FrameUniforms;
+use crate::timing::GpuTimer;
+
+/// The pass: two vertex stages (near meshes, far sectors) and one fragment stage.
+pub(crate) const POSITION: Pass = Pass {
+    name: "water position",
+    module: "gpu::water_position",
+    library: LIBRARY,
+    features: &[],
+    groups: &[Group {
+        name: "water",
+        bindings: &[
+            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
+            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            Binding::new("world", Kind::texture_2d(Sample::Uint)),
+            Binding::new(
+                "materials",
+                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
+            ),
+            Binding::new("vertices", Kind::read(32)),
+            Binding::new("nodes", Kind::read(32)),
+            Binding::new("far_list", Kind::read(4)),
+            Binding::new("hiz", Kind::read(4)),
+        ],
+    }],
+    entries: &[
+        Entry::draw("vs_near", Stage::Vertex),
+        Entry::draw("vs_far_flat", Stage::Vertex),
+        Entry::draw("vs_far_height", Stage::Vertex),
+        Entry::draw("fs_position", Stage::Fragment),
+    ],
+    zeroed: &[],
+};
+
+/// The mini G-buffer's formats: data word, mesh normal, view depth.
+pub(crate) const TARGETS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::R32Uint,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::R32Float,
+];
+
+/// The pass's pipelines.
+pub(crate) struct Position {
+    pub layouts: Layouts,
+    near: wgpu::RenderPipeline,
+    far_flat: wgpu::RenderPipeline,
+    far_height: wgpu::RenderPipeline,
+}
+
+impl Position {
+    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
+        let layouts = Layouts::new(device, &POSITION);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(POSITION.name),
+            source: wgpu::ShaderSource::Wgsl(POSITION.source(&[])?.into()),
+        });
+        let targets = TARGETS.map(|format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        });
+        let make = |label: &str, vs: &str| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                // Both faces: water seen from below keeps its front-face flag clear.
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..super::super::laydown::primitive_state()
+                },
+                depth_stencil: Some(super::super::laydown::depth_write_state()),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_position"),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Ok(Self {
+            near: make("water position near", "vs_near"),
+            far_flat: make("water position far flat", "vs_far_flat"),
+            far_height: make("water position far height map", "vs_far_height"),
+            layouts,
+        })
+    }
+
+    /// Records the pass: the targets cleared (no water), the near bodies, the far draw.
+    pub(crate) fn record(
+        &self,
+        e: &mut wgpu::CommandEncoder,
+        t: &WaterTargets,
+        d: &WaterData,
+        g: &WaterGroups,
+        timer: &mut GpuTimer,
+    ) {
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = e.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("water position"),
+            color_attachments: &[clear(&t.data.1), clear(&t.normal.1), clear(&t.linear.1)],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render("water position"),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &g.position, &[]);
+        if d.body_count > 0 {
+            pass.set_pipeline(&self.near);
+            pass.set_index_buffer(d.indices.slice(..), wgpu::IndexFormat::Uint32);
+            pass.multi_draw_indexed_indirect(&d.near_args, 0, d.body_count);
+        }
+        if d.tree.levels > 0 {
+            pass.set_pipeline(&self.far_flat);
+            pass.draw_indirect(&d.far_args, 0);
+            pass.set_pipeline(&self.far_height);
+            pass.draw_indirect(&d.far_args, 16);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn description_matches_its_module() {
+        shadercheck::check_pass(&super::POSITION, |_| shadercheck::Caps::CORE);
+    }
+}

@@ -1,0 +1,455 @@
+//! The renderer's water API: [`Renderer::set_water`] and what reads the water passes back.
+
+use std::time::Instant;
+
+use glam::{UVec2, Vec2, Vec3};
+
+use super::Renderer;
+use crate::context::scoped;
+use crate::error::{Error, Result};
+use crate::frame::Camera;
+use crate::passes::water::{Built, Shared, WaterData, WaterPasses, WaterState, WaterTargets};
+use crate::resources::readback::{read_buffer, read_texture};
+use crate::water_scene::{
+    WaterDecal, WaterScene, WaterStats, WaterSummary, check_materials, check_options, material_map,
+    max_displacement, near_meshes, sector_tree,
+};
+
+/// The mini G-buffer of the last frame ([`Renderer::read_water_gbuffer`]), row-major.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WaterGBuffer {
+    /// Its size (the image's times [`WaterOptions::resolution_scale`](crate::WaterOptions)).
+    pub size: [u32; 2],
+    /// The data words (`water::gbuffer`; invalid where there is no water).
+    pub data: Vec<u32>,
+    /// View depth, metres (0 where there is no water).
+    pub depth: Vec<f32>,
+}
+
+/// The last frame's 32x32 tiles ([`Renderer::read_water_tiles`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct WaterTiles {
+    /// Tiles across and down.
+    pub tiles: [u32; 2],
+    /// Water pixels per tile, row-major.
+    pub counts: Vec<u32>,
+    /// The tiles with water, in the GPU's order (a set).
+    pub list: Vec<u32>,
+    /// The draw's index count (`6 * 16 * 16`) and instance count (the list's length).
+    pub index_count: u32,
+    /// Instances.
+    pub instance_count: u32,
+}
+
+/// A mini G-buffer given instead of the position pass's ([`Renderer::set_water_gbuffer`]):
+/// data words, view depths, mesh normals as half-float bit patterns.
+#[doc(hidden)]
+pub type WaterGBufferInput<'a> = (&'a [u32], &'a [f32], &'a [[u16; 4]]);
+
+/// How the water view sees: for reconstructing what the mini G-buffer holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WaterView {
+    /// The mini G-buffer's size.
+    pub size: [u32; 2],
+    /// `tan` of the water view's half field of view, x and y.
+    pub tan_half: Vec2,
+}
+
+impl WaterView {
+    /// The world position (+Y up) of mini G-buffer pixel `pixel`'s centre at view depth
+    /// `depth`, seen by `camera`: the passes' own arithmetic.
+    #[must_use]
+    pub fn world_position(&self, camera: &Camera, pixel: UVec2, depth: f32) -> Vec3 {
+        let p = pixel.as_vec2() + 0.5;
+        let ndc = Vec2::new(
+            p.x / self.size[0] as f32 * 2.0 - 1.0,
+            1.0 - p.y / self.size[1] as f32 * 2.0,
+        );
+        let v = Vec3::new(
+            ndc.x * self.tan_half.x * depth,
+            ndc.y * self.tan_half.y * depth,
+            -depth,
+        );
+        camera.view_rotation().transpose().transform_vector3(v) + camera.position
+    }
+}
+
+impl Renderer {
+    /// Gives the renderer FC5's water beside the scene (`None` takes it away): checks the
+    /// scene against the talk's and the renderer's limits, builds the near bodies' meshes,
+    /// the far sectors' quadtree and the material map from the baked world (CPU), uploads
+    /// them and the world, flow atlas, shore field, noise and decal textures, and makes
+    /// the water passes' pipelines and targets (once). Every later frame of every path
+    /// draws the water after lighting (see [`crate::water_scene`] for the passes and the two
+    /// depth buffers). On an error the renderer has no water.
+    ///
+    /// # Errors
+    /// A limit ([`Error::WaterLimit`]), a value the `water` crate refuses
+    /// ([`Error::Water`]), MSAA on (the water passes are single-sample), or a device
+    /// error.
+    pub fn set_water(&mut self, water: Option<&WaterScene>) -> Result<Option<WaterSummary>> {
+        let Some(scene) = water else {
+            self.water = None;
+            return Ok(None);
+        };
+        let keep = self.water.take();
+        if self.config.msaa.is_some() {
+            return Error::config(
+                "RendererConfig::msaa",
+                f64::from(crate::MSAA_SAMPLES),
+                "off with water (its passes are single-sample)",
+            );
+        }
+        let t0 = Instant::now();
+        check_options(&scene.options)?;
+        let bodies = scene.world.bodies();
+        check_materials(scene, &bodies)?;
+        water::noise::Fbm::new(&scene.noise, scene.fbm)?;
+        let max_dim = self.device.limits().max_texture_dimension_2d;
+        let mut dims = vec![(
+            "water flow atlas",
+            scene.flow.as_ref().map(|a| (a.width(), a.height())),
+        )];
+        dims.push((
+            "water shore field",
+            scene
+                .shore
+                .as_ref()
+                .map(|s| (s.field.width(), s.field.height())),
+        ));
+        for (what, d) in dims {
+            if let Some((w, h)) = d
+                && w.max(h) > max_dim
+            {
+                return Err(crate::water_scene::limit(
+                    what,
+                    u64::from(w.max(h)),
+                    u64::from(max_dim),
+                    "the device's max_texture_dimension_2d",
+                ));
+            }
+        }
+        if let Some(s) = &scene.shore
+            && !(s.texel_size > 0.0 && s.texel_size.is_finite() && s.origin.is_finite())
+        {
+            return Err(Error::Water(water::Error::NonFinite {
+                field: "ShoreField texel size or origin (a finite texel above 0)",
+            }));
+        }
+        let o = &scene.options;
+        let built = Built {
+            near: near_meshes(&scene.world, &bodies, o.near_cell)?,
+            tree: sector_tree(&scene.world, &bodies, o)?,
+            map: material_map(&scene.world, &bodies, o.blend_distance),
+            max_displacement: max_displacement(scene),
+        };
+        let device = self.device.clone();
+        let half = o.half_precision && self.paths.f16;
+        let (width, height) = (self.config.width, self.config.height);
+        let summary = WaterSummary {
+            bodies: built.near.bodies.len() as u32,
+            mesh_triangles: built.near.indices.len() as u64 / 3,
+            sectors_per_side: built.tree.sectors_per_side,
+            quadtree_levels: built.tree.levels,
+            water_sectors: built.tree.water_sectors,
+            material_map: [
+                built.map.width.max(built.map.height),
+                built.map.texel as u32,
+            ],
+            world_words: scene.world.words().len() as u64,
+            build_ms: 0.0,
+        };
+        let state = scoped(&device, || {
+            self.pipelines.lighting.enable_water(&device)?;
+            let (passes, targets) = match keep {
+                Some(w)
+                    if w.half == half
+                        && w.targets.size
+                            == crate::passes::water::buffer_size(
+                                width,
+                                height,
+                                o.resolution_scale,
+                            ) =>
+                {
+                    (w.passes, w.targets)
+                }
+                _ => (
+                    WaterPasses::new(&device, self.paths.subgroup_size.is_some(), half)?,
+                    WaterTargets::new(&device, width, height, o.resolution_scale)?,
+                ),
+            };
+            let data = WaterData::new(
+                &device,
+                &self.queue,
+                scene,
+                &built,
+                &targets,
+                [width, height],
+            )?;
+            let hdr_layout = self
+                .pipelines
+                .lighting
+                .water_layout()
+                .ok_or(Error::Validation(
+                    "the lighting pass has no water variant".into(),
+                ))?;
+            let groups = WaterState::groups(
+                &device,
+                &passes,
+                &targets,
+                &data,
+                &Shared {
+                    frame: &self.frame,
+                    depth: &self.targets.depth_view,
+                    output: &self.targets.output_view,
+                    local: &self.local,
+                    lights: &self.lights,
+                    hdr_layout,
+                },
+            )?;
+            Ok(WaterState {
+                passes,
+                targets,
+                data,
+                groups,
+                half,
+                gbuffer_given: false,
+            })
+        })?;
+        self.water = Some(state);
+        Ok(Some(WaterSummary {
+            build_ms: t0.elapsed().as_secs_f64() * 1e3,
+            ..summary
+        }))
+    }
+
+    /// Rebuilds the water's bind groups (after the light buffers grew).
+    pub(super) fn refresh_water_groups(&mut self) -> Result<()> {
+        let Some(w) = &mut self.water else {
+            return Ok(());
+        };
+        let Some(hdr_layout) = self.pipelines.lighting.water_layout() else {
+            return Ok(());
+        };
+        w.groups = WaterState::groups(
+            &self.device,
+            &w.passes,
+            &w.targets,
+            &w.data,
+            &Shared {
+                frame: &self.frame,
+                depth: &self.targets.depth_view,
+                output: &self.targets.output_view,
+                local: &self.local,
+                lights: &self.lights,
+                hdr_layout,
+            },
+        )?;
+        Ok(())
+    }
+
+    /// This frame's (and the next frames') displacement decals, in water coordinates; at
+    /// most [`MAX_WATER_DECALS`](crate::MAX_WATER_DECALS). Without water, nothing.
+    ///
+    /// # Errors
+    /// Too many decals, a texture index past [`WaterScene::decal_textures`], or a box that
+    /// is not finite and invertible.
+    pub fn set_water_decals(&mut self, decals: &[WaterDecal]) -> Result<()> {
+        match &mut self.water {
+            Some(w) => w.set_decals(decals),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the renderer has water.
+    pub fn has_water(&self) -> bool {
+        self.water.is_some()
+    }
+
+    /// How the water view sees (its mini G-buffer's size and field of view), for the last
+    /// frame's camera.
+    pub fn water_view(&self, camera: &Camera) -> Option<WaterView> {
+        let w = self.water.as_ref()?;
+        let aspect = self.config.width as f32 / self.config.height as f32;
+        let tan_y = (camera.fov_y * 0.5).tan() * w.data.options.fov_scale;
+        Some(WaterView {
+            size: w.targets.size,
+            tan_half: Vec2::new(tan_y * aspect, tan_y),
+        })
+    }
+
+    /// What the last frame's water passes did: bodies and sectors drawn, water pixels,
+    /// tiles and triangles (read back; `None` without water).
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn water_stats(&self) -> Result<Option<WaterStats>> {
+        self.water
+            .as_ref()
+            .map(|w| w.stats(&self.device, &self.queue))
+            .transpose()
+    }
+
+    /// Reads the last frame's mini G-buffer back: data words and view depths.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_gbuffer(&self) -> Result<Option<WaterGBuffer>> {
+        let Some(w) = &self.water else {
+            return Ok(None);
+        };
+        let t = &w.targets;
+        let read = |tex: &wgpu::Texture| {
+            read_texture(&self.device, &self.queue, tex, wgpu::TextureAspect::All, 4)
+        };
+        Ok(Some(WaterGBuffer {
+            size: t.size,
+            data: bytemuck::pod_collect_to_vec(&read(&t.data.0)?),
+            depth: bytemuck::pod_collect_to_vec(&read(&t.linear.0)?),
+        }))
+    }
+
+    /// Reads the last frame's displacement texture back (mini G-buffer pixels, row-major:
+    /// xyz metres +Y up, w the decals' foam).
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_displacement(&self) -> Result<Option<Vec<[f32; 4]>>> {
+        let Some(w) = &self.water else {
+            return Ok(None);
+        };
+        let bytes = read_texture(
+            &self.device,
+            &self.queue,
+            &w.targets.displacement.0,
+            wgpu::TextureAspect::All,
+            16,
+        )?;
+        Ok(Some(bytemuck::pod_collect_to_vec(&bytes)))
+    }
+
+    /// Reads the last frame's tiles back: counts, list and the draw's arguments.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_tiles(&self) -> Result<Option<WaterTiles>> {
+        let Some(w) = &self.water else {
+            return Ok(None);
+        };
+        let t = &w.targets;
+        let n = u64::from(t.tile_count());
+        let words = |b: &wgpu::Buffer, bytes: u64| -> Result<Vec<u32>> {
+            Ok(bytemuck::pod_collect_to_vec(&read_buffer(
+                &self.device,
+                &self.queue,
+                b,
+                0,
+                bytes,
+            )?))
+        };
+        let args = words(&t.tile_args, 20)?;
+        let counts = words(&t.tile_counts, n * 4)?;
+        let mut list = words(&t.tile_list, n * 4)?;
+        list.truncate((args[1] as usize).min(n as usize));
+        Ok(Some(WaterTiles {
+            tiles: t.tiles,
+            counts,
+            list,
+            index_count: args[0],
+            instance_count: args[1],
+        }))
+    }
+
+    /// Reads the last frame's tessellated surface back at full resolution: per pixel the
+    /// view depth of the water drawn there (0: none) and its mini G-buffer UV.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_surface(&self) -> Result<Option<Vec<[f32; 4]>>> {
+        let Some(w) = &self.water else {
+            return Ok(None);
+        };
+        let bytes = read_texture(
+            &self.device,
+            &self.queue,
+            &w.targets.surface.0,
+            wgpu::TextureAspect::All,
+            16,
+        )?;
+        Ok(Some(bytemuck::pod_collect_to_vec(&bytes)))
+    }
+
+    /// Reads the last frame's depth with water back (row-major, reversed Z): the opaque
+    /// depth with the tessellated water drawn into it. See [`crate::water_scene`] for which
+    /// passes read which depth.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_depth(&self) -> Result<Option<Vec<f32>>> {
+        let Some(w) = &self.water else {
+            return Ok(None);
+        };
+        let bytes = read_texture(
+            &self.device,
+            &self.queue,
+            &w.targets.depth_water.0,
+            wgpu::TextureAspect::DepthOnly,
+            4,
+        )?;
+        Ok(Some(bytemuck::pod_collect_to_vec(&bytes)))
+    }
+
+    /// Replaces the position pass's mini G-buffer with `given` (data words, view depths,
+    /// mesh normals as half-float bit patterns: any values) for the next frames, which skip
+    /// the visibility and position passes; `None` goes back to drawing it. How tests feed
+    /// a corrupt mini G-buffer to the passes after it.
+    ///
+    /// # Errors
+    /// Slices of the wrong length, or no water.
+    #[doc(hidden)]
+    pub fn set_water_gbuffer(&mut self, given: Option<WaterGBufferInput<'_>>) -> Result<()> {
+        let Some(w) = &mut self.water else {
+            return Err(Error::Length {
+                what: "a mini G-buffer for a renderer without water",
+                got: 0,
+                expected: 0,
+            });
+        };
+        let Some((data, depth, normal)) = given else {
+            w.gbuffer_given = false;
+            return Ok(());
+        };
+        let [sw, sh] = w.targets.size;
+        let n = (sw * sh) as usize;
+        for (what, len) in [
+            ("mini G-buffer data words", data.len()),
+            ("mini G-buffer depths", depth.len()),
+            ("mini G-buffer normals", normal.len()),
+        ] {
+            if len != n {
+                return Err(Error::Length {
+                    what,
+                    got: len,
+                    expected: n,
+                });
+            }
+        }
+        let write = |t: &wgpu::Texture, bytes: &[u8], texel: u32| {
+            self.queue.write_texture(
+                t.as_image_copy(),
+                bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(sw * texel),
+                    rows_per_image: Some(sh),
+                },
+                t.size(),
+            );
+        };
+        write(&w.targets.data.0, bytemuck::cast_slice(data), 4);
+        write(&w.targets.linear.0, bytemuck::cast_slice(depth), 4);
+        write(&w.targets.normal.0, bytemuck::cast_slice(normal), 8);
+        w.gbuffer_given = true;
+        Ok(())
+    }
+}
