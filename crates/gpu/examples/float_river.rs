@@ -156,6 +156,7 @@ fn with_crates(demo: &RiverDemo, crates: &[Crate]) -> Scene {
         alpha_cutoff: 0.5,
         roughness: 0.8,
         specular: 0.2,
+        regular: false,
     });
     let instances = crates
         .iter()
