@@ -674,6 +674,7 @@ impl Renderer {
                 conditional,
                 compute_laydown,
                 config.compute_laydown_max_extent,
+                config.vrs.is_some(),
             )?;
             let conditional = pipelines
                 .conditional

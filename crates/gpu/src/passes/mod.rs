@@ -170,6 +170,7 @@ impl Pipelines {
         conditional: bool,
         compute_laydown: bool,
         compute_laydown_max_extent: f32,
+        vrs: bool,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
@@ -184,7 +185,7 @@ impl Pipelines {
             },
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
-            resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
+            resolve: resolve::Resolve::new(device, wave_width, gbuffer, vrs)?,
             baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
             lighting: lighting::Lighting::new(
                 device,
