@@ -731,6 +731,7 @@ impl Renderer {
                 compute_laydown,
                 config.compute_laydown_max_extent,
                 config.mixed_frame,
+                config.vrs.is_some(),
             )?;
             let conditional = pipelines
                 .conditional

@@ -206,6 +206,7 @@ impl Pipelines {
         compute_laydown: Option<compute_laydown::LaydownTarget>,
         compute_laydown_max_extent: f32,
         mixed: bool,
+        vrs: bool,
     ) -> Result<Self> {
         Ok(Self {
             laydown: laydown::Laydown::new(device, paths.primitive_id, msaa.is_some())?,
@@ -220,7 +221,7 @@ impl Pipelines {
             },
             vis_copy: vis_copy::VisCopy::new(device)?,
             classify: classify::Classify::new(device, paths.subgroup_size.is_some())?,
-            resolve: resolve::Resolve::new(device, wave_width, gbuffer)?,
+            resolve: resolve::Resolve::new(device, wave_width, gbuffer, vrs)?,
             baseline: baseline::Baseline::new(device, gbuffer, msaa.is_some())?,
             pixel_pull: pixel_pull::PixelPull::new(
                 device,

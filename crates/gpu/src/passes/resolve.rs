@@ -24,7 +24,8 @@ pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
     name: "material resolve",
     module: "gpu::resolve",
     library: LIBRARY,
-    features: &[],
+    // `vrs`: HFW's software VRS broadcast (workgroup memory only where it is used).
+    features: &["vrs"],
     groups: &[
         SCENE_GROUP,
         Group {
@@ -87,7 +88,7 @@ pub(crate) const RESOLVE_KZ2: Pass<[u32; 2]> = Pass {
         },
         RESOLVE.groups[3],
     ],
-    features: &["kz2_gbuffer"],
+    features: &["kz2_gbuffer", "vrs"],
     ..RESOLVE
 };
 
@@ -123,16 +124,22 @@ pub(crate) struct Groups {
 }
 
 impl Resolve {
-    /// The pipelines for wave commands of `wave_width` lanes, writing `layout`.
+    /// The pipelines for wave commands of `wave_width` lanes, writing `layout`; `vrs`:
+    /// with HFW's software VRS broadcast.
     pub(crate) fn new(
         device: &wgpu::Device,
         wave_width: u32,
         layout: GBufferLayout,
+        vrs: bool,
     ) -> Result<Self> {
+        let mut features = crate::gbuffer::features(layout).to_vec();
+        if vrs {
+            features.push("vrs");
+        }
         let pass = ComputePass::new(
             device,
             resolve_pass(layout),
-            crate::gbuffer::features(layout),
+            &features,
             &[("RESOLVE_WAVE_WIDTH", f64::from(wave_width))],
         )?;
         Ok(Self {

@@ -133,10 +133,14 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
     let scale = visbuf_mip_bias_scale(frame.mip_bias);
     let p = visbuf_interpolate3(b, r0, r1, r2).value;
-    let q0 = gpu_previous_position(inst, v0.position);
-    let q1 = gpu_previous_position(inst, v1.position);
-    let q2 = gpu_previous_position(inst, v2.position);
-    let p_prev = visbuf_interpolate3(b, q0, q1, q2).value;
+    // Without wind nothing animates: the previous pose is this one (bit for bit).
+    var p_prev = p;
+    if frame.wind.w != 0.0 {
+        let q0 = gpu_previous_position(inst, v0.position);
+        let q1 = gpu_previous_position(inst, v1.position);
+        let q2 = gpu_previous_position(inst, v2.position);
+        p_prev = visbuf_interpolate3(b, q0, q1, q2).value;
+    }
     out.surface = material_surface_moved(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), p, p_prev);
     out.ok = true;
     return out;
@@ -170,6 +174,7 @@ fn resolve_fullscreen(@builtin(global_invocation_id) id: vec3<u32>) {
 // per-pixel transform). A uniform at a dynamic offset per pass.
 @group(3) @binding(3) var<uniform> resolve_pass: vec4<u32>;
 
+#if vrs
 // The talk's work expansion (BroadcastOutput): whether any lane broadcasts, each lane's
 // first entry and receiving-pixel count, the expanded list (lane | dx << 6 | dy << 7, the
 // talk's sPixelCommands), each lane's quad origin (sIntermediatePixelX/Y) and its shaded
@@ -184,6 +189,7 @@ var<workgroup> wg_ok: array<u32, RESOLVE_WAVE_WIDTH>;
 
 // Four receiving pixels per lane at most.
 override RESOLVE_LIST_LEN: u32 = 4u * RESOLVE_WAVE_WIDTH;
+#endif
 
 @compute @workgroup_size(RESOLVE_WAVE_WIDTH)
 fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) lane: u32) {
@@ -222,6 +228,7 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
         }
         return;
     }
+#if vrs
     // Does any lane broadcast? (More than one receiving pixel.)
     if lane == 0u {
         atomicStore(&wg_broadcast, 0u);
@@ -273,4 +280,10 @@ fn resolve_waves(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation
             gbuffer_store(out, wg_surface[l], frame.view_rotation);
         }
     }
+#else
+    // The VRS layout is only used with this feature (RendererConfig::vrs).
+    if r.ok {
+        gbuffer_store(pixel, r.surface, frame.view_rotation);
+    }
+#endif
 }
