@@ -1082,9 +1082,7 @@ mod tests {
         let placed: u64 = hill
             .batches
             .iter()
-            .map(|b| {
-                b.instances.len() as u64 * hill.meshes[b.mesh.0 as usize].positions.len() as u64
-            })
+            .map(|b| b.instances.len() as u64 * hill.meshes[b.mesh.0].positions.len() as u64)
             .sum();
         assert_eq!(instance_vertices(&o(DemoScene::Hillside, 1.0)), placed);
         // An absurd density is refused by the vertex bound alone, without placing its
