@@ -1,7 +1,8 @@
 // gpu: the compute laydown's depth into the depth target, for frames whose later raster
-// passes test against it (the stencil light volumes): the float depth the unpack wrote, as
+// passes test against it (stencil light volumes, the mixed frame's regular pass, the water):
+// the float depth the unpack wrote, as
 // frag_depth from a full-screen triangle (depth formats cannot be storage textures).
-// Raster fill (2.4 ms at 4K on the H200's two raster TPCs), so frames without such passes
+// Raster fill (1.05 ms at 4K on the H200's two raster TPCs), so frames without such passes
 // skip it.
 
 @group(0) @binding(0) var depth_float: texture_2d<f32>;
