@@ -479,3 +479,49 @@ fn the_f16_and_f32_composites_agree() {
     eprintln!("f16 against f32: mean {mean:.3}, p99 {p99}");
     assert!(mean < 0.5 && p99 <= 8, "mean {mean}, p99 {p99}");
 }
+
+/// The water over issue 17's compute laydown, which then writes the depth target the
+/// water's HiZ, depth copy and tessellation read (without it they would see the previous
+/// frame's depth, or none): the same water as over the hardware laydown, and the image
+/// within the deferred-vs-baseline bounds (mean 1.0 / 255, p99 24).
+#[test]
+fn the_water_over_the_compute_laydown_matches_the_hardware_laydown() {
+    assert!(
+        ctx().paths.int64_atomics,
+        "no 64-bit atomics on {}: the compute laydown needs them (lavapipe has them)",
+        ctx().adapter_line()
+    );
+    let d = demo();
+    let frame = |laydown| {
+        let mut r = common::renderer_with(RendererConfig {
+            laydown,
+            ..config(256, 144, true)
+        });
+        assert_eq!(r.laydown(), laydown);
+        let p = r.prepare(&d.scene).unwrap();
+        r.set_water(Some(&d.water)).unwrap();
+        r.set_water_decals(&d.decals).unwrap();
+        r.render(&p, &d.frame, RenderPath::Deferred).unwrap();
+        let water = r
+            .read_water_surface()
+            .unwrap()
+            .unwrap()
+            .iter()
+            .filter(|s| s[0] > 0.0)
+            .count();
+        (r.read_output().unwrap(), water)
+    };
+    let (hardware, hw_water) = frame(gpu::Laydown::Hardware);
+    let (compute, cs_water) = frame(gpu::Laydown::Compute);
+    assert!(hw_water > 2000, "{hw_water} water pixels");
+    assert!(
+        cs_water.abs_diff(hw_water) * 100 <= hw_water,
+        "water pixels: compute laydown {cs_water}, hardware {hw_water}"
+    );
+    let (mean, _) = gpu::diff_metrics(&compute, &hardware, 0.5).unwrap();
+    let (_, p99) = gpu::diff_metrics(&compute, &hardware, 0.99).unwrap();
+    assert!(
+        mean <= 1.0 && p99 <= 24,
+        "compute vs hardware laydown under water: mean {mean:.3}, p99 {p99}"
+    );
+}
