@@ -38,6 +38,8 @@ mod tests {
             ("VISBUF_MICRO_BATCH_MASK_VRS", MICRO_BATCH_IDS_VRS - 1),
             ("VISBUF_RATE_SHIFT", VIS_RATE_SHIFT),
             ("VISBUF_RATE_MASK", (1 << VIS_RATE_BITS) - 1),
+            ("VISBUF_RATE_2X1", ShadingRate::Rate2x1 as u32),
+            ("VISBUF_RATE_2X2", ShadingRate::Rate2x2 as u32),
             (
                 "VISBUF_INSTANCE_PRIMITIVE_BITS",
                 VIS_INSTANCE_PRIMITIVE_BITS,

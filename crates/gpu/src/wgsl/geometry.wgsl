@@ -10,17 +10,17 @@ struct LaydownOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) instance: u32,
     @location(2) @interpolate(flat) payload: u32,
-    // HFW's software VRS: the vertex's shading rate, already in the vis word's rate bits
-    // (0 without VRS); the provoking vertex's rates the triangle.
+    // HFW's software VRS: the vertex's shading rate code (visbuf::ShadingRate; 0 without
+    // VRS); the provoking vertex's rates the triangle.
     @location(3) @interpolate(flat) rate: u32,
 }
 
-// The shading rate's vis-word bits (visbuf VRS layout, bits 31..30) of a vertex at clip
+// The shading rate code (visbuf::ShadingRate, the VRS layout's rate field) of a vertex at clip
 // position `now` that was at `before` in the previous frame's clip space: HFW's rule
 // (gpu::VrsConfig), the coarser of the distance's rate (1x1, then 2x1 from frame.vrs.x
 // metres, 2x2 from frame.vrs.y) and the screen speed's (2x1 from frame.vrs.z pixels per
 // frame, 2x2 from frame.vrs.w). 0 (1x1) without VRS.
-fn gpu_shading_rate_bits(now: vec4<f32>, before: vec4<f32>) -> u32 {
+fn gpu_shading_rate(now: vec4<f32>, before: vec4<f32>) -> u32 {
     if (!gpu_vrs_layout()) {
         return 0u;
     }
@@ -38,9 +38,7 @@ fn gpu_shading_rate_bits(now: vec4<f32>, before: vec4<f32>) -> u32 {
             level = max(level, 1u);
         }
     }
-    // visbuf::ShadingRate codes: 2x1 = 2, 2x2 = 3.
-    let code = select(0u, level + 1u, level > 0u);
-    return code << VISBUF_RATE_SHIFT;
+    return array<u32, 3>(0u, VISBUF_RATE_2X1, VISBUF_RATE_2X2)[level];
 }
 
 fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
@@ -54,7 +52,7 @@ fn laydown_vertex(vertex: u32, instance: u32) -> LaydownOut {
     out.rate = 0u;
     if (gpu_vrs_layout()) {
         let before = frame.prev_view_proj * vec4<f32>(gpu_previous_position(inst, v.position), 1.0);
-        out.rate = gpu_shading_rate_bits(out.clip, before);
+        out.rate = gpu_shading_rate(out.clip, before);
     }
     return out;
 }
@@ -91,9 +89,13 @@ fn alpha_test(uv: vec2<f32>, instance: u32, pixel: vec2<f32>) {
     }
 }
 
-// `rate`: the shading rate's bits (LaydownOut::rate; 0 without VRS, whose micro-batch
-// IDs stay below 2^14 so the bits are free).
+// `rate`: the shading rate's code (LaydownOut::rate; visbuf::ShadingRate), packed in the
+// VRS layout (14-bit micro-batch IDs) when the plan uses it.
 fn vis_word(instance: u32, primitive: u32, rate: u32) -> u32 {
     let inst = instances[instance];
-    return visbuf_pack_id(inst.micro_batch, inst.instance_field, primitive, inst.primitive_bits & GPU_INSTANCE_PRIMITIVE_BITS_MASK) | rate;
+    let bits = inst.primitive_bits & GPU_INSTANCE_PRIMITIVE_BITS_MASK;
+    if (gpu_vrs_layout()) {
+        return visbuf_pack_id_vrs(rate, inst.micro_batch, inst.instance_field, primitive, bits);
+    }
+    return visbuf_pack_id(inst.micro_batch, inst.instance_field, primitive, bits);
 }

@@ -11,6 +11,9 @@ const VISBUF_MICRO_BATCH_MASK: u32 = 0xffffu;
 const VISBUF_MICRO_BATCH_MASK_VRS: u32 = 0x3fffu;
 const VISBUF_RATE_SHIFT: u32 = 30u;
 const VISBUF_RATE_MASK: u32 = 3u;
+// ShadingRate codes of the VRS layout's rate field.
+const VISBUF_RATE_2X1: u32 = 2u;
+const VISBUF_RATE_2X2: u32 = 3u;
 const VISBUF_INSTANCE_PRIMITIVE_BITS: u32 = 16u;
 const VISBUF_INSTANCE_PRIMITIVE_MASK: u32 = 0xffffu;
 const VISBUF_MAX_PRIMITIVE_BITS: u32 = 16u;
