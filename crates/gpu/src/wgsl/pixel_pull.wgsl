@@ -175,7 +175,16 @@ fn pull_gbuffer(in: PullIn) -> PullSurface {
     // The camera-relative position back from the interpolated clip position.
     let c = frame.inv_view_proj * (b.x * l0.clip + b.y * l1.clip + b.z * l2.clip);
     let p = c.xyz / c.w;
-    let s = material_surface(inst.material, uv, duv_dx, duv_dy, n, p);
+    // The motion of the swaying foliage's surface (as the resolve's): this pose and the
+    // previous one interpolated alike, so a still vertex has none.
+    var p_now = vec3<f32>(0.0);
+    var p_prev = vec3<f32>(0.0);
+    for (var k = 0u; k < 3u; k++) {
+        let q = vertices[t.v[k]].position;
+        p_now += b[k] * gpu_position(inst, q);
+        p_prev += b[k] * gpu_previous_position(inst, q);
+    }
+    let s = material_surface_motion(inst.material, uv, duv_dx, duv_dy, n, p, material_motion(p_now, p_prev));
     return PullSurface(gbuffer_fragment(s, frame.view_rotation), t.ok);
 }
 
