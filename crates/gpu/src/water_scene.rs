@@ -857,7 +857,11 @@ pub(crate) fn material_map(
     lo -= Vec2::splat(reach + 1.0);
     hi += Vec2::splat(reach + 1.0);
     let extent = (hi - lo).max_element();
-    let texel = (extent / MAX_WATER_MATERIAL_MAP as f32).max(1.0);
+    // The neighbour search spans at most 16 texels each way: a wide blend distance coarsens
+    // the map instead of costing (2r + 1)^2 tests per texel (10^12 at 1000 m).
+    let texel = (extent / MAX_WATER_MATERIAL_MAP as f32)
+        .max(reach / 16.0)
+        .max(1.0);
     let width = (((hi.x - lo.x) / texel).ceil() as u32).clamp(2, MAX_WATER_MATERIAL_MAP);
     let height = (((hi.y - lo.y) / texel).ceil() as u32).clamp(2, MAX_WATER_MATERIAL_MAP);
     let own: Vec<u32> = (0..width * height)

@@ -295,5 +295,11 @@ fn resolve_from_the_ring_equals_the_per_pixel_transform() {
         assert!(albedo_off * 100 <= covered, "{albedo_off} of {covered}");
         assert!(albedo_sum / (covered as f64) < 1.0 / 255.0);
         assert!(other_off * 200 <= covered, "{other_off} of {covered}");
+        // The ring was read: its f16 positions and 10-bit normals leave their mark (a
+        // resolve that fell back to the per-pixel transform would equal it exactly).
+        assert!(
+            albedo_sum > 0.0 || normal_worst > 0.0,
+            "the ring resolve equals the per-pixel one bit for bit: the ring was not read"
+        );
     }
 }
