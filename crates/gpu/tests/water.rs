@@ -518,8 +518,8 @@ fn the_water_over_the_compute_laydown_matches_the_hardware_laydown() {
         cs_water.abs_diff(hw_water) * 100 <= hw_water,
         "water pixels: compute laydown {cs_water}, hardware {hw_water}"
     );
-    let (mean, _) = gpu::diff_metrics(&compute, &hardware, 0.5).unwrap();
-    let (_, p99) = gpu::diff_metrics(&compute, &hardware, 0.99).unwrap();
+    let (mean, _) = diff_metrics(&compute, &hardware, 0.5).unwrap();
+    let (_, p99) = diff_metrics(&compute, &hardware, 0.99).unwrap();
     assert!(
         mean <= 1.0 && p99 <= 24,
         "compute vs hardware laydown under water: mean {mean:.3}, p99 {p99}"
