@@ -258,9 +258,9 @@ pub struct Scene {
 pub struct Wind {
     /// Horizontal direction (world x, z); normalised on upload (zero: no sway).
     pub direction: Vec2,
-    /// Sway at bend weight 1 (metres), finite, >= 0.
+    /// Sway at bend weight 1 (metres), in [0, 1000] (larger sways overflow positions).
     pub amplitude: f32,
-    /// Main sway frequency (Hz), finite, >= 0.
+    /// Main sway frequency (Hz), in [0, 1000] (larger ones make the phase infinite).
     pub frequency: f32,
     /// Object-space height at which the bend weight reaches 1 (metres), > 0.
     pub height: f32,
@@ -303,15 +303,15 @@ impl Wind {
             field("amplitude"),
             self.amplitude,
             0.0,
-            f32::MAX,
-            "finite, >= 0 metres",
+            1000.0,
+            "[0, 1000] metres",
         ))
         .and(check_range(
             field("frequency"),
             self.frequency,
             0.0,
-            f32::MAX,
-            "finite, >= 0 Hz",
+            1000.0,
+            "[0, 1000] Hz",
         ))
         .and(check_range(
             field("height"),

@@ -324,4 +324,19 @@ fn wind_reference_bends_with_height() {
     let a = w.displacement(t, Vec3::Y * 2.0, 0.25);
     let b = w.displacement(t, Vec3::Y * 2.0, 10.25);
     assert!((a - b).length() < 1e-4, "{a} {b}");
+    // A sway the shaders would turn into infinite positions is an error naming the field.
+    assert!(w.validate().is_ok());
+    for bad in [
+        Wind {
+            frequency: f32::MAX,
+            ..w
+        },
+        Wind {
+            amplitude: 1e30,
+            ..w
+        },
+    ] {
+        let e = bad.validate().unwrap_err().to_string();
+        assert!(e.contains("wind."), "{e}");
+    }
 }
