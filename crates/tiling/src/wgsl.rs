@@ -13,8 +13,9 @@
 //! `wgpu::Features::SUBGROUP` with it), `tiling::common` (constants, structs, the
 //! single-workgroup scan), `tiling::pixel` (bindings 0-3 and the pixel decode) and
 //! `tiling::keyed` (bindings 4-5 and the keyed workgroup histogram). The two pixel phases
-//! (`count_pixels`, `write_commands`) aggregate through that histogram: a 16x16 block lies
-//! in one tile whose counters are contiguous, so one LDS atomic per pixel and one global
+//! (`count_pixels`, `write_commands`, an invocation per 2x2 quad) aggregate through that
+//! histogram: a 32x32 block lies in one tile whose counters are contiguous, so one LDS atomic
+//! per pixel and one global
 //! atomic per counter of the block replace the wave-append loop over keys; tiles with more
 //! than `TILING_HIST_LIMIT` (an `override`, 256) counters take that loop. Both give the
 //! same counts and, after [`canonical_sort`](crate::canonical_sort), the same commands.
@@ -105,14 +106,34 @@ const KEYED_BINDINGS: [Binding; 6] = join(
 /// index `tiling_item_index` use).
 const ITEMS_WORKGROUP_SIZE: u32 = 64;
 
-/// Dispatch over the vis buffer, one invocation per pixel.
-fn pixels(p: &TilingParams) -> [u32; 2] {
-    [p.width, p.height]
+/// Dispatch over the vis buffer, one invocation per 2x2 quad of pixels.
+fn quads(p: &TilingParams) -> [u32; 2] {
+    [p.width.div_ceil(2), p.height.div_ceil(2)]
 }
 
-/// A 16x16 workgroup per 16x16 block of the vis buffer.
-const fn per_pixel(name: &'static str) -> Entry<TilingParams> {
-    Entry::grid(name, 16, 16, pixels)
+/// A 16x16 workgroup per 32x32 block of the vis buffer, an invocation per 2x2 quad (WGSL
+/// `TILING_BLOCK_SIZE`, `tiling_quad_pixel`).
+const fn per_quad(name: &'static str) -> Entry<TilingParams> {
+    Entry::grid(name, 16, 16, quads)
+}
+
+/// (tile, pass) entries of a frame: `tiles * passes`.
+fn entries(p: &TilingParams) -> u32 {
+    p.tiles_x * p.tiles_y * p.pass_count
+}
+
+/// Pass-major (tile, pass) entries a workgroup of `entry_waves` sums (WGSL
+/// `TILING_ENTRY_BLOCK`).
+pub const ENTRY_BLOCK: u32 = 256;
+
+/// Words of classify output's `wave_scratch` for `tiles` tiles and `passes` passes: a
+/// workgroup counter and three pad words, the waves of every (tile, pass) entry, one sum
+/// per [`ENTRY_BLOCK`] entries, the waves and the commands of every pass (WGSL
+/// `tiling_scratch_*`).
+#[must_use]
+pub const fn wave_scratch_words(tiles: u32, passes: u32) -> u32 {
+    let n = tiles * passes;
+    4 + n + n.div_ceil(ENTRY_BLOCK) + 2 * passes
 }
 
 /// Phase 1, laydown finalise: per (tile, pass) the batch groups used.
@@ -133,7 +154,7 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
         name: "classification",
         bindings: &join::<4, 1, 5>(PIXEL_BINDINGS, [Binding::new("masks", Kind::read_write(4))]),
     }],
-    entries: &[per_pixel("laydown_finalize")],
+    entries: &[per_quad("laydown_finalize")],
     zeroed: &["masks"],
 };
 
@@ -180,7 +201,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     }],
     entries: &[
         Entry::once("counter_offsets_pass", 256),
-        per_pixel("count_pixels"),
+        per_quad("count_pixels"),
         Entry::once("pixel_offsets_pass", 256),
     ],
     zeroed: &["counts", "vertex_cull", "stats"],
@@ -201,10 +222,13 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// | `totals` | `wave_count` | [`Totals`] |
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
 ///
+/// | `wave_scratch` | [`wave_scratch_words`], zeroed | `atomic<u32>` |
+///
 /// `write_commands` (per pixel) writes `final_counts`, `commands`, `stats`;
-/// `wave_offsets_pass` (one workgroup) clamps `final_counts` to the counts and writes
-/// `wave_offsets`, `passes`, `totals.wave_count`; `write_waves` (per (tile, pass)) writes
-/// `waves`.
+/// `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a workgroup) clamps
+/// `final_counts` to the counts, sums waves per entry, block and pass into `wave_scratch`,
+/// and its last workgroup writes the blocks' first waves, `passes` and `totals.wave_count`;
+/// `write_waves` (a workgroup per entry) writes `wave_offsets` and `waves`.
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
@@ -212,7 +236,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     features: &["subgroups", "timing_omit_stats", "timing_store_commands"],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 9, 15>(
+        bindings: &join::<6, 10, 16>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read(4)),
@@ -224,17 +248,23 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 Binding::new("passes", Kind::read_write(size_of::<PassDispatch>())),
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+                Binding::new("wave_scratch", Kind::read_write(4)),
             ],
         ),
     }],
     entries: &[
-        per_pixel("write_commands"),
-        Entry::once("wave_offsets_pass", 256),
-        Entry::items("write_waves", ITEMS_WORKGROUP_SIZE, |p| {
-            p.tiles_x * p.tiles_y * p.pass_count
+        per_quad("write_commands"),
+        Entry::items("entry_waves", ENTRY_BLOCK, entries),
+        // A workgroup per entry, in rows of MAX_WORKGROUPS_X.
+        Entry::grid("write_waves", ITEMS_WORKGROUP_SIZE, 1, |p| {
+            let n = entries(p);
+            [
+                ITEMS_WORKGROUP_SIZE * n.min(shader::MAX_WORKGROUPS_X),
+                n.div_ceil(shader::MAX_WORKGROUPS_X),
+            ]
         }),
     ],
-    zeroed: &["final_counts", "commands", "stats"],
+    zeroed: &["final_counts", "commands", "stats", "wave_scratch"],
 };
 
 /// The vertex wave commands from the vertex cull buffer.

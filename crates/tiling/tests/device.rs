@@ -61,6 +61,12 @@ fn classification_case(
     let params = TilingParams::new(&vis, &cfg, plan.table.len() as u32, plan.order.len() as u32);
     let tiles = vis.tile_count() as usize;
     let p = cfg.pass_count as usize;
+    if seed == 4 {
+        assert!(
+            tiles * p > 2 * tiling::wgsl::ENTRY_BLOCK as usize,
+            "{tiles} tiles x {p} passes: too few entries for several blocks"
+        );
+    }
     let what = format!("seed {seed} {w}x{h} {layout:?} masked {masked} {features:?} keyed {keyed}");
     // `keyed` false forces the wave-append loop that tiles with more counters than the
     // keyed histogram holds take.
@@ -177,6 +183,10 @@ fn classification_case(
                 ("passes", zeros::<PassDispatch>(p)),
                 ("totals", zeros::<Totals>(1)),
                 ("stats", zeros::<PixelStats>(1)),
+                (
+                    "wave_scratch",
+                    Data::Zeros(tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize),
+                ),
             ],
         ),
     );
@@ -310,6 +320,11 @@ fn gpu_passes_equal_the_cpu_twins() {
                 }
             }
         }
+    }
+    // More (tile, pass) entries than one workgroup of classify output's entry_waves sums
+    // (tiling::wgsl::ENTRY_BLOCK): the blocks' first waves come from its last workgroup.
+    for features in subgroup_variants() {
+        classification_case(features, 4, 1700, 1300, VisLayout::Standard, true, true);
     }
 }
 

@@ -158,7 +158,8 @@ impl Classify {
         self.record_phases(encoder, f, timer, 2..3);
     }
 
-    /// Records the phases `range` of `tiling::wgsl::CLASSIFICATION`, each a timed pass.
+    /// Records the phases `range` of `tiling::wgsl::CLASSIFICATION`, each entry point a
+    /// pass timed under its name (the phases' parts differ by an order of magnitude).
     fn record_phases(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -174,16 +175,16 @@ impl Classify {
             .take(range.end)
             .skip(range.start)
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(phase.pass.name),
-                timestamp_writes: timer.compute(phase.pass.name),
-            });
-            pass.set_bind_group(0, group, &[]);
             for step in &phase.steps {
                 if self.skip.contains(&step.entry.name) {
                     continue;
                 }
                 if let Some([x, y, z]) = phase.workgroups(step, &b.params) {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(phase.pass.name),
+                        timestamp_writes: timer.compute(step.entry.name),
+                    });
+                    pass.set_bind_group(0, group, &[]);
                     pass.set_pipeline(&step.pipeline);
                     pass.dispatch_workgroups(x, y, z);
                 }
@@ -248,6 +249,8 @@ pub(crate) struct Buffers {
     pub waves: wgpu::Buffer,
     pub pass_dispatch: wgpu::Buffer,
     pub stats_out: wgpu::Buffer,
+    /// Classify output's per-entry, per-block and per-pass wave sums.
+    pub wave_scratch: wgpu::Buffer,
     _kept: [wgpu::Buffer; 3],
     zero_groups: Vec<(wgpu::BindGroup, u32)>,
     /// The validity bitmask's fill with ones and its word count (the mixed frame only).
@@ -374,6 +377,11 @@ impl Buffers {
                 wgpu::BufferUsages::INDIRECT,
             )?,
             stats_out: zeroed("output stats", words_of::<PixelStats>(1), none)?,
+            wave_scratch: zeroed(
+                "wave sums",
+                tiling::wgsl::wave_scratch_words(s.tiles, s.passes),
+                none,
+            )?,
             sizes,
             config,
             params,
@@ -404,6 +412,7 @@ impl Buffers {
                 "wave_offsets" => &b.wave_offsets,
                 "waves" => &b.waves,
                 "passes" => &b.pass_dispatch,
+                "wave_scratch" => &b.wave_scratch,
                 _ => return None,
             })
         };

@@ -1,8 +1,8 @@
 // tiling: phase 3, classify output (Rust twin: tiling::classify_output). Three entry
 // points, in this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
 //   write_commands     pixel (or quad) commands
-//   wave_offsets_pass  final counts, wave offsets, pass dispatches
-//   write_waves        wave commands
+//   entry_waves        final counts, waves per (tile, pass) entry and block, pass dispatches
+//   write_waves        wave offsets and wave commands
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
 #import wave::append
@@ -28,6 +28,8 @@
 @group(0) @binding(13) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of write_commands. Zero first.
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
+// entry_waves' sums (layout above tiling_entry_count). Zero first.
+@group(0) @binding(15) var<storage, read_write> wave_scratch: array<atomic<u32>>;
 
 // Writes command `cmd` at `slot` of counter `c` (two 16-bit commands per word) when the
 // counter has room for it, and counts it as written or dropped.
@@ -53,25 +55,32 @@ fn write_commands(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
+    let words = tiling_quad_words(gid);
     tiling_stats_begin(li);
-    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
-    var key = TILING_NONE;
-    var cmd = 0u;
-    if (gid.x < params.width && gid.y < params.height) {
-        let i = gid.y * params.width + gid.x;
-        let word = tiling_word(i);
+    let tile = tiling_block_tile(wid);
+    // Per pixel of the quad: its (pass, group) key (TILING_NONE: no command) and command.
+    var keys = vec4<u32>(TILING_NONE);
+    var cmds = vec4<u32>(0u);
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x >= params.width || p.y >= params.height) {
+            continue;
+        }
+        let i = p.y * params.width + p.x;
+        let word = words[k];
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
-        if (px.kind == TILING_PX_VALID) {
-            let mask = tiling_sample_mask(gid.x, gid.y, word);
-            if (mask != 0u) {
-                let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
-                if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
-                    key = px.pg;
-                    cmd = tiling_command(gid.x, gid.y, mask);
-                } else {
-                    tiling_stat(TILING_STAT_DROPPED, 1u);
-                }
+        if (px.kind != TILING_PX_VALID) {
+            continue;
+        }
+        let mask = tiling_sample_mask(p.x, p.y, word);
+        if (mask != 0u) {
+            let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
+            if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+                keys[k] = px.pg;
+                cmds[k] = tiling_command(p.x, p.y, mask);
+            } else {
+                tiling_stat(TILING_STAT_DROPPED, 1u);
             }
         }
     }
@@ -81,11 +90,31 @@ fn write_commands(
         // atomic per counter of the block for the block's first slot.
         atomicStore(&tiling_hist[li], 0u);
         workgroupBarrier();
-        var rank = 0u;
-        var c = 0u;
-        if (key != TILING_NONE) {
-            c = tiling_counter_of(tile, key);
-            rank = atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], 1u);
+        var ranks = vec4<u32>(0u);
+        var slots = vec4<u32>(0u);
+        var counters = vec4<u32>(0u);
+        // One shared atomic per key of the quad: its first pixel takes the quad's slots,
+        // the others follow it.
+        for (var k = 0u; k < 4u; k++) {
+            if (keys[k] == TILING_NONE) {
+                continue;
+            }
+            let r = tiling_quad_key_rank(keys, k);
+            if (r == 0u) {
+                counters[k] = tiling_counter_of(tile, keys[k]);
+                slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
+                ranks[k] = atomicAdd(&tiling_hist[slots[k]], tiling_quad_key_count(keys, k));
+            } else {
+                var first = 0u;
+                for (var j = k; j > 0u; j--) {
+                    if (keys[j - 1u] == keys[k]) {
+                        first = j - 1u;
+                    }
+                }
+                counters[k] = counters[first];
+                slots[k] = slots[first];
+                ranks[k] = ranks[first] + r;
+            }
         }
         workgroupBarrier();
         if (li < range.y) {
@@ -95,33 +124,38 @@ fn write_commands(
             }
         }
         workgroupBarrier();
-        if (key != TILING_NONE) {
-            let slot = tiling_hist_first[min(c - range.x, TILING_HIST_SLOTS - 1u)] + rank;
-            tiling_put_command(c, slot, cmd);
+        for (var k = 0u; k < 4u; k++) {
+            if (keys[k] != TILING_NONE) {
+                tiling_put_command(counters[k], tiling_hist_first[slots[k]] + ranks[k], cmds[k]);
+            }
         }
     } else {
-        // Aggregated appends, one (pass, group) of the workgroup at a time.
-        var pending = key != TILING_NONE;
-        loop {
-            let k = tiling_smallest_pending_key(pending, key, li);
-            if (k == TILING_NONE) {
-                break;
-            }
-            let take = pending && key == k;
-            let c = tiling_counter_of(tile, k);
-            let a = wave_append_begin(take, li);
-            var old = 0u;
-            if (a.total != 0u && c < arrayLength(&final_counts)) {
-                old = atomicAdd(&final_counts[c], a.total);
-            }
-            let slot = wave_append_end(a, old);
-            if (take) {
-                pending = false;
-                tiling_put_command(c, slot, cmd);
+        // Aggregated appends, one pixel of the quads and one (pass, group) of the
+        // workgroup at a time.
+        for (var k = 0u; k < 4u; k++) {
+            let key = keys[k];
+            var pending = key != TILING_NONE;
+            loop {
+                let next = tiling_smallest_pending_key(pending, key, li);
+                if (next == TILING_NONE) {
+                    break;
+                }
+                let take = pending && key == next;
+                let c = tiling_counter_of(tile, next);
+                let a = wave_append_begin(take, li);
+                var old = 0u;
+                if (a.total != 0u && c < arrayLength(&final_counts)) {
+                    old = atomicAdd(&final_counts[c], a.total);
+                }
+                let slot = wave_append_end(a, old);
+                if (take) {
+                    pending = false;
+                    tiling_put_command(c, slot, cmds[k]);
+                }
             }
         }
     }
-    workgroupBarrier();
+    tiling_stats_to_workgroup(li);
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
         if (v != 0u) {
@@ -129,10 +163,6 @@ fn write_commands(
         }
     }
 }
-
-var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_MAX_PASSES>;
-var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_MAX_PASSES>;
-var<workgroup> tiling_wg_pass_first: array<u32, TILING_MAX_PASSES>;
 
 // The (tile, pass) entry t * P + p of pass-major position p * T + t.
 fn tiling_entry_of(pass_major: u32) -> u32 {
@@ -144,93 +174,201 @@ fn tiling_waves_of(n: u32) -> u32 {
     return (n + params.wave_width - 1u) / params.wave_width;
 }
 
+// Whether counter c is within the buffers whose final count makes its waves (a counter past
+// them has none; entry_waves and write_waves must agree).
+fn tiling_counter_in_buffers(c: u32) -> bool {
+    return c < arrayLength(&final_counts) && c < arrayLength(&counts);
+}
+
+// wave_scratch, in words (Rust: tiling::wgsl::wave_scratch_words): [0] workgroups done,
+// then per pass-major entry its waves, then per block of TILING_ENTRY_BLOCK entries their
+// sum (the last workgroup turns these into the blocks' first waves), then per pass its
+// waves and its commands.
+const TILING_ENTRY_BLOCK: u32 = 256u;
+const TILING_SCRATCH_ENTRIES: u32 = 4u;
+
+fn tiling_entry_count() -> u32 {
+    return params.tiles_x * params.tiles_y * params.pass_count;
+}
+
+fn tiling_scratch_blocks() -> u32 {
+    return TILING_SCRATCH_ENTRIES + tiling_entry_count();
+}
+
+fn tiling_scratch_pass_waves() -> u32 {
+    return tiling_scratch_blocks() + (tiling_entry_count() + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
+}
+
+fn tiling_scratch_pass_items() -> u32 {
+    return tiling_scratch_pass_waves() + params.pass_count;
+}
+
+fn tiling_scratch_load(i: u32) -> u32 {
+    if (i >= arrayLength(&wave_scratch)) {
+        return 0u;
+    }
+    return atomicLoad(&wave_scratch[i]);
+}
+
+fn tiling_scratch_store(i: u32, v: u32) {
+    if (i < arrayLength(&wave_scratch)) {
+        atomicStore(&wave_scratch[i], v);
+    }
+}
+
+fn tiling_scratch_add(i: u32, v: u32) {
+    if (v != 0u && i < arrayLength(&wave_scratch)) {
+        atomicAdd(&wave_scratch[i], v);
+    }
+}
+
+var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_ENTRY_BLOCK>;
+var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
+var<workgroup> tiling_wg_last: u32;
+
+// Per pass-major entry (one invocation each, TILING_ENTRY_BLOCK per workgroup): clamps its
+// counters' final counts to their room and sums their waves; per workgroup the block's
+// sum and, per pass, its waves and commands. The last workgroup to finish turns the block
+// sums into the blocks' first waves and the pass sums into the pass dispatches (every
+// cross-workgroup value an atomic, ordered by storageBarrier's device-scope fences).
 @compute @workgroup_size(256)
-fn wave_offsets_pass(@builtin(local_invocation_index) li: u32) {
+fn entry_waves(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
     atomicStore(&tiling_wg_pass_waves[li], 0u);
     atomicStore(&tiling_wg_pass_items[li], 0u);
-    tiling_wg_pass_first[li] = 0u;
     workgroupBarrier();
     let tiles = params.tiles_x * params.tiles_y;
-    let n = min(tiles * params.pass_count, arrayLength(&masks));
-    let r = tiling_wg_range(li, n);
-    // Clamp each counter to its room, sum this range's waves.
-    var sum = 0u;
-    for (var q = r.x; q < r.y; q++) {
+    let n = min(tiling_entry_count(), arrayLength(&masks));
+    let block = wid.y * groups.x + wid.x;
+    let q = block * TILING_ENTRY_BLOCK + li;
+    let first_pass = block * TILING_ENTRY_BLOCK / max(tiles, 1u);
+    var waves = 0u;
+    if (q < n && tiles != 0u) {
         let e = tiling_entry_of(q);
         var bits = masks[e];
         var c = counter_offsets[e];
+        var items = 0u;
         while (bits != 0u) {
             bits &= bits - 1u;
-            if (c < arrayLength(&final_counts) && c < arrayLength(&counts)) {
+            if (tiling_counter_in_buffers(c)) {
                 let f = min(atomicLoad(&final_counts[c]), counts[c]);
                 atomicStore(&final_counts[c], f);
-                sum += tiling_waves_of(f);
+                waves += tiling_waves_of(f);
+                items += f;
             }
             c += 1u;
         }
-    }
-    let scan = tiling_wg_scan(li, sum);
-    var run = scan.x;
-    for (var q = r.x; q < r.y; q++) {
-        let e = tiling_entry_of(q);
-        let p = q / tiles;
-        if (q % tiles == 0u) {
-            tiling_wg_pass_first[p] = run;
+        tiling_scratch_store(TILING_SCRATCH_ENTRIES + q, waves);
+        let local = q / tiles - first_pass;
+        if (waves != 0u) {
+            atomicAdd(&tiling_wg_pass_waves[local], waves);
         }
-        var bits = masks[e];
-        var c = counter_offsets[e];
-        while (bits != 0u) {
-            bits &= bits - 1u;
-            if (c < arrayLength(&final_counts) && c < arrayLength(&counts)) {
-                let f = atomicLoad(&final_counts[c]);
-                if (c < arrayLength(&wave_offsets)) {
-                    wave_offsets[c] = run;
-                }
-                let w = tiling_waves_of(f);
-                run += w;
-                atomicAdd(&tiling_wg_pass_waves[p], w);
-                atomicAdd(&tiling_wg_pass_items[p], f);
-            }
-            c += 1u;
+        if (items != 0u) {
+            atomicAdd(&tiling_wg_pass_items[local], items);
         }
     }
-    workgroupBarrier();
+    let sum = tiling_wg_scan(li, waves).y;
+    if (li == 0u) {
+        tiling_scratch_store(tiling_scratch_blocks() + block, sum);
+    }
+    let my_pass = first_pass + li;
+    if (my_pass < params.pass_count) {
+        tiling_scratch_add(tiling_scratch_pass_waves() + my_pass, atomicLoad(&tiling_wg_pass_waves[li]));
+        tiling_scratch_add(tiling_scratch_pass_items() + my_pass, atomicLoad(&tiling_wg_pass_items[li]));
+    }
+    storageBarrier();
+    if (li == 0u) {
+        tiling_wg_last = select(0u, 1u, atomicAdd(&wave_scratch[0], 1u) == groups.x * groups.y * groups.z - 1u);
+    }
+    if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
+        return;
+    }
+    storageBarrier();
+    // The last workgroup: every block sum and pass sum is in.
+    let blocks = (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
+    let r = tiling_wg_range(li, blocks);
+    var run_sum = 0u;
+    for (var b = r.x; b < r.y; b++) {
+        run_sum += tiling_scratch_load(tiling_scratch_blocks() + b);
+    }
+    var run = tiling_wg_scan(li, run_sum).x;
+    for (var b = r.x; b < r.y; b++) {
+        let v = tiling_scratch_load(tiling_scratch_blocks() + b);
+        tiling_scratch_store(tiling_scratch_blocks() + b, run);
+        run += v;
+    }
+    var pass_waves = 0u;
+    if (li < params.pass_count) {
+        pass_waves = tiling_scratch_load(tiling_scratch_pass_waves() + li);
+    }
+    let scan = tiling_wg_scan(li, pass_waves);
     if (li < params.pass_count && li < arrayLength(&passes)) {
-        passes[li] = tiling_dispatch(
-            tiling_wg_pass_first[li],
-            atomicLoad(&tiling_wg_pass_waves[li]),
-            atomicLoad(&tiling_wg_pass_items[li]),
-        );
+        passes[li] = tiling_dispatch(scan.x, pass_waves, tiling_scratch_load(tiling_scratch_pass_items() + li));
     }
     if (li == 0u) {
         totals.wave_count = scan.y;
     }
 }
 
+var<workgroup> tiling_wg_before: atomic<u32>;
+var<workgroup> tiling_wg_before_plain: u32;
+
+// A workgroup per pass-major entry: its counters' wave offsets and wave commands, the
+// lanes striding over each counter's waves.
 @compute @workgroup_size(TILING_ITEMS_WORKGROUP_SIZE)
 fn write_waves(
-    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
 ) {
-    let e = tiling_item_index(gid, groups, TILING_ITEMS_WORKGROUP_SIZE);
-    if (e >= params.tiles_x * params.tiles_y * params.pass_count || e >= arrayLength(&masks)) {
+    let tiles = params.tiles_x * params.tiles_y;
+    let q = wid.y * groups.x + wid.x;
+    if (q >= min(tiling_entry_count(), arrayLength(&masks))) {
         return;
     }
-    let t = e / params.pass_count;
-    let p = e % params.pass_count;
-    let tile = (t % params.tiles_x) | ((t / params.tiles_x) << TILING_WAVE_TILE_Y_SHIFT);
+    let e = tiling_entry_of(q);
     var bits = masks[e];
+    if (bits == 0u) {
+        return;
+    }
+    // The entry's first wave: its block's, plus the waves of the block's earlier entries.
+    let q0 = q - q % TILING_ENTRY_BLOCK;
+    var before = 0u;
+    for (var j = q0 + li; j < q; j += TILING_ITEMS_WORKGROUP_SIZE) {
+        before += tiling_scratch_load(TILING_SCRATCH_ENTRIES + j);
+    }
+    if (li == 0u) {
+        atomicStore(&tiling_wg_before, 0u);
+    }
+    workgroupBarrier();
+    if (before != 0u) {
+        atomicAdd(&tiling_wg_before, before);
+    }
+    workgroupBarrier();
+    if (li == 0u) {
+        tiling_wg_before_plain = atomicLoad(&tiling_wg_before) + tiling_scratch_load(tiling_scratch_blocks() + q / TILING_ENTRY_BLOCK);
+    }
+    var first = workgroupUniformLoad(&tiling_wg_before_plain);
+    let t = q % tiles;
+    let p = q / tiles;
+    let tile = (t % params.tiles_x) | ((t / params.tiles_x) << TILING_WAVE_TILE_Y_SHIFT);
     var c = counter_offsets[e];
     while (bits != 0u) {
         let g = firstTrailingBit(bits);
         bits &= bits - 1u;
-        if (c < arrayLength(&final_counts) && c < arrayLength(&wave_offsets)) {
+        if (tiling_counter_in_buffers(c)) {
             let f = atomicLoad(&final_counts[c]);
-            let first = wave_offsets[c];
-            var k = 0u;
-            var w = 0u;
-            while (k < f) {
+            if (li == 0u && c < arrayLength(&wave_offsets)) {
+                wave_offsets[c] = first;
+            }
+            let n = tiling_waves_of(f);
+            for (var w = li; w < n; w += TILING_ITEMS_WORKGROUP_SIZE) {
                 if (first + w < arrayLength(&waves)) {
+                    let k = w * params.wave_width;
                     waves[first + w] = TilingWaveCommand(
                         tile,
                         p | (g << TILING_WAVE_GROUP_SHIFT),
@@ -238,9 +376,8 @@ fn write_waves(
                         min(params.wave_width, f - k),
                     );
                 }
-                k += params.wave_width;
-                w += 1u;
             }
+            first += n;
         }
         c += 1u;
     }

@@ -16,16 +16,24 @@ fn laydown_finalize(
     @builtin(local_invocation_index) li: u32,
 ) {
     atomicStore(&tiling_wg_masks[li], 0u);
+    let words = tiling_quad_words(gid);
     workgroupBarrier();
-    if (gid.x < params.width && gid.y < params.height) {
-        let i = gid.y * params.width + gid.x;
-        let px = tiling_decode(tiling_word(i), i);
-        if (px.kind == TILING_PX_VALID) {
-            atomicOr(&tiling_wg_masks[px.pg / TILING_MAX_BATCH_GROUPS], 1u << (px.pg % TILING_MAX_BATCH_GROUPS));
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x < params.width && p.y < params.height) {
+            let i = p.y * params.width + p.x;
+            let px = tiling_decode(words[k], i);
+            // Read first: the block's pixels set few bits, and a shared atomic per pixel on
+            // the same word serialises the workgroup.
+            let slot = px.pg / TILING_MAX_BATCH_GROUPS;
+            let bit = 1u << (px.pg % TILING_MAX_BATCH_GROUPS);
+            if (px.kind == TILING_PX_VALID && (atomicLoad(&tiling_wg_masks[slot]) & bit) == 0u) {
+                atomicOr(&tiling_wg_masks[slot], bit);
+            }
         }
     }
     workgroupBarrier();
-    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
+    let tile = tiling_block_tile(wid);
     if (li < params.pass_count) {
         let m = atomicLoad(&tiling_wg_masks[li]);
         let e = tile * params.pass_count + li;

@@ -27,13 +27,32 @@
 fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
     let n = min(params.tiles_x * params.tiles_y * params.pass_count, arrayLength(&masks));
     let r = tiling_wg_range(li, n);
+    // Four loads issued at a time: one workgroup walks every (tile, pass) entry (82 passes:
+    // 160 a lane at 4K), so the loop is bound by load latency.
     var sum = 0u;
-    for (var i = r.x; i < r.y; i++) {
+    var i = r.x;
+    for (; i + 4u <= r.y; i += 4u) {
+        let m = vec4<u32>(masks[i], masks[i + 1u], masks[i + 2u], masks[i + 3u]);
+        let c = countOneBits(m);
+        sum += c.x + c.y + c.z + c.w;
+    }
+    for (; i < r.y; i++) {
         sum += countOneBits(masks[i]);
     }
     let scan = tiling_wg_scan(li, sum);
     var run = scan.x;
-    for (var i = r.x; i < r.y; i++) {
+    i = r.x;
+    for (; i + 4u <= r.y; i += 4u) {
+        let c = countOneBits(vec4<u32>(masks[i], masks[i + 1u], masks[i + 2u], masks[i + 3u]));
+        let o = vec4<u32>(run, run + c.x, run + c.x + c.y, run + c.x + c.y + c.z);
+        for (var k = 0u; k < 4u; k++) {
+            if (i + k < arrayLength(&counter_offsets)) {
+                counter_offsets[i + k] = o[k];
+            }
+        }
+        run = o.w + c.w;
+    }
+    for (; i < r.y; i++) {
         if (i < arrayLength(&counter_offsets)) {
             counter_offsets[i] = run;
         }
@@ -44,19 +63,55 @@ fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
     }
 }
 
-// Whether pixel (x, y), with vis word `word`, starts a triangle run (tiling::first_of_run):
-// neither its left nor its upper neighbour holds the same word with its validity bit set.
+// Whether pixel k (at x, y, with vis word `word`) of a quad whose words are `words`
+// starts a triangle run (tiling::first_of_run): neither its left nor its upper neighbour
+// holds the same word with its validity bit set (neighbours inside the quad from `words`).
 // Every valid pixel's word is also held by a run start, so reading the triangle's indices
 // and marking its chunks only at run starts marks every visible triangle.
-fn tiling_first_of_run(x: u32, y: u32, word: u32) -> bool {
+fn tiling_run_start(words: vec4<u32>, k: u32, x: u32, y: u32, word: u32) -> bool {
     let i = y * params.width + x;
-    if (x > 0u && tiling_word(i - 1u) == word && tiling_valid_bit(i - 1u)) {
-        return false;
+    if (x > 0u) {
+        var left = 0u;
+        if ((k & 1u) == 1u) {
+            left = words[k - 1u];
+        } else {
+            left = tiling_word(i - 1u);
+        }
+        if (left == word && tiling_valid_bit(i - 1u)) {
+            return false;
+        }
     }
-    if (y > 0u && tiling_word(i - params.width) == word && tiling_valid_bit(i - params.width)) {
-        return false;
+    if (y > 0u) {
+        var up = 0u;
+        if (k >= 2u) {
+            up = words[k - 2u];
+        } else {
+            up = tiling_word(i - params.width);
+        }
+        if (up == word && tiling_valid_bit(i - params.width)) {
+            return false;
+        }
     }
     return true;
+}
+
+// The chunks this workgroup marked last, direct-mapped by a hash of the chunk: neighbouring
+// run starts mostly hit the same few chunks, and a global atomic per mark serialises on
+// their words (grass and the hillside: most pixels start a run).
+const TILING_CHUNK_CACHE: u32 = 256u;
+var<workgroup> tiling_chunk_cache: array<atomic<u32>, TILING_CHUNK_CACHE>;
+
+// Sets chunk `chunk`'s byte in the cull buffer unless this workgroup set it already or it
+// is set (a plain read first: most marks find it set).
+fn tiling_mark_chunk(chunk: u32) {
+    let slot = (chunk * 2654435761u) >> 24u;
+    if (atomicExchange(&tiling_chunk_cache[slot], chunk) == chunk) {
+        return;
+    }
+    let bit = 1u << ((chunk % 4u) * 8u);
+    if ((atomicLoad(&vertex_cull[chunk / 4u]) & bit) == 0u) {
+        atomicOr(&vertex_cull[chunk / 4u], bit);
+    }
 }
 
 // Marks the 64-vertex chunks of a valid pixel's triangle; false if an index is bad (past
@@ -91,7 +146,7 @@ fn tiling_mark_triangle(px: TilingPixel) -> bool {
             continue;
         }
 #if !timing_omit_cull_marks
-        atomicOr(&vertex_cull[chunk / 4u], 1u << ((chunk % 4u) * 8u));
+        tiling_mark_chunk(chunk);
 #endif
     }
     return ok;
@@ -103,28 +158,51 @@ fn count_pixels(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
+    atomicStore(&tiling_chunk_cache[li], TILING_NONE);
+    let words = tiling_quad_words(gid);
     tiling_stats_begin(li);
-    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
-    var key = TILING_NONE;
-    if (gid.x < params.width && gid.y < params.height) {
-        let i = gid.y * params.width + gid.x;
-        let word = tiling_word(i);
+    let tile = tiling_block_tile(wid);
+    // The (pass, group) key of each pixel of the quad that gets a command.
+    var keys = vec4<u32>(TILING_NONE);
+    // Per run start of the quad: 1 when its triangle's indices are bad, 0 when not (2: not
+    // a run start).
+    var verdicts = vec4<u32>(2u);
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x >= params.width || p.y >= params.height) {
+            continue;
+        }
+        let i = p.y * params.width + p.x;
+        let word = words[k];
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
-        if (px.kind == TILING_PX_VALID) {
+        if (px.kind != TILING_PX_VALID) {
+            continue;
+        }
 #if !timing_omit_index_reads
-            if (tiling_first_of_run(gid.x, gid.y, word) && !tiling_mark_triangle(px)) {
-                tiling_stat(TILING_STAT_BAD_INDICES, 1u);
-            }
-#endif
-            if (tiling_sample_mask(gid.x, gid.y, word) != 0u) {
-                let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
-                if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
-                    key = px.pg;
-                    tiling_stat(TILING_STAT_COMMANDS, 1u);
-                } else {
-                    tiling_stat(TILING_STAT_DROPPED, 1u);
+        if (tiling_run_start(words, k, p.x, p.y, word)) {
+            // A run start whose word an earlier run start of the quad holds: same
+            // triangle, same verdict, its chunks marked already.
+            var verdict = 2u;
+            for (var j = 0u; j < k; j++) {
+                if (words[j] == word && verdicts[j] != 2u) {
+                    verdict = verdicts[j];
                 }
+            }
+            if (verdict == 2u) {
+                verdict = select(1u, 0u, tiling_mark_triangle(px));
+            }
+            verdicts[k] = verdict;
+            tiling_stat(TILING_STAT_BAD_INDICES, verdict);
+        }
+#endif
+        if (tiling_sample_mask(p.x, p.y, word) != 0u) {
+            let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
+            if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+                keys[k] = px.pg;
+                tiling_stat(TILING_STAT_COMMANDS, 1u);
+            } else {
+                tiling_stat(TILING_STAT_DROPPED, 1u);
             }
         }
     }
@@ -133,9 +211,12 @@ fn count_pixels(
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
         atomicStore(&tiling_hist[li], 0u);
         workgroupBarrier();
-        if (key != TILING_NONE) {
-            let c = tiling_counter_of(tile, key);
-            atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], 1u);
+        // One shared atomic per key of the quad (its first pixel adds the quad's count).
+        for (var k = 0u; k < 4u; k++) {
+            if (keys[k] != TILING_NONE && tiling_quad_key_rank(keys, k) == 0u) {
+                let c = tiling_counter_of(tile, keys[k]);
+                atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], tiling_quad_key_count(keys, k));
+            }
         }
         workgroupBarrier();
         if (li < range.y) {
@@ -145,28 +226,32 @@ fn count_pixels(
             }
         }
     } else {
-        // Aggregated appends, one (pass, group) of the workgroup at a time, smallest first:
-        // one atomic per wave (subgroup path) or per workgroup (fallback) and key.
-        var pending = key != TILING_NONE;
-        loop {
-            let k = tiling_smallest_pending_key(pending, key, li);
-            if (k == TILING_NONE) {
-                break;
-            }
-            let take = pending && key == k;
-            let a = wave_append_begin(take, li);
-            if (a.total != 0u) {
-                let c = tiling_counter_of(tile, k);
-                if (c < arrayLength(&counts)) {
-                    atomicAdd(&counts[c], a.total);
+        // Aggregated appends, one pixel of the quads and one (pass, group) of the
+        // workgroup at a time, smallest first: one atomic per wave (subgroup path) or per
+        // workgroup (fallback) and key.
+        for (var k = 0u; k < 4u; k++) {
+            let key = keys[k];
+            var pending = key != TILING_NONE;
+            loop {
+                let next = tiling_smallest_pending_key(pending, key, li);
+                if (next == TILING_NONE) {
+                    break;
                 }
-            }
-            if (take) {
-                pending = false;
+                let take = pending && key == next;
+                let a = wave_append_begin(take, li);
+                if (a.total != 0u) {
+                    let c = tiling_counter_of(tile, next);
+                    if (c < arrayLength(&counts)) {
+                        atomicAdd(&counts[c], a.total);
+                    }
+                }
+                if (take) {
+                    pending = false;
+                }
             }
         }
     }
-    workgroupBarrier();
+    tiling_stats_to_workgroup(li);
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
         if (v != 0u) {

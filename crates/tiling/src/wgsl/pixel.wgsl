@@ -13,6 +13,35 @@
 // The MicroBatchInfoTable, indexed by micro-batch ID.
 @group(0) @binding(3) var<storage, read> table: array<TilingMicroBatchInfo>;
 
+// The pixel phases' workgroups: 16x16 invocations, each a 2x2 quad of pixels, so a
+// workgroup covers a 32x32 block of one 128x128 tile. Four pixels an invocation keep four
+// vis loads in flight and cut the workgroups (and their barriers) by four: the phases are
+// bound by latency, not bandwidth.
+const TILING_BLOCK_SIZE: u32 = 32u;
+
+// The tile of the block that workgroup `wid` covers.
+fn tiling_block_tile(wid: vec3<u32>) -> u32 {
+    return (wid.y * TILING_BLOCK_SIZE / TILING_TILE_SIZE) * params.tiles_x + wid.x * TILING_BLOCK_SIZE / TILING_TILE_SIZE;
+}
+
+// Pixel k (0..4: x = k % 2, y = k / 2) of invocation `gid`'s quad.
+fn tiling_quad_pixel(gid: vec3<u32>, k: u32) -> vec2<u32> {
+    return vec2<u32>(2u * gid.x + (k & 1u), 2u * gid.y + (k >> 1u));
+}
+
+// The vis words of invocation `gid`'s quad (VISBUF_NONE outside the image), loaded
+// together before any is decoded.
+fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
+    var words = vec4<u32>(VISBUF_NONE);
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x < params.width && p.y < params.height) {
+            words[k] = tiling_word(p.y * params.width + p.x);
+        }
+    }
+    return words;
+}
+
 const TILING_PX_EMPTY: u32 = 0u;
 const TILING_PX_UNKNOWN: u32 = 1u;
 const TILING_PX_OUT_OF_RANGE: u32 = 2u;
@@ -126,8 +155,11 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
     return tx | (ty << TILING_PIXEL_Y_SHIFT);
 }
 
-// Per-workgroup stats, flushed with one atomic per field.
+// Stats: counted per invocation, summed per subgroup (or added per invocation without
+// subgroups) into the workgroup's, flushed with one global atomic per field. One shared
+// atomic per pixel on the same word serialises the workgroup.
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
+var<private> tiling_local_stats: array<u32, 8>;
 
 fn tiling_stats_begin(li: u32) {
     if (li < TILING_STAT_COUNT) {
@@ -137,12 +169,28 @@ fn tiling_stats_begin(li: u32) {
 }
 
 fn tiling_stat(field: u32, n: u32) {
-// Timing experiment only (gpu's `classify_variants`): no stats atomics, wrong stats.
+// Timing experiment only (gpu's `classify_variants`): no stats, wrong stats.
 #if !timing_omit_stats
-    if (n != 0u) {
-        atomicAdd(&tiling_wg_stats[field], n);
-    }
+    tiling_local_stats[field] += n;
 #endif
+}
+
+// Adds every invocation's stats into the workgroup's. Call from every invocation (uniform
+// control flow); a barrier follows, so tiling_wg_stats is complete after it.
+fn tiling_stats_to_workgroup(li: u32) {
+    for (var f = 0u; f < TILING_STAT_COUNT; f++) {
+#if subgroups
+        let total = subgroupAdd(tiling_local_stats[f]);
+        if (total != 0u && subgroupBroadcastFirst(li) == li) {
+            atomicAdd(&tiling_wg_stats[f], total);
+        }
+#else
+        if (tiling_local_stats[f] != 0u) {
+            atomicAdd(&tiling_wg_stats[f], tiling_local_stats[f]);
+        }
+#endif
+    }
+    workgroupBarrier();
 }
 
 // Counts the pixel's kind.
@@ -153,4 +201,20 @@ fn tiling_stat_pixel(px: TilingPixel) {
         case 2u: { tiling_stat(TILING_STAT_OUT_OF_RANGE, 1u); }
         default: { tiling_stat(TILING_STAT_VALID, 1u); }
     }
+}
+
+// The number of pixels of the quad before pixel k with key keys[k], and whether pixel k is
+// the first with it (then it adds the quad's count, `tiling_quad_key_count`).
+fn tiling_quad_key_rank(keys: vec4<u32>, k: u32) -> u32 {
+    var r = 0u;
+    for (var j = 0u; j < k; j++) {
+        r += select(0u, 1u, keys[j] == keys[k]);
+    }
+    return r;
+}
+
+// The pixels of the quad with key keys[k].
+fn tiling_quad_key_count(keys: vec4<u32>, k: u32) -> u32 {
+    let same = keys == vec4<u32>(keys[k]);
+    return dot(select(vec4<u32>(0u), vec4<u32>(1u), same), vec4<u32>(1u));
 }
