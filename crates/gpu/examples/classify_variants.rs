@@ -74,6 +74,14 @@ fn main() -> anyhow::Result<()> {
             variant(&[], &[("TILING_HIST_LIMIT", 0.0)], &[]),
         ),
         (
+            "finalize: vis loads only",
+            variant(&["timing_load_only"], &[], &[]),
+        ),
+        (
+            "finalize: no table row (decode from the word)",
+            variant(&["timing_no_table"], &[], &[]),
+        ),
+        (
             "no workgroup stats atomics",
             variant(&["timing_omit_stats"], &[], &[]),
         ),
@@ -114,12 +122,15 @@ fn main() -> anyhow::Result<()> {
         let g = r.read_classification(&prepared)?;
         let (_, mismatch) = r.classification_statistics(&prepared, &g)?;
         println!(
-            "{name:<52} finalize {:>6.3}  mid {:>6.3} (count_pixels {:>6.3})  output {:>6.3} (write_commands {:>6.3}) ms  equal to the CPU twin: {}",
+            "{name:<52} finalize {:>6.3}  mid {:>6.3} (count_pixels {:>6.3})  output {:>6.3} (commands {:>6.3}) ms  equal to the CPU twin: {}",
             get("laydown_finalize"),
             get("counter_offsets_pass") + get("count_pixels") + get("pixel_offsets_pass"),
             get("count_pixels"),
-            get("write_commands") + get("entry_waves") + get("write_waves"),
-            get("write_commands"),
+            get("write_commands")
+                + get("scatter_commands")
+                + get("entry_waves")
+                + get("write_waves"),
+            get("write_commands") + get("scatter_commands"),
             if mismatch.is_none() { "yes" } else { "no" }
         );
     }

@@ -117,6 +117,26 @@ const fn per_quad(name: &'static str) -> Entry<TilingParams> {
     Entry::grid(name, 16, 16, quads)
 }
 
+/// [`quads`] with a validity mask (`write_commands` classifies the final mask), none
+/// without.
+fn quads_with_validity(p: &TilingParams) -> [u32; 2] {
+    if p.flags & crate::classify::FLAG_VALIDITY != 0 {
+        quads(p)
+    } else {
+        [0, 0]
+    }
+}
+
+/// [`quads`] without a validity mask (`scatter_commands` places mid classify's records),
+/// none with one.
+fn quads_without_validity(p: &TilingParams) -> [u32; 2] {
+    if p.flags & crate::classify::FLAG_VALIDITY == 0 {
+        quads(p)
+    } else {
+        [0, 0]
+    }
+}
+
 /// (tile, pass) entries of a frame: `tiles * passes`.
 fn entries(p: &TilingParams) -> u32 {
     p.tiles_x * p.tiles_y * p.pass_count
@@ -149,7 +169,7 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
     name: "classify 1: laydown finalize",
     module: "tiling::laydown_finalize",
     library: LIBRARY,
-    features: &["timing_omit_stats"],
+    features: &["timing_omit_stats", "timing_load_only", "timing_no_table"],
     groups: &[Group {
         name: "classification",
         bindings: &join::<4, 1, 5>(PIXEL_BINDINGS, [Binding::new("masks", Kind::read_write(4))]),
@@ -171,9 +191,11 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
 /// | `indices` | the index buffer the table's `first_index` points into | `u32` |
 /// | `totals` | `counter_count`, `command_count` | [`Totals`] |
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
+/// | `slots` | `width * height`: each pixel's record (WGSL `TILING_RECORD_*`: its command's slot and counter, or its kind) | `u32` |
 ///
 /// `counter_offsets_pass` (one workgroup) writes `counter_offsets` and
-/// `totals.counter_count`; `count_pixels` (per pixel) `counts`, `vertex_cull`, `stats`;
+/// `totals.counter_count`; `count_pixels` (per quad) `counts`, `vertex_cull`, `stats`,
+/// `slots`;
 /// `pixel_offsets_pass` (one workgroup) `pixel_offsets` and `totals.command_count`.
 pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     name: "classify 2: mid classify",
@@ -187,7 +209,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     ],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 6, 12>(
+        bindings: &join::<6, 7, 13>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read_write(4)),
@@ -196,6 +218,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
                 Binding::new("indices", Kind::read(4)),
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
+                Binding::new("slots", Kind::read_write(4)),
             ],
         ),
     }],
@@ -223,8 +246,12 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
 ///
 /// | `wave_scratch` | [`wave_scratch_words`], zeroed | `atomic<u32>` |
+/// | `slots` | phase 2's | `u32` |
 ///
-/// `write_commands` (per pixel) writes `final_counts`, `commands`, `stats`;
+/// With a validity mask (the mixed frame: the mask changed since phase 2),
+/// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
+/// `stats`; without one `scatter_commands` (per quad) writes each pixel's command at the
+/// slot phase 2 recorded (`commands`, `stats`; the final counts are the counts);
 /// `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a workgroup) clamps
 /// `final_counts` to the counts, sums waves per entry, block and pass into `wave_scratch`,
 /// and its last workgroup writes the blocks' first waves, `passes` and `totals.wave_count`;
@@ -236,7 +263,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     features: &["subgroups", "timing_omit_stats", "timing_store_commands"],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 10, 16>(
+        bindings: &join::<6, 11, 17>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read(4)),
@@ -249,11 +276,13 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
                 Binding::new("wave_scratch", Kind::read_write(4)),
+                Binding::new("slots", Kind::read(4)),
             ],
         ),
     }],
     entries: &[
-        per_quad("write_commands"),
+        Entry::grid("write_commands", 16, 16, quads_with_validity),
+        Entry::grid("scatter_commands", 16, 16, quads_without_validity),
         Entry::items("entry_waves", ENTRY_BLOCK, entries),
         // A workgroup per entry, in rows of MAX_WORKGROUPS_X.
         Entry::grid("write_waves", ITEMS_WORKGROUP_SIZE, 1, |p| {

@@ -179,7 +179,9 @@ impl Classify {
                 if self.skip.contains(&step.entry.name) {
                     continue;
                 }
-                if let Some([x, y, z]) = phase.workgroups(step, &b.params) {
+                if let Some([x, y, z]) = phase.workgroups(step, &b.params)
+                    && x * y * z != 0
+                {
                     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some(phase.pass.name),
                         timestamp_writes: timer.compute(step.entry.name),
@@ -251,6 +253,8 @@ pub(crate) struct Buffers {
     pub stats_out: wgpu::Buffer,
     /// Classify output's per-entry, per-block and per-pass wave sums.
     pub wave_scratch: wgpu::Buffer,
+    /// Mid classify's record of each pixel (its command's slot), for classify output.
+    pub slots: wgpu::Buffer,
     _kept: [wgpu::Buffer; 3],
     zero_groups: Vec<(wgpu::BindGroup, u32)>,
     /// The validity bitmask's fill with ones and its word count (the mixed frame only).
@@ -382,6 +386,7 @@ impl Buffers {
                 tiling::wgsl::wave_scratch_words(s.tiles, s.passes),
                 none,
             )?,
+            slots: zeroed("pixel records", s.width * s.height, none)?,
             sizes,
             config,
             params,
@@ -413,6 +418,7 @@ impl Buffers {
                 "waves" => &b.waves,
                 "passes" => &b.pass_dispatch,
                 "wave_scratch" => &b.wave_scratch,
+                "slots" => &b.slots,
                 _ => return None,
             })
         };

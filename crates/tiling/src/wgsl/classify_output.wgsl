@@ -1,6 +1,7 @@
 // tiling: phase 3, classify output (Rust twin: tiling::classify_output). Three entry
 // points, in this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
-//   write_commands     pixel (or quad) commands
+//   write_commands     pixel (or quad) commands, with a validity mask (the mixed frame)
+//   scatter_commands   the same without one, from mid classify's per-pixel records
 //   entry_waves        final counts, waves per (tile, pass) entry and block, pass dispatches
 //   write_waves        wave offsets and wave commands
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
@@ -30,6 +31,14 @@
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
 // entry_waves' sums (layout above tiling_entry_count). Zero first.
 @group(0) @binding(15) var<storage, read_write> wave_scratch: array<atomic<u32>>;
+// count_pixels' record of each pixel (TILING_RECORD_*, tiling::pixel).
+@group(0) @binding(16) var<storage, read> slots: array<u32>;
+
+// Whether the frame has a validity mask (the mixed frame): then write_commands classifies
+// the final mask again; without one scatter_commands places count_pixels' records.
+fn tiling_has_validity() -> bool {
+    return (params.flags & TILING_FLAG_VALIDITY) != 0u;
+}
 
 // Writes command `cmd` at `slot` of counter `c` (two 16-bit commands per word) when the
 // counter has room for it, and counts it as written or dropped.
@@ -93,27 +102,11 @@ fn write_commands(
         var ranks = vec4<u32>(0u);
         var slots = vec4<u32>(0u);
         var counters = vec4<u32>(0u);
-        // One shared atomic per key of the quad: its first pixel takes the quad's slots,
-        // the others follow it.
         for (var k = 0u; k < 4u; k++) {
-            if (keys[k] == TILING_NONE) {
-                continue;
-            }
-            let r = tiling_quad_key_rank(keys, k);
-            if (r == 0u) {
+            if (keys[k] != TILING_NONE) {
                 counters[k] = tiling_counter_of(tile, keys[k]);
                 slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
-                ranks[k] = atomicAdd(&tiling_hist[slots[k]], tiling_quad_key_count(keys, k));
-            } else {
-                var first = 0u;
-                for (var j = k; j > 0u; j--) {
-                    if (keys[j - 1u] == keys[k]) {
-                        first = j - 1u;
-                    }
-                }
-                counters[k] = counters[first];
-                slots[k] = slots[first];
-                ranks[k] = ranks[first] + r;
+                ranks[k] = atomicAdd(&tiling_hist[slots[k]], 1u);
             }
         }
         workgroupBarrier();
@@ -155,7 +148,7 @@ fn write_commands(
             }
         }
     }
-    tiling_stats_to_workgroup(li);
+    workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
         if (v != 0u) {
@@ -222,6 +215,51 @@ fn tiling_scratch_add(i: u32, v: u32) {
     }
 }
 
+// Frames without a validity mask: every pixel's command from its record, at the slot mid
+// classify took for it (no decode, no histogram: mid and output classify alike).
+@compute @workgroup_size(16, 16)
+fn scatter_commands(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    var records = vec4<u32>(0u);
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        let i = p.y * params.width + p.x;
+        if (p.x < params.width && p.y < params.height && i < arrayLength(&slots)) {
+            records[k] = slots[i];
+        }
+    }
+    tiling_stats_begin(li);
+    let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x >= params.width || p.y >= params.height) {
+            continue;
+        }
+        let r = records[k];
+        if ((r & TILING_RECORD_COMMAND) != 0u) {
+            tiling_stat(TILING_STAT_VALID, 1u);
+            let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
+            let mask = (r >> TILING_RECORD_MASK_SHIFT) & 15u;
+            tiling_put_command(c, r & TILING_RECORD_SLOT_MASK, tiling_command(p.x, p.y, mask));
+        } else {
+            tiling_stat_pixel(TilingPixel(r & 3u, 0u, 0u, 0u, 0u));
+            if ((r & TILING_RECORD_DROPPED) != 0u) {
+                tiling_stat(TILING_STAT_DROPPED, 1u);
+            }
+        }
+    }
+    workgroupBarrier();
+    if (li < TILING_STAT_COUNT) {
+        let v = atomicLoad(&tiling_wg_stats[li]);
+        if (v != 0u) {
+            atomicAdd(&stats[li], v);
+        }
+    }
+}
+
 var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 var<workgroup> tiling_wg_last: u32;
@@ -255,7 +293,11 @@ fn entry_waves(
         while (bits != 0u) {
             bits &= bits - 1u;
             if (tiling_counter_in_buffers(c)) {
-                let f = min(atomicLoad(&final_counts[c]), counts[c]);
+                // scatter_commands writes every counted command and keeps no final counts.
+                var f = counts[c];
+                if (tiling_has_validity()) {
+                    f = min(atomicLoad(&final_counts[c]), f);
+                }
                 atomicStore(&final_counts[c], f);
                 waves += tiling_waves_of(f);
                 items += f;

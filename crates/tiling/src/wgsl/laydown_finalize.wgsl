@@ -18,11 +18,18 @@ fn laydown_finalize(
     atomicStore(&tiling_wg_masks[li], 0u);
     let words = tiling_quad_words(gid);
     workgroupBarrier();
+#if timing_load_only
+    atomicOr(&tiling_wg_masks[0], (words.x ^ words.y ^ words.z ^ words.w) & 1u);
+#else
     for (var k = 0u; k < 4u; k++) {
         let p = tiling_quad_pixel(gid, k);
         if (p.x < params.width && p.y < params.height) {
             let i = p.y * params.width + p.x;
+#if timing_no_table
+            var px = TilingPixel(select(TILING_PX_VALID, TILING_PX_EMPTY, words[k] == VISBUF_NONE), visbuf_micro_batch(words[k]) % 64u, 0u, 0u, 0u);
+#else
             let px = tiling_decode(words[k], i);
+#endif
             // Read first: the block's pixels set few bits, and a shared atomic per pixel on
             // the same word serialises the workgroup.
             let slot = px.pg / TILING_MAX_BATCH_GROUPS;
@@ -32,6 +39,7 @@ fn laydown_finalize(
             }
         }
     }
+#endif
     workgroupBarrier();
     let tile = tiling_block_tile(wid);
     if (li < params.pass_count) {

@@ -22,6 +22,15 @@
 @group(0) @binding(10) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of count_pixels. Zero before count_pixels.
 @group(0) @binding(11) var<storage, read_write> stats: array<atomic<u32>, 8>;
+// Per pixel, row-major: its record (TILING_RECORD_*, tiling::pixel), for classify output.
+@group(0) @binding(12) var<storage, read_write> slots: array<u32>;
+
+fn tiling_put_record(x: u32, y: u32, record: u32) {
+    let i = y * params.width + x;
+    if (i < arrayLength(&slots)) {
+        slots[i] = record;
+    }
+}
 
 @compute @workgroup_size(256)
 fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
@@ -162,11 +171,11 @@ fn count_pixels(
     let words = tiling_quad_words(gid);
     tiling_stats_begin(li);
     let tile = tiling_block_tile(wid);
-    // The (pass, group) key of each pixel of the quad that gets a command.
+    // The (pass, group) key of each pixel of the quad that gets a command (its sample mask
+    // in `masks4`), and the record of each that does not.
     var keys = vec4<u32>(TILING_NONE);
-    // Per run start of the quad: 1 when its triangle's indices are bad, 0 when not (2: not
-    // a run start).
-    var verdicts = vec4<u32>(2u);
+    var masks4 = vec4<u32>(0u);
+    var records = vec4<u32>(TILING_PX_EMPTY);
     for (var k = 0u; k < 4u; k++) {
         let p = tiling_quad_pixel(gid, k);
         if (p.x >= params.width || p.y >= params.height) {
@@ -176,53 +185,57 @@ fn count_pixels(
         let word = words[k];
         let px = tiling_decode(word, i);
         tiling_stat_pixel(px);
+        records[k] = px.kind;
         if (px.kind != TILING_PX_VALID) {
             continue;
         }
 #if !timing_omit_index_reads
-        if (tiling_run_start(words, k, p.x, p.y, word)) {
-            // A run start whose word an earlier run start of the quad holds: same
-            // triangle, same verdict, its chunks marked already.
-            var verdict = 2u;
-            for (var j = 0u; j < k; j++) {
-                if (words[j] == word && verdicts[j] != 2u) {
-                    verdict = verdicts[j];
-                }
-            }
-            if (verdict == 2u) {
-                verdict = select(1u, 0u, tiling_mark_triangle(px));
-            }
-            verdicts[k] = verdict;
-            tiling_stat(TILING_STAT_BAD_INDICES, verdict);
+        if (tiling_run_start(words, k, p.x, p.y, word) && !tiling_mark_triangle(px)) {
+            tiling_stat(TILING_STAT_BAD_INDICES, 1u);
         }
 #endif
-        if (tiling_sample_mask(p.x, p.y, word) != 0u) {
+        let mask = tiling_sample_mask(p.x, p.y, word);
+        if (mask != 0u) {
             let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
             if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
                 keys[k] = px.pg;
+                masks4[k] = mask;
                 tiling_stat(TILING_STAT_COMMANDS, 1u);
             } else {
+                records[k] |= TILING_RECORD_DROPPED;
                 tiling_stat(TILING_STAT_DROPPED, 1u);
             }
         }
     }
+    // Each command's slot within its counter, as classify output's write_commands takes
+    // them (the commands' order within a counter is free).
+    var counters = vec4<u32>(0u);
+    var slots4 = vec4<u32>(TILING_NONE);
     let range = tiling_tile_counters(tile, li);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
         atomicStore(&tiling_hist[li], 0u);
         workgroupBarrier();
-        // One shared atomic per key of the quad (its first pixel adds the quad's count).
+        var hist_slots = vec4<u32>(0u);
+        var ranks = vec4<u32>(0u);
         for (var k = 0u; k < 4u; k++) {
-            if (keys[k] != TILING_NONE && tiling_quad_key_rank(keys, k) == 0u) {
-                let c = tiling_counter_of(tile, keys[k]);
-                atomicAdd(&tiling_hist[min(c - range.x, TILING_HIST_SLOTS - 1u)], tiling_quad_key_count(keys, k));
+            if (keys[k] != TILING_NONE) {
+                counters[k] = tiling_counter_of(tile, keys[k]);
+                hist_slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
+                ranks[k] = atomicAdd(&tiling_hist[hist_slots[k]], 1u);
             }
         }
         workgroupBarrier();
         if (li < range.y) {
             let v = atomicLoad(&tiling_hist[li]);
             if (v != 0u && range.x + li < arrayLength(&counts)) {
-                atomicAdd(&counts[range.x + li], v);
+                tiling_hist_first[li] = atomicAdd(&counts[range.x + li], v);
+            }
+        }
+        workgroupBarrier();
+        for (var k = 0u; k < 4u; k++) {
+            if (keys[k] != TILING_NONE) {
+                slots4[k] = tiling_hist_first[hist_slots[k]] + ranks[k];
             }
         }
     } else {
@@ -238,20 +251,36 @@ fn count_pixels(
                     break;
                 }
                 let take = pending && key == next;
+                let c = tiling_counter_of(tile, next);
                 let a = wave_append_begin(take, li);
-                if (a.total != 0u) {
-                    let c = tiling_counter_of(tile, next);
-                    if (c < arrayLength(&counts)) {
-                        atomicAdd(&counts[c], a.total);
-                    }
+                var old = 0u;
+                if (a.total != 0u && c < arrayLength(&counts)) {
+                    old = atomicAdd(&counts[c], a.total);
                 }
+                let slot = wave_append_end(a, old);
                 if (take) {
                     pending = false;
+                    counters[k] = c;
+                    slots4[k] = slot;
                 }
             }
         }
     }
-    tiling_stats_to_workgroup(li);
+    for (var k = 0u; k < 4u; k++) {
+        let p = tiling_quad_pixel(gid, k);
+        if (p.x >= params.width || p.y >= params.height) {
+            continue;
+        }
+        var record = records[k];
+        let index = counters[k] - range.x;
+        // A slot or an index past its field (corrupt buffers) gets no command.
+        if (keys[k] != TILING_NONE && slots4[k] <= TILING_RECORD_SLOT_MASK && index <= TILING_RECORD_COUNTER_MASK) {
+            record = TILING_RECORD_COMMAND | slots4[k] | (index << TILING_RECORD_COUNTER_SHIFT)
+                | (masks4[k] << TILING_RECORD_MASK_SHIFT);
+        }
+        tiling_put_record(p.x, p.y, record);
+    }
+    workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
         if (v != 0u) {

@@ -42,6 +42,19 @@ fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
     return words;
 }
 
+// count_pixels' record of each pixel (the `slots` buffer), which classify output's
+// scatter_commands turns into a command without decoding the vis word again (frames
+// without a validity mask, where the two phases classify alike). With a command: bit 31,
+// the slot within its counter (bits 0-13: a counter holds at most 128 * 128 pixels), the
+// counter's index within its tile's (bits 14-26), the sample mask (bits 27-30). Without
+// one: the pixel's TILING_PX_* kind (bits 0-1) and TILING_RECORD_DROPPED.
+const TILING_RECORD_COMMAND: u32 = 1u << 31u;
+const TILING_RECORD_DROPPED: u32 = 4u;
+const TILING_RECORD_COUNTER_SHIFT: u32 = 14u;
+const TILING_RECORD_SLOT_MASK: u32 = (1u << TILING_RECORD_COUNTER_SHIFT) - 1u;
+const TILING_RECORD_MASK_SHIFT: u32 = 27u;
+const TILING_RECORD_COUNTER_MASK: u32 = (1u << (TILING_RECORD_MASK_SHIFT - TILING_RECORD_COUNTER_SHIFT)) - 1u;
+
 const TILING_PX_EMPTY: u32 = 0u;
 const TILING_PX_UNKNOWN: u32 = 1u;
 const TILING_PX_OUT_OF_RANGE: u32 = 2u;
@@ -155,11 +168,10 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
     return tx | (ty << TILING_PIXEL_Y_SHIFT);
 }
 
-// Stats: counted per invocation, summed per subgroup (or added per invocation without
-// subgroups) into the workgroup's, flushed with one global atomic per field. One shared
-// atomic per pixel on the same word serialises the workgroup.
+// Per-workgroup stats, flushed with one atomic per field. (Counting per invocation and
+// summing per subgroup first measured slower on the H200: the passes are bound by
+// instructions and latency, not by these shared atomics.)
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
-var<private> tiling_local_stats: array<u32, 8>;
 
 fn tiling_stats_begin(li: u32) {
     if (li < TILING_STAT_COUNT) {
@@ -169,28 +181,12 @@ fn tiling_stats_begin(li: u32) {
 }
 
 fn tiling_stat(field: u32, n: u32) {
-// Timing experiment only (gpu's `classify_variants`): no stats, wrong stats.
+// Timing experiment only (gpu's `classify_variants`): no stats atomics, wrong stats.
 #if !timing_omit_stats
-    tiling_local_stats[field] += n;
-#endif
-}
-
-// Adds every invocation's stats into the workgroup's. Call from every invocation (uniform
-// control flow); a barrier follows, so tiling_wg_stats is complete after it.
-fn tiling_stats_to_workgroup(li: u32) {
-    for (var f = 0u; f < TILING_STAT_COUNT; f++) {
-#if subgroups
-        let total = subgroupAdd(tiling_local_stats[f]);
-        if (total != 0u && subgroupBroadcastFirst(li) == li) {
-            atomicAdd(&tiling_wg_stats[f], total);
-        }
-#else
-        if (tiling_local_stats[f] != 0u) {
-            atomicAdd(&tiling_wg_stats[f], tiling_local_stats[f]);
-        }
-#endif
+    if (n != 0u) {
+        atomicAdd(&tiling_wg_stats[field], n);
     }
-    workgroupBarrier();
+#endif
 }
 
 // Counts the pixel's kind.
@@ -201,20 +197,4 @@ fn tiling_stat_pixel(px: TilingPixel) {
         case 2u: { tiling_stat(TILING_STAT_OUT_OF_RANGE, 1u); }
         default: { tiling_stat(TILING_STAT_VALID, 1u); }
     }
-}
-
-// The number of pixels of the quad before pixel k with key keys[k], and whether pixel k is
-// the first with it (then it adds the quad's count, `tiling_quad_key_count`).
-fn tiling_quad_key_rank(keys: vec4<u32>, k: u32) -> u32 {
-    var r = 0u;
-    for (var j = 0u; j < k; j++) {
-        r += select(0u, 1u, keys[j] == keys[k]);
-    }
-    return r;
-}
-
-// The pixels of the quad with key keys[k].
-fn tiling_quad_key_count(keys: vec4<u32>, k: u32) -> u32 {
-    let same = keys == vec4<u32>(keys[k]);
-    return dot(select(vec4<u32>(0u), vec4<u32>(1u), same), vec4<u32>(1u));
 }
