@@ -392,3 +392,61 @@ fn command_and_tile_unpacking_match_the_cpu() {
         );
     }
 }
+
+/// `tiling::common`'s saturating product (the chunk arithmetic of mid classify and the
+/// vertex waves) against a 64-bit product, on random operands of every bit length and the
+/// edges of the wrap.
+#[test]
+fn saturating_product_matches_a_64_bit_one() {
+    let mut rng = Rng::new(0x6d75_6c73);
+    let mut input = Vec::new();
+    let edges = [
+        0u32,
+        1,
+        2,
+        65_535,
+        65_536,
+        65_537,
+        0xffff_ffff,
+        0x8000_0000,
+        4_294_967_295 / 3,
+    ];
+    for &a in &edges {
+        for &b in &edges {
+            input.extend_from_slice(&[a, b]);
+        }
+    }
+    for _ in 0..20_000 {
+        let a = rng.next_u32() >> (rng.next_u32() % 32);
+        let b = rng.next_u32() >> (rng.next_u32() % 32);
+        input.extend_from_slice(&[a, b]);
+    }
+    // Products just below and at 2^32.
+    input.extend_from_slice(&[
+        65_536,
+        65_535,
+        65_536,
+        65_536,
+        4_294_967_295,
+        1,
+        3,
+        1_431_655_765,
+        3,
+        1_431_655_766,
+    ]);
+    let n = (input.len() / 2) as u32;
+    let out = testkit::device::run_words(
+        &[tiling::wgsl::MODULES],
+        "#import tiling::common",
+        "output[i] = tiling_mul_sat(input[2u * i], input[2u * i + 1u]);",
+        &input,
+        n,
+        1,
+        &[],
+    );
+    for (j, pair) in input.chunks_exact(2).enumerate() {
+        let p = u64::from(pair[0]) * u64::from(pair[1]);
+        let want = u32::try_from(p).unwrap_or(u32::MAX);
+        assert_eq!(out[j], want, "{} * {}", pair[0], pair[1]);
+    }
+}
