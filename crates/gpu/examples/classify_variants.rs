@@ -90,6 +90,10 @@ fn main() -> anyhow::Result<()> {
             variant(&["timing_store_commands"], &[], &[]),
         ),
         (
+            "mid: no per-pixel records",
+            variant(&["timing_omit_records"], &[], &[]),
+        ),
+        (
             "no vertex-cull atomics",
             variant(&["timing_omit_cull_marks"], &[], &[]),
         ),

@@ -206,6 +206,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
         "timing_omit_stats",
         "timing_omit_cull_marks",
         "timing_omit_index_reads",
+        "timing_omit_records",
     ],
     groups: &[Group {
         name: "classification",
@@ -247,11 +248,13 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 ///
 /// | `wave_scratch` | [`wave_scratch_words`], zeroed | `atomic<u32>` |
 /// | `slots` | phase 2's | `u32` |
+/// | `mid_stats` | phase 2's `stats` | [`PixelStats`] |
 ///
 /// With a validity mask (the mixed frame: the mask changed since phase 2),
 /// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
 /// `stats`; without one `scatter_commands` (per quad) writes each pixel's command at the
-/// slot phase 2 recorded (`commands`, `stats`; the final counts are the counts);
+/// slot phase 2 recorded (`commands`; the final counts are the counts, and `stats` phase
+/// 2's, written by `entry_waves`, with commands that found no room moved to dropped);
 /// `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a workgroup) clamps
 /// `final_counts` to the counts, sums waves per entry, block and pass into `wave_scratch`,
 /// and its last workgroup writes the blocks' first waves, `passes` and `totals.wave_count`;
@@ -263,7 +266,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     features: &["subgroups", "timing_omit_stats", "timing_store_commands"],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 11, 17>(
+        bindings: &join::<6, 12, 18>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read(4)),
@@ -277,6 +280,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
                 Binding::new("wave_scratch", Kind::read_write(4)),
                 Binding::new("slots", Kind::read(4)),
+                Binding::new("mid_stats", Kind::read(size_of::<PixelStats>())),
             ],
         ),
     }],

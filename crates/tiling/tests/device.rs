@@ -190,6 +190,7 @@ fn classification_case(
                     Data::Zeros(tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize),
                 ),
                 ("slots", Data::Words(&slots)),
+                ("mid_stats", Data::Bytes(bytemuck::bytes_of(&cpu.mid.stats))),
             ],
         ),
     );

@@ -419,6 +419,7 @@ impl Buffers {
                 "passes" => &b.pass_dispatch,
                 "wave_scratch" => &b.wave_scratch,
                 "slots" => &b.slots,
+                "mid_stats" => &b.stats_mid,
                 _ => return None,
             })
         };

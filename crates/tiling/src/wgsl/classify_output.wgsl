@@ -33,6 +33,9 @@
 @group(0) @binding(15) var<storage, read_write> wave_scratch: array<atomic<u32>>;
 // count_pixels' record of each pixel (TILING_RECORD_*, tiling::pixel).
 @group(0) @binding(16) var<storage, read> slots: array<u32>;
+// Mid classify's tiling::PixelStats: without a validity mask both phases classify alike,
+// and entry_waves derives this phase's stats from them.
+@group(0) @binding(17) var<storage, read> mid_stats: array<u32, 8>;
 
 // Whether the frame has a validity mask (the mixed frame): then write_commands classifies
 // the final mask again; without one scatter_commands places count_pixels' records.
@@ -231,51 +234,30 @@ fn scatter_commands(
             records[k] = slots[i];
         }
     }
-    tiling_stats_begin(li);
     let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
-    // Stats counted in registers (per TILING_PX_* kind, commands placed, dropped), added to
-    // the workgroup's once per invocation: a shared atomic per pixel on the same words
-    // cost this lean pass a third of its time.
-    var kinds = vec4<u32>(0u);
-    var placed = 0u;
-    var dropped = 0u;
+    // No per-pixel stats: the pixels classify as in mid classify (entry_waves copies its
+    // stats); only commands that find no room here (corrupt counts) are counted, dropped.
+    var lost = 0u;
     for (var k = 0u; k < 4u; k++) {
         let p = tiling_quad_pixel(gid, k);
-        if (p.x >= params.width || p.y >= params.height) {
+        let r = records[k];
+        if (p.x >= params.width || p.y >= params.height || (r & TILING_RECORD_COMMAND) == 0u) {
             continue;
         }
-        let r = records[k];
-        if ((r & TILING_RECORD_COMMAND) != 0u) {
-            kinds.w += 1u;
-            let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
-            let slot = r & TILING_RECORD_SLOT_MASK;
-            if (c < arrayLength(&counts) && slot < counts[c]) {
-                let at = pixel_offsets[c] + slot;
-                if (at / 2u < arrayLength(&commands)) {
-                    let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
-                    atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
-                }
-                placed += 1u;
-            } else {
-                dropped += 1u;
+        let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
+        let slot = r & TILING_RECORD_SLOT_MASK;
+        if (c < arrayLength(&counts) && slot < counts[c]) {
+            let at = pixel_offsets[c] + slot;
+            if (at / 2u < arrayLength(&commands)) {
+                let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
+                atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
             }
         } else {
-            kinds += select(vec4<u32>(0u), vec4<u32>(1u), vec4<u32>(r & 3u) == vec4<u32>(0u, 1u, 2u, 3u));
-            dropped += select(0u, 1u, (r & TILING_RECORD_DROPPED) != 0u);
+            lost += 1u;
         }
     }
-    tiling_stat(TILING_STAT_EMPTY, kinds.x);
-    tiling_stat(TILING_STAT_UNKNOWN, kinds.y);
-    tiling_stat(TILING_STAT_OUT_OF_RANGE, kinds.z);
-    tiling_stat(TILING_STAT_VALID, kinds.w);
-    tiling_stat(TILING_STAT_COMMANDS, placed);
-    tiling_stat(TILING_STAT_DROPPED, dropped);
-    workgroupBarrier();
-    if (li < TILING_STAT_COUNT) {
-        let v = atomicLoad(&tiling_wg_stats[li]);
-        if (v != 0u) {
-            atomicAdd(&stats[li], v);
-        }
+    if (lost != 0u) {
+        atomicAdd(&stats[TILING_STAT_DROPPED], lost);
     }
 }
 
@@ -372,6 +354,17 @@ fn entry_waves(
     }
     if (li == 0u) {
         totals.wave_count = scan.y;
+    }
+    // Without a validity mask scatter_commands kept no stats but its lost commands: the
+    // rest are mid classify's (no index reads in this phase).
+    if (!tiling_has_validity() && li == 0u) {
+        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
+        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
+            atomicStore(&stats[f], mid_stats[f]);
+        }
+        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
+        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
+        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
     }
 }
 

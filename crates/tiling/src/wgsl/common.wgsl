@@ -172,19 +172,21 @@ fn tiling_add_sat(a: u32, b: u32) -> u32 {
 // a * b, or TILING_NONE when it would wrap. Exact through 16-bit halves: a division by a
 // variable costs tens of instructions on the per-pixel paths.
 fn tiling_mul_sat(a: u32, b: u32) -> u32 {
-    let ah = a >> 16u;
-    let al = a & 65535u;
-    let bh = b >> 16u;
-    let bl = b & 65535u;
+    let half = 16u;
+    let low = (1u << half) - 1u;
+    let ah = a >> half;
+    let al = a & low;
+    let bh = b >> half;
+    let bl = b & low;
     if (ah != 0u && bh != 0u) {
         return TILING_NONE;
     }
     // One of ah, bh is 0, so this is below 2^32.
     let cross = ah * bl + al * bh;
-    if (cross > 65535u) {
+    if (cross > low) {
         return TILING_NONE;
     }
-    return tiling_add_sat(al * bl, cross << 16u);
+    return tiling_add_sat(al * bl, cross << half);
 }
 
 // A workgroup-wide exclusive prefix sum over 256 invocations (Hillis-Steele in workgroup

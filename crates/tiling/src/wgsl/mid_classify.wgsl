@@ -26,6 +26,9 @@
 @group(0) @binding(12) var<storage, read_write> slots: array<u32>;
 
 fn tiling_put_record(x: u32, y: u32, record: u32) {
+#if timing_omit_records
+    return;
+#endif
     let i = y * params.width + x;
     if (i < arrayLength(&slots)) {
         slots[i] = record;
