@@ -137,14 +137,34 @@ fn quads_without_validity(p: &TilingParams) -> [u32; 2] {
     }
 }
 
+/// Words of mid classify's `offset_scratch` for `tiles` tiles and `passes` passes: a
+/// workgroup counter and three pad words, each (tile, pass) entry's offset within its
+/// block of [`ENTRY_BLOCK`], one sum per block (WGSL `tiling_offset_*`).
+#[must_use]
+pub const fn offset_scratch_words(tiles: u32, passes: u32) -> u32 {
+    let n = tiles * passes;
+    SCRATCH_HEADER_WORDS + n + n.div_ceil(ENTRY_BLOCK)
+}
+
+/// 2x2 quads of a `width x height` vis buffer (`slots` elements): `ceil(width / 2) *
+/// ceil(height / 2)`.
+#[must_use]
+pub const fn record_quads(width: u32, height: u32) -> u32 {
+    width.div_ceil(2) * height.div_ceil(2)
+}
+
 /// (tile, pass) entries of a frame: `tiles * passes`.
 fn entries(p: &TilingParams) -> u32 {
     p.tiles_x * p.tiles_y * p.pass_count
 }
 
-/// Pass-major (tile, pass) entries a workgroup of `entry_waves` sums (WGSL
-/// `TILING_ENTRY_BLOCK`).
+/// (tile, pass) entries a workgroup of the block scans sums (`counter_offsets_pass`,
+/// `entry_waves`; WGSL `TILING_ENTRY_BLOCK`).
 pub const ENTRY_BLOCK: u32 = 256;
+
+/// Words before the entries in `offset_scratch` and `wave_scratch`: a workgroup counter and
+/// pad (WGSL `TILING_SCRATCH_ENTRIES`).
+pub const SCRATCH_HEADER_WORDS: u32 = 4;
 
 /// Words of classify output's `wave_scratch` for `tiles` tiles and `passes` passes: a
 /// workgroup counter and three pad words, the waves of every (tile, pass) entry, one sum
@@ -153,7 +173,7 @@ pub const ENTRY_BLOCK: u32 = 256;
 #[must_use]
 pub const fn wave_scratch_words(tiles: u32, passes: u32) -> u32 {
     let n = tiles * passes;
-    4 + n + n.div_ceil(ENTRY_BLOCK) + 2 * passes
+    SCRATCH_HEADER_WORDS + n + n.div_ceil(ENTRY_BLOCK) + 2 * passes
 }
 
 /// Phase 1, laydown finalise: per (tile, pass) the batch groups used.
@@ -191,11 +211,14 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
 /// | `indices` | the index buffer the table's `first_index` points into | `u32` |
 /// | `totals` | `counter_count`, `command_count` | [`Totals`] |
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
-/// | `slots` | `width * height`: each pixel's record (WGSL `TILING_RECORD_*`: its command's slot and counter, or its kind) | `u32` |
+/// | `slots` | [`record_quads`]: each 2x2 quad's pixel records (WGSL `TILING_RECORD_*`: a command's slot and counter, or the pixel's kind) | `vec4<u32>` |
 ///
-/// `counter_offsets_pass` (one workgroup) writes `counter_offsets` and
-/// `totals.counter_count`; `count_pixels` (per quad) `counts`, `vertex_cull`, `stats`,
-/// `slots`;
+/// | `offset_scratch` | [`offset_scratch_words`], zeroed | `atomic<u32>` |
+///
+/// `counter_offsets_pass` (per (tile, pass) entry, [`ENTRY_BLOCK`] a workgroup) writes the
+/// entries' offsets within their blocks and the blocks' first counters into
+/// `offset_scratch`, and `totals.counter_count`; `count_pixels` (per quad) `counts`,
+/// `vertex_cull`, `stats`, `slots` and, from the tile's first block, `counter_offsets`;
 /// `pixel_offsets_pass` (one workgroup) `pixel_offsets` and `totals.command_count`.
 pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     name: "classify 2: mid classify",
@@ -210,7 +233,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     ],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 7, 13>(
+        bindings: &join::<6, 8, 14>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read_write(4)),
@@ -219,16 +242,17 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
                 Binding::new("indices", Kind::read(4)),
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
-                Binding::new("slots", Kind::read_write(4)),
+                Binding::new("slots", Kind::read_write(16)),
+                Binding::new("offset_scratch", Kind::read_write(4)),
             ],
         ),
     }],
     entries: &[
-        Entry::once("counter_offsets_pass", 256),
+        Entry::items("counter_offsets_pass", ENTRY_BLOCK, entries),
         per_quad("count_pixels"),
         Entry::once("pixel_offsets_pass", 256),
     ],
-    zeroed: &["counts", "vertex_cull", "stats"],
+    zeroed: &["counts", "vertex_cull", "stats", "offset_scratch"],
 };
 
 /// Phase 3, classify output (`subgroups`: `wave`'s subgroup appends).
@@ -247,7 +271,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
 ///
 /// | `wave_scratch` | [`wave_scratch_words`], zeroed | `atomic<u32>` |
-/// | `slots` | phase 2's | `u32` |
+/// | `slots` | phase 2's | `vec4<u32>` |
 /// | `mid_stats` | phase 2's `stats` | [`PixelStats`] |
 ///
 /// With a validity mask (the mixed frame: the mask changed since phase 2),
@@ -279,7 +303,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
                 Binding::new("stats", Kind::read_write(size_of::<PixelStats>())),
                 Binding::new("wave_scratch", Kind::read_write(4)),
-                Binding::new("slots", Kind::read(4)),
+                Binding::new("slots", Kind::read(16)),
                 Binding::new("mid_stats", Kind::read(size_of::<PixelStats>())),
             ],
         ),
@@ -432,6 +456,8 @@ mod tests {
                 stat(core::mem::offset_of!(PixelStats, bad_indices))
             ),
             ("TILING_STAT_COUNT", (size_of::<PixelStats>() / 4) as u32),
+            ("TILING_ENTRY_BLOCK", ENTRY_BLOCK),
+            ("TILING_SCRATCH_ENTRIES", SCRATCH_HEADER_WORDS),
         ]
     }
 

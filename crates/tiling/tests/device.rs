@@ -120,11 +120,18 @@ fn classification_case(
                 ("indices", Data::Words(indices)),
                 ("totals", zeros::<Totals>(1)),
                 ("stats", zeros::<PixelStats>(1)),
-                ("slots", Data::Zeros((w * h) as usize)),
+                (
+                    "slots",
+                    Data::Zeros(4 * tiling::wgsl::record_quads(w, h) as usize),
+                ),
+                (
+                    "offset_scratch",
+                    Data::Zeros(tiling::wgsl::offset_scratch_words(tiles as u32, p as u32) as usize),
+                ),
             ],
         ),
     );
-    let slots: Vec<u32> = p2.read("slots", (w * h) as usize);
+    let slots: Vec<u32> = p2.read("slots", 4 * tiling::wgsl::record_quads(w, h) as usize);
     assert_eq!(
         p2.read::<u32>("counter_offsets", tiles * p),
         cpu.mid.counter_offsets,

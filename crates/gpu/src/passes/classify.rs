@@ -255,6 +255,8 @@ pub(crate) struct Buffers {
     pub wave_scratch: wgpu::Buffer,
     /// Mid classify's record of each pixel (its command's slot), for classify output.
     pub slots: wgpu::Buffer,
+    /// Mid classify's per-entry and per-block counter sums.
+    pub offset_scratch: wgpu::Buffer,
     _kept: [wgpu::Buffer; 3],
     zero_groups: Vec<(wgpu::BindGroup, u32)>,
     /// The validity bitmask's fill with ones and its word count (the mixed frame only).
@@ -386,7 +388,16 @@ impl Buffers {
                 tiling::wgsl::wave_scratch_words(s.tiles, s.passes),
                 none,
             )?,
-            slots: zeroed("pixel records", s.width * s.height, none)?,
+            offset_scratch: zeroed(
+                "counter sums",
+                tiling::wgsl::offset_scratch_words(s.tiles, s.passes),
+                none,
+            )?,
+            slots: zeroed(
+                "pixel records",
+                4 * tiling::wgsl::record_quads(s.width, s.height),
+                none,
+            )?,
             sizes,
             config,
             params,
@@ -420,6 +431,7 @@ impl Buffers {
                 "wave_scratch" => &b.wave_scratch,
                 "slots" => &b.slots,
                 "mid_stats" => &b.stats_mid,
+                "offset_scratch" => &b.offset_scratch,
                 _ => return None,
             })
         };

@@ -31,11 +31,16 @@
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
 // entry_waves' sums (layout above tiling_entry_count). Zero first.
 @group(0) @binding(15) var<storage, read_write> wave_scratch: array<atomic<u32>>;
-// count_pixels' record of each pixel (TILING_RECORD_*, tiling::pixel).
-@group(0) @binding(16) var<storage, read> slots: array<u32>;
+// count_pixels' records, a vec4 per quad (TILING_RECORD_*, tiling::pixel).
+@group(0) @binding(16) var<storage, read> slots: array<vec4<u32>>;
 // Mid classify's tiling::PixelStats: without a validity mask both phases classify alike,
 // and entry_waves derives this phase's stats from them.
 @group(0) @binding(17) var<storage, read> mid_stats: array<u32, 8>;
+
+// The first counter of (tile, pass) entry e (keyed.wgsl).
+fn tiling_counter_offset(e: u32) -> u32 {
+    return counter_offsets[e];
+}
 
 // Whether the frame has a validity mask (the mixed frame): then write_commands classifies
 // the final mask again; without one scatter_commands places count_pixels' records.
@@ -180,8 +185,6 @@ fn tiling_counter_in_buffers(c: u32) -> bool {
 // then per pass-major entry its waves, then per block of TILING_ENTRY_BLOCK entries their
 // sum (the last workgroup turns these into the blocks' first waves), then per pass its
 // waves and its commands.
-const TILING_ENTRY_BLOCK: u32 = 256u;
-const TILING_SCRATCH_ENTRIES: u32 = 4u;
 
 fn tiling_entry_count() -> u32 {
     return params.tiles_x * params.tiles_y * params.pass_count;
@@ -227,12 +230,9 @@ fn scatter_commands(
     @builtin(local_invocation_index) li: u32,
 ) {
     var records = vec4<u32>(0u);
-    for (var k = 0u; k < 4u; k++) {
-        let p = tiling_quad_pixel(gid, k);
-        let i = p.y * params.width + p.x;
-        if (p.x < params.width && p.y < params.height && i < arrayLength(&slots)) {
-            records[k] = slots[i];
-        }
+    let q = tiling_quad_index(gid);
+    if (q < arrayLength(&slots)) {
+        records = slots[q];
     }
     let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
     // No per-pixel stats: the pixels classify as in mid classify (entry_waves copies its

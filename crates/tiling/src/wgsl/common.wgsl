@@ -26,6 +26,11 @@ const TILING_WAVE_TILE_Y_SHIFT: u32 = 16u;
 const TILING_WAVE_GROUP_SHIFT: u32 = 8u;
 // Bits of one pixel (or quad) command; two share a word of the command buffer.
 const TILING_COMMAND_BITS: u32 = 16u;
+// (tile, pass) entries a workgroup of the block scans sums (mid classify's
+// counter_offsets_pass, classify output's entry_waves), and the words before the entries in
+// their scratch buffers (a workgroup counter, pad).
+const TILING_ENTRY_BLOCK: u32 = 256u;
+const TILING_SCRATCH_ENTRIES: u32 = 4u;
 // "No key / no value": larger than any valid key, index or count.
 const TILING_NONE: u32 = 0xffffffffu;
 

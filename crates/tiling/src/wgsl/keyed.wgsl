@@ -12,7 +12,9 @@
 // Per (tile, pass): the batch groups used (phase 1's output).
 @group(0) @binding(4) var<storage, read> masks: array<u32>;
 // Per (tile, pass): first counter, the exclusive prefix sum of popcount(masks) (written by
-// mid classify's counter_offsets_pass, read by everything after it).
+// mid classify's count_pixels, read by everything after it). The importing module defines
+// `tiling_counter_offset(e)`, where this file reads it: mid classify from its block sums
+// (the final values are written while it runs), classify output from this buffer.
 @group(0) @binding(5) var<storage, read_write> counter_offsets: array<u32>;
 
 // One histogram slot per invocation of the 16x16 pixel workgroup (each zeroes its own).
@@ -34,8 +36,8 @@ fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
         let e0 = tile * params.pass_count;
         let e1 = e0 + params.pass_count - 1u;
         if (e1 < arrayLength(&masks) && e1 < arrayLength(&counter_offsets)) {
-            let first = counter_offsets[e0];
-            tiling_hist_range = vec2<u32>(first, counter_offsets[e1] + countOneBits(masks[e1]) - first);
+            let first = tiling_counter_offset(e0);
+            tiling_hist_range = vec2<u32>(first, tiling_counter_offset(e1) + countOneBits(masks[e1]) - first);
         } else {
             tiling_hist_range = vec2<u32>(0u, TILING_NONE);
         }
@@ -47,7 +49,7 @@ fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
 fn tiling_counter_of(tile: u32, k: u32) -> u32 {
     let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
     let g = k % TILING_MAX_BATCH_GROUPS;
-    return counter_offsets[e] + countOneBits(masks[e] & ((1u << g) - 1u));
+    return tiling_counter_offset(e) + countOneBits(masks[e] & ((1u << g) - 1u));
 }
 
 // The smallest key still pending in the workgroup (TILING_NONE when none is), the same in

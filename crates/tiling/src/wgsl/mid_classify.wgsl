@@ -1,7 +1,7 @@
 // tiling: phase 2, mid classify (Rust twin: tiling::mid_classify). Three entry points, in
 // this order (dispatches and zeroed buffers: `tiling::MID_CLASSIFY`):
-//   counter_offsets_pass  prefix sum of popcount(masks)
-//   count_pixels          counts + vertex cull buffer
+//   counter_offsets_pass  prefix sums of popcount(masks) per block of entries, and of blocks
+//   count_pixels          counts, vertex cull buffer, records, the final counter offsets
 //   pixel_offsets_pass    prefix sum of the counts
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
@@ -22,56 +22,104 @@
 @group(0) @binding(10) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of count_pixels. Zero before count_pixels.
 @group(0) @binding(11) var<storage, read_write> stats: array<atomic<u32>, 8>;
-// Per pixel, row-major: its record (TILING_RECORD_*, tiling::pixel), for classify output.
-@group(0) @binding(12) var<storage, read_write> slots: array<u32>;
+// counter_offsets_pass' sums (layout above tiling_counter_offset). Zero first.
+@group(0) @binding(13) var<storage, read_write> offset_scratch: array<atomic<u32>>;
 
-fn tiling_put_record(x: u32, y: u32, record: u32) {
+// Per 2x2 quad, row-major over ceil(width / 2) x ceil(height / 2): its pixels' records
+// (TILING_RECORD_*, tiling::pixel), pixel k in component k, for classify output. One
+// 16-byte store per invocation: four scalar stores two words apart cost 5x the bytes'
+// time on the H200 (partial sectors).
+@group(0) @binding(12) var<storage, read_write> slots: array<vec4<u32>>;
+
+fn tiling_put_records(gid: vec3<u32>, records: vec4<u32>) {
 #if timing_omit_records
     return;
 #endif
-    let i = y * params.width + x;
-    if (i < arrayLength(&slots)) {
-        slots[i] = record;
+    let q = tiling_quad_index(gid);
+    if (q < arrayLength(&slots)) {
+        slots[q] = records;
     }
 }
 
+// offset_scratch, in words (Rust: tiling::wgsl::offset_scratch_words): [0] workgroups
+// done, then per (tile, pass) entry its counters' offset within its block of
+// TILING_ENTRY_BLOCK entries, then per block its sum (the last workgroup turns these into
+// the blocks' first counters).
+
+fn tiling_offset_scratch_load(i: u32) -> u32 {
+    if (i >= arrayLength(&offset_scratch)) {
+        return 0u;
+    }
+    return atomicLoad(&offset_scratch[i]);
+}
+
+fn tiling_offset_scratch_store(i: u32, v: u32) {
+    if (i < arrayLength(&offset_scratch)) {
+        atomicStore(&offset_scratch[i], v);
+    }
+}
+
+fn tiling_offset_blocks() -> u32 {
+    return TILING_SCRATCH_ENTRIES + params.tiles_x * params.tiles_y * params.pass_count;
+}
+
+// The first counter of (tile, pass) entry e (keyed.wgsl): its block's plus its offset in
+// the block, while count_pixels writes counter_offsets.
+fn tiling_counter_offset(e: u32) -> u32 {
+    return tiling_offset_scratch_load(TILING_SCRATCH_ENTRIES + e)
+        + tiling_offset_scratch_load(tiling_offset_blocks() + e / TILING_ENTRY_BLOCK);
+}
+
+var<workgroup> tiling_wg_last: u32;
+
+// Per (tile, pass) entry (one invocation each, TILING_ENTRY_BLOCK per workgroup): the
+// exclusive prefix of popcount(masks) within the block and the block's sum; the last
+// workgroup to finish turns the block sums into the blocks' first counters and writes
+// totals.counter_count (cross-workgroup values are atomics, ordered by storageBarrier's
+// device-scope fences). One workgroup walking every entry took 75 us at 82 passes.
 @compute @workgroup_size(256)
-fn counter_offsets_pass(@builtin(local_invocation_index) li: u32) {
+fn counter_offsets_pass(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
     let n = min(params.tiles_x * params.tiles_y * params.pass_count, arrayLength(&masks));
-    let r = tiling_wg_range(li, n);
-    // Four loads issued at a time: one workgroup walks every (tile, pass) entry (82 passes:
-    // 160 a lane at 4K), so the loop is bound by load latency.
-    var sum = 0u;
-    var i = r.x;
-    for (; i + 4u <= r.y; i += 4u) {
-        let m = vec4<u32>(masks[i], masks[i + 1u], masks[i + 2u], masks[i + 3u]);
-        let c = countOneBits(m);
-        sum += c.x + c.y + c.z + c.w;
+    let block = wid.y * groups.x + wid.x;
+    let e = block * TILING_ENTRY_BLOCK + li;
+    var bits = 0u;
+    if (e < n) {
+        bits = countOneBits(masks[e]);
     }
-    for (; i < r.y; i++) {
-        sum += countOneBits(masks[i]);
-    }
-    let scan = tiling_wg_scan(li, sum);
-    var run = scan.x;
-    i = r.x;
-    for (; i + 4u <= r.y; i += 4u) {
-        let c = countOneBits(vec4<u32>(masks[i], masks[i + 1u], masks[i + 2u], masks[i + 3u]));
-        let o = vec4<u32>(run, run + c.x, run + c.x + c.y, run + c.x + c.y + c.z);
-        for (var k = 0u; k < 4u; k++) {
-            if (i + k < arrayLength(&counter_offsets)) {
-                counter_offsets[i + k] = o[k];
-            }
-        }
-        run = o.w + c.w;
-    }
-    for (; i < r.y; i++) {
-        if (i < arrayLength(&counter_offsets)) {
-            counter_offsets[i] = run;
-        }
-        run += countOneBits(masks[i]);
+    let scan = tiling_wg_scan(li, bits);
+    if (e < n) {
+        tiling_offset_scratch_store(TILING_SCRATCH_ENTRIES + e, scan.x);
     }
     if (li == 0u) {
-        totals.counter_count = scan.y;
+        tiling_offset_scratch_store(tiling_offset_blocks() + block, scan.y);
+    }
+    storageBarrier();
+    if (li == 0u) {
+        tiling_wg_last = select(0u, 1u, atomicAdd(&offset_scratch[0], 1u) == groups.x * groups.y * groups.z - 1u);
+    }
+    if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
+        return;
+    }
+    storageBarrier();
+    let blocks = (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
+    let r = tiling_wg_range(li, blocks);
+    var sum = 0u;
+    for (var b = r.x; b < r.y; b++) {
+        sum += tiling_offset_scratch_load(tiling_offset_blocks() + b);
+    }
+    let total = tiling_wg_scan(li, sum);
+    var run = total.x;
+    for (var b = r.x; b < r.y; b++) {
+        let v = tiling_offset_scratch_load(tiling_offset_blocks() + b);
+        tiling_offset_scratch_store(tiling_offset_blocks() + b, run);
+        run += v;
+    }
+    if (li == 0u) {
+        totals.counter_count = total.y;
     }
 }
 
@@ -215,6 +263,14 @@ fn count_pixels(
     var counters = vec4<u32>(0u);
     var slots4 = vec4<u32>(TILING_NONE);
     let range = tiling_tile_counters(tile, li);
+    // The tile's first block writes the tile's final counter offsets.
+    if ((wid.x * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u && (wid.y * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u
+        && li < params.pass_count) {
+        let e = tile * params.pass_count + li;
+        if (e < arrayLength(&counter_offsets) && e < arrayLength(&masks)) {
+            counter_offsets[e] = tiling_counter_offset(e);
+        }
+    }
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
         atomicStore(&tiling_hist[li], 0u);
@@ -270,19 +326,14 @@ fn count_pixels(
         }
     }
     for (var k = 0u; k < 4u; k++) {
-        let p = tiling_quad_pixel(gid, k);
-        if (p.x >= params.width || p.y >= params.height) {
-            continue;
-        }
-        var record = records[k];
         let index = counters[k] - range.x;
         // A slot or an index past its field (corrupt buffers) gets no command.
         if (keys[k] != TILING_NONE && slots4[k] <= TILING_RECORD_SLOT_MASK && index <= TILING_RECORD_COUNTER_MASK) {
-            record = TILING_RECORD_COMMAND | slots4[k] | (index << TILING_RECORD_COUNTER_SHIFT)
+            records[k] = TILING_RECORD_COMMAND | slots4[k] | (index << TILING_RECORD_COUNTER_SHIFT)
                 | (masks4[k] << TILING_RECORD_MASK_SHIFT);
         }
-        tiling_put_record(p.x, p.y, record);
     }
+    tiling_put_records(gid, records);
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);

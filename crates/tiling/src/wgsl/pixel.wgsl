@@ -29,6 +29,16 @@ fn tiling_quad_pixel(gid: vec3<u32>, k: u32) -> vec2<u32> {
     return vec2<u32>(2u * gid.x + (k & 1u), 2u * gid.y + (k >> 1u));
 }
 
+// The row-major index of invocation `gid`'s quad among ceil(width / 2) x ceil(height / 2)
+// (TILING_NONE past them).
+fn tiling_quad_index(gid: vec3<u32>) -> u32 {
+    let quads = vec2<u32>((params.width + 1u) / 2u, (params.height + 1u) / 2u);
+    if (gid.x >= quads.x || gid.y >= quads.y) {
+        return TILING_NONE;
+    }
+    return gid.y * quads.x + gid.x;
+}
+
 // The vis words of invocation `gid`'s quad (VISBUF_NONE outside the image), loaded
 // together before any is decoded.
 fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
@@ -42,7 +52,7 @@ fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
     return words;
 }
 
-// count_pixels' record of each pixel (the `slots` buffer), which classify output's
+// count_pixels' record of each pixel (the `slots` buffer, a vec4 per quad), which classify output's
 // scatter_commands turns into a command without decoding the vis word again (frames
 // without a validity mask, where the two phases classify alike). With a command: bit 31,
 // the slot within its counter (bits 0-13: a counter holds at most 128 * 128 pixels), the
