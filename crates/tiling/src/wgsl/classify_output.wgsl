@@ -75,6 +75,7 @@ fn write_commands(
     let words = tiling_quad_words(gid);
     tiling_stats_begin(li);
     let tile = tiling_block_tile(wid);
+    let range = tiling_tile_counters(tile, li);
     // Per pixel of the quad: its (pass, group) key (TILING_NONE: no command) and command.
     var keys = vec4<u32>(TILING_NONE);
     var cmds = vec4<u32>(0u);
@@ -92,8 +93,7 @@ fn write_commands(
         }
         let mask = tiling_sample_mask(p.x, p.y, word);
         if (mask != 0u) {
-            let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
-            if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+            if (tiling_tile_has(range, px.pg)) {
                 keys[k] = px.pg;
                 cmds[k] = tiling_command(p.x, p.y, mask);
             } else {
@@ -101,7 +101,6 @@ fn write_commands(
             }
         }
     }
-    let range = tiling_tile_counters(tile, li);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): a rank within the block per command, one global
         // atomic per counter of the block for the block's first slot.
@@ -112,7 +111,7 @@ fn write_commands(
         var counters = vec4<u32>(0u);
         for (var k = 0u; k < 4u; k++) {
             if (keys[k] != TILING_NONE) {
-                counters[k] = tiling_counter_of(tile, keys[k]);
+                counters[k] = tiling_counter_of(keys[k]);
                 slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
                 ranks[k] = atomicAdd(&tiling_hist[slots[k]], 1u);
             }
@@ -142,7 +141,7 @@ fn write_commands(
                     break;
                 }
                 let take = pending && key == next;
-                let c = tiling_counter_of(tile, next);
+                let c = tiling_counter_of(next);
                 let a = wave_append_begin(take, li);
                 var old = 0u;
                 if (a.total != 0u && c < arrayLength(&final_counts)) {

@@ -29,15 +29,28 @@ var<workgroup> tiling_hist: array<atomic<u32>, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_first: array<u32, TILING_HIST_SLOTS>;
 var<workgroup> tiling_hist_range: vec2<u32>;
 
-// The tile's counters as (first, count), read by the workgroup's first invocation and made
-// uniform; a tile past the buffers reports TILING_NONE counters (the loop path).
+// The tile's (pass) entries' first counters and masks, for tiling_counter_of.
+var<workgroup> tiling_wg_entry_first: array<u32, TILING_MAX_PASSES>;
+var<workgroup> tiling_wg_entry_mask: array<u32, TILING_MAX_PASSES>;
+
+// The tile's counters as (first, count), the same in every invocation; a tile past the
+// buffers reports TILING_NONE counters (the loop path). Also loads the tile's entries into
+// workgroup memory (one invocation per pass), which tiling_counter_of then reads: the
+// pixel phases look up a counter per pixel. Call from uniform control flow.
 fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
+    let e0 = tile * params.pass_count;
+    let e1 = e0 + params.pass_count - 1u;
+    let inside = e1 < arrayLength(&masks) && e1 < arrayLength(&counter_offsets);
+    if (inside && li < params.pass_count) {
+        tiling_wg_entry_first[li] = tiling_counter_offset(e0 + li);
+        tiling_wg_entry_mask[li] = masks[e0 + li];
+    }
+    workgroupBarrier();
     if (li == 0u) {
-        let e0 = tile * params.pass_count;
-        let e1 = e0 + params.pass_count - 1u;
-        if (e1 < arrayLength(&masks) && e1 < arrayLength(&counter_offsets)) {
-            let first = tiling_counter_offset(e0);
-            tiling_hist_range = vec2<u32>(first, tiling_counter_offset(e1) + countOneBits(masks[e1]) - first);
+        if (inside) {
+            let first = tiling_wg_entry_first[0];
+            let last = params.pass_count - 1u;
+            tiling_hist_range = vec2<u32>(first, tiling_wg_entry_first[last] + countOneBits(tiling_wg_entry_mask[last]) - first);
         } else {
             tiling_hist_range = vec2<u32>(0u, TILING_NONE);
         }
@@ -45,11 +58,20 @@ fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
     return workgroupUniformLoad(&tiling_hist_range);
 }
 
-// Counter of (pass, group) key `k` in tile `tile`, whose mask has the group.
-fn tiling_counter_of(tile: u32, k: u32) -> u32 {
-    let e = tile * params.pass_count + k / TILING_MAX_BATCH_GROUPS;
+// Whether the workgroup's tile has (pass, group) key `k` in its masks (after
+// tiling_tile_counters returned `range`).
+fn tiling_tile_has(range: vec2<u32>, k: u32) -> bool {
+    let p = k / TILING_MAX_BATCH_GROUPS;
+    return range.y != TILING_NONE && p < params.pass_count
+        && ((tiling_wg_entry_mask[p] >> (k % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u;
+}
+
+// Counter of (pass, group) key `k` of the workgroup's tile, whose mask has the group (after
+// tiling_tile_counters).
+fn tiling_counter_of(k: u32) -> u32 {
+    let p = min(k / TILING_MAX_BATCH_GROUPS, TILING_MAX_PASSES - 1u);
     let g = k % TILING_MAX_BATCH_GROUPS;
-    return tiling_counter_offset(e) + countOneBits(masks[e] & ((1u << g) - 1u));
+    return tiling_wg_entry_first[p] + countOneBits(tiling_wg_entry_mask[p] & ((1u << g) - 1u));
 }
 
 // The smallest key still pending in the workgroup (TILING_NONE when none is), the same in

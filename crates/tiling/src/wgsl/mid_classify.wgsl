@@ -222,6 +222,7 @@ fn count_pixels(
     let words = tiling_quad_words(gid);
     tiling_stats_begin(li);
     let tile = tiling_block_tile(wid);
+    let range = tiling_tile_counters(tile, li);
     // The (pass, group) key of each pixel of the quad that gets a command (its sample mask
     // in `masks4`), and the record of each that does not.
     var keys = vec4<u32>(TILING_NONE);
@@ -247,8 +248,7 @@ fn count_pixels(
 #endif
         let mask = tiling_sample_mask(p.x, p.y, word);
         if (mask != 0u) {
-            let e = tile * params.pass_count + px.pg / TILING_MAX_BATCH_GROUPS;
-            if (e < arrayLength(&masks) && ((masks[e] >> (px.pg % TILING_MAX_BATCH_GROUPS)) & 1u) == 1u) {
+            if (tiling_tile_has(range, px.pg)) {
                 keys[k] = px.pg;
                 masks4[k] = mask;
                 tiling_stat(TILING_STAT_COMMANDS, 1u);
@@ -262,13 +262,12 @@ fn count_pixels(
     // them (the commands' order within a counter is free).
     var counters = vec4<u32>(0u);
     var slots4 = vec4<u32>(TILING_NONE);
-    let range = tiling_tile_counters(tile, li);
     // The tile's first block writes the tile's final counter offsets.
     if ((wid.x * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u && (wid.y * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u
         && li < params.pass_count) {
         let e = tile * params.pass_count + li;
-        if (e < arrayLength(&counter_offsets) && e < arrayLength(&masks)) {
-            counter_offsets[e] = tiling_counter_offset(e);
+        if (range.y != TILING_NONE && e < arrayLength(&counter_offsets)) {
+            counter_offsets[e] = tiling_wg_entry_first[li];
         }
     }
     if (range.y <= TILING_HIST_LIMIT) {
@@ -279,7 +278,7 @@ fn count_pixels(
         var ranks = vec4<u32>(0u);
         for (var k = 0u; k < 4u; k++) {
             if (keys[k] != TILING_NONE) {
-                counters[k] = tiling_counter_of(tile, keys[k]);
+                counters[k] = tiling_counter_of(keys[k]);
                 hist_slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
                 ranks[k] = atomicAdd(&tiling_hist[hist_slots[k]], 1u);
             }
@@ -310,7 +309,7 @@ fn count_pixels(
                     break;
                 }
                 let take = pending && key == next;
-                let c = tiling_counter_of(tile, next);
+                let c = tiling_counter_of(next);
                 let a = wave_append_begin(take, li);
                 var old = 0u;
                 if (a.total != 0u && c < arrayLength(&counts)) {
