@@ -158,8 +158,9 @@ pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 /// Defines a scalar function: BMI2 when the build enables it (`-C target-feature=+bmi2` or
 /// a `target-cpu` that has it); otherwise either `lut` (a table lookup, on every CPU), or
 /// `dispatch($fallback)`: with `std` on x86-64, inline `pdep`/`pext` when the CPU has a
-/// fast `pdep` (checked once, then one predictable branch per call, no call), and
-/// `$fallback` (`lut` or `magic`) everywhere else.
+/// fast `pdep` (checked once, then one load and one predictable branch per call, no call),
+/// and `$fallback` (`lut` or `magic`) everywhere else. `dispatch($fallback, $checked)` runs
+/// `$checked` instead after a failed check.
 macro_rules! scalar {
     ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
@@ -177,10 +178,13 @@ macro_rules! scalar {
             }
         }
     };
+    ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, dispatch($fallback:ident)) => {
+        scalar!($name($($arg: $ty),*) -> $ret, dispatch($fallback, $fallback));
+    };
     ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
-        dispatch($fallback:ident)) => {
+        dispatch($fallback:ident, $checked:ident)) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
             #[cfg(all(target_arch = "x86_64", target_feature = "bmi2"))]
@@ -194,7 +198,10 @@ macro_rules! scalar {
                     // SAFETY: checked at run time that the CPU has BMI2.
                     return unsafe { bmi2::asm::$name($($arg),*) };
                 }
-                $fallback::$name($($arg),*)
+                // Laid out and register-allocated as the rare case, so that a loop of calls
+                // keeps `pdep`'s masks in registers.
+                core::hint::cold_path();
+                $checked::$name($($arg),*)
             }
             #[cfg(not(all(target_arch = "x86_64", any(target_feature = "bmi2", feature = "std"))))]
             {
@@ -254,6 +261,33 @@ pub mod per_key {
     #[allow(unused_imports)]
     use crate::{bmi2, lut, magic, path};
 
+    /// The 64-bit magic-bits fallbacks behind the run-time check, out of line: inline, their
+    /// 30-odd operations and masks made the compiler leave the whole function out of line
+    /// (a call per key), take registers from the `pdep` masks, or merge the paths (2D
+    /// decode: both vectorised into SSE registers, the `pext` results then moved through
+    /// them).
+    #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
+    mod outline {
+        use crate::magic;
+
+        #[inline(never)]
+        pub(super) fn encode2_u64(x: u32, y: u32) -> u64 {
+            magic::encode2_u64(x, y)
+        }
+        #[inline(never)]
+        pub(super) fn decode2_u64(code: u64) -> [u32; 2] {
+            magic::decode2_u64(code)
+        }
+        #[inline(never)]
+        pub(super) fn encode3_u64(x: u32, y: u32, z: u32) -> u64 {
+            magic::encode3_u64(x, y, z)
+        }
+        #[inline(never)]
+        pub(super) fn decode3_u64(code: u64) -> [u32; 3] {
+            magic::decode3_u64(code)
+        }
+    }
+
     scalar!(
         encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
     );
@@ -267,16 +301,16 @@ pub mod per_key {
         decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
     );
     scalar!(
-        encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
+        encode2_u64(x: u32, y: u32) -> u64, dispatch(magic, outline)
     );
     scalar!(
-        decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
+        decode2_u64(code: u64) -> [u32; 2], dispatch(magic, outline)
     );
     scalar!(
-        encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
+        encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic, outline)
     );
     scalar!(
-        decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
+        decode3_u64(code: u64) -> [u32; 3], dispatch(magic, outline)
     );
 }
 
