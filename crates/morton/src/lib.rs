@@ -211,11 +211,12 @@ macro_rules! scalar {
     };
 }
 
-/// The crate-root function of the same name. 32-bit codes: magic bits inline where the
-/// build has AVX2 (a loop of calls then vectorises; `pdep` and table lookups would not),
-/// else the [`per_key`] function. 64-bit codes: always [`per_key`] (measured: with AVX2 or
-/// AVX-512 in the build, a vectorised magic-bits loop of 64-bit codes is 1.2-1.4x slower
-/// than `pdep`/`pext` one key at a time; see BENCHMARKS.md).
+/// The crate-root function of the same name, chosen per code by measuring a loop of calls
+/// (BENCHMARKS.md). `vectorise`: magic bits inline where the build has AVX2 (the loop then
+/// vectorises; `pdep` and table lookups would not), else the [`per_key`] function: the
+/// 32-bit codes and 2D-64 decode. `per_key`: always [`per_key`], where with AVX2 or AVX-512
+/// in the build the vectorised magic-bits loop is 1.2x slower than `pdep`/`pext` one key
+/// at a time: 2D-64 and 3D-64 encode, 3D-64 decode.
 macro_rules! top {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, vectorise) => {
         $(#[$doc])*
@@ -241,7 +242,7 @@ macro_rules! top {
         $(#[$doc])*
         ///
         #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: `pdep`/`pext` ")]
-        /// one key at a time beats a vectorised magic-bits loop for 64-bit codes. For slices,
+        /// one key at a time beats a vectorised magic-bits loop for this code. For slices,
         /// [`batch`] is faster still.
         #[inline(always)]
         #[must_use]
@@ -256,7 +257,8 @@ macro_rules! top {
 /// otherwise a table (3D u32 encode, every CPU), or `pdep`/`pext` as inline assembly behind
 /// a cached run-time check where the CPU has a fast `pdep` (with `std`), else tables (32-bit
 /// codes) or magic bits (64-bit). The crate-root functions of the same names are these,
-/// except the 32-bit codes in builds with AVX2: [`magic`]'s there, which loops vectorise.
+/// except the 32-bit codes and 2D-64 decode in builds with AVX2: [`magic`]'s there, which
+/// loops vectorise.
 pub mod per_key {
     #[allow(unused_imports)]
     use crate::{bmi2, lut, magic, path};
@@ -285,6 +287,66 @@ pub mod per_key {
         #[inline(never)]
         pub(super) fn decode3_u64(code: u64) -> [u32; 3] {
             magic::decode3_u64(code)
+        }
+    }
+
+    /// The fallbacks behind the run-time check, which a CPU with a fast `pdep` (where the
+    /// integration tests run) never takes, against a naive bit loop.
+    #[cfg(test)]
+    mod tests {
+        use crate::lut;
+
+        fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
+            let mut key = 0u64;
+            for i in 0..bits {
+                for (axis, &v) in c.iter().enumerate() {
+                    key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
+                }
+            }
+            key
+        }
+
+        fn naive_decode<const D: usize>(key: u64, bits: u32) -> [u32; D] {
+            let mut c = [0u32; D];
+            for i in 0..bits {
+                for (axis, v) in c.iter_mut().enumerate() {
+                    *v |= (((key >> (D as u32 * i + axis as u32)) & 1) as u32) << i;
+                }
+            }
+            c
+        }
+
+        /// xorshift64: inputs covering every bit.
+        fn words(n: usize) -> impl Iterator<Item = u64> {
+            let mut s = 0x9e37_79b9_7f4a_7c15u64;
+            (0..n).map(move |_| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                s
+            })
+        }
+
+        #[test]
+        fn fallbacks_match_naive() {
+            for w in words(4096).chain([0, u64::MAX]) {
+                let (a, b, c) = (w as u32, (w >> 32) as u32, w.rotate_left(17) as u32);
+                assert_eq!(lut::encode2_u32(a, b) as u64, naive_encode([a, b], 16));
+                assert_eq!(
+                    lut::encode3_u32(a, b, c) as u64,
+                    naive_encode([a, b, c], 10)
+                );
+                assert_eq!(lut::decode2_u32(a), naive_decode::<2>(a as u64, 16));
+                assert_eq!(lut::decode3_u32(a), naive_decode::<3>(a as u64, 10));
+                #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
+                {
+                    use super::outline;
+                    assert_eq!(outline::encode2_u64(a, b), naive_encode([a, b], 32));
+                    assert_eq!(outline::encode3_u64(a, b, c), naive_encode([a, b, c], 21));
+                    assert_eq!(outline::decode2_u64(w), naive_decode::<2>(w, 32));
+                    assert_eq!(outline::decode3_u64(w), naive_decode::<3>(w, 21));
+                }
+            }
         }
     }
 
@@ -346,7 +408,7 @@ top!(
 top!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
     decode2_u64(code: u64) -> [u32; 2],
-    per_key
+    vectorise
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
