@@ -58,8 +58,8 @@
 //! | you have | call | why |
 //! | --- | --- | --- |
 //! | slices of coordinates or codes | [`batch`] | run-time detected vector kernels, 2-4x a plain loop |
-//! | a loop that makes one key per iteration | the crate-root functions | 32-bit codes with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`): [`magic`] bits inline, the loop vectorises; otherwise [`per_key`] (for 64-bit codes `pdep`/`pext` per key beats a vectorised loop) |
-//! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key |
+//! | a loop that makes one key per iteration | the crate-root functions | with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`), the 32-bit codes and 2D-64 decode are [`magic`] bits inline and the loop vectorises; the rest is [`per_key`] (`pdep`/`pext` per key beats a vectorised loop there). Without BMI2 in the build, `pdep` behind a one-load check per key keeps pace with a loop compiled for BMI2: both are bound by `pdep`'s one per cycle |
+//! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key. In a loop with AVX2 in the build it does not vectorise: 2.2-3x slower than the crate-root 32-bit codes |
 //! | a `const` context | [`magic`] | `const fn` |
 //!
 //! - [`Quantizer3`] / [`Quantizer2`]: positions in an axis-aligned box onto the grid
