@@ -58,7 +58,7 @@
 //! | you have | call | why |
 //! | --- | --- | --- |
 //! | slices of coordinates or codes | [`batch`] | run-time detected vector kernels, 2-4x a plain loop |
-//! | a loop that makes one key per iteration | the crate-root functions | with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`), the 32-bit codes and 2D-64 decode are [`magic`] bits inline and the loop vectorises; the rest is [`per_key`] (`pdep`/`pext` per key beats a vectorised loop there). Without BMI2 in the build, `pdep` behind a one-load check per key keeps pace with a loop compiled for BMI2: both are bound by `pdep`'s one per cycle |
+//! | a loop that makes one key per iteration | the crate-root functions | magic bits inline, so the loop vectorises, where that measured faster than `pdep`/`pext` per key: with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`) the 32-bit codes and 2D-64 decode, with AVX-512 (`x86-64-v4`) also 2D-64 encode and 3D-64 decode; otherwise [`per_key`]. Without BMI2 in the build, `pdep` behind a one-load check per key keeps pace with a loop compiled for BMI2: both are bound by `pdep`'s one per cycle |
 //! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key. In a loop with AVX2 in the build it does not vectorise: 2.2-3x slower than the crate-root 32-bit codes |
 //! | a `const` context | [`magic`] | `const fn` |
 //!
@@ -115,6 +115,7 @@ pub mod parallel;
 mod path;
 pub mod quantize;
 pub mod sort;
+mod vector;
 pub mod wgsl;
 
 pub use error::Error;
@@ -212,27 +213,26 @@ macro_rules! scalar {
 }
 
 /// The crate-root function of the same name, chosen per code by measuring a loop of calls
-/// (BENCHMARKS.md). `vectorise`: magic bits inline where the build has AVX2 (the loop then
-/// vectorises; `pdep` and table lookups would not), else the [`per_key`] function: the
-/// 32-bit codes and 2D-64 decode. `per_key`: always [`per_key`], where with AVX2 or AVX-512
-/// in the build the vectorised magic-bits loop is 1.2x slower than `pdep`/`pext` one key
-/// at a time: 2D-64 and 3D-64 encode, 3D-64 decode.
+/// (BENCHMARKS.md): `vectorise($m, $feature)`: `$m`'s magic bits inline where the build has
+/// `$feature` (the loop then vectorises; `pdep` and table lookups would not), else the
+/// [`per_key`] function; `per_key`: always [`per_key`] (3D-64 encode, where no vectorised
+/// loop measured beat `pdep` one key at a time).
 macro_rules! top {
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, vectorise) => {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        vectorise($m:ident, $feature:literal, $builds:literal)) => {
         $(#[$doc])*
         ///
-        /// In a loop, builds with AVX2 (`-C target-cpu=native` on a recent x86-64, or
-        /// `x86-64-v3`) vectorise it: it is [`magic`]'s function inline. Other builds run
-        #[doc = concat!("[`per_key::", stringify!($name), "`].")]
+        #[doc = concat!("In a loop, builds with ", $builds, " vectorise it: ")]
+        #[doc = concat!("it is magic bits inline. Other builds run [`per_key::", stringify!($name), "`].")]
         /// For slices, [`batch`] is faster still.
         #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
-            #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+            #[cfg(all(target_arch = "x86_64", target_feature = $feature))]
             {
-                magic::$name($($arg),*)
+                $m::$name($($arg),*)
             }
-            #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+            #[cfg(not(all(target_arch = "x86_64", target_feature = $feature)))]
             {
                 per_key::$name($($arg),*)
             }
@@ -257,8 +257,8 @@ macro_rules! top {
 /// otherwise a table (3D u32 encode, every CPU), or `pdep`/`pext` as inline assembly behind
 /// a cached run-time check where the CPU has a fast `pdep` (with `std`), else tables (32-bit
 /// codes) or magic bits (64-bit). The crate-root functions of the same names are these,
-/// except the 32-bit codes and 2D-64 decode in builds with AVX2: [`magic`]'s there, which
-/// loops vectorise.
+/// except in builds with AVX2 or AVX-512 (which codes: each function says): magic bits
+/// inline there, which loops vectorise.
 pub mod per_key {
     #[allow(unused_imports)]
     use crate::{bmi2, lut, magic, path};
@@ -380,35 +380,35 @@ top!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
     encode2_u32(x: u32, y: u32) -> u32,
-    vectorise
+    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
     decode2_u32(code: u32) -> [u32; 2],
-    vectorise
+    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
     encode3_u32(x: u32, y: u32, z: u32) -> u32,
-    vectorise
+    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
     decode3_u32(code: u32) -> [u32; 3],
-    vectorise
+    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
     encode2_u64(x: u32, y: u32) -> u64,
-    per_key
+    vectorise(vector, "avx512vl", "AVX-512 (`target-cpu=native` on such a CPU, `x86-64-v4`)")
 );
 top!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
     decode2_u64(code: u64) -> [u32; 2],
-    vectorise
+    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
@@ -419,7 +419,7 @@ top!(
 top!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
     decode3_u64(code: u64) -> [u32; 3],
-    per_key
+    vectorise(vector, "avx512vl", "AVX-512 (`target-cpu=native` on such a CPU, `x86-64-v4`)")
 );
 
 #[inline]
