@@ -241,9 +241,9 @@ macro_rules! top {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, per_key) => {
         $(#[$doc])*
         ///
-        #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: `pdep`/`pext` ")]
-        /// one key at a time beats a vectorised magic-bits loop for this code. For slices,
-        /// [`batch`] is faster still.
+        #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: no vectorised ")]
+        /// magic-bits loop measured beat `pdep`/`pext` one key at a time for this code. For
+        /// slices, [`batch`] is faster still.
         #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
@@ -392,7 +392,7 @@ top!(
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
     encode3_u32(x: u32, y: u32, z: u32) -> u32,
-    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
+    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are

@@ -4,19 +4,19 @@
 //! shuffle (`vpshufb`) per vector instead of two or three shift-or-mask steps; the steps
 //! inside bytes stay shift-or-mask. Results are those of [`crate::magic`] bit for bit.
 //!
-//! 3D codes take 8 bits of a coordinate to 24 code bits, so there the byte moves place
-//! each coordinate byte at the start of its 3-byte group and the in-group steps use
-//! 24-bit masks repeated at bits 0, 24 and 48.
+//! 3D codes take 8 bits of a coordinate from 24 code bits, so 3D decode compacts inside
+//! 3-byte groups (24-bit masks repeated at bits 0, 24 and 48), then moves the groups'
+//! first bytes together.
 //!
 //! Measured against [`crate::magic`] and `pdep`/`pext` one key at a time in a loop
 //! (BENCHMARKS.md): which code uses this depends on the build (see the crate-root
-//! functions); 2D-32 and 3D-32 decode gain nothing over [`crate::magic`] (the compiler
-//! already finds the byte shuffle there) and 3D-64 encode loses to `pdep`, so they have
-//! none here.
+//! functions). The 2D-32 and 3D-32 decodes gain nothing over [`crate::magic`] (the
+//! compiler already finds the byte shuffle there), 3D-32 encode neither (with AVX2 alone
+//! it lost, 1.1x), and 3D-64 encode does not beat `pdep`, so they have none here.
 
-// Unused in builds without AVX2, where the crate-root functions are `per_key`'s.
+// All used only in builds with AVX-512 (VL); without AVX2, none.
 #![cfg_attr(
-    not(all(target_arch = "x86_64", target_feature = "avx2")),
+    not(all(target_arch = "x86_64", target_feature = "avx512vl")),
     allow(dead_code)
 )]
 
@@ -38,17 +38,6 @@ const fn spread2_u64(x: u32) -> u64 {
     v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
     v = (v | (v << 2)) & 0x3333_3333_3333_3333;
     (v | (v << 1)) & 0x5555_5555_5555_5555
-}
-
-/// The low 10 bits of `x` to every third bit of a u32: byte 0 to bits 0-23, byte 1 (two
-/// bits) to bits 24-29.
-#[inline(always)]
-const fn spread3_u32(x: u32) -> u32 {
-    let x = x & 0x3ff;
-    let mut v = (x & 0xff) | ((x & 0xff00) << 16);
-    v = (v | (v << 8)) & 0x0f00_f00f;
-    v = (v | (v << 4)) & 0xc30c_30c3;
-    (v | (v << 2)) & 0x0924_9249
 }
 
 /// The even bits of a u64 into a u32: bits inside bytes, then bytes 0, 2, 4, 6 together.
@@ -82,12 +71,6 @@ pub(crate) const fn encode2_u32(x: u32, y: u32) -> u32 {
 #[inline(always)]
 pub(crate) const fn encode2_u64(x: u32, y: u32) -> u64 {
     spread2_u64(x) | (spread2_u64(y) << 1)
-}
-
-/// [`crate::encode3_u32`].
-#[inline(always)]
-pub(crate) const fn encode3_u32(x: u32, y: u32, z: u32) -> u32 {
-    spread3_u32(x) | (spread3_u32(y) << 1) | (spread3_u32(z) << 2)
 }
 
 /// [`crate::decode2_u64`].
@@ -140,13 +123,9 @@ mod tests {
             })
             .chain([0, u64::MAX, 1 << 63, 0x5555_5555_5555_5555]);
         for w in words {
-            let (a, b, c) = (w as u32, (w >> 32) as u32, w.rotate_left(23) as u32);
+            let (a, b) = (w as u32, (w >> 32) as u32);
             assert_eq!(super::encode2_u32(a, b) as u64, naive_encode([a, b], 16));
             assert_eq!(super::encode2_u64(a, b), naive_encode([a, b], 32));
-            assert_eq!(
-                super::encode3_u32(a, b, c) as u64,
-                naive_encode([a, b, c], 10)
-            );
             assert_eq!(super::decode2_u64(w), naive_decode::<2>(w, 32));
             assert_eq!(super::decode3_u64(w), naive_decode::<3>(w, 21));
         }
