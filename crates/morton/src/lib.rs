@@ -215,7 +215,8 @@ macro_rules! scalar {
 /// The crate-root function of the same name, chosen per code by measuring a loop of calls
 /// (BENCHMARKS.md): `vectorise($m, $feature)`: `$m`'s magic bits inline where the build has
 /// `$feature` (the loop then vectorises; `pdep` and table lookups would not), else the
-/// [`per_key`] function; `per_key`: always [`per_key`] (3D-64 encode, where no vectorised
+/// [`per_key`] function; `vectorise($m512, $m2)`: the same with `$m512`'s where the build
+/// has AVX-512 and `$m2`'s where it has AVX2 only; `per_key`: always [`per_key`] (3D-64 encode, where no vectorised
 /// loop measured beat `pdep` one key at a time).
 macro_rules! top {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
@@ -233,6 +234,36 @@ macro_rules! top {
                 $m::$name($($arg),*)
             }
             #[cfg(not(all(target_arch = "x86_64", target_feature = $feature)))]
+            {
+                per_key::$name($($arg),*)
+            }
+        }
+    };
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        vectorise($m512:ident, $m2:ident)) => {
+        $(#[$doc])*
+        ///
+        /// In a loop, builds with AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)
+        /// vectorise it: it is magic bits inline, spelt differently with and without AVX-512
+        /// (with AVX2 alone, LLVM folded the plain spelling's shifts into a vector multiply).
+        #[doc = concat!("Other builds run [`per_key::", stringify!($name), "`].")]
+        /// For slices, [`batch`] is faster still.
+        #[inline(always)]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(all(target_arch = "x86_64", target_feature = "avx512vl"))]
+            {
+                $m512::$name($($arg),*)
+            }
+            #[cfg(all(
+                target_arch = "x86_64",
+                target_feature = "avx2",
+                not(target_feature = "avx512vl")
+            ))]
+            {
+                $m2::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
             {
                 per_key::$name($($arg),*)
             }
@@ -392,7 +423,7 @@ top!(
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
     encode3_u32(x: u32, y: u32, z: u32) -> u32,
-    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
+    vectorise(magic, vector)
 );
 top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are

@@ -11,14 +11,12 @@
 //! Measured against [`crate::magic`] and `pdep`/`pext` one key at a time in a loop
 //! (BENCHMARKS.md): which code uses this depends on the build (see the crate-root
 //! functions). The 2D-32 and 3D-32 decodes gain nothing over [`crate::magic`] (the
-//! compiler already finds the byte shuffle there), 3D-32 encode neither (with AVX2 alone
-//! it lost, 1.1x), and 3D-64 encode does not beat `pdep`, so they have none here.
+//! compiler already finds the byte shuffle there), nor 3D-32 encode with byte moves, and
+//! 3D-64 encode does not beat `pdep`, so they have none here; 3D-32 encode has another
+//! spelling of the magic bits for AVX2-only builds.
 
-// All used only in builds with AVX-512 (VL); without AVX2, none.
-#![cfg_attr(
-    not(all(target_arch = "x86_64", target_feature = "avx512vl")),
-    allow(dead_code)
-)]
+// Which are used depends on the build's AVX2 and AVX-512; without AVX2, none.
+#![allow(dead_code)]
 
 /// The low 16 bits of `x` to the even bits of a u32: bytes to bytes 0 and 2, then bits.
 #[inline(always)]
@@ -38,6 +36,19 @@ const fn spread2_u64(x: u32) -> u64 {
     v = (v | (v << 4)) & 0x0f0f_0f0f_0f0f_0f0f;
     v = (v | (v << 2)) & 0x3333_3333_3333_3333;
     (v | (v << 1)) & 0x5555_5555_5555_5555
+}
+
+/// The low 10 bits of `x` to every third bit of a u32, starting at bit `S`, for builds with
+/// AVX2 but not AVX-512. [`crate::magic`]'s ladder with the masks shifted by `S`: spreading
+/// first and shifting after (`part(y) << 1`) let LLVM fold the last step and the shift into
+/// a vector multiply by 10 or 20 (`vpmulld`, 10 cycles) there, 1.1x slower in a loop.
+#[inline(always)]
+const fn spread3_u32<const S: u32>(x: u32) -> u32 {
+    let mut v = (x & 0x3ff) << S;
+    v = (v | (v << 16)) & (0x0300_00ff << S);
+    v = (v | (v << 8)) & (0x0300_f00f << S);
+    v = (v | (v << 4)) & (0x030c_30c3 << S);
+    (v | (v << 2)) & (0x0924_9249 << S)
 }
 
 /// The even bits of a u64 into a u32: bits inside bytes, then bytes 0, 2, 4, 6 together.
@@ -71,6 +82,12 @@ pub(crate) const fn encode2_u32(x: u32, y: u32) -> u32 {
 #[inline(always)]
 pub(crate) const fn encode2_u64(x: u32, y: u32) -> u64 {
     spread2_u64(x) | (spread2_u64(y) << 1)
+}
+
+/// [`crate::encode3_u32`] for builds with AVX2 but not AVX-512.
+#[inline(always)]
+pub(crate) const fn encode3_u32(x: u32, y: u32, z: u32) -> u32 {
+    spread3_u32::<0>(x) | spread3_u32::<1>(y) | spread3_u32::<2>(z)
 }
 
 /// [`crate::decode2_u64`].
@@ -126,6 +143,11 @@ mod tests {
             let (a, b) = (w as u32, (w >> 32) as u32);
             assert_eq!(super::encode2_u32(a, b) as u64, naive_encode([a, b], 16));
             assert_eq!(super::encode2_u64(a, b), naive_encode([a, b], 32));
+            let c = w.rotate_left(23) as u32;
+            assert_eq!(
+                super::encode3_u32(a, b, c) as u64,
+                naive_encode([a, b, c], 10)
+            );
             assert_eq!(super::decode2_u64(w), naive_decode::<2>(w, 32));
             assert_eq!(super::decode3_u64(w), naive_decode::<3>(w, 21));
         }
