@@ -245,7 +245,7 @@ macro_rules! top {
         ///
         /// In a loop, builds with AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)
         /// vectorise it: it is magic bits inline, spelt differently with and without AVX-512
-        /// (with AVX2 alone, LLVM folded the plain spelling's shifts into a vector multiply).
+        /// (each spelling measured the faster in its build).
         #[doc = concat!("Other builds run [`per_key::", stringify!($name), "`].")]
         /// For slices, [`batch`] is faster still.
         #[inline(always)]
