@@ -126,6 +126,34 @@ pub(crate) mod asm {
         r
     }
 
+    /// `pdep` on u32: no masking of the source, and 32-bit masks are cheap immediates.
+    ///
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    unsafe fn pdep32(v: u32, mask: u32) -> u32 {
+        let r: u32;
+        // SAFETY: the caller guarantees BMI2; `pdep` touches no memory or flags.
+        unsafe {
+            asm!("pdep {r:e}, {v:e}, {m:e}", r = lateout(reg) r, v = in(reg) v, m = in(reg) mask, options(pure, nomem, nostack, preserves_flags))
+        };
+        r
+    }
+
+    /// `pext` on u32.
+    ///
+    /// # Safety
+    /// The CPU must have BMI2.
+    #[inline(always)]
+    unsafe fn pext32(v: u32, mask: u32) -> u32 {
+        let r: u32;
+        // SAFETY: the caller guarantees BMI2; `pext` touches no memory or flags.
+        unsafe {
+            asm!("pext {r:e}, {v:e}, {m:e}", r = lateout(reg) r, v = in(reg) v, m = in(reg) mask, options(pure, nomem, nostack, preserves_flags))
+        };
+        r
+    }
+
     /// # Safety
     /// The CPU must have BMI2.
     #[inline(always)]
@@ -168,8 +196,8 @@ pub(crate) mod asm {
     /// The CPU must have BMI2.
     #[inline(always)]
     pub(crate) unsafe fn encode2_u32(x: u32, y: u32) -> u32 {
-        // SAFETY: forwarded; the masks keep 16 bits per axis.
-        unsafe { encode2_u64(x & 0xffff, y & 0xffff) as u32 }
+        // SAFETY: forwarded; 16 mask bits take the low 16 bits of each axis.
+        unsafe { pdep32(x, M2_X as u32) | pdep32(y, M2_Y as u32) }
     }
 
     /// # Safety
@@ -177,14 +205,20 @@ pub(crate) mod asm {
     #[inline(always)]
     pub(crate) unsafe fn decode2_u32(code: u32) -> [u32; 2] {
         // SAFETY: forwarded.
-        unsafe { decode2_u64(code as u64) }
+        unsafe { [pext32(code, M2_X as u32), pext32(code, M2_Y as u32)] }
     }
 
     /// # Safety
     /// The CPU must have BMI2.
     #[inline(always)]
     pub(crate) unsafe fn decode3_u32(code: u32) -> [u32; 3] {
-        // SAFETY: forwarded; the 64-bit masks select the same bits of a 30-bit code.
-        unsafe { decode3_u64((code & 0x3fff_ffff) as u64) }
+        // SAFETY: forwarded; the masks stop at bit 29, so bits 30 and 31 are ignored.
+        unsafe {
+            [
+                pext32(code, M3_X as u32 & 0x3fff_ffff),
+                pext32(code, M3_Y as u32 & 0x3fff_ffff),
+                pext32(code, M3_Z as u32 & 0x3fff_ffff),
+            ]
+        }
     }
 }

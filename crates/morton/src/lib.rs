@@ -58,8 +58,8 @@
 //! | you have | call | why |
 //! | --- | --- | --- |
 //! | slices of coordinates or codes | [`batch`] | run-time detected vector kernels, 2-4x a plain loop |
-//! | a loop that makes one key per iteration | the crate-root functions | 32-bit codes with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`): [`magic`] bits inline, the loop vectorises; otherwise [`per_key`] (for 64-bit codes `pdep`/`pext` per key beats a vectorised loop) |
-//! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key |
+//! | a loop that makes one key per iteration | the crate-root functions | magic bits inline, so the loop vectorises, where that measured faster than `pdep`/`pext` per key: with AVX2 in the build (`-C target-cpu=native`, `x86-64-v3`) the 32-bit codes and 2D-64 decode, with AVX-512 (`x86-64-v4`) also 2D-64 encode and 3D-64 decode; otherwise [`per_key`]. Without BMI2 in the build, `pdep` behind a one-load check per key keeps pace with a loop compiled for BMI2: both are bound by `pdep`'s one per cycle |
+//! | one key among other work (the loop will not vectorise) | [`per_key`] | `pdep`/`pext` inline (build with BMI2) or behind a cached CPU check, or a table: the cheapest single key. In a loop with AVX2 in the build it does not vectorise: 2.2-3x slower than the crate-root 32-bit codes |
 //! | a `const` context | [`magic`] | `const fn` |
 //!
 //! - [`Quantizer3`] / [`Quantizer2`]: positions in an axis-aligned box onto the grid
@@ -115,6 +115,7 @@ pub mod parallel;
 mod path;
 pub mod quantize;
 pub mod sort;
+mod vector;
 pub mod wgsl;
 
 pub use error::Error;
@@ -158,8 +159,9 @@ pub const MASK3_Z_U64: u64 = 0x4924_9249_2492_4924;
 /// Defines a scalar function: BMI2 when the build enables it (`-C target-feature=+bmi2` or
 /// a `target-cpu` that has it); otherwise either `lut` (a table lookup, on every CPU), or
 /// `dispatch($fallback)`: with `std` on x86-64, inline `pdep`/`pext` when the CPU has a
-/// fast `pdep` (checked once, then one predictable branch per call, no call), and
-/// `$fallback` (`lut` or `magic`) everywhere else.
+/// fast `pdep` (checked once, then one load and one predictable branch per call, no call),
+/// and `$fallback` (`lut` or `magic`) everywhere else. `dispatch($fallback, $checked)` runs
+/// `$checked` instead after a failed check.
 macro_rules! scalar {
     ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, lut) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
@@ -177,10 +179,13 @@ macro_rules! scalar {
             }
         }
     };
+    ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, dispatch($fallback:ident)) => {
+        scalar!($name($($arg: $ty),*) -> $ret, dispatch($fallback, $fallback));
+    };
     ($name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
-        dispatch($fallback:ident)) => {
+        dispatch($fallback:ident, $checked:ident)) => {
         #[doc = concat!("[`crate::", stringify!($name), "`] one key at a time (see [`per_key`](self)).")]
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
             #[cfg(all(target_arch = "x86_64", target_feature = "bmi2"))]
@@ -194,7 +199,10 @@ macro_rules! scalar {
                     // SAFETY: checked at run time that the CPU has BMI2.
                     return unsafe { bmi2::asm::$name($($arg),*) };
                 }
-                $fallback::$name($($arg),*)
+                // Laid out and register-allocated as the rare case, so that a loop of calls
+                // keeps `pdep`'s masks in registers.
+                core::hint::cold_path();
+                $checked::$name($($arg),*)
             }
             #[cfg(not(all(target_arch = "x86_64", any(target_feature = "bmi2", feature = "std"))))]
             {
@@ -204,25 +212,56 @@ macro_rules! scalar {
     };
 }
 
-/// The crate-root function of the same name. 32-bit codes: magic bits inline where the
-/// build has AVX2 (a loop of calls then vectorises; `pdep` and table lookups would not),
-/// else the [`per_key`] function. 64-bit codes: always [`per_key`] (measured: with AVX2 or
-/// AVX-512 in the build, a vectorised magic-bits loop of 64-bit codes is 1.2-1.4x slower
-/// than `pdep`/`pext` one key at a time; see BENCHMARKS.md).
+/// The crate-root function of the same name, chosen per code by measuring a loop of calls
+/// (BENCHMARKS.md): `vectorise($m, $feature)`: `$m`'s magic bits inline where the build has
+/// `$feature` (the loop then vectorises; `pdep` and table lookups would not), else the
+/// [`per_key`] function; `vectorise($m512, $m2)`: the same with `$m512`'s where the build
+/// has AVX-512 and `$m2`'s where it has AVX2 only; `per_key`: always [`per_key`] (3D-64 encode, where no vectorised
+/// loop measured beat `pdep` one key at a time).
 macro_rules! top {
-    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, vectorise) => {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        vectorise($m:ident, $feature:literal, $builds:literal)) => {
         $(#[$doc])*
         ///
-        /// In a loop, builds with AVX2 (`-C target-cpu=native` on a recent x86-64, or
-        /// `x86-64-v3`) vectorise it: it is [`magic`]'s function inline. Other builds run
-        #[doc = concat!("[`per_key::", stringify!($name), "`].")]
+        #[doc = concat!("In a loop, builds with ", $builds, " vectorise it: ")]
+        #[doc = concat!("it is magic bits inline. Other builds run [`per_key::", stringify!($name), "`].")]
         /// For slices, [`batch`] is faster still.
         #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
-            #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+            #[cfg(all(target_arch = "x86_64", target_feature = $feature))]
             {
-                magic::$name($($arg),*)
+                $m::$name($($arg),*)
+            }
+            #[cfg(not(all(target_arch = "x86_64", target_feature = $feature)))]
+            {
+                per_key::$name($($arg),*)
+            }
+        }
+    };
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty,
+        vectorise($m512:ident, $m2:ident)) => {
+        $(#[$doc])*
+        ///
+        /// In a loop, builds with AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)
+        /// vectorise it: it is magic bits inline, spelt differently with and without AVX-512
+        /// (each spelling measured the faster in its build).
+        #[doc = concat!("Other builds run [`per_key::", stringify!($name), "`].")]
+        /// For slices, [`batch`] is faster still.
+        #[inline(always)]
+        #[must_use]
+        pub fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(all(target_arch = "x86_64", target_feature = "avx512vl"))]
+            {
+                $m512::$name($($arg),*)
+            }
+            #[cfg(all(
+                target_arch = "x86_64",
+                target_feature = "avx2",
+                not(target_feature = "avx512vl")
+            ))]
+            {
+                $m2::$name($($arg),*)
             }
             #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
             {
@@ -233,9 +272,9 @@ macro_rules! top {
     ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) -> $ret:ty, per_key) => {
         $(#[$doc])*
         ///
-        #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: `pdep`/`pext` ")]
-        /// one key at a time beats a vectorised magic-bits loop for 64-bit codes. For slices,
-        /// [`batch`] is faster still.
+        #[doc = concat!("It is [`per_key::", stringify!($name), "`] inline: no vectorised ")]
+        /// magic-bits loop measured beat `pdep`/`pext` one key at a time for this code. For
+        /// slices, [`batch`] is faster still.
         #[inline(always)]
         #[must_use]
         pub fn $name($($arg: $ty),*) -> $ret {
@@ -249,10 +288,98 @@ macro_rules! top {
 /// otherwise a table (3D u32 encode, every CPU), or `pdep`/`pext` as inline assembly behind
 /// a cached run-time check where the CPU has a fast `pdep` (with `std`), else tables (32-bit
 /// codes) or magic bits (64-bit). The crate-root functions of the same names are these,
-/// except the 32-bit codes in builds with AVX2: [`magic`]'s there, which loops vectorise.
+/// except in builds with AVX2 or AVX-512 (which codes: each function says): magic bits
+/// inline there, which loops vectorise.
 pub mod per_key {
     #[allow(unused_imports)]
     use crate::{bmi2, lut, magic, path};
+
+    /// The 64-bit magic-bits fallbacks behind the run-time check, out of line: inline, their
+    /// 30-odd operations and masks made the compiler leave the whole function out of line
+    /// (a call per key), take registers from the `pdep` masks, or merge the paths (2D
+    /// decode: both vectorised into SSE registers, the `pext` results then moved through
+    /// them).
+    #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
+    mod outline {
+        use crate::magic;
+
+        #[inline(never)]
+        pub(super) fn encode2_u64(x: u32, y: u32) -> u64 {
+            magic::encode2_u64(x, y)
+        }
+        #[inline(never)]
+        pub(super) fn decode2_u64(code: u64) -> [u32; 2] {
+            magic::decode2_u64(code)
+        }
+        #[inline(never)]
+        pub(super) fn encode3_u64(x: u32, y: u32, z: u32) -> u64 {
+            magic::encode3_u64(x, y, z)
+        }
+        #[inline(never)]
+        pub(super) fn decode3_u64(code: u64) -> [u32; 3] {
+            magic::decode3_u64(code)
+        }
+    }
+
+    /// The fallbacks behind the run-time check, which a CPU with a fast `pdep` (where the
+    /// integration tests run) never takes, against a naive bit loop.
+    #[cfg(test)]
+    mod tests {
+        use crate::lut;
+
+        fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
+            let mut key = 0u64;
+            for i in 0..bits {
+                for (axis, &v) in c.iter().enumerate() {
+                    key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
+                }
+            }
+            key
+        }
+
+        fn naive_decode<const D: usize>(key: u64, bits: u32) -> [u32; D] {
+            let mut c = [0u32; D];
+            for i in 0..bits {
+                for (axis, v) in c.iter_mut().enumerate() {
+                    *v |= (((key >> (D as u32 * i + axis as u32)) & 1) as u32) << i;
+                }
+            }
+            c
+        }
+
+        /// xorshift64: inputs covering every bit.
+        fn words(n: usize) -> impl Iterator<Item = u64> {
+            let mut s = 0x9e37_79b9_7f4a_7c15u64;
+            (0..n).map(move |_| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                s
+            })
+        }
+
+        #[test]
+        fn fallbacks_match_naive() {
+            for w in words(4096).chain([0, u64::MAX]) {
+                let (a, b, c) = (w as u32, (w >> 32) as u32, w.rotate_left(17) as u32);
+                assert_eq!(lut::encode2_u32(a, b) as u64, naive_encode([a, b], 16));
+                assert_eq!(
+                    lut::encode3_u32(a, b, c) as u64,
+                    naive_encode([a, b, c], 10)
+                );
+                assert_eq!(lut::decode2_u32(a), naive_decode::<2>(a as u64, 16));
+                assert_eq!(lut::decode3_u32(a), naive_decode::<3>(a as u64, 10));
+                #[cfg(all(target_arch = "x86_64", not(target_feature = "bmi2"), feature = "std"))]
+                {
+                    use super::outline;
+                    assert_eq!(outline::encode2_u64(a, b), naive_encode([a, b], 32));
+                    assert_eq!(outline::encode3_u64(a, b, c), naive_encode([a, b, c], 21));
+                    assert_eq!(outline::decode2_u64(w), naive_decode::<2>(w, 32));
+                    assert_eq!(outline::decode3_u64(w), naive_decode::<3>(w, 21));
+                }
+            }
+        }
+    }
 
     scalar!(
         encode2_u32(x: u32, y: u32) -> u32, dispatch(lut)
@@ -267,16 +394,16 @@ pub mod per_key {
         decode3_u32(code: u32) -> [u32; 3], dispatch(lut)
     );
     scalar!(
-        encode2_u64(x: u32, y: u32) -> u64, dispatch(magic)
+        encode2_u64(x: u32, y: u32) -> u64, dispatch(magic, outline)
     );
     scalar!(
-        decode2_u64(code: u64) -> [u32; 2], dispatch(magic)
+        decode2_u64(code: u64) -> [u32; 2], dispatch(magic, outline)
     );
     scalar!(
-        encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic)
+        encode3_u64(x: u32, y: u32, z: u32) -> u64, dispatch(magic, outline)
     );
     scalar!(
-        decode3_u64(code: u64) -> [u32; 3], dispatch(magic)
+        decode3_u64(code: u64) -> [u32; 3], dispatch(magic, outline)
     );
 }
 
@@ -284,35 +411,35 @@ top!(
     /// 2D Morton code of `(x, y)` in a u32, 16 bits per axis (higher bits of `x` and `y`
     /// are ignored). `encode2_u32(1, 0) == 1`, `encode2_u32(0, 1) == 2`.
     encode2_u32(x: u32, y: u32) -> u32,
-    vectorise
+    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// `[x, y]` of a 2D u32 code, the inverse of [`encode2_u32`].
     decode2_u32(code: u32) -> [u32; 2],
-    vectorise
+    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u32, 10 bits per axis (higher bits ignored; code
     /// bits 30 and 31 are zero). `encode3_u32(1, 0, 0) == 1`, `(0, 1, 0)` gives 2,
     /// `(0, 0, 1)` gives 4.
     encode3_u32(x: u32, y: u32, z: u32) -> u32,
-    vectorise
+    vectorise(magic, vector)
 );
 top!(
     /// `[x, y, z]` of a 3D u32 code, the inverse of [`encode3_u32`] (bits 30 and 31 are
     /// ignored).
     decode3_u32(code: u32) -> [u32; 3],
-    vectorise
+    vectorise(magic, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 2D Morton code of `(x, y)` in a u64, 32 bits per axis.
     encode2_u64(x: u32, y: u32) -> u64,
-    per_key
+    vectorise(vector, "avx512vl", "AVX-512 (`target-cpu=native` on such a CPU, `x86-64-v4`)")
 );
 top!(
     /// `[x, y]` of a 2D u64 code, the inverse of [`encode2_u64`].
     decode2_u64(code: u64) -> [u32; 2],
-    per_key
+    vectorise(vector, "avx2", "AVX2 (`target-cpu=native` on a recent x86-64, `x86-64-v3`)")
 );
 top!(
     /// 3D Morton code of `(x, y, z)` in a u64, 21 bits per axis (higher bits ignored; code
@@ -323,7 +450,7 @@ top!(
 top!(
     /// `[x, y, z]` of a 3D u64 code, the inverse of [`encode3_u64`] (bit 63 is ignored).
     decode3_u64(code: u64) -> [u32; 3],
-    per_key
+    vectorise(vector, "avx512vl", "AVX-512 (`target-cpu=native` on such a CPU, `x86-64-v4`)")
 );
 
 #[inline]

@@ -83,6 +83,15 @@ mod cpu {
 
     static FLAGS: AtomicU8 = AtomicU8::new(0);
 
+    /// What the scalar functions check per call, on its own so that the check is one load
+    /// and one compare with a constant: [`SCALAR_PDEP`] or [`SCALAR_OTHER`], 0 until known.
+    #[cfg(not(target_feature = "bmi2"))]
+    static SCALAR: AtomicU8 = AtomicU8::new(0);
+    #[cfg(not(target_feature = "bmi2"))]
+    const SCALAR_PDEP: u8 = 1;
+    #[cfg(not(target_feature = "bmi2"))]
+    const SCALAR_OTHER: u8 = 2;
+
     #[inline(always)]
     fn flags() -> u8 {
         let f = FLAGS.load(Ordering::Relaxed);
@@ -114,6 +123,15 @@ mod cpu {
             }
         }
         FLAGS.store(f, Ordering::Relaxed);
+        #[cfg(not(target_feature = "bmi2"))]
+        SCALAR.store(
+            if f & (BMI2 | FAST_PDEP) == BMI2 | FAST_PDEP {
+                SCALAR_PDEP
+            } else {
+                SCALAR_OTHER
+            },
+            Ordering::Relaxed,
+        );
         f
     }
 
@@ -157,7 +175,14 @@ mod cpu {
     #[cfg(not(target_feature = "bmi2"))]
     #[inline(always)]
     pub(crate) fn scalar_pdep() -> bool {
-        flags() & (BMI2 | FAST_PDEP) == BMI2 | FAST_PDEP
+        match SCALAR.load(Ordering::Relaxed) {
+            SCALAR_PDEP => true,
+            SCALAR_OTHER => false,
+            _ => {
+                core::hint::cold_path();
+                detect() & (BMI2 | FAST_PDEP) == BMI2 | FAST_PDEP
+            }
+        }
     }
 }
 
