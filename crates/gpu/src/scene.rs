@@ -191,6 +191,17 @@ pub struct AlbedoLayer {
     pub texels: Vec<[u8; 4]>,
 }
 
+impl AlbedoLayer {
+    /// The mip chain the renderer uploads for this layer, level 0 (these texels) first,
+    /// down to 1x1: colour box-filtered in linear space, alpha filtered and rescaled so the
+    /// fraction of texels passing a cutoff of 0.5 stays level 0's (alpha-tested foliage
+    /// does not thin out with distance). Sampled trilinearly, with repeat addressing.
+    #[must_use]
+    pub fn mip_chain(&self) -> Vec<Vec<[u8; 4]>> {
+        crate::resources::albedo::mip_chain(self)
+    }
+}
+
 /// A batch: one mesh with one material, drawn for many instances (what the scene query
 /// hands to the renderer; `tiling` splits it into micro batches).
 #[derive(Clone, Debug, PartialEq)]
