@@ -220,8 +220,30 @@ fn tiling_scratch_add(i: u32, v: u32) {
     }
 }
 
+// Places pixel k of `gid`'s quad's command from its record `r` (tile's first counter
+// `first`); 1 when the counter has no room for it (corrupt counts), else 0.
+fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
+    let p = tiling_quad_pixel(gid, k);
+    if (p.x >= params.width || p.y >= params.height || (r & TILING_RECORD_COMMAND) == 0u) {
+        return 0u;
+    }
+    let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
+    let slot = r & TILING_RECORD_SLOT_MASK;
+    if (c >= arrayLength(&counts) || slot >= counts[c]) {
+        return 1u;
+    }
+    let at = pixel_offsets[c] + slot;
+    if (at / 2u < arrayLength(&commands)) {
+        let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
+        atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+    }
+    return 0u;
+}
+
 // Frames without a validity mask: every pixel's command from its record, at the slot mid
-// classify took for it (no decode, no histogram: mid and output classify alike).
+// classify took for it (no decode, no histogram: mid and output classify alike). No
+// per-pixel stats: the pixels classify as in mid classify (entry_waves copies its stats);
+// only commands that find no room here (corrupt counts) are counted, dropped.
 @compute @workgroup_size(16, 16)
 fn scatter_commands(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -234,27 +256,8 @@ fn scatter_commands(
         records = slots[q];
     }
     let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
-    // No per-pixel stats: the pixels classify as in mid classify (entry_waves copies its
-    // stats); only commands that find no room here (corrupt counts) are counted, dropped.
-    var lost = 0u;
-    for (var k = 0u; k < 4u; k++) {
-        let p = tiling_quad_pixel(gid, k);
-        let r = records[k];
-        if (p.x >= params.width || p.y >= params.height || (r & TILING_RECORD_COMMAND) == 0u) {
-            continue;
-        }
-        let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
-        let slot = r & TILING_RECORD_SLOT_MASK;
-        if (c < arrayLength(&counts) && slot < counts[c]) {
-            let at = pixel_offsets[c] + slot;
-            if (at / 2u < arrayLength(&commands)) {
-                let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
-                atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
-            }
-        } else {
-            lost += 1u;
-        }
-    }
+    let lost = tiling_scatter_pixel(gid, 0u, records.x, first) + tiling_scatter_pixel(gid, 1u, records.y, first)
+        + tiling_scatter_pixel(gid, 2u, records.z, first) + tiling_scatter_pixel(gid, 3u, records.w, first);
     if (lost != 0u) {
         atomicAdd(&stats[TILING_STAT_DROPPED], lost);
     }

@@ -123,32 +123,23 @@ fn counter_offsets_pass(
     }
 }
 
-// Whether pixel k (at x, y, with vis word `word`) of a quad whose words are `words`
-// starts a triangle run (tiling::first_of_run): neither its left nor its upper neighbour
-// holds the same word with its validity bit set (neighbours inside the quad from `words`).
-// Every valid pixel's word is also held by a run start, so reading the triangle's indices
-// and marking its chunks only at run starts marks every visible triangle.
-fn tiling_run_start(words: vec4<u32>, k: u32, x: u32, y: u32, word: u32) -> bool {
+// Whether pixel (x, y) with vis word `word` starts a triangle run (tiling::first_of_run):
+// neither its left nor its upper neighbour holds the same word with its validity bit set.
+// `left` / `up`: those neighbours' words when they lie in the pixel's quad (the caller has
+// them), VISBUF_NONE to read them here. Every valid pixel's word is also held by a run
+// start, so reading the triangle's indices and marking its chunks only at run starts marks
+// every visible triangle.
+fn tiling_run_start(x: u32, y: u32, word: u32, left_in_quad: bool, left: u32, up_in_quad: bool, up: u32) -> bool {
     let i = y * params.width + x;
     if (x > 0u) {
-        var left = 0u;
-        if ((k & 1u) == 1u) {
-            left = words[k - 1u];
-        } else {
-            left = tiling_word(i - 1u);
-        }
-        if (left == word && tiling_valid_bit(i - 1u)) {
+        let l = select(tiling_word(i - 1u), left, left_in_quad);
+        if (l == word && tiling_valid_bit(i - 1u)) {
             return false;
         }
     }
     if (y > 0u) {
-        var up = 0u;
-        if (k >= 2u) {
-            up = words[k - 2u];
-        } else {
-            up = tiling_word(i - params.width);
-        }
-        if (up == word && tiling_valid_bit(i - params.width)) {
+        let u = select(tiling_word(i - params.width), up, up_in_quad);
+        if (u == word && tiling_valid_bit(i - params.width)) {
             return false;
         }
     }
@@ -212,6 +203,101 @@ fn tiling_mark_triangle(px: TilingPixel) -> bool {
     return ok;
 }
 
+// One pixel's part in count_pixels: its key (TILING_NONE: no command), sample mask and
+// record (kind and dropped flag; the command fields come after the histogram).
+struct TilingCounted {
+    key: u32,
+    mask: u32,
+    record: u32,
+}
+
+// Pixel k of `gid`'s quad, word `word`: decode, stats, chunk marks at run starts, key.
+// `left` / `up` as tiling_run_start's.
+fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, left: u32, up_in_quad: bool, up: u32, range: vec2<u32>) -> TilingCounted {
+    var out = TilingCounted(TILING_NONE, 0u, TILING_PX_EMPTY);
+    let p = tiling_quad_pixel(gid, k);
+    if (p.x >= params.width || p.y >= params.height) {
+        return out;
+    }
+    let px = tiling_decode(word, p.y * params.width + p.x);
+    tiling_stat_pixel(px);
+    out.record = px.kind;
+    if (px.kind != TILING_PX_VALID) {
+        return out;
+    }
+#if !timing_omit_index_reads
+    if (tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up) && !tiling_mark_triangle(px)) {
+        tiling_stat(TILING_STAT_BAD_INDICES, 1u);
+    }
+#endif
+    let mask = tiling_sample_mask(p.x, p.y, word);
+    if (mask != 0u) {
+        if (tiling_tile_has(range, px.pg)) {
+            out.key = px.pg;
+            out.mask = mask;
+            tiling_stat(TILING_STAT_COMMANDS, 1u);
+        } else {
+            out.record |= TILING_RECORD_DROPPED;
+            tiling_stat(TILING_STAT_DROPPED, 1u);
+        }
+    }
+    return out;
+}
+
+// A command's counter, its workgroup-histogram slot and its rank there (keyed path).
+struct TilingRanked {
+    counter: u32,
+    slot: u32,
+    rank: u32,
+}
+
+fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
+    if (key == TILING_NONE) {
+        return TilingRanked(0u, 0u, 0u);
+    }
+    let c = tiling_counter_of(key);
+    let slot = min(c - range.x, TILING_HIST_SLOTS - 1u);
+    return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
+}
+
+// The wave-append loop for one pixel of every quad of the workgroup (tiles with more
+// counters than the histogram): returns (counter, slot) of this invocation's command.
+// Contains barriers: call from uniform control flow.
+fn tiling_append(key: u32, li: u32) -> vec2<u32> {
+    var out = vec2<u32>(0u, TILING_NONE);
+    var pending = key != TILING_NONE;
+    loop {
+        let next = tiling_smallest_pending_key(pending, key, li);
+        if (next == TILING_NONE) {
+            break;
+        }
+        let take = pending && key == next;
+        let c = tiling_counter_of(next);
+        let a = wave_append_begin(take, li);
+        var old = 0u;
+        if (a.total != 0u && c < arrayLength(&counts)) {
+            old = atomicAdd(&counts[c], a.total);
+        }
+        let slot = wave_append_end(a, old);
+        if (take) {
+            pending = false;
+            out = vec2<u32>(c, slot);
+        }
+    }
+    return out;
+}
+
+// A pixel's record: the command's slot and counter when it has one that fits the fields
+// (corrupt buffers get none), else its kind.
+fn tiling_record(px: TilingCounted, counter: u32, slot: u32, range: vec2<u32>) -> u32 {
+    let index = counter - range.x;
+    if (px.key != TILING_NONE && slot <= TILING_RECORD_SLOT_MASK && index <= TILING_RECORD_COUNTER_MASK) {
+        return TILING_RECORD_COMMAND | slot | (index << TILING_RECORD_COUNTER_SHIFT) | (px.mask << TILING_RECORD_MASK_SHIFT);
+    }
+    return px.record;
+}
+
+// The quad's four pixels are spelled out, never indexed by a loop variable (tiling::pixel).
 @compute @workgroup_size(16, 16)
 fn count_pixels(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -219,49 +305,10 @@ fn count_pixels(
     @builtin(local_invocation_index) li: u32,
 ) {
     atomicStore(&tiling_chunk_cache[li], TILING_NONE);
-    let words = tiling_quad_words(gid);
+    let w = tiling_quad_words(gid);
     tiling_stats_begin(li);
     let tile = tiling_block_tile(wid);
     let range = tiling_tile_counters(tile, li);
-    // The (pass, group) key of each pixel of the quad that gets a command (its sample mask
-    // in `masks4`), and the record of each that does not.
-    var keys = vec4<u32>(TILING_NONE);
-    var masks4 = vec4<u32>(0u);
-    var records = vec4<u32>(TILING_PX_EMPTY);
-    for (var k = 0u; k < 4u; k++) {
-        let p = tiling_quad_pixel(gid, k);
-        if (p.x >= params.width || p.y >= params.height) {
-            continue;
-        }
-        let i = p.y * params.width + p.x;
-        let word = words[k];
-        let px = tiling_decode(word, i);
-        tiling_stat_pixel(px);
-        records[k] = px.kind;
-        if (px.kind != TILING_PX_VALID) {
-            continue;
-        }
-#if !timing_omit_index_reads
-        if (tiling_run_start(words, k, p.x, p.y, word) && !tiling_mark_triangle(px)) {
-            tiling_stat(TILING_STAT_BAD_INDICES, 1u);
-        }
-#endif
-        let mask = tiling_sample_mask(p.x, p.y, word);
-        if (mask != 0u) {
-            if (tiling_tile_has(range, px.pg)) {
-                keys[k] = px.pg;
-                masks4[k] = mask;
-                tiling_stat(TILING_STAT_COMMANDS, 1u);
-            } else {
-                records[k] |= TILING_RECORD_DROPPED;
-                tiling_stat(TILING_STAT_DROPPED, 1u);
-            }
-        }
-    }
-    // Each command's slot within its counter, as classify output's write_commands takes
-    // them (the commands' order within a counter is free).
-    var counters = vec4<u32>(0u);
-    var slots4 = vec4<u32>(TILING_NONE);
     // The tile's first block writes the tile's final counter offsets.
     if ((wid.x * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u && (wid.y * TILING_BLOCK_SIZE) % TILING_TILE_SIZE == 0u
         && li < params.pass_count) {
@@ -270,19 +317,23 @@ fn count_pixels(
             counter_offsets[e] = tiling_wg_entry_first[li];
         }
     }
+    // Pixels 0 1 / 2 3 of the quad: 1's left is 0, 2's upper is 0, 3's are 2 and 1.
+    let p0 = tiling_count_pixel(gid, 0u, w.x, false, 0u, false, 0u, range);
+    let p1 = tiling_count_pixel(gid, 1u, w.y, true, w.x, false, 0u, range);
+    let p2 = tiling_count_pixel(gid, 2u, w.z, false, 0u, true, w.x, range);
+    let p3 = tiling_count_pixel(gid, 3u, w.w, true, w.z, true, w.y, range);
+    // Each command's slot within its counter, as classify output's write_commands takes
+    // them (the commands' order within a counter is free).
+    var counters = vec4<u32>(0u);
+    var slots = vec4<u32>(TILING_NONE);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
         atomicStore(&tiling_hist[li], 0u);
         workgroupBarrier();
-        var hist_slots = vec4<u32>(0u);
-        var ranks = vec4<u32>(0u);
-        for (var k = 0u; k < 4u; k++) {
-            if (keys[k] != TILING_NONE) {
-                counters[k] = tiling_counter_of(keys[k]);
-                hist_slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
-                ranks[k] = atomicAdd(&tiling_hist[hist_slots[k]], 1u);
-            }
-        }
+        let r0 = tiling_rank(p0.key, range);
+        let r1 = tiling_rank(p1.key, range);
+        let r2 = tiling_rank(p2.key, range);
+        let r3 = tiling_rank(p3.key, range);
         workgroupBarrier();
         if (li < range.y) {
             let v = atomicLoad(&tiling_hist[li]);
@@ -291,48 +342,28 @@ fn count_pixels(
             }
         }
         workgroupBarrier();
-        for (var k = 0u; k < 4u; k++) {
-            if (keys[k] != TILING_NONE) {
-                slots4[k] = tiling_hist_first[hist_slots[k]] + ranks[k];
-            }
-        }
+        counters = vec4<u32>(r0.counter, r1.counter, r2.counter, r3.counter);
+        slots = vec4<u32>(
+            tiling_hist_first[r0.slot] + r0.rank,
+            tiling_hist_first[r1.slot] + r1.rank,
+            tiling_hist_first[r2.slot] + r2.rank,
+            tiling_hist_first[r3.slot] + r3.rank,
+        );
     } else {
-        // Aggregated appends, one pixel of the quads and one (pass, group) of the
-        // workgroup at a time, smallest first: one atomic per wave (subgroup path) or per
-        // workgroup (fallback) and key.
-        for (var k = 0u; k < 4u; k++) {
-            let key = keys[k];
-            var pending = key != TILING_NONE;
-            loop {
-                let next = tiling_smallest_pending_key(pending, key, li);
-                if (next == TILING_NONE) {
-                    break;
-                }
-                let take = pending && key == next;
-                let c = tiling_counter_of(next);
-                let a = wave_append_begin(take, li);
-                var old = 0u;
-                if (a.total != 0u && c < arrayLength(&counts)) {
-                    old = atomicAdd(&counts[c], a.total);
-                }
-                let slot = wave_append_end(a, old);
-                if (take) {
-                    pending = false;
-                    counters[k] = c;
-                    slots4[k] = slot;
-                }
-            }
-        }
+        // Aggregated appends, one pixel of the quads at a time.
+        let a0 = tiling_append(p0.key, li);
+        let a1 = tiling_append(p1.key, li);
+        let a2 = tiling_append(p2.key, li);
+        let a3 = tiling_append(p3.key, li);
+        counters = vec4<u32>(a0.x, a1.x, a2.x, a3.x);
+        slots = vec4<u32>(a0.y, a1.y, a2.y, a3.y);
     }
-    for (var k = 0u; k < 4u; k++) {
-        let index = counters[k] - range.x;
-        // A slot or an index past its field (corrupt buffers) gets no command.
-        if (keys[k] != TILING_NONE && slots4[k] <= TILING_RECORD_SLOT_MASK && index <= TILING_RECORD_COUNTER_MASK) {
-            records[k] = TILING_RECORD_COMMAND | slots4[k] | (index << TILING_RECORD_COUNTER_SHIFT)
-                | (masks4[k] << TILING_RECORD_MASK_SHIFT);
-        }
-    }
-    tiling_put_records(gid, records);
+    tiling_put_records(gid, vec4<u32>(
+        tiling_record(p0, counters.x, slots.x, range),
+        tiling_record(p1, counters.y, slots.y, range),
+        tiling_record(p2, counters.z, slots.z, range),
+        tiling_record(p3, counters.w, slots.w, range),
+    ));
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
