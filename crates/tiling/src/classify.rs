@@ -545,7 +545,7 @@ pub struct Totals {
     pub counter_count: u32,
     /// Commands (mid classify's `pixel_offsets` pass): [`MidClassify::command_count`].
     pub command_count: u32,
-    /// Wave commands (classify output's `wave_offsets` pass).
+    /// Wave commands (classify output's `entry_waves` pass).
     pub wave_count: u32,
     /// Visible chunks, the vertex wave commands (the vertex pass's `build_pyramid`).
     pub visible_chunks: u32,

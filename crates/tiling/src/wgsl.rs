@@ -11,14 +11,17 @@
 //! is decoded by its functions), `wave::append` where a pass appends (one atomic per
 //! subgroup with the `subgroups` feature, per workgroup without; needs
 //! `wgpu::Features::SUBGROUP` with it), `tiling::common` (constants, structs, the
-//! single-workgroup scan), `tiling::pixel` (bindings 0-3 and the pixel decode) and
-//! `tiling::keyed` (bindings 4-5 and the keyed workgroup histogram). The two pixel phases
-//! (`count_pixels`, `write_commands`, an invocation per 2x2 quad) aggregate through that
-//! histogram: a 32x32 block lies in one tile whose counters are contiguous, so one LDS atomic
-//! per pixel and one global
-//! atomic per counter of the block replace the wave-append loop over keys; tiles with more
-//! than `TILING_HIST_LIMIT` (an `override`, 256) counters take that loop. Both give the
-//! same counts and, after [`canonical_sort`](crate::canonical_sort), the same commands.
+//! workgroup scan, the block sizes of the entry scans), `tiling::pixel` (bindings 0-3, the
+//! pixel decode, the quads and the per-pixel records) and `tiling::keyed` (bindings 4-5
+//! and the keyed workgroup histogram). The pixel phases run an invocation per 2x2 quad (a
+//! 32x32 block per workgroup, the quad's pixels spelled out: loop-indexed vectors live in
+//! local memory on some GPUs). `count_pixels` and `write_commands` aggregate through the
+//! histogram: a block lies in one tile whose counters are contiguous, so one LDS atomic per
+//! pixel and one global atomic per counter of the block replace the wave-append loop over
+//! keys; tiles with more than `TILING_HIST_LIMIT` (an `override`, 256) counters take that
+//! loop. Both give the same counts and, after [`canonical_sort`](crate::canonical_sort),
+//! the same commands. `count_pixels` records each pixel's slot, and without a validity
+//! mask classify output's `scatter_commands` places the commands from those records.
 //!
 //! Units: every length and offset is in elements of the named buffer; a buffer's `size`
 //! in the descriptions is the bytes of one element (the least a binding may hold). "Zeroed"
@@ -27,8 +30,15 @@
 //! The `override` `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere). Features
 //! besides `subgroups`: the timing experiments of `gpu`'s `classify_variants`
 //! (`timing_omit_stats`, `timing_omit_cull_marks`, `timing_omit_index_reads`,
-//! `timing_store_commands`; each drops work and makes the output wrong, and the shipped
-//! build has none of their code). Entry points past 65 535 workgroups continue in rows
+//! `timing_omit_records`, `timing_store_commands`, and laydown finalize's `timing_load_only`
+//! and `timing_no_table`; each drops work and most make the output wrong, and the shipped
+//! build has none of their code).
+//!
+//! The prefix sums over (tile, pass) entries (`counter_offsets_pass`, `entry_waves`) run
+//! a workgroup per [`ENTRY_BLOCK`] entries; the last workgroup to finish (a counter in the
+//! zeroed scratch buffer, `storageBarrier`'s device-scope fences, every value another
+//! workgroup wrote read with an atomic load) scans the block sums. No workgroup waits on
+//! another, so this needs no forward-progress guarantee. Entry points past 65 535 workgroups continue in rows
 //! ([`shader::Dispatch::Items`]).
 //!
 //! [`TilingParams`]: crate::TilingParams
