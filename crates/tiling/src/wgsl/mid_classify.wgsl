@@ -165,127 +165,80 @@ fn tiling_mark_chunk(chunk: u32) {
     }
 }
 
-// The first of the three indices of primitive `prim` of micro batch `mb`'s geometry, or
-// TILING_NONE when they are past the index buffer.
-fn tiling_first_index(mb: u32, prim: u32) -> u32 {
-    let first = tiling_add_sat(table[mb].first_index, 3u * prim);
+// Marks the 64-vertex chunks of a valid pixel's triangle; false if an index is bad (past
+// the index buffer, at or past the vertex count, or a chunk past the cull buffer).
+fn tiling_mark_triangle(px: TilingPixel) -> bool {
+    let row = table[px.mb];
+    let first = tiling_add_sat(row.first_index, 3u * px.prim);
     let n = arrayLength(&indices);
     if (n < 3u || first > n - 3u) {
-        return TILING_NONE;
+        return false;
     }
-    return first;
-}
-
-// Marks the 64-vertex chunks of vertices `v` of instance `instance` of micro batch `mb`
-// (a valid pixel's triangle); false if an index is bad (at or past the vertex count, or a
-// chunk past the cull buffer).
-fn tiling_mark_vertices(mb: u32, instance: u32, v: vec3<u32>) -> bool {
-    let row = table[mb];
     // chunk = first_chunk + (instance * vertex_count + v) / 64 without 64-bit integers,
     // exactly (a saturated sum is past any chunk count): with vertex_count = 64 a + b,
     // v = 64 c + d and instance = 64 q + r it is
     // first_chunk + instance a + c + q b + (r b + d) / 64.
     let a = row.vertex_count / TILING_CHUNK_SIZE;
     let b = row.vertex_count % TILING_CHUNK_SIZE;
-    let q = instance / TILING_CHUNK_SIZE;
-    let r = instance % TILING_CHUNK_SIZE;
-    let whole = tiling_add_sat(tiling_add_sat(row.first_chunk, tiling_mul_sat(instance, a)), q * b);
-    return tiling_mark_vertex(whole, r, b, v.x, row.vertex_count)
-        & tiling_mark_vertex(whole, r, b, v.y, row.vertex_count)
-        & tiling_mark_vertex(whole, r, b, v.z, row.vertex_count);
-}
-
-// One vertex of tiling_mark_vertices: false if bad.
-fn tiling_mark_vertex(whole: u32, r: u32, b: u32, v: u32, vertex_count: u32) -> bool {
-    if (v >= vertex_count) {
-        return false;
-    }
-    let part = (r * b + v % TILING_CHUNK_SIZE) / TILING_CHUNK_SIZE;
-    let chunk = tiling_add_sat(whole, v / TILING_CHUNK_SIZE + part);
-    if (chunk >= params.chunk_count || chunk / 4u >= arrayLength(&vertex_cull)) {
-        return false;
-    }
+    let q = px.instance / TILING_CHUNK_SIZE;
+    let r = px.instance % TILING_CHUNK_SIZE;
+    let whole = tiling_add_sat(tiling_add_sat(row.first_chunk, tiling_mul_sat(px.instance, a)), q * b);
+    var ok = true;
+    for (var k = 0u; k < 3u; k++) {
+        let v = indices[first + k];
+        if (v >= row.vertex_count) {
+            ok = false;
+            continue;
+        }
+        let part = (r * b + v % TILING_CHUNK_SIZE) / TILING_CHUNK_SIZE;
+        let chunk = tiling_add_sat(whole, v / TILING_CHUNK_SIZE + part);
+        if (chunk >= params.chunk_count || chunk / 4u >= arrayLength(&vertex_cull)) {
+            ok = false;
+            continue;
+        }
 #if !timing_omit_cull_marks
-    tiling_mark_chunk(chunk);
+        tiling_mark_chunk(chunk);
 #endif
-    return true;
-}
-
-// A pixel of count_pixels after its decode: the pixel (kind TILING_PX_EMPTY outside the
-// image too, `inside` false) and, at a triangle run start, where its triangle's indices
-// begin (TILING_NONE: not a run start; TILING_NONE - 1: past the index buffer).
-struct TilingDecoded {
-    px: TilingPixel,
-    inside: bool,
-    first: u32,
-}
-
-// Pixel k of `gid`'s quad, word `word`: decode and, at a run start, the first index
-// (`left` / `up` as tiling_run_start's). No atomics: the quad's four decodes, then its
-// index reads, are in flight together.
-fn tiling_count_decode(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, left: u32, up_in_quad: bool, up: u32) -> TilingDecoded {
-    var out = TilingDecoded(TilingPixel(TILING_PX_EMPTY, 0u, 0u, 0u, 0u), false, TILING_NONE);
-    let p = tiling_quad_pixel(gid, k);
-    if (p.x >= params.width || p.y >= params.height) {
-        return out;
     }
-    out.inside = true;
-    out.px = tiling_decode(word, p.y * params.width + p.x);
-#if !timing_omit_index_reads
-    if (out.px.kind == TILING_PX_VALID && tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up)) {
-        out.first = min(tiling_first_index(out.px.mb, out.px.prim), TILING_NONE - 1u);
-    }
-#endif
-    return out;
-}
-
-// The three indices of a decoded run start's triangle (zeros when it has none).
-fn tiling_count_indices(d: TilingDecoded) -> vec3<u32> {
-    if (d.first >= TILING_NONE - 1u) {
-        return vec3<u32>(0u);
-    }
-    return vec3<u32>(indices[d.first], indices[d.first + 1u], indices[d.first + 2u]);
+    return ok;
 }
 
 // One pixel's part in count_pixels: its key (TILING_NONE: no command), sample mask and
-// record (kind and dropped flag; the command fields come after the histogram), and its
-// stats (kept in registers and summed over the quad: one shared atomic per field and
-// invocation, not per pixel).
+// record (kind and dropped flag; the command fields come after the histogram).
 struct TilingCounted {
     key: u32,
     mask: u32,
     record: u32,
-    // One-hot TILING_PX_* kind: empty, unknown, out of range, valid.
-    kinds: vec4<u32>,
-    // Commands, dropped, bad indices.
-    counts: vec3<u32>,
 }
 
-// Pixel k of `gid`'s quad after its decode and index reads: chunk marks, stats, key.
-fn tiling_count_pixel(gid: vec3<u32>, k: u32, d: TilingDecoded, v: vec3<u32>, word: u32, range: vec2<u32>) -> TilingCounted {
-    var out = TilingCounted(TILING_NONE, 0u, TILING_PX_EMPTY, vec4<u32>(0u), vec3<u32>(0u));
-    if (!d.inside) {
+// Pixel k of `gid`'s quad, word `word`: decode, stats, chunk marks at run starts, key.
+// `left` / `up` as tiling_run_start's.
+fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, left: u32, up_in_quad: bool, up: u32, range: vec2<u32>) -> TilingCounted {
+    var out = TilingCounted(TILING_NONE, 0u, TILING_PX_EMPTY);
+    let p = tiling_quad_pixel(gid, k);
+    if (p.x >= params.width || p.y >= params.height) {
         return out;
     }
-    let px = d.px;
-    out.kinds = select(vec4<u32>(0u), vec4<u32>(1u), vec4<u32>(px.kind) == vec4<u32>(0u, 1u, 2u, 3u));
+    let px = tiling_decode(word, p.y * params.width + p.x);
+    tiling_stat_pixel(px);
     out.record = px.kind;
     if (px.kind != TILING_PX_VALID) {
         return out;
     }
-    if (d.first != TILING_NONE && (d.first == TILING_NONE - 1u || !tiling_mark_vertices(px.mb, px.instance, v))) {
-        out.counts.z = 1u;
+#if !timing_omit_index_reads
+    if (tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up) && !tiling_mark_triangle(px)) {
+        tiling_stat(TILING_STAT_BAD_INDICES, 1u);
     }
-    let p = tiling_quad_pixel(gid, k);
+#endif
     let mask = tiling_sample_mask(p.x, p.y, word);
     if (mask != 0u) {
         if (tiling_tile_has(range, px.pg)) {
             out.key = px.pg;
             out.mask = mask;
-            out.counts.x = 1u;
+            tiling_stat(TILING_STAT_COMMANDS, 1u);
         } else {
             out.record |= TILING_RECORD_DROPPED;
-            out.counts.y = 1u;
+            tiling_stat(TILING_STAT_DROPPED, 1u);
         }
     }
     return out;
@@ -365,27 +318,10 @@ fn count_pixels(
         }
     }
     // Pixels 0 1 / 2 3 of the quad: 1's left is 0, 2's upper is 0, 3's are 2 and 1.
-    let d0 = tiling_count_decode(gid, 0u, w.x, false, 0u, false, 0u);
-    let d1 = tiling_count_decode(gid, 1u, w.y, true, w.x, false, 0u);
-    let d2 = tiling_count_decode(gid, 2u, w.z, false, 0u, true, w.x);
-    let d3 = tiling_count_decode(gid, 3u, w.w, true, w.z, true, w.y);
-    let v0 = tiling_count_indices(d0);
-    let v1 = tiling_count_indices(d1);
-    let v2 = tiling_count_indices(d2);
-    let v3 = tiling_count_indices(d3);
-    let p0 = tiling_count_pixel(gid, 0u, d0, v0, w.x, range);
-    let p1 = tiling_count_pixel(gid, 1u, d1, v1, w.y, range);
-    let p2 = tiling_count_pixel(gid, 2u, d2, v2, w.z, range);
-    let p3 = tiling_count_pixel(gid, 3u, d3, v3, w.w, range);
-    let kinds = p0.kinds + p1.kinds + p2.kinds + p3.kinds;
-    let tally = p0.counts + p1.counts + p2.counts + p3.counts;
-    tiling_stat(TILING_STAT_EMPTY, kinds.x);
-    tiling_stat(TILING_STAT_UNKNOWN, kinds.y);
-    tiling_stat(TILING_STAT_OUT_OF_RANGE, kinds.z);
-    tiling_stat(TILING_STAT_VALID, kinds.w);
-    tiling_stat(TILING_STAT_COMMANDS, tally.x);
-    tiling_stat(TILING_STAT_DROPPED, tally.y);
-    tiling_stat(TILING_STAT_BAD_INDICES, tally.z);
+    let p0 = tiling_count_pixel(gid, 0u, w.x, false, 0u, false, 0u, range);
+    let p1 = tiling_count_pixel(gid, 1u, w.y, true, w.x, false, 0u, range);
+    let p2 = tiling_count_pixel(gid, 2u, w.z, false, 0u, true, w.x, range);
+    let p3 = tiling_count_pixel(gid, 3u, w.w, true, w.z, true, w.y, range);
     // Each command's slot within its counter, as classify output's write_commands takes
     // them (the commands' order within a counter is free).
     var counters = vec4<u32>(0u);
