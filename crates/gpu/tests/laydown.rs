@@ -350,6 +350,15 @@ fn compute_laydown_matches_the_f64_rasteriser() {
     }
 }
 
+/// 5 m up the z axis looking at the origin, 1 rad vertical field of view, near plane 0.5 m.
+fn front_camera() -> Camera {
+    Camera {
+        fov_y: 1.0,
+        near: 0.5,
+        ..Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO)
+    }
+}
+
 /// One triangle (counter-clockwise seen from +z) per entry of `tris`, object space.
 fn triangles_mesh(name: &str, tris: &[[Vec3; 3]]) -> Mesh {
     let positions: Vec<Vec3> = tris.iter().flatten().copied().collect();
@@ -424,11 +433,7 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         static_setups: Vec::new(),
         wind: None,
     };
-    let camera = Camera {
-        fov_y: 1.0,
-        near: 0.5,
-        ..Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO)
-    };
+    let camera = front_camera();
     let frame = FrameInput::new(camera);
     let probe = ctx();
     let render = |laydown| {
@@ -635,11 +640,7 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
         static_setups: Vec::new(),
         wind: None,
     };
-    let camera = Camera {
-        fov_y: 1.0,
-        near: 0.5,
-        ..Camera::look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO)
-    };
+    let camera = front_camera();
     let frame = FrameInput::new(camera);
     let probe = ctx();
     let vis = |laydown| {

@@ -101,6 +101,8 @@ pub mod batch;
 #[cfg(target_arch = "x86_64")]
 mod bmi2;
 mod error;
+#[cfg(test)]
+mod naive;
 // Not on soft-float targets (x86_64-unknown-none), where LLVM cannot lower 512-bit vectors.
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 mod gfni;
@@ -327,25 +329,7 @@ pub mod per_key {
     mod tests {
         use crate::lut;
 
-        fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
-            let mut key = 0u64;
-            for i in 0..bits {
-                for (axis, &v) in c.iter().enumerate() {
-                    key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
-                }
-            }
-            key
-        }
-
-        fn naive_decode<const D: usize>(key: u64, bits: u32) -> [u32; D] {
-            let mut c = [0u32; D];
-            for i in 0..bits {
-                for (axis, v) in c.iter_mut().enumerate() {
-                    *v |= (((key >> (D as u32 * i + axis as u32)) & 1) as u32) << i;
-                }
-            }
-            c
-        }
+        use crate::naive::{naive_decode, naive_encode};
 
         /// xorshift64: inputs covering every bit.
         fn words(n: usize) -> impl Iterator<Item = u64> {

@@ -109,25 +109,7 @@ pub(crate) const fn decode3_u64(code: u64) -> [u32; 3] {
 
 #[cfg(test)]
 mod tests {
-    fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
-        let mut key = 0u64;
-        for i in 0..bits {
-            for (axis, &v) in c.iter().enumerate() {
-                key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
-            }
-        }
-        key
-    }
-
-    fn naive_decode<const D: usize>(key: u64, bits: u32) -> [u32; D] {
-        let mut c = [0u32; D];
-        for i in 0..bits {
-            for (axis, v) in c.iter_mut().enumerate() {
-                *v |= (((key >> (D as u32 * i + axis as u32)) & 1) as u32) << i;
-            }
-        }
-        c
-    }
+    use crate::naive::{naive_decode, naive_encode};
 
     #[test]
     fn matches_naive() {

@@ -37,6 +37,15 @@
 // and entry_waves derives this phase's stats from them.
 @group(0) @binding(17) var<storage, read> mid_stats: array<u32, 8>;
 
+// Adds `n` to counter c's commands written and returns the old value (keyed.wgsl's
+// tiling_append).
+fn tiling_counter_add(c: u32, n: u32) -> u32 {
+    if (c >= arrayLength(&final_counts)) {
+        return 0u;
+    }
+    return atomicAdd(&final_counts[c], n);
+}
+
 // The first counter of (tile, pass) entry e (keyed.wgsl).
 fn tiling_counter_offset(e: u32) -> u32 {
     return counter_offsets[e];
@@ -130,28 +139,11 @@ fn write_commands(
             }
         }
     } else {
-        // Aggregated appends, one pixel of the quads and one (pass, group) of the
-        // workgroup at a time.
+        // Aggregated appends, one pixel of the quads at a time (keyed.wgsl).
         for (var k = 0u; k < 4u; k++) {
-            let key = keys[k];
-            var pending = key != TILING_NONE;
-            loop {
-                let next = tiling_smallest_pending_key(pending, key, li);
-                if (next == TILING_NONE) {
-                    break;
-                }
-                let take = pending && key == next;
-                let c = tiling_counter_of(next);
-                let a = wave_append_begin(take, li);
-                var old = 0u;
-                if (a.total != 0u && c < arrayLength(&final_counts)) {
-                    old = atomicAdd(&final_counts[c], a.total);
-                }
-                let slot = wave_append_end(a, old);
-                if (take) {
-                    pending = false;
-                    tiling_put_command(c, slot, cmds[k]);
-                }
+            let a = tiling_append(keys[k], li);
+            if (a.y != TILING_NONE) {
+                tiling_put_command(a.x, a.y, cmds[k]);
             }
         }
     }
@@ -214,6 +206,10 @@ fn tiling_scratch_store(i: u32, v: u32) {
     }
 }
 
+fn tiling_scratch_done() -> u32 {
+    return atomicAdd(&wave_scratch[0], 1u);
+}
+
 fn tiling_scratch_add(i: u32, v: u32) {
     if (v != 0u && i < arrayLength(&wave_scratch)) {
         atomicAdd(&wave_scratch[i], v);
@@ -265,7 +261,6 @@ fn scatter_commands(
 
 var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
-var<workgroup> tiling_wg_last: u32;
 
 // Per pass-major entry (one invocation each, TILING_ENTRY_BLOCK per workgroup): clamps its
 // counters' final counts to their room and sums their waves; per workgroup the block's
@@ -325,26 +320,9 @@ fn entry_waves(
         tiling_scratch_add(tiling_scratch_pass_waves() + my_pass, atomicLoad(&tiling_wg_pass_waves[li]));
         tiling_scratch_add(tiling_scratch_pass_items() + my_pass, atomicLoad(&tiling_wg_pass_items[li]));
     }
-    storageBarrier();
-    if (li == 0u) {
-        tiling_wg_last = select(0u, 1u, atomicAdd(&wave_scratch[0], 1u) == groups.x * groups.y * groups.z - 1u);
-    }
-    if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
-        return;
-    }
-    storageBarrier();
     // The last workgroup: every block sum and pass sum is in.
-    let blocks = (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
-    let r = tiling_wg_range(li, blocks);
-    var run_sum = 0u;
-    for (var b = r.x; b < r.y; b++) {
-        run_sum += tiling_scratch_load(tiling_scratch_blocks() + b);
-    }
-    var run = tiling_wg_scan(li, run_sum).x;
-    for (var b = r.x; b < r.y; b++) {
-        let v = tiling_scratch_load(tiling_scratch_blocks() + b);
-        tiling_scratch_store(tiling_scratch_blocks() + b, run);
-        run += v;
+    if (tiling_scan_blocks(li, groups, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK).x == 0u) {
+        return;
     }
     var pass_waves = 0u;
     if (li < params.pass_count) {

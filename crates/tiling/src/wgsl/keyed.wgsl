@@ -1,5 +1,5 @@
 // tiling: keyed aggregation for the two pixel phases (count_pixels, write_commands). A
-// 16x16 workgroup lies in one tile, and the tile's counters are contiguous from its first
+// pixel workgroup's 32x32 block lies in one tile, and the tile's counters are contiguous from its first
 // (counter_offsets is a prefix sum in tile-major order), so a workgroup histogram indexed
 // by `counter - first` aggregates every (pass, group) key of the block at once: one LDS
 // atomic per pixel, two or three barriers, and one global atomic per counter present,
@@ -7,6 +7,7 @@
 // barriers per key. Tiles with more than TILING_HIST_LIMIT counters take the loop.
 // Declares bindings 4 and 5, which mid classify and classify output share.
 
+#import wave::append
 #import tiling::pixel
 
 // Per (tile, pass): the batch groups used (phase 1's output).
@@ -90,4 +91,68 @@ fn tiling_smallest_pending_key(pending: bool, key: u32, li: u32) -> u32 {
         tiling_wg_key_plain = atomicLoad(&tiling_wg_key);
     }
     return workgroupUniformLoad(&tiling_wg_key_plain);
+}
+
+// The wave-append loop for one pixel of every quad of the workgroup (tiles with more
+// counters than the histogram): returns (counter, slot) of this invocation's command, slot
+// TILING_NONE without one. The importing module defines `tiling_counter_add(c, n)`, which
+// adds to the counter it appends to and returns the old value. Contains barriers: call
+// from uniform control flow.
+fn tiling_append(key: u32, li: u32) -> vec2<u32> {
+    var out = vec2<u32>(0u, TILING_NONE);
+    var pending = key != TILING_NONE;
+    loop {
+        let next = tiling_smallest_pending_key(pending, key, li);
+        if (next == TILING_NONE) {
+            break;
+        }
+        let take = pending && key == next;
+        let c = tiling_counter_of(next);
+        let a = wave_append_begin(take, li);
+        var old = 0u;
+        if (a.total != 0u) {
+            old = tiling_counter_add(c, a.total);
+        }
+        let slot = wave_append_end(a, old);
+        if (take) {
+            pending = false;
+            out = vec2<u32>(c, slot);
+        }
+    }
+    return out;
+}
+
+var<workgroup> tiling_wg_last: u32;
+
+// The end of a block scan's workgroup (counter_offsets_pass, entry_waves), after it wrote
+// its block's sum: whether it is the last workgroup to finish, and if so the blocks' sums
+// turned in place into the blocks' first values (exclusive prefix sum) and their total:
+// (1, total), else (0, 0). Every value another workgroup wrote is read with an atomic
+// load, after storageBarrier's device-scope fences on both sides of the done counter. The
+// importing module defines `tiling_scratch_done()` (adds one to its workgroups-done count,
+// returns the old), `tiling_scratch_blocks()` (where the block sums start) and
+// `tiling_scratch_load(i)` / `tiling_scratch_store(i, v)`. Contains barriers: call from
+// uniform control flow.
+fn tiling_scan_blocks(li: u32, groups: vec3<u32>, blocks: u32) -> vec2<u32> {
+    storageBarrier();
+    if (li == 0u) {
+        tiling_wg_last = select(0u, 1u, tiling_scratch_done() == groups.x * groups.y * groups.z - 1u);
+    }
+    if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
+        return vec2<u32>(0u);
+    }
+    storageBarrier();
+    let r = tiling_wg_range(li, blocks);
+    var sum = 0u;
+    for (var b = r.x; b < r.y; b++) {
+        sum += tiling_scratch_load(tiling_scratch_blocks() + b);
+    }
+    let scan = tiling_wg_scan(li, sum);
+    var run = scan.x;
+    for (var b = r.x; b < r.y; b++) {
+        let v = tiling_scratch_load(tiling_scratch_blocks() + b);
+        tiling_scratch_store(tiling_scratch_blocks() + b, run);
+        run += v;
+    }
+    return vec2<u32>(1u, scan.y);
 }

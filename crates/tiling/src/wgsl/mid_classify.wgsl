@@ -41,36 +41,39 @@ fn tiling_put_records(gid: vec3<u32>, records: vec4<u32>) {
     }
 }
 
-// offset_scratch, in words (Rust: tiling::wgsl::offset_scratch_words): [0] workgroups
+// offset_scratch, in words (Rust: tiling::wgsl::offset_scratch_words; read and written
+// through tiling_scratch_*, keyed.wgsl's tiling_scan_blocks): [0] workgroups
 // done, then per (tile, pass) entry its counters' offset within its block of
 // TILING_ENTRY_BLOCK entries, then per block its sum (the last workgroup turns these into
 // the blocks' first counters).
 
-fn tiling_offset_scratch_load(i: u32) -> u32 {
+fn tiling_scratch_load(i: u32) -> u32 {
     if (i >= arrayLength(&offset_scratch)) {
         return 0u;
     }
     return atomicLoad(&offset_scratch[i]);
 }
 
-fn tiling_offset_scratch_store(i: u32, v: u32) {
+fn tiling_scratch_store(i: u32, v: u32) {
     if (i < arrayLength(&offset_scratch)) {
         atomicStore(&offset_scratch[i], v);
     }
 }
 
-fn tiling_offset_blocks() -> u32 {
+fn tiling_scratch_done() -> u32 {
+    return atomicAdd(&offset_scratch[0], 1u);
+}
+
+fn tiling_scratch_blocks() -> u32 {
     return TILING_SCRATCH_ENTRIES + params.tiles_x * params.tiles_y * params.pass_count;
 }
 
 // The first counter of (tile, pass) entry e (keyed.wgsl): its block's plus its offset in
 // the block, while count_pixels writes counter_offsets.
 fn tiling_counter_offset(e: u32) -> u32 {
-    return tiling_offset_scratch_load(TILING_SCRATCH_ENTRIES + e)
-        + tiling_offset_scratch_load(tiling_offset_blocks() + e / TILING_ENTRY_BLOCK);
+    return tiling_scratch_load(TILING_SCRATCH_ENTRIES + e)
+        + tiling_scratch_load(tiling_scratch_blocks() + e / TILING_ENTRY_BLOCK);
 }
-
-var<workgroup> tiling_wg_last: u32;
 
 // Per (tile, pass) entry (one invocation each, TILING_ENTRY_BLOCK per workgroup): the
 // exclusive prefix of popcount(masks) within the block and the block's sum; the last
@@ -92,34 +95,17 @@ fn counter_offsets_pass(
     }
     let scan = tiling_wg_scan(li, bits);
     if (e < n) {
-        tiling_offset_scratch_store(TILING_SCRATCH_ENTRIES + e, scan.x);
+        tiling_scratch_store(TILING_SCRATCH_ENTRIES + e, scan.x);
     }
     if (li == 0u) {
-        tiling_offset_scratch_store(tiling_offset_blocks() + block, scan.y);
+        tiling_scratch_store(tiling_scratch_blocks() + block, scan.y);
     }
-    storageBarrier();
-    if (li == 0u) {
-        tiling_wg_last = select(0u, 1u, atomicAdd(&offset_scratch[0], 1u) == groups.x * groups.y * groups.z - 1u);
-    }
-    if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
+    let last = tiling_scan_blocks(li, groups, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK);
+    if (last.x == 0u) {
         return;
     }
-    storageBarrier();
-    let blocks = (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
-    let r = tiling_wg_range(li, blocks);
-    var sum = 0u;
-    for (var b = r.x; b < r.y; b++) {
-        sum += tiling_offset_scratch_load(tiling_offset_blocks() + b);
-    }
-    let total = tiling_wg_scan(li, sum);
-    var run = total.x;
-    for (var b = r.x; b < r.y; b++) {
-        let v = tiling_offset_scratch_load(tiling_offset_blocks() + b);
-        tiling_offset_scratch_store(tiling_offset_blocks() + b, run);
-        run += v;
-    }
     if (li == 0u) {
-        totals.counter_count = total.y;
+        totals.counter_count = last.y;
     }
 }
 
@@ -260,31 +246,12 @@ fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
     return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
 }
 
-// The wave-append loop for one pixel of every quad of the workgroup (tiles with more
-// counters than the histogram): returns (counter, slot) of this invocation's command.
-// Contains barriers: call from uniform control flow.
-fn tiling_append(key: u32, li: u32) -> vec2<u32> {
-    var out = vec2<u32>(0u, TILING_NONE);
-    var pending = key != TILING_NONE;
-    loop {
-        let next = tiling_smallest_pending_key(pending, key, li);
-        if (next == TILING_NONE) {
-            break;
-        }
-        let take = pending && key == next;
-        let c = tiling_counter_of(next);
-        let a = wave_append_begin(take, li);
-        var old = 0u;
-        if (a.total != 0u && c < arrayLength(&counts)) {
-            old = atomicAdd(&counts[c], a.total);
-        }
-        let slot = wave_append_end(a, old);
-        if (take) {
-            pending = false;
-            out = vec2<u32>(c, slot);
-        }
+// Adds `n` to counter c's count and returns the old count (keyed.wgsl's tiling_append).
+fn tiling_counter_add(c: u32, n: u32) -> u32 {
+    if (c >= arrayLength(&counts)) {
+        return 0u;
     }
-    return out;
+    return atomicAdd(&counts[c], n);
 }
 
 // A pixel's record: the command's slot and counter when it has one that fits the fields
