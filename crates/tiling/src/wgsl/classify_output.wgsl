@@ -75,77 +75,78 @@ fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
     }
 }
 
+// Pixel k of `gid`'s quad, word `word`: decode, stats, and its (key, command), key
+// TILING_NONE without one.
+fn tiling_write_pixel(gid: vec3<u32>, k: u32, word: u32, range: vec2<u32>) -> vec2<u32> {
+    let p = tiling_quad_pixel(gid, k);
+    if (p.x >= params.width || p.y >= params.height) {
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    let px = tiling_decode(word, p.y * params.width + p.x);
+    tiling_stat_pixel(px);
+    if (px.kind != TILING_PX_VALID) {
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    let mask = tiling_sample_mask(p.x, p.y, word);
+    if (mask == 0u) {
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    if (!tiling_tile_has(range, px.pg)) {
+        tiling_stat(TILING_STAT_DROPPED, 1u);
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    return vec2<u32>(px.pg, tiling_command(p.x, p.y, mask));
+}
+
+// Pixel's command `kc` (key, command) at the slot the keyed histogram gave it.
+fn tiling_put_ranked(kc: vec2<u32>, r: TilingRanked) {
+    if (kc.x != TILING_NONE) {
+        tiling_put_command(r.counter, tiling_hist_first[r.slot] + r.rank, kc.y);
+    }
+}
+
+// Pixel's command `kc` through the wave-append loop (keyed.wgsl; barriers inside).
+fn tiling_put_appended(kc: vec2<u32>, li: u32) {
+    let a = tiling_append(kc.x, li);
+    if (a.y != TILING_NONE) {
+        tiling_put_command(a.x, a.y, kc.y);
+    }
+}
+
+// With a validity mask (the mixed frame): classifies the final mask again. The quad's four
+// pixels are spelled out, never indexed by a loop variable (tiling::pixel).
 @compute @workgroup_size(16, 16)
 fn write_commands(
     @builtin(global_invocation_id) gid: vec3<u32>,
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
-    let words = tiling_quad_words(gid);
+    let w = tiling_quad_words(gid);
     tiling_stats_begin(li);
-    let tile = tiling_block_tile(wid);
-    let range = tiling_tile_counters(tile, li);
-    // Per pixel of the quad: its (pass, group) key (TILING_NONE: no command) and command.
-    var keys = vec4<u32>(TILING_NONE);
-    var cmds = vec4<u32>(0u);
-    for (var k = 0u; k < 4u; k++) {
-        let p = tiling_quad_pixel(gid, k);
-        if (p.x >= params.width || p.y >= params.height) {
-            continue;
-        }
-        let i = p.y * params.width + p.x;
-        let word = words[k];
-        let px = tiling_decode(word, i);
-        tiling_stat_pixel(px);
-        if (px.kind != TILING_PX_VALID) {
-            continue;
-        }
-        let mask = tiling_sample_mask(p.x, p.y, word);
-        if (mask != 0u) {
-            if (tiling_tile_has(range, px.pg)) {
-                keys[k] = px.pg;
-                cmds[k] = tiling_command(p.x, p.y, mask);
-            } else {
-                tiling_stat(TILING_STAT_DROPPED, 1u);
-            }
-        }
-    }
+    let range = tiling_tile_counters(tiling_block_tile(wid), li);
+    let c0 = tiling_write_pixel(gid, 0u, w.x, range);
+    let c1 = tiling_write_pixel(gid, 1u, w.y, range);
+    let c2 = tiling_write_pixel(gid, 2u, w.z, range);
+    let c3 = tiling_write_pixel(gid, 3u, w.w, range);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): a rank within the block per command, one global
         // atomic per counter of the block for the block's first slot.
-        atomicStore(&tiling_hist[li], 0u);
-        workgroupBarrier();
-        var ranks = vec4<u32>(0u);
-        var slots = vec4<u32>(0u);
-        var counters = vec4<u32>(0u);
-        for (var k = 0u; k < 4u; k++) {
-            if (keys[k] != TILING_NONE) {
-                counters[k] = tiling_counter_of(keys[k]);
-                slots[k] = min(counters[k] - range.x, TILING_HIST_SLOTS - 1u);
-                ranks[k] = atomicAdd(&tiling_hist[slots[k]], 1u);
-            }
-        }
-        workgroupBarrier();
-        if (li < range.y) {
-            let v = atomicLoad(&tiling_hist[li]);
-            if (v != 0u && range.x + li < arrayLength(&final_counts)) {
-                tiling_hist_first[li] = atomicAdd(&final_counts[range.x + li], v);
-            }
-        }
-        workgroupBarrier();
-        for (var k = 0u; k < 4u; k++) {
-            if (keys[k] != TILING_NONE) {
-                tiling_put_command(counters[k], tiling_hist_first[slots[k]] + ranks[k], cmds[k]);
-            }
-        }
+        tiling_hist_begin(li);
+        let r0 = tiling_rank(c0.x, range);
+        let r1 = tiling_rank(c1.x, range);
+        let r2 = tiling_rank(c2.x, range);
+        let r3 = tiling_rank(c3.x, range);
+        tiling_hist_flush(li, range);
+        tiling_put_ranked(c0, r0);
+        tiling_put_ranked(c1, r1);
+        tiling_put_ranked(c2, r2);
+        tiling_put_ranked(c3, r3);
     } else {
-        // Aggregated appends, one pixel of the quads at a time (keyed.wgsl).
-        for (var k = 0u; k < 4u; k++) {
-            let a = tiling_append(keys[k], li);
-            if (a.y != TILING_NONE) {
-                tiling_put_command(a.x, a.y, cmds[k]);
-            }
-        }
+        // Aggregated appends, one pixel of the quads at a time.
+        tiling_put_appended(c0, li);
+        tiling_put_appended(c1, li);
+        tiling_put_appended(c2, li);
+        tiling_put_appended(c3, li);
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {

@@ -5,7 +5,9 @@
 // atomic per pixel, two or three barriers, and one global atomic per counter present,
 // fewer than the wave append loop's one per subgroup and key and without its three
 // barriers per key. Tiles with more than TILING_HIST_LIMIT counters take the loop.
-// Declares bindings 4 and 5, which mid classify and classify output share.
+// Declares bindings 4 and 5, which mid classify and classify output share. Also the parts
+// the two phases share over their own buffers: the importing module defines
+// tiling_counter_offset, tiling_counter_add and tiling_scratch_{done, blocks, load, store}.
 
 #import wave::append
 #import tiling::pixel
@@ -155,4 +157,41 @@ fn tiling_scan_blocks(li: u32, groups: vec3<u32>, blocks: u32) -> vec2<u32> {
         run += v;
     }
     return vec2<u32>(1u, scan.y);
+}
+
+// A command's counter, its workgroup-histogram slot and its rank there (keyed path).
+struct TilingRanked {
+    counter: u32,
+    slot: u32,
+    rank: u32,
+}
+
+fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
+    if (key == TILING_NONE) {
+        return TilingRanked(0u, 0u, 0u);
+    }
+    let c = tiling_counter_of(key);
+    let slot = min(c - range.x, TILING_HIST_SLOTS - 1u);
+    return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
+}
+
+// Zeroes this invocation's histogram slot; a barrier follows. Call from uniform control
+// flow, before tiling_rank.
+fn tiling_hist_begin(li: u32) {
+    atomicStore(&tiling_hist[li], 0u);
+    workgroupBarrier();
+}
+
+// After every tiling_rank of the workgroup: one global atomic per counter of the block
+// (`tiling_counter_add`) for the block's first slot in it, in tiling_hist_first; barriers
+// on both sides. Call from uniform control flow.
+fn tiling_hist_flush(li: u32, range: vec2<u32>) {
+    workgroupBarrier();
+    if (li < range.y) {
+        let v = atomicLoad(&tiling_hist[li]);
+        if (v != 0u) {
+            tiling_hist_first[li] = tiling_counter_add(range.x + li, v);
+        }
+    }
+    workgroupBarrier();
 }

@@ -230,22 +230,6 @@ fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, lef
     return out;
 }
 
-// A command's counter, its workgroup-histogram slot and its rank there (keyed path).
-struct TilingRanked {
-    counter: u32,
-    slot: u32,
-    rank: u32,
-}
-
-fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
-    if (key == TILING_NONE) {
-        return TilingRanked(0u, 0u, 0u);
-    }
-    let c = tiling_counter_of(key);
-    let slot = min(c - range.x, TILING_HIST_SLOTS - 1u);
-    return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
-}
-
 // Adds `n` to counter c's count and returns the old count (keyed.wgsl's tiling_append).
 fn tiling_counter_add(c: u32, n: u32) -> u32 {
     if (c >= arrayLength(&counts)) {
@@ -295,20 +279,12 @@ fn count_pixels(
     var slots = vec4<u32>(TILING_NONE);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
-        atomicStore(&tiling_hist[li], 0u);
-        workgroupBarrier();
+        tiling_hist_begin(li);
         let r0 = tiling_rank(p0.key, range);
         let r1 = tiling_rank(p1.key, range);
         let r2 = tiling_rank(p2.key, range);
         let r3 = tiling_rank(p3.key, range);
-        workgroupBarrier();
-        if (li < range.y) {
-            let v = atomicLoad(&tiling_hist[li]);
-            if (v != 0u && range.x + li < arrayLength(&counts)) {
-                tiling_hist_first[li] = atomicAdd(&counts[range.x + li], v);
-            }
-        }
-        workgroupBarrier();
+        tiling_hist_flush(li, range);
         counters = vec4<u32>(r0.counter, r1.counter, r2.counter, r3.counter);
         slots = vec4<u32>(
             tiling_hist_first[r0.slot] + r0.rank,
