@@ -15,7 +15,7 @@ use tiling::{ClassifyConfig, PassDispatch, PixelStats, TilingParams, Totals, Wav
 
 use super::{FrameContext, LIBRARY};
 use crate::error::{Error, Result};
-use crate::resources::buffer_init;
+use crate::resources::{buffer_init, storage_buffer};
 use crate::timing::GpuTimer;
 
 /// Zeroes one buffer, one word per invocation (`gpu::zero`), over its word count; with the
@@ -180,7 +180,9 @@ impl Classify {
                     continue;
                 }
                 if let Some([x, y, z]) = phase.workgroups(step, &b.params)
-                    && x * y * z != 0
+                    && x != 0
+                    && y != 0
+                    && z != 0
                 {
                     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some(phase.pass.name),
@@ -320,25 +322,8 @@ impl Buffers {
             uber_count: config.chunk_count.div_ceil(64),
             pad: 0,
         };
-        let max = device.limits().max_storage_buffer_binding_size;
-        let zeroed = |label: &str, words: u32, extra: wgpu::BufferUsages| -> Result<wgpu::Buffer> {
-            let size = u64::from(words.max(1)) * 4;
-            if size > max {
-                return Err(Error::DeviceLimit {
-                    limit: "max_storage_buffer_binding_size",
-                    needed: size,
-                    available: max,
-                });
-            }
-            Ok(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC
-                    | extra,
-                mapped_at_creation: false,
-            }))
+        let zeroed = |label: &str, words: u32, extra: wgpu::BufferUsages| {
+            storage_buffer(device, label, u64::from(words) * 4, extra)
         };
         let none = wgpu::BufferUsages::empty();
         let tp = s.tiles * s.passes;

@@ -19,7 +19,7 @@ use tiling::{MicroBatchInfo, PassDispatch, PassInfo, TilingParams, UberChunk, Ve
 
 use super::laydown::SCENE_GROUP;
 use super::{FrameContext, LIBRARY};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::resources::buffer_init;
 use crate::resources::rows::{GpuMesh, GpuMicroBatch};
 use crate::timing::GpuTimer;
@@ -144,27 +144,9 @@ impl VertexRing {
         micro_batches: &wgpu::Buffer,
         ring_bytes: u64,
     ) -> Result<Buffers> {
-        let max = device.limits().max_storage_buffer_binding_size;
-        let storage =
-            |label: &str, bytes: u64, extra: wgpu::BufferUsages| -> Result<wgpu::Buffer> {
-                let size = bytes.max(16).next_multiple_of(4);
-                if size > max {
-                    return Err(Error::DeviceLimit {
-                        limit: "max_storage_buffer_binding_size",
-                        needed: size,
-                        available: max,
-                    });
-                }
-                Ok(device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size,
-                    usage: wgpu::BufferUsages::STORAGE
-                        | wgpu::BufferUsages::COPY_DST
-                        | wgpu::BufferUsages::COPY_SRC
-                        | extra,
-                    mapped_at_creation: false,
-                }))
-            };
+        let storage = |label: &str, bytes: u64, extra: wgpu::BufferUsages| {
+            crate::resources::storage_buffer(device, label, bytes.max(16), extra)
+        };
         let none = wgpu::BufferUsages::empty();
         let chunks = u64::from(params.chunk_count.max(1));
         let pyramid_len: u64 = tiling::vertex::pyramid_levels(params.uber_count)

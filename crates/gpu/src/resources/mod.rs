@@ -73,6 +73,35 @@ fn storage(
     ))
 }
 
+/// An uninitialised storage buffer (`STORAGE | COPY_DST | COPY_SRC | extra`) of `bytes`
+/// rounded up to a multiple of 4 (at least 4), after checking the device's binding-size
+/// limit: the per-frame buffers the passes zero or fill themselves.
+pub(crate) fn storage_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    bytes: u64,
+    extra: wgpu::BufferUsages,
+) -> Result<wgpu::Buffer> {
+    let size = bytes.max(4).next_multiple_of(4);
+    let max = device.limits().max_storage_buffer_binding_size;
+    if size > max {
+        return Err(Error::DeviceLimit {
+            limit: "max_storage_buffer_binding_size",
+            needed: size,
+            available: max,
+        });
+    }
+    Ok(device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC
+            | extra,
+        mapped_at_creation: false,
+    }))
+}
+
 /// Sizes of a prepared scene, for tables.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneSummary {
