@@ -212,12 +212,22 @@ fn cpu_raster(
 /// Renders the laydown of the test scene with `config` and compares every unambiguous
 /// pixel with the f64 rasteriser; `name` labels failures.
 fn check_against_f64(config: RendererConfig, name: &str) -> Renderer {
-    let probe = ctx();
     let (scene, frame) = test_scene();
+    check_scene_against_f64(config, name, &scene, &frame).0
+}
+
+/// The same for any `scene` seen from `frame` (every vertex in front of the camera).
+fn check_scene_against_f64(
+    config: RendererConfig,
+    name: &str,
+    scene: &Scene,
+    frame: &FrameInput,
+) -> (Renderer, Option<gpu::LaydownStats>) {
+    let probe = ctx();
     let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
-    let prepared = renderer.prepare(&scene).unwrap();
-    let reference = cpu_raster(&scene, &frame.camera, &prepared);
-    let (vis, _depth) = renderer.render_laydown(&prepared, &frame).unwrap();
+    let prepared = renderer.prepare(scene).unwrap();
+    let reference = cpu_raster(scene, &frame.camera, &prepared);
+    let (vis, _depth) = renderer.render_laydown(&prepared, frame).unwrap();
     let (mut checked, mut covered) = (0, 0);
     for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
         match hit {
@@ -247,7 +257,8 @@ fn check_against_f64(config: RendererConfig, name: &str) -> Renderer {
         checked > (W * H) as usize * 9 / 10,
         "{name}: only {checked} unambiguous pixels"
     );
-    if let Some(s) = renderer.read_laydown_stats(&prepared).unwrap() {
+    let stats = renderer.read_laydown_stats(&prepared).unwrap();
+    if let Some(s) = &stats {
         eprintln!(
             "{name}: {} triangles, {} a workgroup each, {} to the hardware part, {checked} \
              pixels checked",
@@ -255,7 +266,7 @@ fn check_against_f64(config: RendererConfig, name: &str) -> Renderer {
         );
         assert_eq!(s.dropped, 0);
     }
-    renderer
+    (renderer, stats)
 }
 
 #[test]
@@ -346,6 +357,116 @@ fn compute_laydown_matches_the_f64_rasteriser() {
             );
             assert_eq!(r.laydown(), Laydown::Compute);
             assert_eq!(r.laydown_target(), Some(target));
+        }
+    }
+}
+
+/// Overlapping triangles from a few pixels to several times the image across, slivers
+/// among them, over a background of two triangles far past every side of the view
+/// (`front_camera`): most boxes hold many 8x8 blocks, and thin slanted ones mostly empty
+/// ones, which is what the large-triangle pass's block rejection is for.
+fn large_triangles_scene() -> (Scene, FrameInput) {
+    let mut rng = testkit::Rng::new(17);
+    let v = Vec3::new;
+    let mut tris = vec![
+        [
+            v(-30.0, -30.0, -3.0),
+            v(30.0, -30.0, -3.0),
+            v(30.0, 30.0, -3.0),
+        ],
+        [
+            v(-30.0, -30.0, -3.0),
+            v(30.0, 30.0, -3.0),
+            v(-30.0, 30.0, -3.0),
+        ],
+    ];
+    for i in 0..120 {
+        let centre = v(
+            rng.range(-5.0, 5.0),
+            rng.range(-3.0, 3.0),
+            rng.range(-2.5, 1.0),
+        );
+        // Sizes in world units; 2.7 is the view's half-height at z = 0.
+        let size = match i % 4 {
+            0 => rng.range(0.05, 0.4),
+            1 | 2 => rng.range(0.4, 2.5),
+            _ => rng.range(2.5, 8.0),
+        };
+        let mut corner = || {
+            centre
+                + v(
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                    rng.range(-0.3, 0.3),
+                ) * size
+        };
+        let (a, mut b, mut c) = (corner(), corner(), corner());
+        if i % 5 == 0 {
+            // A sliver: the third vertex close to the first edge.
+            c = a.lerp(b, rng.range(0.2, 0.8)) + v(0.0, 0.02 * size, 0.0);
+        }
+        // Counter-clockwise seen from +z (the camera): front faces.
+        if (b - a).truncate().perp_dot((c - a).truncate()) < 0.0 {
+            std::mem::swap(&mut b, &mut c);
+        }
+        tris.push([a, b, c]);
+    }
+    let mesh = triangles_mesh("large", &tris);
+    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
+        density: 0.01,
+        ..Default::default()
+    });
+    let scene = Scene {
+        meshes: vec![mesh],
+        materials: vec![Material {
+            name: "plain".into(),
+            shader: ShaderKind::Opaque,
+            albedo_layer: 0,
+            tint: Vec3::ONE,
+            alpha_cutoff: 0.5,
+            roughness: 0.5,
+            specular: 0.5,
+            regular: false,
+        }],
+        albedo_layers: vec![demo.albedo_layers[0].clone()],
+        batches: vec![Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![Affine3A::IDENTITY],
+        }],
+        static_setups: Vec::new(),
+        wind: None,
+    };
+    (scene, FrameInput::new(front_camera()))
+}
+
+#[test]
+fn large_triangles_match_the_f64_rasteriser() {
+    assert!(compute_device());
+    let probe = ctx();
+    let (scene, frame) = large_triangles_scene();
+    for target in [LaydownTarget::Buffer, LaydownTarget::Texture] {
+        if !probe.device.features().contains(target.required_features()) {
+            continue; // compute_laydown_matches_the_f64_rasteriser says so
+        }
+        // Every triangle through the large-triangle pass, the default split, and a split
+        // low enough that only slivers and specks stay with an invocation each.
+        for extent in [0.0, gpu::COMPUTE_LAYDOWN_MAX_EXTENT, 4.0] {
+            let config = RendererConfig {
+                width: W,
+                height: H,
+                laydown: Laydown::Compute,
+                compute_laydown_max_extent: extent,
+                compute_laydown_target: Some(target),
+                ..Default::default()
+            };
+            let name = format!(
+                "large triangles, split at {extent} px, {} target",
+                target.name()
+            );
+            let (_, stats) = check_scene_against_f64(config, &name, &scene, &frame);
+            let stats = stats.unwrap();
+            assert!(stats.large >= 40, "{name}: {stats:?}");
         }
     }
 }

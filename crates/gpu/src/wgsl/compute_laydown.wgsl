@@ -13,8 +13,8 @@
 // atomic per wave), drawn by `gpu::compute_laydown_hybrid` after the conversion. Triangles
 // whose box is wider or taller than GPU_COMPUTE_LAYDOWN_MAX_EXTENT pixels are appended to
 // `large` and rasterised by `raster_large`, one 256-invocation workgroup per triangle
-// striding over its box, with 64-bit edge functions (the raster units are the scarce
-// ones on the H200).
+// over the 8x8 blocks of its box that it touches, with 64-bit edge functions (the raster
+// units are the scarce ones on the H200).
 
 #import gpu::compute_laydown_draws
 #import wave::append
@@ -304,20 +304,6 @@ fn gpu_raster_weights_small(r: GpuRasterTriangle, x: i32, y: i32) -> vec3<f32> {
     return vec3<f32>(e) * r.inv_area;
 }
 
-// The same for a large `r`, in 64 bits.
-fn gpu_raster_weights_large(r: GpuRasterTriangle, x: i32, y: i32) -> vec3<f32> {
-    let p = vec2<f32>(f32((x - r.corner.x) * 256 + 128), f32((y - r.corner.y) * 256 + 128));
-    let e0 = gpu_cross64(r.c - r.b, p - r.b);
-    let e1 = gpu_cross64(r.a - r.c, p - r.c);
-    let e2 = gpu_cross64(r.b - r.a, p - r.a);
-    if (e0 + gpu_top_left_bias64(r.c - r.b) < 0li
-        || e1 + gpu_top_left_bias64(r.a - r.c) < 0li
-        || e2 + gpu_top_left_bias64(r.b - r.a) < 0li) {
-        return vec3<f32>(-1.0);
-    }
-    return vec3<f32>(f32(e0), f32(e1), f32(e2)) * r.inv_area;
-}
-
 // Rasterises `item`'s triangle into the target when it is small; returns its kind (the
 // caller lists the hardware and large ones).
 fn gpu_raster_item(item: u32) -> u32 {
@@ -370,48 +356,145 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
     }
 }
 
+// Large triangles a `raster_large` workgroup takes: its first lanes set them up at once
+// (the setup is a chain of dependent loads: one lane at a time left the workgroup idle),
+// then the whole workgroup rasterises them one after another.
+const GPU_LAYDOWN_LARGE_BATCH: u32 = 8u;
+
 // The large list's count as `raster_large`'s indirect arguments.
 @compute @workgroup_size(1)
 fn large_args() {
     let n = min(atomicLoad(&large.count), arrayLength(&large.items));
-    large.dispatch[0] = min(n, GPU_LAYDOWN_ROWS);
-    large.dispatch[1] = (n + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
+    let groups = (n + GPU_LAYDOWN_LARGE_BATCH - 1u) / GPU_LAYDOWN_LARGE_BATCH;
+    large.dispatch[0] = min(groups, GPU_LAYDOWN_ROWS);
+    large.dispatch[1] = (groups + GPU_LAYDOWN_ROWS - 1u) / GPU_LAYDOWN_ROWS;
     large.dispatch[2] = 1u;
 }
 
-// The large triangle of a `raster_large` workgroup, set up once by its first invocation
-// (every lane setting it up again cost 8 warps' setup per triangle: forest 3.0 -> 2.7 ms
-// at 4K on the H200). Eight triangles of 32 invocations a workgroup measured far slower
-// (grass 1.5 -> 9.0 ms): the cost is the big boxes' pixels, not the setups.
-var<workgroup> gpu_large_triangle: GpuRasterTriangle;
+// The large triangles of a `raster_large` workgroup, set up by its first lanes, and their
+// edge functions. One triangle a workgroup set up by one lane measured 2.8 ms on the forest
+// at 4K on the H200; every lane setting it up again was slower still (3.0 ms), and eight
+// triangles of 32 invocations a workgroup far slower (grass 1.5 -> 9.0 ms).
+var<workgroup> gpu_large_triangles: array<GpuRasterTriangle, GPU_LAYDOWN_LARGE_BATCH>;
 
-// One workgroup per large triangle: its invocations stride over the triangle's box.
+// A large triangle's edge functions over its box: at the box's first pixel centre, their
+// steps per pixel right and down, and the least value inside (1 where the top-left rule
+// puts samples on the edge outside, else 0). Each of the three is linear in the pixel.
+struct GpuLargeEdges {
+    at_origin: vec3<i64>,
+    step_x: vec3<i64>,
+    step_y: vec3<i64>,
+    least: vec3<i64>,
+}
+
+var<workgroup> gpu_large_edges: array<GpuLargeEdges, GPU_LAYDOWN_LARGE_BATCH>;
+
+// Side (pixels) of the square blocks `raster_large` tests a whole at a time.
+const GPU_LAYDOWN_BLOCK: u32 = 8u;
+// Pixels of a block; the workgroup shades GPU_LAYDOWN_LARGE_WORKGROUP / this blocks at once.
+const GPU_LAYDOWN_BLOCK_PIXELS: u32 = 64u;
+
+// The blocks of this round that hold a pixel of the triangle: their index in the box and
+// their edge functions at their first pixel.
+var<workgroup> gpu_large_blocks: array<u32, GPU_LAYDOWN_LARGE_WORKGROUP>;
+var<workgroup> gpu_large_block_edges: array<vec3<i64>, GPU_LAYDOWN_LARGE_WORKGROUP>;
+var<workgroup> gpu_large_block_count: atomic<u32>;
+var<workgroup> gpu_large_round_blocks: u32;
+
+fn gpu_large_edges_of(r: GpuRasterTriangle) -> GpuLargeEdges {
+    var g: GpuLargeEdges;
+    let p = vec2<f32>(f32((r.x0 - r.corner.x) * 256 + 128), f32((r.y0 - r.corner.y) * 256 + 128));
+    let e0 = r.c - r.b;
+    let e1 = r.a - r.c;
+    let e2 = r.b - r.a;
+    g.at_origin = vec3<i64>(gpu_cross64(e0, p - r.b), gpu_cross64(e1, p - r.c), gpu_cross64(e2, p - r.a));
+    // E = e.x (p.y - v.y) - e.y (p.x - v.x): a pixel (256 subpixels) right adds -256 e.y.
+    g.step_x = vec3<i64>(i64(-e0.y), i64(-e1.y), i64(-e2.y)) * 256li;
+    g.step_y = vec3<i64>(i64(e0.x), i64(e1.x), i64(e2.x)) * 256li;
+    g.least = -vec3<i64>(gpu_top_left_bias64(e0), gpu_top_left_bias64(e1), gpu_top_left_bias64(e2));
+    return g;
+}
+
+// GPU_LAYDOWN_LARGE_BATCH large triangles a workgroup, one after another. A box is cut
+// into 8x8 blocks; each round, one lane per block rejects the blocks some edge leaves
+// entirely outside (edge functions at the block's corners, in 64 bits), then the workgroup
+// shades the pixels of the blocks kept, 64 lanes a block, each pixel's edge functions one
+// 64-bit add from its block's. Thin and slanted cards fill a small part of their box, and
+// a pixel costs adds, not products.
 @compute @workgroup_size(GPU_LAYDOWN_LARGE_WORKGROUP)
 fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    if (li == 0u) {
-        let k = wid.y * GPU_LAYDOWN_ROWS + wid.x;
+    if (li < GPU_LAYDOWN_LARGE_BATCH) {
+        // Strided over the list: neighbours in it (the same mesh, often alike in size)
+        // go to different workgroups, so no workgroup gets a run of the biggest.
         let n = min(atomicLoad(&large.count), arrayLength(&large.items));
+        let groups = (n + GPU_LAYDOWN_LARGE_BATCH - 1u) / GPU_LAYDOWN_LARGE_BATCH;
+        let k = wid.y * GPU_LAYDOWN_ROWS + wid.x + li * groups;
         var r: GpuRasterTriangle;
         r.kind = GPU_RASTER_NONE;
         if (k < n) {
             r = gpu_raster_setup(large.items[k]);
         }
-        gpu_large_triangle = r;
+        gpu_large_triangles[li] = r;
+        if (r.kind == GPU_RASTER_LARGE || r.kind == GPU_RASTER_SMALL) {
+            gpu_large_edges[li] = gpu_large_edges_of(r);
+        }
     }
-    let r = workgroupUniformLoad(&gpu_large_triangle);
-    if (r.kind != GPU_RASTER_LARGE && r.kind != GPU_RASTER_SMALL) {
-        return;
+    if (li == 0u) {
+        atomicStore(&gpu_large_block_count, 0u);
     }
+    for (var t = 0u; t < GPU_LAYDOWN_LARGE_BATCH; t++) {
+        let r = workgroupUniformLoad(&gpu_large_triangles[t]);
+        if (r.kind == GPU_RASTER_LARGE || r.kind == GPU_RASTER_SMALL) {
+            gpu_raster_large(r, gpu_large_edges[t], li);
+        }
+    }
+}
+
+// The workgroup's rounds over the blocks of large triangle `r` with edge functions `g`.
+fn gpu_raster_large(r: GpuRasterTriangle, g: GpuLargeEdges, li: u32) {
     let w = i32(frame.viewport.x);
     let nx = u32(max(r.x1 - r.x0 + 1, 0));
     let ny = u32(max(r.y1 - r.y0 + 1, 0));
-    let pixels = nx * ny;
-    for (var i = li; i < pixels; i += GPU_LAYDOWN_LARGE_WORKGROUP) {
-        let x = r.x0 + i32(i % nx);
-        let y = r.y0 + i32(i / nx);
-        let bary = gpu_raster_weights_large(r, x, y);
-        if (bary.x >= 0.0) {
-            gpu_raster_shade(x, y, bary, r.shade, w);
+    let bw = (nx + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK;
+    let blocks = bw * ((ny + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK);
+    // Over a block, an edge function ranges from its first pixel's value plus the
+    // negative steps to it plus the positive ones (7 pixels each way).
+    let span = i64(GPU_LAYDOWN_BLOCK - 1u);
+    let zero = vec3<i64>(0li);
+    let block_high = max(g.step_x * span, zero) + max(g.step_y * span, zero);
+    // This lane's pixel in the blocks it shades, and its edge functions' offset there.
+    let px = li % GPU_LAYDOWN_BLOCK_PIXELS;
+    let dx = px % GPU_LAYDOWN_BLOCK;
+    let dy = px / GPU_LAYDOWN_BLOCK;
+    let offset = g.step_x * i64(dx) + g.step_y * i64(dy);
+    let lanes_per_block = GPU_LAYDOWN_LARGE_WORKGROUP / GPU_LAYDOWN_BLOCK_PIXELS;
+    for (var first = 0u; first < blocks; first += GPU_LAYDOWN_LARGE_WORKGROUP) {
+        let b = first + li;
+        if (b < blocks) {
+            let bx = b % bw;
+            let by = b / bw;
+            let e = g.at_origin + g.step_x * i64(bx * GPU_LAYDOWN_BLOCK) + g.step_y * i64(by * GPU_LAYDOWN_BLOCK);
+            if (all(e + block_high >= g.least)) {
+                let slot = atomicAdd(&gpu_large_block_count, 1u);
+                gpu_large_blocks[slot] = b;
+                gpu_large_block_edges[slot] = e;
+            }
         }
+        workgroupBarrier();
+        if (li == 0u) {
+            gpu_large_round_blocks = atomicLoad(&gpu_large_block_count);
+            atomicStore(&gpu_large_block_count, 0u);
+        }
+        let kept = workgroupUniformLoad(&gpu_large_round_blocks);
+        for (var s = li / GPU_LAYDOWN_BLOCK_PIXELS; s < kept; s += lanes_per_block) {
+            let b = gpu_large_blocks[s];
+            let x = r.x0 + i32((b % bw) * GPU_LAYDOWN_BLOCK + dx);
+            let y = r.y0 + i32((b / bw) * GPU_LAYDOWN_BLOCK + dy);
+            let e = gpu_large_block_edges[s] + offset;
+            if (x <= r.x1 && y <= r.y1 && all(e >= g.least)) {
+                gpu_raster_shade(x, y, vec3<f32>(e) * r.inv_area, r.shade, w);
+            }
+        }
+        workgroupBarrier();
     }
 }
