@@ -76,9 +76,9 @@ pub enum Laydown {
     #[default]
     Hardware,
     /// Issue 17's compute laydown: triangles rasterised in compute into a 64-bit target
-    /// with `atomicMax` (depth bits high, vis word low), an invocation each, or a
-    /// workgroup each when larger than
-    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT) pixels; one pass
+    /// with `atomicMax` (depth bits high, vis word low), an invocation each, or the
+    /// large-triangle pass's workgroups past the split
+    /// ([`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT)); one pass
     /// to the depth target and vis texture; then those crossing the near plane drawn by
     /// the hardware over them. Faster on the H200, whose raster units are 2 of its 66
     /// TPCs (0.56-0.81x of the hardware laydown; BENCHMARKS.md). Needs
@@ -219,8 +219,8 @@ pub struct RendererConfig {
     /// atomics).
     pub laydown: Laydown,
     /// The compute laydown's split: triangles whose screen box is wider or taller than this
-    /// many pixels go to its large-triangle pass, a workgroup each instead of an
-    /// invocation (0: every one; at most
+    /// many pixels, or larger than a quarter of its square in area, go to its
+    /// large-triangle pass instead of an invocation each (0: every one; at most
     /// [`COMPUTE_LAYDOWN_EXTENT_LIMIT`](crate::COMPUTE_LAYDOWN_EXTENT_LIMIT), where the
     /// fixed-point edge functions still fit 32 bits). Default
     /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).

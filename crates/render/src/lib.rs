@@ -254,8 +254,9 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "hardware")]
     pub laydown: LaydownArg,
     /// The compute laydown's split: triangles whose screen box is wider or taller than this
-    /// many pixels take its large-triangle pass, a workgroup each (0 to 254; 0: every
-    /// one). Triangles crossing the near plane go to its hardware part.
+    /// many pixels, or larger than a quarter of its square in area, take its
+    /// large-triangle pass (0 to 254; 0: every one). Triangles crossing the near plane go
+    /// to its hardware part.
     #[arg(long, default_value_t = gpu::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
     pub laydown_max_extent: f32,
     /// The compute laydown's 64-bit target.

@@ -136,11 +136,15 @@ impl TargetResource {
     }
 }
 
-/// The default widest or tallest screen box (pixels) of a triangle one invocation of the
-/// compute raster draws; larger ones go to the large-triangle pass (a workgroup each)
+/// The compute raster's default split (pixels): a triangle whose screen box is at most this
+/// wide and tall, and at most a quarter of this squared in area, is drawn by one
+/// invocation looping over its box; any other by the large-triangle pass (a workgroup per
+/// batch of triangles, 8x8 blocks of the box rejected whole). The area bound sends long
+/// slanted triangles, whose boxes are mostly empty, to the blocks. 24 was the fastest on
+/// every demo scene at 4K on the H200 (BENCHMARKS.md)
 /// ([`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) sets it; WGSL:
 /// the override `GPU_COMPUTE_LAYDOWN_MAX_EXTENT`).
-pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 32.0;
+pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 24.0;
 
 /// The largest extent the raster's fixed point holds: edge functions of boxes up to
 /// (254 + 2) x 256 subpixels stay below 2^31.

@@ -11,10 +11,11 @@
 // quads) and honour the LOD-fade dither. Triangles the hardware clips (a vertex in front
 // of the near plane or at w <= 0) go to the hardware part: appended to `hybrid` (one
 // atomic per wave), drawn by `gpu::compute_laydown_hybrid` after the conversion. Triangles
-// whose box is wider or taller than GPU_COMPUTE_LAYDOWN_MAX_EXTENT pixels are appended to
-// `large` and rasterised by `raster_large`, one 256-invocation workgroup per triangle
-// over the 8x8 blocks of its box that it touches, with 64-bit edge functions (the raster
-// units are the scarce ones on the H200).
+// whose box is wider or taller than GPU_COMPUTE_LAYDOWN_MAX_EXTENT pixels, or larger than
+// a quarter of its square, are appended to `large` and rasterised by `raster_large`, a
+// 256-invocation workgroup per GPU_LAYDOWN_LARGE_BATCH triangles over the 8x8 blocks of
+// their boxes that they touch, with 64-bit edge functions (the raster units are the
+// scarce ones on the H200).
 
 #import gpu::compute_laydown_draws
 #import wave::append
@@ -50,10 +51,11 @@ const GPU_LAYDOWN_LARGE_WORKGROUP: u32 = 256u;
 // path: the 64-bit edge functions' products stay far below 2^63.
 const GPU_LAYDOWN_LARGE_LIMIT: f32 = 1048576.0;
 
-// The widest or tallest box (pixels) rasterised in compute: larger triangles cost one
-// invocation too many pixels and go to the hardware (0: every triangle does). Rust:
-// COMPUTE_LAYDOWN_MAX_EXTENT, RendererConfig::compute_laydown_max_extent.
-override GPU_COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 32.0;
+// The widest or tallest box (pixels) one invocation rasterises, and four times the largest
+// box area: larger triangles cost one invocation too many pixels and go to `raster_large`
+// (0: every triangle does). Rust: COMPUTE_LAYDOWN_MAX_EXTENT,
+// RendererConfig::compute_laydown_max_extent.
+override GPU_COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 24.0;
 // Subpixel steps per pixel (8 bits).
 const GPU_LAYDOWN_SUBPIXELS: f32 = 256.0;
 // Invocations per workgroup and items per dispatch row (shader::MAX_WORKGROUPS_X rows).
@@ -190,7 +192,8 @@ fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
         r.kind = GPU_RASTER_HARDWARE;
         return r;
     }
-    let small = !any(extent > vec2<f32>(GPU_COMPUTE_LAYDOWN_MAX_EXTENT));
+    let split = GPU_COMPUTE_LAYDOWN_MAX_EXTENT;
+    let small = !any(extent > vec2<f32>(split)) && extent.x * extent.y <= 0.25 * split * split;
     // Fixed point relative to the box's whole-pixel corner.
     let corner = floor(lo) - 1.0;
     let cs = array<vec4<f32>, 3>(c0, c1, c2);
@@ -359,7 +362,7 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
 // Large triangles a `raster_large` workgroup takes: its first lanes set them up at once
 // (the setup is a chain of dependent loads: one lane at a time left the workgroup idle),
 // then the whole workgroup rasterises them one after another.
-const GPU_LAYDOWN_LARGE_BATCH: u32 = 8u;
+const GPU_LAYDOWN_LARGE_BATCH: u32 = 16u;
 
 // The large list's count as `raster_large`'s indirect arguments.
 @compute @workgroup_size(1)
@@ -415,12 +418,20 @@ fn gpu_large_edges_of(r: GpuRasterTriangle) -> GpuLargeEdges {
     return g;
 }
 
-// GPU_LAYDOWN_LARGE_BATCH large triangles a workgroup, one after another. A box is cut
-// into 8x8 blocks; each round, one lane per block rejects the blocks some edge leaves
-// entirely outside (edge functions at the block's corners, in 64 bits), then the workgroup
-// shades the pixels of the blocks kept, 64 lanes a block, each pixel's edge functions one
-// 64-bit add from its block's. Thin and slanted cards fill a small part of their box, and
-// a pixel costs adds, not products.
+// The blocks of the workgroup's triangles before each one (exclusive prefix, the last
+// entry the total), and each triangle's blocks per row.
+var<workgroup> gpu_large_first_block: array<u32, GPU_LAYDOWN_LARGE_BATCH + 1u>;
+var<workgroup> gpu_large_row_blocks: array<u32, GPU_LAYDOWN_LARGE_BATCH>;
+// Which triangle of the batch each kept block belongs to.
+var<workgroup> gpu_large_block_triangle: array<u32, GPU_LAYDOWN_LARGE_WORKGROUP>;
+
+// GPU_LAYDOWN_LARGE_BATCH large triangles a workgroup, their blocks taken together. A box
+// is cut into 8x8 blocks; each round, one lane per block (of any of the triangles)
+// rejects the blocks some edge leaves entirely outside (edge functions at the block's
+// corners, in 64 bits), then the workgroup shades the pixels of the blocks kept, 64 lanes
+// a block, each pixel's edge functions a few adds from its block's. Thin and slanted
+// cards fill a small part of their box, and a pixel costs adds, not products; taking the
+// triangles together keeps the lanes busy when boxes hold few blocks.
 @compute @workgroup_size(GPU_LAYDOWN_LARGE_WORKGROUP)
 fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     if (li < GPU_LAYDOWN_LARGE_BATCH) {
@@ -435,48 +446,53 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
             r = gpu_raster_setup(large.items[k]);
         }
         gpu_large_triangles[li] = r;
+        var bw = 0u;
+        var blocks = 0u;
         if (r.kind == GPU_RASTER_LARGE || r.kind == GPU_RASTER_SMALL) {
             gpu_large_edges[li] = gpu_large_edges_of(r);
+            let nx = u32(max(r.x1 - r.x0 + 1, 0));
+            let ny = u32(max(r.y1 - r.y0 + 1, 0));
+            bw = (nx + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK;
+            blocks = bw * ((ny + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK);
         }
+        gpu_large_row_blocks[li] = bw;
+        gpu_large_first_block[li + 1u] = blocks;
     }
+    workgroupBarrier();
     if (li == 0u) {
         atomicStore(&gpu_large_block_count, 0u);
-    }
-    for (var t = 0u; t < GPU_LAYDOWN_LARGE_BATCH; t++) {
-        let r = workgroupUniformLoad(&gpu_large_triangles[t]);
-        if (r.kind == GPU_RASTER_LARGE || r.kind == GPU_RASTER_SMALL) {
-            gpu_raster_large(r, gpu_large_edges[t], li);
+        gpu_large_first_block[0] = 0u;
+        for (var t = 1u; t <= GPU_LAYDOWN_LARGE_BATCH; t++) {
+            gpu_large_first_block[t] += gpu_large_first_block[t - 1u];
         }
     }
-}
-
-// The workgroup's rounds over the blocks of large triangle `r` with edge functions `g`.
-fn gpu_raster_large(r: GpuRasterTriangle, g: GpuLargeEdges, li: u32) {
+    let total = workgroupUniformLoad(&gpu_large_first_block[GPU_LAYDOWN_LARGE_BATCH]);
     let w = i32(frame.viewport.x);
-    let nx = u32(max(r.x1 - r.x0 + 1, 0));
-    let ny = u32(max(r.y1 - r.y0 + 1, 0));
-    let bw = (nx + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK;
-    let blocks = bw * ((ny + GPU_LAYDOWN_BLOCK - 1u) / GPU_LAYDOWN_BLOCK);
-    // Over a block, an edge function ranges from its first pixel's value plus the
-    // negative steps to it plus the positive ones (7 pixels each way).
-    let span = i64(GPU_LAYDOWN_BLOCK - 1u);
-    let zero = vec3<i64>(0li);
-    let block_high = max(g.step_x * span, zero) + max(g.step_y * span, zero);
-    // This lane's pixel in the blocks it shades, and its edge functions' offset there.
+    // This lane's pixel in the blocks it shades.
     let px = li % GPU_LAYDOWN_BLOCK_PIXELS;
     let dx = px % GPU_LAYDOWN_BLOCK;
     let dy = px / GPU_LAYDOWN_BLOCK;
-    let offset = g.step_x * i64(dx) + g.step_y * i64(dy);
     let lanes_per_block = GPU_LAYDOWN_LARGE_WORKGROUP / GPU_LAYDOWN_BLOCK_PIXELS;
-    for (var first = 0u; first < blocks; first += GPU_LAYDOWN_LARGE_WORKGROUP) {
+    for (var first = 0u; first < total; first += GPU_LAYDOWN_LARGE_WORKGROUP) {
         let b = first + li;
-        if (b < blocks) {
-            let bx = b % bw;
-            let by = b / bw;
-            let e = g.at_origin + g.step_x * i64(bx * GPU_LAYDOWN_BLOCK) + g.step_y * i64(by * GPU_LAYDOWN_BLOCK);
-            if (all(e + block_high >= g.least)) {
+        if (b < total) {
+            var t = 0u;
+            while (t + 1u < GPU_LAYDOWN_LARGE_BATCH && gpu_large_first_block[t + 1u] <= b) {
+                t++;
+            }
+            let g = gpu_large_edges[t];
+            let local = b - gpu_large_first_block[t];
+            let bw = gpu_large_row_blocks[t];
+            let e = g.at_origin + g.step_x * i64((local % bw) * GPU_LAYDOWN_BLOCK)
+                + g.step_y * i64((local / bw) * GPU_LAYDOWN_BLOCK);
+            // Over a block, an edge function ranges from its first pixel's value plus the
+            // negative steps to it plus the positive ones (7 pixels each way).
+            let span = i64(GPU_LAYDOWN_BLOCK - 1u);
+            let high = max(g.step_x * span, vec3<i64>(0li)) + max(g.step_y * span, vec3<i64>(0li));
+            if (all(e + high >= g.least)) {
                 let slot = atomicAdd(&gpu_large_block_count, 1u);
-                gpu_large_blocks[slot] = b;
+                gpu_large_blocks[slot] = local;
+                gpu_large_block_triangle[slot] = t;
                 gpu_large_block_edges[slot] = e;
             }
         }
@@ -487,12 +503,20 @@ fn gpu_raster_large(r: GpuRasterTriangle, g: GpuLargeEdges, li: u32) {
         }
         let kept = workgroupUniformLoad(&gpu_large_round_blocks);
         for (var s = li / GPU_LAYDOWN_BLOCK_PIXELS; s < kept; s += lanes_per_block) {
-            let b = gpu_large_blocks[s];
-            let x = r.x0 + i32((b % bw) * GPU_LAYDOWN_BLOCK + dx);
-            let y = r.y0 + i32((b / bw) * GPU_LAYDOWN_BLOCK + dy);
-            let e = gpu_large_block_edges[s] + offset;
-            if (x <= r.x1 && y <= r.y1 && all(e >= g.least)) {
-                gpu_raster_shade(x, y, vec3<f32>(e) * r.inv_area, r.shade, w);
+            let t = gpu_large_block_triangle[s];
+            let local = gpu_large_blocks[s];
+            let bw = gpu_large_row_blocks[t];
+            let x0 = gpu_large_triangles[t].x0;
+            let y0 = gpu_large_triangles[t].y0;
+            let x = x0 + i32((local % bw) * GPU_LAYDOWN_BLOCK + dx);
+            let y = y0 + i32((local / bw) * GPU_LAYDOWN_BLOCK + dy);
+            let step_x = gpu_large_edges[t].step_x;
+            let step_y = gpu_large_edges[t].step_y;
+            let e = gpu_large_block_edges[s] + step_x * i64(dx) + step_y * i64(dy);
+            if (x <= gpu_large_triangles[t].x1 && y <= gpu_large_triangles[t].y1
+                && all(e >= gpu_large_edges[t].least)) {
+                gpu_raster_shade(x, y, vec3<f32>(e) * gpu_large_triangles[t].inv_area,
+                    gpu_large_triangles[t].shade, w);
             }
         }
         workgroupBarrier();
