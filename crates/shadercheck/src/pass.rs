@@ -1,6 +1,7 @@
 //! Proof that a pass description matches its module: every feature combination composes
 //! and validates, the entry points are the described ones with the described stages and
-//! workgroup sizes, and every binding has the described group, index, name, kind and size.
+//! workgroup sizes, every compute entry point's workgroup memory fits wgpu's default limit,
+//! and every binding has the described group, index, name, kind and size.
 
 use naga::proc::Layouter;
 use naga::{AddressSpace, ArraySize, Expression, ImageClass, ImageDimension, ScalarKind};
@@ -92,6 +93,45 @@ pub fn check_pass_with<P>(
             module
         })
         .collect()
+}
+
+/// `wgpu::Limits::default().max_compute_workgroup_storage_size` (WebGPU's minimum too):
+/// the renderer asks for no more, so a pass over it fails on devices at the default.
+pub const MAX_WORKGROUP_STORAGE: u32 = 16384;
+
+/// Compute entry points whose workgroup variables (those the entry point uses) exceed
+/// [`MAX_WORKGROUP_STORAGE`] bytes.
+fn workgroup_memory_problems(m: &Module, layouter: &Layouter) -> Vec<String> {
+    let info = match naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(m)
+    {
+        Ok(info) => info,
+        Err(e) => return vec![format!("revalidating for workgroup memory: {e}")],
+    };
+    let mut problems = Vec::new();
+    for (i, ep) in m.entry_points.iter().enumerate() {
+        if ep.stage != ShaderStage::Compute {
+            continue;
+        }
+        let uses = info.get_entry_point(i);
+        let bytes: u32 = m
+            .global_variables
+            .iter()
+            .filter(|(h, g)| g.space == AddressSpace::WorkGroup && !uses[*h].is_empty())
+            .map(|(_, g)| layouter[g.ty].size)
+            .sum();
+        if bytes > MAX_WORKGROUP_STORAGE {
+            problems.push(format!(
+                "entry point `{}` uses {bytes} bytes of workgroup memory, over wgpu's default \
+                 limit of {MAX_WORKGROUP_STORAGE}",
+                ep.name
+            ));
+        }
+    }
+    problems
 }
 
 fn override_name(m: &Module, h: Handle<Expression>) -> Option<&str> {
@@ -262,6 +302,7 @@ fn compare<P>(pass: &Pass<P>, m: &Module) -> Result<(), Vec<String>> {
             problems.push(format!("entry point `{}` is not described", ep.name));
         }
     }
+    problems.extend(workgroup_memory_problems(m, &layouter));
     for (gi, group) in pass.groups.iter().enumerate() {
         for (bi, b) in group.bindings.iter().enumerate() {
             let found = m.global_variables.iter().find(|(_, g)| {
