@@ -1,6 +1,9 @@
 //! The laydown writes the right vis-buffer word in every pixel, on every primitive-ID path
 //! the device has: compared with an independent f64 CPU rasteriser of the same scene.
 
+mod common;
+
+use common::material;
 use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
 use gpu::{
     AlbedoLayer, Batch, Camera, FrameInput, Laydown, LaydownTarget, Material, MaterialId, Mesh,
@@ -27,16 +30,7 @@ fn test_scene() -> (Scene, FrameInput) {
         .position(|m| m.name == "terrain")
         .unwrap();
     let meshes = vec![demo.meshes[terrain].clone(), demo.meshes[rock].clone()];
-    let mat = Material {
-        name: "stone".into(),
-        shader: ShaderKind::Opaque,
-        albedo_layer: 0,
-        tint: Vec3::ONE,
-        alpha_cutoff: 0.5,
-        roughness: 0.5,
-        specular: 0.5,
-        regular: false,
-    };
+    let mat = material("stone", ShaderKind::Opaque);
     let mut rocks = Vec::new();
     for i in 0..40 {
         let a = i as f32 * 0.7;
@@ -294,6 +288,18 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
     assert!(tested >= 1);
 }
 
+/// The compute laydown at the test size with split `extent` and target `target`.
+fn compute_config(extent: f32, target: LaydownTarget) -> RendererConfig {
+    RendererConfig {
+        width: W,
+        height: H,
+        laydown: Laydown::Compute,
+        compute_laydown_max_extent: extent,
+        compute_laydown_target: Some(target),
+        ..Default::default()
+    }
+}
+
 /// Whether the test device runs the compute laydown: lavapipe and the H200 do, so a device
 /// without it fails here, not silently.
 fn compute_device() -> bool {
@@ -345,19 +351,32 @@ fn compute_laydown_matches_the_f64_rasteriser() {
             (1.0, "split at 1 pixel"),
         ] {
             let r = check_against_f64(
-                RendererConfig {
-                    width: W,
-                    height: H,
-                    laydown: Laydown::Compute,
-                    compute_laydown_max_extent: extent,
-                    compute_laydown_target: Some(target),
-                    ..Default::default()
-                },
+                compute_config(extent, target),
                 &format!("{name}, {} target", target.name()),
             );
             assert_eq!(r.laydown(), Laydown::Compute);
             assert_eq!(r.laydown_target(), Some(target));
         }
+    }
+}
+
+/// `mesh` with an opaque material (the demo's first albedo layer), one batch of `instances`.
+fn plain_scene(mesh: Mesh, instances: Vec<Affine3A>) -> Scene {
+    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
+        density: 0.01,
+        ..Default::default()
+    });
+    Scene {
+        meshes: vec![mesh],
+        materials: vec![material("plain", ShaderKind::Opaque)],
+        albedo_layers: vec![demo.albedo_layers[0].clone()],
+        batches: vec![Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances,
+        }],
+        static_setups: Vec::new(),
+        wind: None,
     }
 }
 
@@ -411,32 +430,7 @@ fn large_triangles_scene() -> (Scene, FrameInput) {
         }
         tris.push([a, b, c]);
     }
-    let mesh = triangles_mesh("large", &tris);
-    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
-        density: 0.01,
-        ..Default::default()
-    });
-    let scene = Scene {
-        meshes: vec![mesh],
-        materials: vec![Material {
-            name: "plain".into(),
-            shader: ShaderKind::Opaque,
-            albedo_layer: 0,
-            tint: Vec3::ONE,
-            alpha_cutoff: 0.5,
-            roughness: 0.5,
-            specular: 0.5,
-            regular: false,
-        }],
-        albedo_layers: vec![demo.albedo_layers[0].clone()],
-        batches: vec![Batch {
-            mesh: MeshId(0),
-            material: MaterialId(0),
-            instances: vec![Affine3A::IDENTITY],
-        }],
-        static_setups: Vec::new(),
-        wind: None,
-    };
+    let scene = plain_scene(triangles_mesh("large", &tris), vec![Affine3A::IDENTITY]);
     (scene, FrameInput::new(front_camera()))
 }
 
@@ -452,14 +446,7 @@ fn large_triangles_match_the_f64_rasteriser() {
         // Every triangle through the large-triangle pass, the default split, and a split
         // low enough that only slivers and specks stay with an invocation each.
         for extent in [0.0, gpu::COMPUTE_LAYDOWN_MAX_EXTENT, 4.0] {
-            let config = RendererConfig {
-                width: W,
-                height: H,
-                laydown: Laydown::Compute,
-                compute_laydown_max_extent: extent,
-                compute_laydown_target: Some(target),
-                ..Default::default()
-            };
+            let config = compute_config(extent, target);
             let name = format!(
                 "large triangles, split at {extent} px, {} target",
                 target.name()
@@ -523,37 +510,14 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         // Back-facing (clockwise from the camera).
         [v(0.6, 0.6, 0.0), v(0.8, 1.0, 0.0), v(1.0, 0.6, 0.0)],
     ];
-    let mesh = triangles_mesh("awkward", &tris);
-    let mat = Material {
-        name: "plain".into(),
-        shader: ShaderKind::Opaque,
-        albedo_layer: 0,
-        tint: Vec3::ONE,
-        alpha_cutoff: 0.5,
-        roughness: 0.5,
-        specular: 0.5,
-        regular: false,
-    };
-    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
-        density: 0.01,
-        ..Default::default()
-    });
-    let scene = Scene {
-        meshes: vec![mesh],
-        materials: vec![mat],
-        albedo_layers: vec![demo.albedo_layers[0].clone()],
-        batches: vec![Batch {
-            mesh: MeshId(0),
-            material: MaterialId(0),
-            instances: vec![
-                Affine3A::IDENTITY,
-                // A finite transform whose clip coordinates overflow to infinity and NaN.
-                Affine3A::from_scale(Vec3::splat(3.0e38)),
-            ],
-        }],
-        static_setups: Vec::new(),
-        wind: None,
-    };
+    let scene = plain_scene(
+        triangles_mesh("awkward", &tris),
+        vec![
+            Affine3A::IDENTITY,
+            // A finite transform whose clip coordinates overflow to infinity and NaN.
+            Affine3A::from_scale(Vec3::splat(3.0e38)),
+        ],
+    );
     let camera = front_camera();
     let frame = FrameInput::new(camera);
     let probe = ctx();
@@ -746,16 +710,7 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
     }
     let scene = Scene {
         meshes,
-        materials: vec![Material {
-            name: "card".into(),
-            shader: ShaderKind::AlphaTested,
-            albedo_layer: 0,
-            tint: Vec3::ONE,
-            alpha_cutoff: 0.5,
-            roughness: 0.5,
-            specular: 0.5,
-            regular: false,
-        }],
+        materials: vec![material("card", ShaderKind::AlphaTested)],
         albedo_layers: vec![layer],
         batches,
         static_setups: Vec::new(),

@@ -9,7 +9,7 @@ mod common;
 use glam::{Affine3A, DMat4, DVec3, DVec4, Vec2, Vec3, Vec4};
 use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath, Scene,
+    AlbedoLayer, Batch, Camera, FrameInput, MaterialId, Mesh, MeshId, RenderPath, Scene,
     ShaderKind, Wind,
 };
 
@@ -142,16 +142,7 @@ fn swaying_quad(wind: Option<Wind>) -> (Scene, Affine3A) {
     let instance = Affine3A::from_translation(Vec3::new(0.3, 0.0, -0.2));
     let scene = Scene {
         meshes: vec![mesh],
-        materials: vec![Material {
-            name: "leaf".into(),
-            shader: ShaderKind::AlphaTested,
-            albedo_layer: 0,
-            tint: Vec3::ONE,
-            alpha_cutoff: 0.5,
-            roughness: 0.5,
-            specular: 0.5,
-            regular: false,
-        }],
+        materials: vec![common::material("leaf", ShaderKind::AlphaTested)],
         albedo_layers: vec![AlbedoLayer {
             size: 4,
             texels: vec![[90, 160, 60, 255]; 16],

@@ -1,7 +1,7 @@
 //! What the renderer's integration tests share: a renderer on testkit's device.
 #![allow(dead_code)]
 
-use gpu::{Renderer, RendererConfig, Rgba8Image, ShadowConfig};
+use gpu::{Material, Renderer, RendererConfig, Rgba8Image, ShaderKind, ShadowConfig};
 use testkit::device::ctx;
 
 /// The sun's shadow maps of the tests' renderers: the default cascades at 512 texels
@@ -38,4 +38,19 @@ pub fn differing_pixels(a: &Rgba8Image, b: &Rgba8Image) -> usize {
         .zip(&b.pixels)
         .filter(|(x, y)| x != y)
         .count()
+}
+
+/// A material named `name` with `shader` on albedo layer 0: white tint, alpha cutoff 0.5,
+/// roughness and specular 0.5.
+pub fn material(name: &str, shader: ShaderKind) -> Material {
+    Material {
+        name: name.into(),
+        shader,
+        albedo_layer: 0,
+        tint: glam::Vec3::ONE,
+        alpha_cutoff: 0.5,
+        roughness: 0.5,
+        specular: 0.5,
+        regular: false,
+    }
 }
