@@ -6,8 +6,8 @@ mod common;
 use common::material;
 use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
 use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, Laydown, LaydownTarget, Material, MaterialId, Mesh,
-    MeshId, PrimitiveIdPath, Renderer, RendererConfig, Scene, ShaderKind,
+    AlbedoLayer, Batch, Camera, FrameInput, Laydown, LaydownTarget, MaterialId, Mesh, MeshId,
+    PrimitiveIdPath, Renderer, RendererConfig, Scene, ShaderKind,
 };
 use testkit::device::ctx;
 use tiling::MicroBatchInfo;
