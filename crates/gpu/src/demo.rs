@@ -2,7 +2,7 @@
 //! grass tufts, trees and rocks over a terrain: many instances, several foliage materials),
 //! "grass" (a tall-grass field of very high vertex density) and "hillside" /
 //! "hillside-grass" (HFW-like: a meadow of tall grass, blade by blade, before a forest of
-//! dense canopies, seen from 30 m up and from 5 m over the grass; grass triangles under a
+//! dense canopies, seen from 15 m up and from 5 m over the grass; grass triangles under a
 //! pixel wide at 4K).
 //!
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
@@ -27,7 +27,7 @@ pub enum DemoScene {
     Forest,
     /// A field of tall grass: very high vertex density.
     Grass,
-    /// HFW-like foliage seen from 30 m up: a meadow of tall grass, blade by blade, before a
+    /// HFW-like foliage seen from 15 m up: a meadow of tall grass, blade by blade, before a
     /// forest of dense canopies; grass triangles under a pixel wide at 4K (the talk's
     /// forest case).
     Hillside,

@@ -37,7 +37,7 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
-    /// HFW-like foliage from 30 m up: a meadow of tall grass, blade by blade, before a
+    /// HFW-like foliage from 15 m up: a meadow of tall grass, blade by blade, before a
     /// forest of dense canopies, grass triangles under a pixel wide at 4K; the talk's
     /// forest case (not part of `all`).
     Hillside,

@@ -24,8 +24,8 @@ use crate::scene::{Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind}
 /// trees and rocks are the same for both).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum View {
-    /// From 30 m above the meadow's south end, over the grass to the forest: the talk's
-    /// forest case.
+    /// From 15 m above the meadow, 100 m south of the forest's edge, over the grass to
+    /// the forest climbing the valley's far side: the talk's forest case.
     Rise,
     /// 5 m above the meadow near the forest's edge, across the tall grass to the south:
     /// the talk's tall-grass case. This high, the nearest blades in view are 6 m away and
@@ -81,10 +81,10 @@ pub(super) fn height(x: f32, z: f32, seed: u32) -> f32 {
 }
 
 /// Swells over a few hundred metres (flat enough under a patch of grass) and the valley's
-/// far side, rising 30 m to the north under the forest (metres).
+/// far side, rising 60 m to the north under the forest (metres).
 fn broad(x: f32, z: f32, seed: u32) -> f32 {
     let t = ((z + 40.0) / 280.0).clamp(0.0, 1.0);
-    (fbm(Vec2::new(x, z) / 180.0, seed, 2, 0) - 0.5) * 14.0 + 30.0 * t * t * (3.0 - 2.0 * t)
+    (fbm(Vec2::new(x, z) / 180.0, seed, 2, 0) - 0.5) * 14.0 + 60.0 * t * t * (3.0 - 2.0 * t)
 }
 
 /// The unit normal of [`broad`] at (x, z): what a patch of grass is tilted to.
@@ -189,13 +189,13 @@ struct Setup {
 fn setup(view: View, seed: u32) -> Setup {
     match view {
         View::Rise => Setup {
-            eye: Vec3::new(0.0, height(0.0, -220.0, seed) + 30.0, -220.0),
-            target: Vec3::new(0.0, height(0.0, -40.0, seed) - 10.0, -40.0),
+            eye: Vec3::new(0.0, height(0.0, -120.0, seed) + 15.0, -120.0),
+            target: Vec3::new(0.0, height(0.0, -20.0, seed) + 2.0, -20.0),
             grass: GrassSetup {
-                reach: 60.0,
-                side: 2.5,
-                width: (0.008, 0.014),
-                blades_per_m2: 320.0,
+                reach: 40.0,
+                side: 1.25,
+                width: (0.005, 0.009),
+                blades_per_m2: 800.0,
             },
         },
         View::TallGrass => Setup {
@@ -271,8 +271,8 @@ fn patch_cells(s: &Setup, density: f32, seed: u32) -> Vec<(usize, Vec2)> {
         if !frustum.sees(centre, patch * std::f32::consts::FRAC_1_SQRT_2 + 1.2) {
             continue;
         }
-        let nearest = (eye - c).abs() - Vec2::splat(cell * 0.5);
-        let k = s.grass.level(nearest.max(Vec2::ZERO).length());
+        let nearest = ((eye - c).abs() - Vec2::splat(cell * 0.5)).max(Vec2::ZERO);
+        let k = s.grass.level(nearest.length());
         if k >= j || j == 0 {
             cells.push((if j == top { k.max(top) } else { j }, c));
         } else {
@@ -399,7 +399,7 @@ fn grass_mesh_index(s: &Setup, k: usize, c: Vec2, seed: u32) -> usize {
         0xfa,
         FACINGS,
     );
-    let dryness = (fbm(c / 45.0, seed ^ 0xd27, 3, 0) - 0.45) / 0.1;
+    let dryness = (fbm(c / 45.0, seed ^ 0xd27, 3, 0) - 0.42) / 0.16;
     let v = pick(dryness, 0xd1, VARIANTS);
     FIRST_GRASS_MESH + k * PER_LOD + f * VARIANTS + v
 }
@@ -559,6 +559,10 @@ pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Sce
             instances,
         });
     }
+    let mut frame = FrameInput::new(Camera::look_at(s.eye, s.target));
+    // The sun high behind the camera's right shoulder: the blades face the camera.
+    let back = (s.eye - s.target).with_y(0.0).normalize_or(Vec3::NEG_Z);
+    frame.lighting.sun_direction = (back * 0.5 + Vec3::Y * 0.8 + Vec3::X * 0.35).normalize();
     (
         Scene {
             meshes,
@@ -568,7 +572,7 @@ pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Sce
             static_setups: Vec::new(),
             wind: None,
         },
-        FrameInput::new(Camera::look_at(s.eye, s.target)),
+        frame,
     )
 }
 
