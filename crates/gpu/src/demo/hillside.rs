@@ -482,7 +482,7 @@ pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Sce
             ..material("rock", ShaderKind::Opaque, 4, 0.7)
         },
         Material {
-            tint: Vec3::new(1.2, 1.1, 0.75),
+            tint: Vec3::new(1.12, 1.06, 0.8),
             ..material("dry grass", ShaderKind::AlphaTested, 1, 0.6)
         },
     ];
