@@ -298,7 +298,7 @@ fn grass_patch_mesh(rng: &mut Rng, lod: &Lod, yaw: f32, variant: usize) -> Mesh 
     let dry = variant > 0;
     let mut b = MeshBuilder::new(if dry { "dry grass" } else { "tall grass" });
     let e = lod.side * 0.5;
-    // Columns of the blade layer: its four colours, greenest last.
+    // Columns of the blade layer's four colours (2 the yellowest, 3 the darkest green).
     let colours: [u32; 4] = if dry { [1, 2, 2, 2] } else { [0, 1, 3, 3] };
     for _ in 0..lod.blades {
         let base = Vec3::new(rng.range(-e, e), 0.0, rng.range(-e, e));
@@ -447,6 +447,8 @@ pub(super) fn vertices_but_grass(density: f32, meshes: &[Mesh]) -> u64 {
     v(0) + n(TREES) * (v(1) + v(2)) + n(ROCKS) * v(3)
 }
 
+/// The hillside built for `view` at `density` (instance counts; not checked), with its
+/// albedo layers painted if `paint`, and its frame (camera, the sun behind it).
 pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Scene, FrameInput) {
     let mut rng = Rng(seed ^ 0x6869_6c6c);
     // Trees and rocks from their own stream: the same in both views.
