@@ -1,7 +1,9 @@
 //! Procedural demo scenes, deterministic from a seed: "forest" (alpha-tested foliage cards,
 //! grass tufts, trees and rocks over a terrain: many instances, several foliage materials),
-//! "grass" (a tall-grass field of very high vertex density) and "hillside" (HFW-like: a
-//! meadow of blades and a valley of canopies seen from a rise, triangles of a few pixels).
+//! "grass" (a tall-grass field of very high vertex density) and "hillside" /
+//! "hillside-grass" (HFW-like: a meadow of tall grass, blade by blade, before a forest of
+//! dense canopies, seen from 15 m up and from 5 m over the grass; grass triangles under a
+//! pixel wide at 4K).
 //!
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
@@ -25,14 +27,19 @@ pub enum DemoScene {
     Forest,
     /// A field of tall grass: very high vertex density.
     Grass,
-    /// HFW-like foliage seen from a rise: a meadow of grass blades and a valley of tree
-    /// canopies whose triangles cover a few pixels at 4K (the talk's tables' case).
+    /// HFW-like foliage seen from 15 m up: a meadow of tall grass, blade by blade, before a
+    /// forest of dense canopies; grass triangles under a pixel wide at 4K (the talk's
+    /// forest case).
     Hillside,
+    /// The hillside's tall grass seen from 5 m above it, grass from the bottom of the image
+    /// to the horizon (the talk's tall-grass case). The grass is built in rings of level
+    /// of detail around each view's camera, so the two scenes' grass differs.
+    HillsideGrass,
 }
 
 impl DemoScene {
-    /// The two scenes every frame test renders (the hillside's small triangles are for
-    /// measurements at 4K).
+    /// The two scenes every frame test renders (the hillside's small triangles, in both
+    /// its views, are for measurements at 4K).
     pub const ALL: [DemoScene; 2] = [DemoScene::Forest, DemoScene::Grass];
 
     /// The scene's name, as the CLI spells it.
@@ -41,6 +48,7 @@ impl DemoScene {
             DemoScene::Forest => "forest",
             DemoScene::Grass => "grass",
             DemoScene::Hillside => "hillside",
+            DemoScene::HillsideGrass => "hillside-grass",
         }
     }
 }
@@ -88,7 +96,12 @@ fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
     match options.scene {
         DemoScene::Forest => forest(options.seed, density, paint),
         DemoScene::Grass => grass(options.seed, density, paint),
-        DemoScene::Hillside => hillside::hillside(options.seed, density, paint),
+        DemoScene::Hillside => {
+            hillside::hillside(options.seed, density, paint, hillside::View::Rise)
+        }
+        DemoScene::HillsideGrass => {
+            hillside::hillside(options.seed, density, paint, hillside::View::TallGrass)
+        }
     }
 }
 
@@ -164,15 +177,33 @@ fn instance_vertices(options: &DemoOptions) -> u64 {
             let side = grass_side(d) as u64;
             v(0) + side * side * v(1).max(v(2)) + n(60.0) * v(3)
         }
-        // Terrain, meadow patches, trees (trunk and canopy), rocks.
+        // Terrain, trees (trunk and crown), rocks, grass patches by level of detail.
         DemoScene::Hillside => {
-            let side = hillside::meadow_side(d) as u64;
-            v(0) + side * side * v(1)
-                + n(hillside::TREES) * (v(2) + v(3))
-                + n(hillside::ROCKS) * v(4)
-                + n(hillside::TUFTS) * v(5)
+            hillside::instance_vertices(options.seed, d, hillside::View::Rise, &scene.meshes)
+        }
+        DemoScene::HillsideGrass => {
+            hillside::instance_vertices(options.seed, d, hillside::View::TallGrass, &scene.meshes)
         }
     }
+}
+
+/// A lower bound of [`instance_vertices`] found in time independent of the density: the
+/// hillside's instances but its grass (0 for the other scenes, whose count is as quick).
+fn instance_vertices_floor(options: &DemoOptions) -> u64 {
+    if !matches!(
+        options.scene,
+        DemoScene::Hillside | DemoScene::HillsideGrass
+    ) {
+        return 0;
+    }
+    let (scene, _) = generate(
+        &DemoOptions {
+            density: 0.0,
+            ..*options
+        },
+        false,
+    );
+    hillside::vertices_but_grass(usable_density(options), &scene.meshes)
 }
 
 /// Checks that the demo at `options` can be planned within the talk's limits, without
@@ -199,13 +230,22 @@ pub fn check_density(options: &DemoOptions) -> Result<(), DensityError> {
 
 /// The limit the demo at `options` breaks, if any.
 fn plan_error(options: &DemoOptions) -> Option<String> {
-    let vertices = instance_vertices(options);
-    if vertices > vertex_budget() {
-        return Some(format!(
+    let over = |vertices: String| {
+        Some(format!(
             "{vertices} instance vertices, over {} passes of {} vertices (half the 24 MiB vertex ring)",
             tiling::MAX_PASSES,
             tiling::PlanConfig::default().pass_vertex_budget()
-        ));
+        ))
+    };
+    // The hillside counts its grass patch by patch, in time proportional to the density:
+    // a density whose other instances alone are over the bound is refused first.
+    let floor = instance_vertices_floor(options);
+    if floor > vertex_budget() {
+        return over(format!("at least {floor}"));
+    }
+    let vertices = instance_vertices(options);
+    if vertices > vertex_budget() {
+        return over(vertices.to_string());
     }
     let (scene, _) = generate(options, false);
     let positions = scene.instance_positions();
@@ -460,8 +500,13 @@ impl MeshBuilder {
 }
 
 fn terrain_mesh(size: f32, cells: u32, seed: u32) -> Mesh {
+    terrain_mesh_with(size, cells, |x, z| terrain_height(x, z, seed))
+}
+
+/// A square height field of `size` metres and `cells` cells a side centred on the origin,
+/// heights (metres) from `h(x, z)`.
+fn terrain_mesh_with(size: f32, cells: u32, h: impl Fn(f32, f32) -> f32) -> Mesh {
     let mut b = MeshBuilder::new("terrain");
-    let h = |x: f32, z: f32| terrain_height(x, z, seed);
     for j in 0..=cells {
         for i in 0..=cells {
             let x = (i as f32 / cells as f32 - 0.5) * size;
@@ -1044,7 +1089,10 @@ mod tests {
 
     #[test]
     fn demo_scenes_validate_and_are_deterministic() {
-        for scene in DemoScene::ALL.into_iter().chain([DemoScene::Hillside]) {
+        for scene in DemoScene::ALL
+            .into_iter()
+            .chain([DemoScene::Hillside, DemoScene::HillsideGrass])
+        {
             let o = DemoOptions {
                 scene,
                 seed: 7,
@@ -1076,15 +1124,26 @@ mod tests {
         }
         assert!(check_density(&o(DemoScene::Grass, 1.0)).is_ok());
         // The hillside's vertex count is estimated without placing instances: the estimate
-        // must count what the built scene holds, and density 1 fits.
-        assert!(check_density(&o(DemoScene::Hillside, 1.0)).is_ok());
-        let (hill, _) = build(&o(DemoScene::Hillside, 1.0));
-        let placed: u64 = hill
-            .batches
-            .iter()
-            .map(|b| b.instances.len() as u64 * hill.meshes[b.mesh.0].positions.len() as u64)
-            .sum();
-        assert_eq!(instance_vertices(&o(DemoScene::Hillside, 1.0)), placed);
+        // must count what the built scene holds (its floor no more), at densities 1 and 2
+        // of both views, and density 1 fits.
+        for scene in [DemoScene::Hillside, DemoScene::HillsideGrass] {
+            assert!(check_density(&o(scene, 1.0)).is_ok(), "{}", scene.name());
+            for density in [1.0, 2.0] {
+                let (hill, _) = generate(&o(scene, density), false);
+                let placed: u64 = hill
+                    .batches
+                    .iter()
+                    .map(|b| {
+                        b.instances.len() as u64 * hill.meshes[b.mesh.0].positions.len() as u64
+                    })
+                    .sum();
+                assert_eq!(instance_vertices(&o(scene, density)), placed);
+                assert!(instance_vertices_floor(&o(scene, density)) < placed);
+            }
+            // An absurd density is refused by the floor, in time independent of it.
+            let limit = plan_error(&o(scene, 1e6)).expect("over the limits");
+            assert!(limit.starts_with("at least"), "{limit}");
+        }
         // An absurd density is refused by the vertex bound alone, without placing its
         // instances; the largest density that fits is given, and it does fit.
         match check_density(&o(DemoScene::Grass, 1e6)) {

@@ -37,9 +37,13 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
-    /// HFW-like foliage from a rise: a meadow of grass blades and a valley of tree
-    /// canopies, triangles of a few pixels at 4K (not part of `all`).
+    /// HFW-like foliage from 15 m up: a meadow of tall grass, blade by blade, before a
+    /// forest of dense canopies, grass triangles under a pixel wide at 4K; the talk's
+    /// forest case (not part of `all`).
     Hillside,
+    /// The hillside's tall grass from 5 m above it, grass to the horizon: the talk's
+    /// tall-grass case (not part of `all`).
+    HillsideGrass,
     /// HZD's static city (`--instances` of them) through the GPU static query, with
     /// foliage batches along the streets.
     City,
@@ -654,6 +658,7 @@ impl Args {
             SceneArg::Forest => &[DemoScene::Forest],
             SceneArg::Grass => &[DemoScene::Grass],
             SceneArg::Hillside => &[DemoScene::Hillside],
+            SceneArg::HillsideGrass => &[DemoScene::HillsideGrass],
             SceneArg::City | SceneArg::River => &[],
             SceneArg::All => &DemoScene::ALL,
         }

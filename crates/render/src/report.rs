@@ -440,6 +440,21 @@ impl Report {
                 pct(s.wave_commands, s.depth_equal_waves)
             ),
         );
+        // Each (quad, triangle) pair costs the depth-equal pass 4 lanes and has at least one
+        // pixel, which costs deferred one: the ratio cannot go below these deferred waves
+        // over 4 lanes a vis pixel (25% but for the rounding to waves).
+        let pair_lanes = s.depth_equal_waves * u64::from(s.wave_width);
+        let floor_waves = (4 * s.vis_pixels).div_ceil(u64::from(s.wave_width).max(1));
+        self.row(
+            "pixel-shading waves: floor (a triangle per pixel of every quad)",
+            format!(
+                "{} / {} = {:.1}%; (quad, triangle) pairs per vis pixel now about {:.3}",
+                group_digits(s.wave_commands),
+                group_digits(floor_waves),
+                pct(s.wave_commands, floor_waves),
+                pair_lanes as f64 / 4.0 / s.vis_pixels.max(1) as f64
+            ),
+        );
         self.row(
             "vertices: after chunk culling / scene",
             format!(
