@@ -131,6 +131,20 @@ pub fn const_f32(module: &naga::Module, name: &str) -> Option<f32> {
     }
 }
 
+/// The default of a module-scope `override NAME: f32 = ...;`, if declared with a literal
+/// (the value a pipeline gets when Rust sets none).
+pub fn override_f32(module: &naga::Module, name: &str) -> Option<f32> {
+    let (_, o) = module
+        .overrides
+        .iter()
+        .find(|(_, o)| o.name.as_deref() == Some(name))?;
+    match module.global_expressions[o.init?] {
+        naga::Expression::Literal(naga::Literal::F32(v)) => Some(v),
+        naga::Expression::Literal(naga::Literal::AbstractFloat(v)) => Some(v as f32),
+        _ => None,
+    }
+}
+
 /// The layout naga gives a WGSL struct: its size and its members' names and offsets, in
 /// bytes, in declaration order. `None` when the module declares no struct `name`.
 pub fn struct_layout(module: &naga::Module, name: &str) -> Option<(u32, Vec<(String, u32)>)> {

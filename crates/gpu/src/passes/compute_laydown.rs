@@ -378,8 +378,9 @@ pub struct LaydownStats {
     /// Of those, handed to the hardware part (crossing the near or far plane, or a box over
     /// a million pixels), including any past the list's capacity.
     pub hybrid: u64,
-    /// Of those, rasterised by the large-triangle pass (a box over
-    /// [`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) pixels).
+    /// Of those, rasterised by the large-triangle pass (a box wider or taller than
+    /// [`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) pixels, or
+    /// larger than a quarter of its square).
     pub large: u64,
     /// Listed triangles past either list's capacity (not drawn; the report shows them).
     pub dropped: u64,
@@ -807,6 +808,10 @@ mod tests {
         };
         assert_eq!(items_at("GpuHybridList"), Some(HYBRID_HEADER));
         assert_eq!(items_at("GpuLargeList"), Some(LARGE_HEADER));
+        assert_eq!(
+            shadercheck::override_f32(&m, "GPU_COMPUTE_LAYDOWN_MAX_EXTENT"),
+            Some(COMPUTE_LAYDOWN_MAX_EXTENT)
+        );
         let rows = shader::MAX_WORKGROUPS_X;
         assert_eq!(shadercheck::const_u32(&m, "GPU_LAYDOWN_ROWS"), Some(rows));
         assert_eq!(

@@ -361,7 +361,7 @@ fn raster(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index
 
 // Large triangles a `raster_large` workgroup takes: its first lanes set them up at once
 // (the setup is a chain of dependent loads: one lane at a time left the workgroup idle),
-// then the whole workgroup rasterises them one after another.
+// then the whole workgroup tests and shades their blocks together.
 const GPU_LAYDOWN_LARGE_BATCH: u32 = 16u;
 
 // The large list's count as `raster_large`'s indirect arguments.
@@ -374,10 +374,8 @@ fn large_args() {
     large.dispatch[2] = 1u;
 }
 
-// The large triangles of a `raster_large` workgroup, set up by its first lanes, and their
-// edge functions. One triangle a workgroup set up by one lane measured 2.8 ms on the forest
-// at 4K on the H200; every lane setting it up again was slower still (3.0 ms), and eight
-// triangles of 32 invocations a workgroup far slower (grass 1.5 -> 9.0 ms).
+// The large triangles of a `raster_large` workgroup, set up by its first lanes (their edge
+// functions below).
 var<workgroup> gpu_large_triangles: array<GpuRasterTriangle, GPU_LAYDOWN_LARGE_BATCH>;
 
 // A large triangle's edge functions over its box: at the box's first pixel centre, their
@@ -397,8 +395,9 @@ const GPU_LAYDOWN_BLOCK: u32 = 8u;
 // Pixels of a block; the workgroup shades GPU_LAYDOWN_LARGE_WORKGROUP / this blocks at once.
 const GPU_LAYDOWN_BLOCK_PIXELS: u32 = 64u;
 
-// The blocks of this round that hold a pixel of the triangle: their index in the box and
-// their edge functions at their first pixel.
+// The blocks of this round that may hold a pixel of their triangle: their index in its box
+// (row-major), and their edge functions at their first pixel. 15 500 bytes of workgroup
+// memory in all, under wgpu's default 16 KiB (shadercheck checks).
 var<workgroup> gpu_large_blocks: array<u32, GPU_LAYDOWN_LARGE_WORKGROUP>;
 var<workgroup> gpu_large_block_edges: array<vec3<i64>, GPU_LAYDOWN_LARGE_WORKGROUP>;
 var<workgroup> gpu_large_block_count: atomic<u32>;
