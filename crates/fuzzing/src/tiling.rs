@@ -51,7 +51,11 @@ pub fn tiling_classify(data: &[u8]) {
     } else {
         VisLayout::Standard
     };
-    let masked = input.u8() & 1 == 1;
+    // Bit 0: the validity mask; bit 1 (from the same byte, so older inputs keep their
+    // meaning with vertex culling on): no vertex culling.
+    let flags = input.u8();
+    let masked = flags & 1 == 1;
+    let vertex_cull = flags & 2 == 0;
     let pass_count = 1 + u32::from(input.u8() % 6);
     let wave_width = WaveWidth::ALL[usize::from(input.u8() % 4)];
     let chunk_count = u32::from(input.u16() % 512);
@@ -84,6 +88,7 @@ pub fn tiling_classify(data: &[u8]) {
         pass_count,
         wave_width,
         chunk_count,
+        vertex_cull,
     };
     let fused = classify(&vis, &table, &indices, &config).expect("valid config");
     let phases = classify_phases(&vis, &table, &indices, &config).expect("valid config");
@@ -100,6 +105,10 @@ pub fn tiling_classify(data: &[u8]) {
         fused.mid.vertex_cull.len(),
         (chunk_count as usize).next_multiple_of(4)
     );
+    if !vertex_cull {
+        assert!(fused.mid.vertex_cull.iter().all(|&b| b == 0));
+        assert_eq!(fused.mid.stats.bad_indices, 0);
+    }
     let covered: u64 = fused
         .output
         .waves

@@ -202,6 +202,17 @@ pub(crate) fn classification_statistics(
     let err = |e: tiling::Error| Error::Scene(SceneError::Tiling(e.to_string()));
     let vis = tiling::VisBuffer::new(&gpu.vis, s.width, s.height, b.layout()).map_err(err)?;
     let config = b.config;
+    // The talk's chunk-culled vertices also where the frame marks no chunks (no ring),
+    // marked as mid classify would (every validity bit set).
+    let culled = if config.vertex_cull {
+        None
+    } else {
+        let marking = tiling::ClassifyConfig {
+            vertex_cull: true,
+            ..config
+        };
+        Some(tiling::classify(&vis, &t.table, &scene.geometry.indices, &marking).map_err(err)?)
+    };
     let (cpu, vis) = match &gpu.validity {
         None => (
             tiling::classify_phases(&vis, &t.table, &scene.geometry.indices, &config)
@@ -223,7 +234,7 @@ pub(crate) fn classification_statistics(
     };
     let mismatch = gpu.mismatch(&cpu);
     let vertex = tiling::vertex_wave_commands(
-        &cpu.mid.vertex_cull,
+        &culled.as_ref().unwrap_or(&cpu).mid.vertex_cull,
         t.chunk_count,
         &t.table,
         &t.order,

@@ -101,6 +101,9 @@ pub const MAX_DIMENSION: u32 = 32_768;
 pub const FLAG_VALIDITY: u32 = 1;
 /// Bit of [`TilingParams::flags`]: the words use [`VisLayout::Vrs`] (quad commands).
 pub const FLAG_VRS: u32 = 2;
+/// Bit of [`TilingParams::flags`]: mid classify marks the vertex chunks of visible
+/// triangles ([`ClassifyConfig::vertex_cull`]).
+pub const FLAG_VERTEX_CULL: u32 = 4;
 
 /// Whether pixel `(x, y)`, holding `word`, starts a triangle run: neither its left nor its
 /// upper neighbour (in the whole buffer, across tile edges) holds the same word with its
@@ -286,6 +289,12 @@ pub struct ClassifyConfig {
     pub wave_width: WaveWidth,
     /// Entries of the vertex cull buffer ([`Plan::chunk_count`](crate::Plan::chunk_count)).
     pub chunk_count: u32,
+    /// Whether mid classify marks the 64-vertex chunks of every visible triangle in the
+    /// vertex cull buffer (HFW's vertex culling: a triangle's indices are read at its run
+    /// starts, [`first_of_run`]). Without it the cull buffer stays zero, no index is read
+    /// and [`PixelStats::bad_indices`] is 0: for frames whose vertex work reads no cull
+    /// buffer (the GPU pass is a third faster without the index reads).
+    pub vertex_cull: bool,
 }
 
 impl ClassifyConfig {
@@ -296,6 +305,7 @@ impl ClassifyConfig {
             pass_count: (plan.passes.len() as u32).max(1),
             wave_width,
             chunk_count: plan.chunk_count,
+            vertex_cull: true,
         }
     }
 
@@ -328,7 +338,7 @@ pub struct TilingParams {
     pub pass_count: u32,
     /// Lanes per shading wave (8, 16, 32 or 64).
     pub wave_width: u32,
-    /// [`FLAG_VALIDITY`] | [`FLAG_VRS`].
+    /// [`FLAG_VALIDITY`] | [`FLAG_VRS`] | [`FLAG_VERTEX_CULL`].
     pub flags: u32,
     /// Rows of the MicroBatchInfoTable (micro-batch IDs at or past it name nothing).
     pub table_len: u32,
@@ -359,6 +369,9 @@ impl TilingParams {
         }
         if vis.layout == VisLayout::Vrs {
             flags |= FLAG_VRS;
+        }
+        if config.vertex_cull {
+            flags |= FLAG_VERTEX_CULL;
         }
         Self {
             width: vis.width,
@@ -619,6 +632,8 @@ pub(crate) struct Frame<'a> {
     pub vis: VisBuffer<'a>,
     pub dec: Decoder,
     pub passes: usize,
+    /// [`ClassifyConfig::vertex_cull`].
+    pub vertex_cull: bool,
 }
 
 impl<'a> Frame<'a> {
@@ -632,6 +647,7 @@ impl<'a> Frame<'a> {
             vis: *vis,
             dec: Decoder::new(table, config.pass_count, vis.layout),
             passes: config.pass_count as usize,
+            vertex_cull: config.vertex_cull,
         })
     }
 
@@ -982,7 +998,7 @@ pub(crate) fn count_tile(
     let mut dropped = 0u32;
     let mut commands = 0u32;
     f.for_each_pixel(t, &mut stats, |x, y, word, valid, d| {
-        marks.add(word, &d, valid);
+        marks.add(word, &d, valid && f.vertex_cull);
         if !valid || f.sample(x, y, word).is_none() {
             return;
         }
@@ -1332,7 +1348,7 @@ pub fn classify_output(
 /// let mut words = vec![VIS_NONE; 4 * 4];
 /// words[5] = 1; // pixel (1, 1): micro batch 0, instance 0, primitive 1
 /// let vis = tiling::VisBuffer::new(&words, 4, 4, VisLayout::Standard)?;
-/// let config = ClassifyConfig { pass_count: 1, wave_width: WaveWidth::W8, chunk_count: 1 };
+/// let config = ClassifyConfig { pass_count: 1, wave_width: WaveWidth::W8, chunk_count: 1, vertex_cull: true };
 /// let c = classify(&vis, &[row], &indices, &config)?;
 /// assert_eq!(c.masks, [1 << 3]);
 /// assert_eq!(c.output.commands, [tiling::pixel_command(1, 1)]);

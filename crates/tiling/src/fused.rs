@@ -95,7 +95,7 @@ pub(crate) fn tile(
     } = s;
     if f.vis.layout() == VisLayout::Vrs {
         f.for_each_pixel(t, &mut stats, |x, y, word, valid, d| {
-            marks.add(word, &d, valid);
+            marks.add(word, &d, valid && f.vertex_cull);
             if !valid {
                 return;
             }
@@ -123,7 +123,7 @@ pub(crate) fn tile(
                 let (k, d) = f.dec.classify(word, bit);
                 kinds[(k & 3) as usize] += 1;
                 let valid = k == KIND_VALID;
-                marks.add(word, &d, valid);
+                marks.add(word, &d, valid && f.vertex_cull);
                 let at = n.min(last);
                 cmd[at] = pixel_command(i as u32, y - y0);
                 pg[at] = d.pg;

@@ -13,7 +13,7 @@
 //!     instance_count: 1, ..Default::default() };
 //! let words = vec![0u32; 300 * 200]; // every pixel: micro batch 0, instance 0, triangle 0
 //! let vis = VisBuffer::new(&words, 300, 200, VisLayout::Standard)?;
-//! let config = ClassifyConfig { pass_count: 1, wave_width: WaveWidth::W64, chunk_count: 1 };
+//! let config = ClassifyConfig { pass_count: 1, wave_width: WaveWidth::W64, chunk_count: 1, vertex_cull: true };
 //! let seq = tiling::classify(&vis, &[row], &[0, 1, 2], &config)?;
 //! let par = tiling::parallel::classify(&vis, &[row], &[0, 1, 2], &config)?;
 //! assert_eq!(seq, par);

@@ -401,6 +401,23 @@ fn bad_indices_count_run_starts_as_the_naive_reference_does() {
         });
         assert_eq!(got, want, "fused, masked {masked}");
         assert_eq!(phases, want, "phases, masked {masked}");
+        // Without vertex culling: the same but for the marks and the bad indices.
+        let off = ClassifyConfig {
+            vertex_cull: false,
+            ..cfg
+        };
+        let mut unmarked = want.clone();
+        unmarked.mid.vertex_cull.fill(0);
+        unmarked.mid.stats.bad_indices = 0;
+        let got = classify(&vis, &scene.plan.table, indices, &off).unwrap();
+        assert_eq!(got, unmarked, "fused without culling, masked {masked}");
+        let phases = tiling::classify_phases(&vis, &scene.plan.table, indices, &off).unwrap();
+        assert_eq!(phases, unmarked, "phases without culling, masked {masked}");
+        #[cfg(feature = "parallel")]
+        {
+            let par = tiling::parallel::classify(&vis, &scene.plan.table, indices, &off).unwrap();
+            assert_eq!(par, unmarked, "parallel without culling, masked {masked}");
+        }
         let bad = want.mid.stats.bad_indices;
         assert!(
             bad > 0 && bad < want.mid.stats.valid / 2,

@@ -33,6 +33,7 @@ fn classification_case(
     layout: VisLayout,
     masked: bool,
     keyed: bool,
+    vertex_cull: bool,
 ) {
     let mut rng = Rng::new(seed);
     let config = PlanConfig {
@@ -50,7 +51,10 @@ fn classification_case(
     if masked {
         vis = vis.with_validity(&mask).unwrap();
     }
-    let cfg = ClassifyConfig::for_plan(plan, WaveWidth::W16);
+    let cfg = ClassifyConfig {
+        vertex_cull,
+        ..ClassifyConfig::for_plan(plan, WaveWidth::W16)
+    };
     // Seed 2 truncates the index buffer: triangles past it count as bad indices.
     let indices = if seed == 2 {
         &scene.indices[..scene.indices.len() / 2 / 12 * 12]
@@ -67,7 +71,9 @@ fn classification_case(
             "{tiles} tiles x {p} passes: too few entries for several blocks"
         );
     }
-    let what = format!("seed {seed} {w}x{h} {layout:?} masked {masked} {features:?} keyed {keyed}");
+    let what = format!(
+        "seed {seed} {w}x{h} {layout:?} masked {masked} {features:?} keyed {keyed} vertex cull {vertex_cull}"
+    );
     // `keyed` false forces the wave-append loop that tiles with more counters than the
     // keyed histogram holds take.
     let constants: &[(&str, f64)] = if keyed {
@@ -164,7 +170,10 @@ fn classification_case(
         cpu.mid.stats,
         "mid stats, {what}"
     );
-    if seed == 2 {
+    if !vertex_cull {
+        assert!(cull.iter().all(|&b| b == 0), "{what}: chunks marked");
+        assert_eq!(cpu.mid.stats.bad_indices, 0, "{what}");
+    } else if seed == 2 {
         assert!(
             cpu.mid.stats.bad_indices > 0,
             "{what}: the truncated case has bad indices"
@@ -326,7 +335,7 @@ fn gpu_passes_equal_the_cpu_twins() {
             for masked in [false, true] {
                 for keyed in [true, false] {
                     for features in subgroup_variants() {
-                        classification_case(features, seed, w, h, layout, masked, keyed);
+                        classification_case(features, seed, w, h, layout, masked, keyed, true);
                     }
                 }
             }
@@ -335,7 +344,23 @@ fn gpu_passes_equal_the_cpu_twins() {
     // More (tile, pass) entries than one workgroup of classify output's entry_waves sums
     // (tiling::wgsl::ENTRY_BLOCK): the blocks' first waves come from its last workgroup.
     for features in subgroup_variants() {
-        classification_case(features, 4, 1700, 1300, VisLayout::Standard, true, true);
+        classification_case(
+            features,
+            4,
+            1700,
+            1300,
+            VisLayout::Standard,
+            true,
+            true,
+            true,
+        );
+    }
+    // Without vertex culling (no index reads): the cull buffer stays zero and no bad
+    // indices are counted, though seed 2's index buffer is truncated.
+    for features in subgroup_variants() {
+        for layout in [VisLayout::Standard, VisLayout::Vrs] {
+            classification_case(features, 2, 129, 257, layout, false, true, false);
+        }
     }
 }
 

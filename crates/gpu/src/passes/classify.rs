@@ -315,6 +315,10 @@ impl Buffers {
                 tiling::classify::FLAG_VRS
             } else {
                 0
+            } | if config.vertex_cull {
+                tiling::classify::FLAG_VERTEX_CULL
+            } else {
+                0
             },
             table_len: table.len() as u32,
             micro_batch_count,

@@ -568,7 +568,11 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
         bake_group[0].1 = c.targets.shadows.baked_frame.as_entire_binding();
         bake_group[6].1 = wgpu::BindingResource::TextureView(&c.targets.shadows.stand_in_view);
         let bake_scene = p.laydown.scene_group(device, &bake_group)?;
-        let config = tiling::ClassifyConfig::for_plan(&tiling_plan, c.wave_width);
+        // The chunk marks are read only by the vertex ring's passes.
+        let config = tiling::ClassifyConfig {
+            vertex_cull: c.ring_bytes.is_some(),
+            ..tiling::ClassifyConfig::for_plan(&tiling_plan, c.wave_width)
+        };
         let batch_groups: usize = tiling_plan.pass_groups.iter().map(Vec::len).sum();
         let sizes = classify::Sizes::new(
             c.targets.width,

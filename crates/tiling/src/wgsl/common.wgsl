@@ -22,6 +22,7 @@ const TILING_MAX_DISPATCH_X: u32 = 65535u;
 const TILING_ITEMS_WORKGROUP_SIZE: u32 = 64u;
 const TILING_FLAG_VALIDITY: u32 = 1u;
 const TILING_FLAG_VRS: u32 = 2u;
+const TILING_FLAG_VERTEX_CULL: u32 = 4u;
 const TILING_WAVE_TILE_Y_SHIFT: u32 = 16u;
 const TILING_WAVE_GROUP_SHIFT: u32 = 8u;
 // Bits of one pixel (or quad) command; two share a word of the command buffer.

@@ -212,7 +212,10 @@ fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, lef
         return out;
     }
 #if !timing_omit_index_reads
-    if (tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up) && !tiling_mark_triangle(px)) {
+    // Only where the frame culls vertex chunks (a uniform branch): the index reads are
+    // a third of this pass.
+    if ((params.flags & TILING_FLAG_VERTEX_CULL) != 0u && tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up)
+        && !tiling_mark_triangle(px)) {
         tiling_stat(TILING_STAT_BAD_INDICES, 1u);
     }
 #endif
