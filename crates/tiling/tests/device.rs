@@ -25,6 +25,10 @@ fn zeros<T>(n: usize) -> Data<'static> {
     Data::Zeros(size_of::<T>() / 4 * n)
 }
 
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one test case's knobs, each passed by the loops that cover them"
+)]
 fn classification_case(
     features: &[&str],
     seed: u64,
