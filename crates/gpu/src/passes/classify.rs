@@ -33,6 +33,32 @@ pub(crate) const ZERO: Pass<u32> = Pass {
     zeroed: &[],
 };
 
+/// Buffers [`ZERO_MANY`] zeroes in one dispatch (bind a one-word buffer to those left over).
+pub(crate) const ZERO_BINDINGS: usize = 10;
+
+/// [`ZERO`] over [`ZERO_BINDINGS`] buffers in one dispatch (feature `many`), over the sum of
+/// their word counts: the classification's zeroed buffers.
+pub(crate) const ZERO_MANY: Pass<u32> = Pass {
+    name: "classify 0: zero buffers",
+    features: &["many"],
+    groups: &[Group {
+        name: "words",
+        bindings: &[
+            Binding::new("words0", Kind::read_write(4)),
+            Binding::new("words1", Kind::read_write(4)),
+            Binding::new("words2", Kind::read_write(4)),
+            Binding::new("words3", Kind::read_write(4)),
+            Binding::new("words4", Kind::read_write(4)),
+            Binding::new("words5", Kind::read_write(4)),
+            Binding::new("words6", Kind::read_write(4)),
+            Binding::new("words7", Kind::read_write(4)),
+            Binding::new("words8", Kind::read_write(4)),
+            Binding::new("words9", Kind::read_write(4)),
+        ],
+    }],
+    ..ZERO
+};
+
 /// A timing experiment on the classification (`examples/classify_variants.rs`): `tiling`'s
 /// timing features to compose with (`timing_omit_stats`, ...; each phase takes those it
 /// declares), `override`s to set (`TILING_HIST_LIMIT`), and entry points not to dispatch.
@@ -65,7 +91,7 @@ impl Classify {
     pub(crate) fn new(device: &wgpu::Device, subgroups: bool) -> Result<Self> {
         let features: &'static [&'static str] = if subgroups { &["subgroups"] } else { &[] };
         let mut c = Self {
-            zero: ComputePass::new(device, &ZERO, &[], &[])?,
+            zero: ComputePass::new(device, &ZERO_MANY, &["many"], &[])?,
             fill: ComputePass::new(device, &ZERO, &[], &[("ZERO_FILL", f64::from(u32::MAX))])?,
             phases: Vec::new(),
             features,
@@ -138,7 +164,7 @@ impl Classify {
                 label: Some(ZERO.name),
                 timestamp_writes: timer.compute(ZERO.name),
             });
-            for (group, words) in &b.zero_groups {
+            if let Some((group, words)) = &b.zero_group {
                 self.zero.record(&mut pass, &[group], words);
             }
             if let Some((group, words)) = &b.fill_group {
@@ -260,7 +286,11 @@ pub(crate) struct Buffers {
     /// Mid classify's per-entry and per-block counter sums.
     pub offset_scratch: wgpu::Buffer,
     _kept: [wgpu::Buffer; 3],
-    zero_groups: Vec<(wgpu::BindGroup, u32)>,
+    /// Every zeroed buffer in one [`ZERO_MANY`] group, and their words in all.
+    zero_group: Option<(wgpu::BindGroup, u32)>,
+    /// One-word buffers for [`ZERO_MANY`]'s bindings past the zeroed buffers (each its own:
+    /// writable bindings must not alias).
+    _spare: Vec<wgpu::Buffer>,
     /// The validity bitmask's fill with ones and its word count (the mixed frame only).
     fill_group: Option<(wgpu::BindGroup, u32)>,
     groups: Vec<wgpu::BindGroup>,
@@ -391,7 +421,8 @@ impl Buffers {
             config,
             params,
             _kept: [params_buffer, valid, table_buffer],
-            zero_groups: Vec::new(),
+            zero_group: None,
+            _spare: Vec::new(),
             fill_group: None,
             groups: Vec::new(),
         };
@@ -425,7 +456,6 @@ impl Buffers {
             })
         };
         let mut groups = Vec::new();
-        let mut zero_groups: Vec<(wgpu::BindGroup, u32)> = Vec::new();
         let mut zeroed_names: Vec<(usize, &str)> = Vec::new();
         for (k, (phase, compute)) in tiling::wgsl::CLASSIFICATION
             .iter()
@@ -446,14 +476,28 @@ impl Buffers {
             groups.push(compute.bind_group(device, phase.groups[0].name, &resources)?);
             zeroed_names.extend(phase.zeroed.iter().map(|&n| (k, n)));
         }
-        for (k, name) in zeroed_names {
-            let buffer =
-                resource(k, name).expect("zeroed buffers are bindings (checked by tiling's tests)");
-            let group =
-                c.zero
-                    .bind_group(device, "words", &[("words", buffer.as_entire_binding())])?;
-            zero_groups.push((group, (buffer.size() / 4) as u32));
+        assert!(
+            zeroed_names.len() <= ZERO_BINDINGS,
+            "ZERO_MANY binds every zeroed buffer"
+        );
+        let spare = (zeroed_names.len()..ZERO_BINDINGS)
+            .map(|_| zeroed("zero fill's spare binding", 1, none))
+            .collect::<Result<Vec<_>>>()?;
+        let mut zero_words = 0u32;
+        let mut zero_resources = Vec::new();
+        for (k, binding) in ZERO_MANY.groups[0].bindings.iter().enumerate() {
+            let buffer = match zeroed_names.get(k) {
+                Some(&(phase, name)) => resource(phase, name)
+                    .expect("zeroed buffers are bindings (checked by tiling's tests)"),
+                None => &spare[k - zeroed_names.len()],
+            };
+            zero_words += (buffer.size() / 4) as u32;
+            zero_resources.push((binding.name, buffer.as_entire_binding()));
         }
+        let zero_group = Some((
+            c.zero.bind_group(device, "words", &zero_resources)?,
+            zero_words,
+        ));
         let fill_group = if validity {
             let buffer = &b._kept[1];
             let group =
@@ -464,7 +508,8 @@ impl Buffers {
             None
         };
         Ok(Buffers {
-            zero_groups,
+            zero_group,
+            _spare: spare,
             fill_group,
             groups,
             ..b
@@ -489,6 +534,7 @@ mod tests {
     #[test]
     fn zero_description_matches_its_module() {
         shadercheck::check_pass(&ZERO, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass(&ZERO_MANY, |_| shadercheck::Caps::CORE);
     }
 
     #[test]
