@@ -168,6 +168,10 @@ fn entries(p: &TilingParams) -> u32 {
     p.tiles_x * p.tiles_y * p.pass_count
 }
 
+/// Invocations of classify output's `write_waves` per (tile, pass) entry, which stride over
+/// its counters' waves (WGSL `TILING_WAVE_ENTRY_LANES`).
+pub const WAVE_ENTRY_LANES: u32 = 32;
+
 /// (tile, pass) entries a workgroup of the block scans sums (`counter_offsets_pass`,
 /// `entry_waves`; WGSL `TILING_ENTRY_BLOCK`).
 pub const ENTRY_BLOCK: u32 = 256;
@@ -292,7 +296,8 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a workgroup) clamps
 /// `final_counts` to the counts, sums waves per entry, block and pass into `wave_scratch`,
 /// and its last workgroup writes the blocks' first waves, `passes` and `totals.wave_count`;
-/// `write_waves` (a workgroup per entry) writes `wave_offsets` and `waves`.
+/// `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes
+/// `wave_offsets` and `waves`.
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
@@ -322,12 +327,12 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
         Entry::grid("write_commands", 16, 16, quads_with_validity),
         Entry::grid("scatter_commands", 16, 16, quads_without_validity),
         Entry::items("entry_waves", ENTRY_BLOCK, entries),
-        // A workgroup per entry, in rows of MAX_WORKGROUPS_X.
-        Entry::grid("write_waves", ITEMS_WORKGROUP_SIZE, 1, |p| {
-            let n = entries(p);
+        // WAVE_ENTRY_LANES invocations per entry, in rows of MAX_WORKGROUPS_X workgroups.
+        Entry::grid("write_waves", 256, 1, |p| {
+            let groups = entries(p).div_ceil(256 / WAVE_ENTRY_LANES);
             [
-                ITEMS_WORKGROUP_SIZE * n.min(shader::MAX_WORKGROUPS_X),
-                n.div_ceil(shader::MAX_WORKGROUPS_X),
+                256 * groups.min(shader::MAX_WORKGROUPS_X),
+                groups.div_ceil(shader::MAX_WORKGROUPS_X),
             ]
         }),
     ],
@@ -437,6 +442,7 @@ mod tests {
             ("TILING_WAVE_TILE_Y_SHIFT", WAVE_TILE_Y_SHIFT),
             ("TILING_WAVE_GROUP_SHIFT", WAVE_GROUP_SHIFT),
             ("TILING_COMMAND_BITS", u16::BITS),
+            ("TILING_WAVE_ENTRY_LANES", WAVE_ENTRY_LANES),
             ("TILING_NONE", u32::MAX),
             (
                 "TILING_STAT_VALID",

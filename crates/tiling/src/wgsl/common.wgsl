@@ -32,6 +32,8 @@ const TILING_COMMAND_BITS: u32 = 16u;
 // their scratch buffers (a workgroup counter, pad).
 const TILING_ENTRY_BLOCK: u32 = 256u;
 const TILING_SCRATCH_ENTRIES: u32 = 4u;
+// Invocations of classify output's write_waves per (tile, pass) entry.
+const TILING_WAVE_ENTRY_LANES: u32 = 32u;
 // "No key / no value": larger than any valid key, index or count.
 const TILING_NONE: u32 = 0xffffffffu;
 
