@@ -52,8 +52,14 @@ use crate::vertex::{UberChunk, VertexWaveCommand};
 
 /// `tiling::common`: constants, buffer structs and helpers of every pass (no bindings).
 pub const COMMON: Module = Module::new("tiling::common", include_str!("wgsl/common.wgsl"));
-/// `tiling::pixel`: the classification passes' bindings 0-3 and the pixel decode.
+/// `tiling::decode`: the pixel decode and its bindings (0, 2, 3: params, validity, table).
+pub const DECODE: Module = Module::new("tiling::decode", include_str!("wgsl/decode.wgsl"));
+/// `tiling::pixel`: the classification passes' bindings 0-3 (`tiling::decode`'s and the vis
+/// words), the quads and the per-pixel records.
 pub const PIXEL: Module = Module::new("tiling::pixel", include_str!("wgsl/pixel.wgsl"));
+/// `tiling::finalize`: laydown finalise's per-pixel marks and their binding (4, the
+/// masks), for any pass whose workgroups lie in one tile ([`finalize_bindings`]).
+pub const FINALIZE: Module = Module::new("tiling::finalize", include_str!("wgsl/finalize.wgsl"));
 /// `tiling::keyed`: bindings 4-5 of the pixel phases and the keyed workgroup histogram.
 pub const KEYED: Module = Module::new("tiling::keyed", include_str!("wgsl/keyed.wgsl"));
 /// `tiling::laydown_finalize`: phase 1.
@@ -80,7 +86,9 @@ pub const VERTEX_WAVES_MODULE: Module = Module::new(
 /// This crate's modules.
 pub const MODULES: &[Module] = &[
     COMMON,
+    DECODE,
     PIXEL,
+    FINALIZE,
     KEYED,
     LAYDOWN_FINALIZE_MODULE,
     MID_CLASSIFY_MODULE,
@@ -101,6 +109,21 @@ const PIXEL_BINDINGS: [Binding; 4] = [
     Binding::new("valid", Kind::read(4)),
     Binding::new("table", Kind::read(size_of::<MicroBatchInfo>())),
 ];
+
+/// Group 0 of a pass that imports `tiling::finalize` ([`FINALIZE`]) and declares binding 1
+/// itself (`binding1`: `gpu`'s compute laydown unpack, the vis words it writes): `params`,
+/// `binding1`, `valid`, `table` and `masks` (`tiles * P` `atomic<u32>`, zeroed before the
+/// pass; [`LAYDOWN_FINALIZE`]'s output).
+#[must_use]
+pub const fn finalize_bindings(binding1: Binding) -> [Binding; 5] {
+    [
+        PIXEL_BINDINGS[0],
+        binding1,
+        PIXEL_BINDINGS[2],
+        PIXEL_BINDINGS[3],
+        Binding::new("masks", Kind::read_write(4)),
+    ]
+}
 
 /// Bindings 0-5 of both pixel phases: `tiling::pixel`'s and `tiling::keyed`'s.
 const KEYED_BINDINGS: [Binding; 6] = join(
@@ -206,7 +229,7 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
     features: &["timing_omit_stats", "timing_load_only", "timing_no_table"],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<4, 1, 5>(PIXEL_BINDINGS, [Binding::new("masks", Kind::read_write(4))]),
+        bindings: &finalize_bindings(PIXEL_BINDINGS[1]),
     }],
     entries: &[per_quad("laydown_finalize")],
     zeroed: &["masks"],

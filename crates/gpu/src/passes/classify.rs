@@ -143,35 +143,46 @@ impl Classify {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        self.record_mid(encoder, f, timer);
+        self.record_zero(encoder, f, timer);
+        self.record_mid(encoder, f, timer, false);
         self.record_output(encoder, f, timer);
     }
 
-    /// Records the zero fill (and, in the mixed frame, the validity bitmask's fill with
-    /// ones: seed 000's laydown finalize writing the stencil bit), laydown finalize and mid
-    /// classify: what the talk runs before (and beside) its geometry pass. Mid classify
-    /// reads the validity before the regular geometry pass clears any bit, so its counts
-    /// and offsets may only overestimate (the talk's "conservative").
-    pub(crate) fn record_mid(
+    /// Records the zero fill of every buffer the phases expect zeroed (and, in the mixed
+    /// frame, the validity bitmask's fill with ones: seed 000's laydown finalize writing
+    /// the stencil bit). Before the compute laydown's unpack, which finalises the laydown.
+    pub(crate) fn record_zero(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
         let b = &f.scene.classification;
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(ZERO.name),
-                timestamp_writes: timer.compute(ZERO.name),
-            });
-            if let Some((group, words)) = &b.zero_group {
-                self.zero.record(&mut pass, &[group], words);
-            }
-            if let Some((group, words)) = &b.fill_group {
-                self.fill.record(&mut pass, &[group], words);
-            }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(ZERO.name),
+            timestamp_writes: timer.compute(ZERO.name),
+        });
+        if let Some((group, words)) = &b.zero_group {
+            self.zero.record(&mut pass, &[group], words);
         }
-        self.record_phases(encoder, f, timer, 0..2);
+        if let Some((group, words)) = &b.fill_group {
+            self.fill.record(&mut pass, &[group], words);
+        }
+    }
+
+    /// Records laydown finalize (unless `finalized`: the compute laydown's unpack did it)
+    /// and mid classify, after [`record_zero`](Self::record_zero): what the talk runs
+    /// before (and beside) its geometry pass. Mid classify reads the validity before the
+    /// regular geometry pass clears any bit, so its counts and offsets may only
+    /// overestimate (the talk's "conservative").
+    pub(crate) fn record_mid(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        f: &FrameContext<'_>,
+        timer: &mut GpuTimer,
+        finalized: bool,
+    ) {
+        self.record_phases(encoder, f, timer, usize::from(finalized)..2);
     }
 
     /// Records classify output: the pixel and wave commands from the final validity.
@@ -516,6 +527,22 @@ impl Buffers {
         })
     }
 
+    /// The resources of a `tiling::finalize` group (the compute laydown's unpack, which
+    /// writes the vis words `vis_words` and finalises the laydown over them): params,
+    /// `vis_words`, validity, table, masks.
+    pub(crate) fn finalize_resources<'a>(
+        &'a self,
+        vis_words: &'a wgpu::Buffer,
+    ) -> [(&'static str, wgpu::BindingResource<'a>); 5] {
+        [
+            ("params", self._kept[0].as_entire_binding()),
+            ("vis_words", vis_words.as_entire_binding()),
+            ("valid", self._kept[1].as_entire_binding()),
+            ("table", self._kept[2].as_entire_binding()),
+            ("masks", self.masks.as_entire_binding()),
+        ]
+    }
+
     /// The validity bitmask (one word, unused, outside the mixed frame).
     pub(crate) fn validity(&self) -> &wgpu::Buffer {
         &self._kept[1]
@@ -534,7 +561,7 @@ mod tests {
     #[test]
     fn zero_description_matches_its_module() {
         shadercheck::check_pass(&ZERO, |_| shadercheck::Caps::CORE);
-        shadercheck::check_pass(&ZERO_MANY, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass_with(&ZERO_MANY, &["many"], |_| shadercheck::Caps::CORE);
     }
 
     #[test]

@@ -314,36 +314,49 @@ pub(crate) const COMPUTE_LAYDOWN_HYBRID_TEXTURE: Pass = Pass {
 };
 
 /// The 64-bit target into the vis words, the vis texture and the float depth, over the
-/// image (`[width, height]`).
+/// image (`[width, height]`), and the classification's laydown finalise over the words
+/// (`tiling::finalize`): group 0 is tiling's with the vis words at binding 1 (a prepared
+/// scene's, [`Groups`]), group 1 the target and the textures (the renderer's,
+/// [`TargetGroups`]).
 pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
     name: "laydown unpack",
     module: "gpu::laydown_unpack",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "unpack",
-        bindings: &[
-            Binding::new("laydown_target", Kind::read(8)),
-            Binding::new("vis_words", Kind::read_write(4)),
-            Binding::new("vis_out", Kind::storage_texture_2d(Format::R32Uint)),
-            Binding::new("depth_float", Kind::storage_texture_2d(Format::R32Float)),
-        ],
-    }],
+    groups: &[
+        Group {
+            name: "classification",
+            bindings: &tiling::wgsl::finalize_bindings(Binding::new(
+                "vis_words",
+                Kind::read_write(4),
+            )),
+        },
+        Group {
+            name: "unpack",
+            bindings: &[
+                Binding::new("laydown_target", Kind::read(8)),
+                Binding::new("vis_out", Kind::storage_texture_2d(Format::R32Uint)),
+                Binding::new("depth_float", Kind::storage_texture_2d(Format::R32Float)),
+            ],
+        },
+    ],
     entries: &[Entry::grid("unpack", 16, 16, |size| *size)],
-    zeroed: &[],
+    zeroed: &["masks"],
 };
 
 /// [`LAYDOWN_UNPACK`] of the texture target, which it resets (feature `texture_target`).
 pub(crate) const LAYDOWN_UNPACK_TEXTURE: Pass<[u32; 2]> = Pass {
-    groups: &[Group {
-        name: "unpack",
-        bindings: &[
-            TEXTURE_TARGET,
-            LAYDOWN_UNPACK.groups[0].bindings[1],
-            LAYDOWN_UNPACK.groups[0].bindings[2],
-            LAYDOWN_UNPACK.groups[0].bindings[3],
-        ],
-    }],
+    groups: &[
+        LAYDOWN_UNPACK.groups[0],
+        Group {
+            name: "unpack",
+            bindings: &[
+                TEXTURE_TARGET,
+                LAYDOWN_UNPACK.groups[1].bindings[1],
+                LAYDOWN_UNPACK.groups[1].bindings[2],
+            ],
+        },
+    ],
     features: &["texture_target"],
     ..LAYDOWN_UNPACK
 };
@@ -418,6 +431,8 @@ pub(crate) struct Groups {
     large_dispatch: wgpu::Buffer,
     /// Items of the draw table (the raster's invocations).
     pub items: u32,
+    /// The unpack's group 0: the scene's classification (`tiling::finalize`).
+    unpack: wgpu::BindGroup,
     _draws: wgpu::Buffer,
 }
 
@@ -543,6 +558,7 @@ impl ComputeLaydown {
         &self,
         device: &wgpu::Device,
         scene: &[(&str, wgpu::BindingResource<'_>)],
+        classification: &[(&str, wgpu::BindingResource<'_>)],
         draws: &[Draw],
         indices: &wgpu::Buffer,
         target: &TargetResource,
@@ -609,6 +625,9 @@ impl ComputeLaydown {
             large,
             large_dispatch,
             items,
+            unpack: self
+                .unpack
+                .bind_group(device, "classification", classification)?,
             _draws: table,
         }))
     }
@@ -636,7 +655,6 @@ impl ComputeLaydown {
                 "unpack",
                 &[
                     ("laydown_target", target.binding()),
-                    ("vis_words", targets.vis_words.as_entire_binding()),
                     (
                         "vis_out",
                         wgpu::BindingResource::TextureView(&targets.vis_view),
@@ -732,7 +750,8 @@ impl ComputeLaydown {
                 label: Some("laydown unpack"),
                 timestamp_writes: timer.compute("laydown unpack"),
             });
-            pass.set_bind_group(0, &groups.unpack, &[]);
+            pass.set_bind_group(0, &g.unpack, &[]);
+            pass.set_bind_group(1, &groups.unpack, &[]);
             pass.set_pipeline(&unpack.pipeline);
             pass.dispatch_workgroups(x, y, z);
         }

@@ -378,6 +378,10 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
+                // The compute laydown's unpack finalises the laydown into the zeroed masks.
+                if what == Recording::Deferred && self.laid_down_in_compute(f) && !late {
+                    self.classify.record_zero(e, f, timer);
+                }
                 let compute = f.compute_laydown
                     && !late
                     && self
@@ -429,13 +433,16 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred => {
-                // The compute laydown unpacked its words and depth itself.
-                if !self.laid_down_in_compute(f) {
+                // The compute laydown unpacked its words and depth itself, and finalised
+                // the laydown (the zero fill came before it).
+                let finalized = self.laid_down_in_compute(f);
+                if !finalized {
                     self.vis_copy.record(e, f, timer);
+                    self.classify.record_zero(e, f, timer);
                 }
                 // The talk's order: mid classify is recorded before the geometry pass (its
                 // counts conservative), classify output after it (the final validity).
-                self.classify.record_mid(e, f, timer);
+                self.classify.record_mid(e, f, timer, finalized);
                 if let Some(r) = &self.regular {
                     r.record(e, f, timer);
                     // Its depth is the frame's: what the light tiles and lighting read.

@@ -688,7 +688,15 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                     .filter(|d| !(regular.is_some() && d.regular))
                     .copied()
                     .collect();
-                cl.groups(device, &scene_group, &draws, &index_buffer, target)?
+                let finalize = classification.finalize_resources(&c.targets.vis_words);
+                cl.groups(
+                    device,
+                    &scene_group,
+                    &finalize,
+                    &draws,
+                    &index_buffer,
+                    target,
+                )?
             }
             _ => None,
         };

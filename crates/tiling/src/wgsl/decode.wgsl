@@ -1,0 +1,77 @@
+// tiling: the pixel decode every classification pass shares (Rust: tiling::classify,
+// "Which pixels are shaded"): bindings 0, 2 and 3 (tiling::pixel adds the vis words at 1),
+// so a pass that has the word in hand (gpu's compute laydown unpack) decodes without them.
+
+#import visbuf::id
+#import tiling::common
+
+@group(0) @binding(0) var<uniform> params: TilingParams;
+// Validity bitmask, bit i % 32 of word i / 32 for pixel i (read only with TILING_FLAG_VALIDITY;
+// bind any non-empty buffer otherwise).
+@group(0) @binding(2) var<storage, read> valid: array<u32>;
+// The MicroBatchInfoTable, indexed by micro-batch ID.
+@group(0) @binding(3) var<storage, read> table: array<TilingMicroBatchInfo>;
+
+const TILING_PX_EMPTY: u32 = 0u;
+const TILING_PX_UNKNOWN: u32 = 1u;
+const TILING_PX_OUT_OF_RANGE: u32 = 2u;
+const TILING_PX_VALID: u32 = 3u;
+
+struct TilingPixel {
+    // TILING_PX_*.
+    kind: u32,
+    // pass * 32 + batch group.
+    pg: u32,
+    // Micro-batch ID (table row).
+    mb: u32,
+    // Instance within the micro batch.
+    instance: u32,
+    // Primitive within the geometry.
+    prim: u32,
+}
+
+fn tiling_valid_bit(i: u32) -> bool {
+    if ((params.flags & TILING_FLAG_VALIDITY) == 0u) {
+        return true;
+    }
+    let w = i >> 5u;
+    if (w >= arrayLength(&valid)) {
+        return false;
+    }
+    return ((valid[w] >> (i & 31u)) & 1u) == 1u;
+}
+
+fn tiling_vrs() -> bool {
+    return (params.flags & TILING_FLAG_VRS) != 0u;
+}
+
+// Classifies the word of pixel i (the same rules as the CPU decoder).
+fn tiling_decode(word: u32, i: u32) -> TilingPixel {
+    var px = TilingPixel(TILING_PX_EMPTY, 0u, 0u, 0u, 0u);
+    if (visbuf_is_none(word) || !tiling_valid_bit(i)) {
+        return px;
+    }
+    var mb = visbuf_micro_batch(word);
+    var reserved = VISBUF_MICRO_BATCH_IDS - 1u;
+    if (tiling_vrs()) {
+        mb = visbuf_micro_batch_vrs(word);
+        reserved = VISBUF_MICRO_BATCH_IDS_VRS - 1u;
+    }
+    px.kind = TILING_PX_UNKNOWN;
+    if (mb == reserved || mb >= params.table_len || mb >= arrayLength(&table)) {
+        return px;
+    }
+    let row = table[mb];
+    if (mb < row.first_id || mb - row.first_id >= row.id_count || row.pass_index >= params.pass_count
+        || row.batch_group >= TILING_MAX_BATCH_GROUPS || row.primitive_bits > TILING_MAX_PRIMITIVE_BITS) {
+        return px;
+    }
+    let field = visbuf_instance_field(word, row.primitive_bits);
+    let prim = visbuf_primitive(word, row.primitive_bits);
+    let instance = visbuf_instance_index(mb, row.first_id, field, row.primitive_bits);
+    px.kind = TILING_PX_OUT_OF_RANGE;
+    if (instance >= row.instance_count || prim >= row.primitive_count) {
+        return px;
+    }
+    return TilingPixel(TILING_PX_VALID, row.pass_index * TILING_MAX_BATCH_GROUPS + row.batch_group, mb, instance, prim);
+}
