@@ -33,6 +33,9 @@ pub(crate) const ZERO: Pass<u32> = Pass {
     zeroed: &[],
 };
 
+/// Words each invocation of [`ZERO_MANY`] zeroes (WGSL `ZERO_MANY_WORDS`).
+const ZERO_MANY_WORDS: u32 = 4;
+
 /// Buffers [`ZERO_MANY`] zeroes in one dispatch (bind a one-word buffer to those left over).
 pub(crate) const ZERO_BINDINGS: usize = 10;
 
@@ -56,6 +59,9 @@ pub(crate) const ZERO_MANY: Pass<u32> = Pass {
             Binding::new("words9", Kind::read_write(4)),
         ],
     }],
+    entries: &[Entry::items("zero", 256, |words| {
+        words.div_ceil(ZERO_MANY_WORDS)
+    })],
     ..ZERO
 };
 
@@ -561,7 +567,11 @@ mod tests {
     #[test]
     fn zero_description_matches_its_module() {
         shadercheck::check_pass(&ZERO, |_| shadercheck::Caps::CORE);
-        shadercheck::check_pass_with(&ZERO_MANY, &["many"], |_| shadercheck::Caps::CORE);
+        let many = shadercheck::check_pass_with(&ZERO_MANY, &["many"], |_| shadercheck::Caps::CORE);
+        assert_eq!(
+            shadercheck::const_u32(&many[0], "ZERO_MANY_WORDS"),
+            Some(ZERO_MANY_WORDS)
+        );
     }
 
     #[test]

@@ -15,6 +15,9 @@ const ZERO_WORKGROUP_SIZE: u32 = 256u;
 override ZERO_FILL: u32 = 0u;
 
 #if many
+// Words each invocation writes (the description dispatches a quarter of the words).
+const ZERO_MANY_WORDS: u32 = 4u;
+
 @group(0) @binding(0) var<storage, read_write> words0: array<u32>;
 @group(0) @binding(1) var<storage, read_write> words1: array<u32>;
 @group(0) @binding(2) var<storage, read_write> words2: array<u32>;
@@ -62,5 +65,15 @@ fn zero_word(i: u32) {
 
 @compute @workgroup_size(ZERO_WORKGROUP_SIZE)
 fn zero(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    zero_word(tiling_item_index(id, groups, ZERO_WORKGROUP_SIZE));
+    let i = tiling_item_index(id, groups, ZERO_WORKGROUP_SIZE);
+#if many
+    // ZERO_MANY_WORDS words per invocation, the dispatch's invocations apart (each store
+    // of a subgroup contiguous): a quarter of the invocations.
+    let n = groups.x * groups.y * ZERO_WORKGROUP_SIZE;
+    for (var k = 0u; k < ZERO_MANY_WORDS; k++) {
+        zero_word(i + k * n);
+    }
+#else
+    zero_word(i);
+#endif
 }
