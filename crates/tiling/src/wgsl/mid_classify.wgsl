@@ -310,7 +310,6 @@ fn count_pixels(
         tiling_record(p2, counters.z, slots.z, range),
         tiling_record(p3, counters.w, slots.w, range),
     ));
-    tiling_stats_to_workgroup();
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);

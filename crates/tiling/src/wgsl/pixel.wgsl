@@ -111,12 +111,10 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
     return tx | (ty << TILING_PIXEL_Y_SHIFT);
 }
 
-// Stats: each invocation counts its quad's in a register, a nibble per field (at most 4
-// per field: one per pixel), and adds the non-zero fields to the workgroup's once
-// (tiling_stats_to_workgroup), which one atomic per field flushes. A workgroup atomic per
-// pixel and field, on the same eight words, took 15 us of count_pixels on the H200.
+// Per-workgroup stats, flushed with one atomic per field. (Counting per invocation and
+// summing per subgroup first measured slower on the H200: the passes are bound by
+// instructions and latency, not by these shared atomics.)
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
-var<private> tiling_stats_packed: u32;
 
 fn tiling_stats_begin(li: u32) {
     if (li < TILING_STAT_COUNT) {
@@ -125,21 +123,11 @@ fn tiling_stats_begin(li: u32) {
     workgroupBarrier();
 }
 
-// Adds `n` (with the invocation's other counts of `field`, at most 15) to field `field`.
 fn tiling_stat(field: u32, n: u32) {
-    tiling_stats_packed += n << (4u * field);
-}
-
-// The invocation's counts into the workgroup's (after tiling_stats_begin's barrier; a
-// barrier before the workgroup's are read).
-fn tiling_stats_to_workgroup() {
 // Timing experiment only (gpu's `classify_variants`): no stats atomics, wrong stats.
 #if !timing_omit_stats
-    for (var f = 0u; f < TILING_STAT_COUNT; f++) {
-        let v = (tiling_stats_packed >> (4u * f)) & 15u;
-        if (v != 0u) {
-            atomicAdd(&tiling_wg_stats[f], v);
-        }
+    if (n != 0u) {
+        atomicAdd(&tiling_wg_stats[field], n);
     }
 #endif
 }
