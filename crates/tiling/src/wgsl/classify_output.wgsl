@@ -148,7 +148,6 @@ fn write_commands(
         tiling_put_appended(c2, li);
         tiling_put_appended(c3, li);
     }
-    tiling_stats_to_workgroup();
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
         let v = atomicLoad(&tiling_wg_stats[li]);
@@ -218,40 +217,19 @@ fn tiling_scratch_add(i: u32, v: u32) {
     }
 }
 
-// scatter_commands' tile's counters (tiles within the histogram's TILING_HIST_SLOTS): each
-// one's room (count) and first command, loaded once per workgroup instead of twice per
-// pixel.
-var<workgroup> tiling_wg_room: array<u32, TILING_HIST_SLOTS>;
-var<workgroup> tiling_wg_first_command: array<u32, TILING_HIST_SLOTS>;
-
-// Counter c's (room, first command), (0, 0) past the buffers.
-fn tiling_counter_commands(c: u32) -> vec2<u32> {
-    if (c >= arrayLength(&counts) || c >= arrayLength(&pixel_offsets)) {
-        return vec2<u32>(0u);
-    }
-    return vec2<u32>(counts[c], pixel_offsets[c]);
-}
-
-// Places pixel k of `gid`'s quad's command from its record `r` (the tile's counters
-// `range`, in workgroup memory when `local`); 1 when the counter has no room for it
-// (corrupt counts), else 0.
-fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, range: vec2<u32>, local: bool) -> u32 {
+// Places pixel k of `gid`'s quad's command from its record `r` (tile's first counter
+// `first`); 1 when the counter has no room for it (corrupt counts), else 0.
+fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
     let p = tiling_quad_pixel(gid, k);
     if (p.x >= params.width || p.y >= params.height || (r & TILING_RECORD_COMMAND) == 0u) {
         return 0u;
     }
-    let index = (r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK;
-    var counter = vec2<u32>(0u);
-    if (local && index < range.y) {
-        counter = vec2<u32>(tiling_wg_room[index], tiling_wg_first_command[index]);
-    } else if (!local) {
-        counter = tiling_counter_commands(range.x + index);
-    }
+    let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
     let slot = r & TILING_RECORD_SLOT_MASK;
-    if (slot >= counter.x) {
+    if (c >= arrayLength(&counts) || slot >= counts[c]) {
         return 1u;
     }
-    let at = counter.y + slot;
+    let at = pixel_offsets[c] + slot;
     if (at / 2u < arrayLength(&commands)) {
         let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
         atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
@@ -274,16 +252,9 @@ fn scatter_commands(
     if (q < arrayLength(&slots)) {
         records = slots[q];
     }
-    let range = tiling_tile_counters(tiling_block_tile(wid), li);
-    let local = range.y <= TILING_HIST_SLOTS;
-    if (local && li < range.y) {
-        let c = tiling_counter_commands(range.x + li);
-        tiling_wg_room[li] = c.x;
-        tiling_wg_first_command[li] = c.y;
-    }
-    workgroupBarrier();
-    let lost = tiling_scatter_pixel(gid, 0u, records.x, range, local) + tiling_scatter_pixel(gid, 1u, records.y, range, local)
-        + tiling_scatter_pixel(gid, 2u, records.z, range, local) + tiling_scatter_pixel(gid, 3u, records.w, range, local);
+    let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
+    let lost = tiling_scatter_pixel(gid, 0u, records.x, first) + tiling_scatter_pixel(gid, 1u, records.y, first)
+        + tiling_scatter_pixel(gid, 2u, records.z, first) + tiling_scatter_pixel(gid, 3u, records.w, first);
     if (lost != 0u) {
         atomicAdd(&stats[TILING_STAT_DROPPED], lost);
     }
