@@ -156,23 +156,31 @@ impl Classify {
 
     /// Records the zero fill of every buffer the phases expect zeroed (and, in the mixed
     /// frame, the validity bitmask's fill with ones: seed 000's laydown finalize writing
-    /// the stencil bit). Before the compute laydown's unpack, which finalises the laydown.
+    /// the stencil bit) as a timed pass of its own.
     pub(crate) fn record_zero(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let b = &f.scene.classification;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(ZERO.name),
             timestamp_writes: timer.compute(ZERO.name),
         });
+        self.record_zero_in(&mut pass, f);
+    }
+
+    /// [`record_zero`](Self::record_zero)'s dispatches in `pass`: the compute laydown
+    /// records them at the start of its raster pass, whose work they share no buffer
+    /// with, so they run beside it (they must precede its unpack, which finalises the
+    /// laydown into the zeroed masks).
+    pub(crate) fn record_zero_in(&self, pass: &mut wgpu::ComputePass<'_>, f: &FrameContext<'_>) {
+        let b = &f.scene.classification;
         if let Some((group, words)) = &b.zero_group {
-            self.zero.record(&mut pass, &[group], words);
+            self.zero.record(pass, &[group], words);
         }
         if let Some((group, words)) = &b.fill_group {
-            self.fill.record(&mut pass, &[group], words);
+            self.fill.record(pass, &[group], words);
         }
     }
 

@@ -668,7 +668,8 @@ impl ComputeLaydown {
         })
     }
 
-    /// Records the laydown: clear target and lists, the raster (timed "laydown"), the
+    /// Records the laydown: clear target and lists, `before_raster`'s dispatches and the
+    /// raster in one pass (timed "laydown"), the
     /// large triangles ("laydown large"), the hardware part ("laydown hybrid"), with
     /// `depth_target` the depth target's conversion ("laydown target"), then the unpack
     /// ("laydown unpack": words, vis texture, float depth; no vis copy follows).
@@ -680,6 +681,7 @@ impl ComputeLaydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
         depth_target: bool,
+        before_raster: impl FnOnce(&mut wgpu::ComputePass<'_>),
     ) -> bool {
         let (Some(g), Some(target), Some(groups)) = (
             &f.scene.compute_laydown,
@@ -702,6 +704,7 @@ impl ComputeLaydown {
                 label: Some("compute laydown"),
                 timestamp_writes: timer.compute("laydown"),
             });
+            before_raster(&mut pass);
             if g.items > 0 {
                 self.raster
                     .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);

@@ -378,16 +378,18 @@ impl Pipelines {
     ) {
         match what {
             Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
-                // The compute laydown's unpack finalises the laydown into the zeroed masks.
-                if what == Recording::Deferred && self.laid_down_in_compute(f) && !late {
-                    self.classify.record_zero(e, f, timer);
-                }
+                // The compute laydown's unpack finalises the laydown into the masks, which
+                // the classification's zero fill clears beside its raster.
+                let classifies = what == Recording::Deferred;
                 let compute = f.compute_laydown
                     && !late
-                    && self
-                        .compute_laydown
-                        .as_ref()
-                        .is_some_and(|c| c.record(e, f, timer, self.needs_depth_target(what, f)));
+                    && self.compute_laydown.as_ref().is_some_and(|c| {
+                        c.record(e, f, timer, self.needs_depth_target(what, f), |pass| {
+                            if classifies {
+                                self.classify.record_zero_in(pass, f);
+                            }
+                        })
+                    });
                 if !compute {
                     self.laydown.record_vis(e, f, timer, late);
                 }
