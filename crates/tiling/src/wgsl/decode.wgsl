@@ -61,17 +61,24 @@ fn tiling_decode(word: u32, i: u32) -> TilingPixel {
     if (mb == reserved || mb >= params.table_len || mb >= arrayLength(&table)) {
         return px;
     }
-    let row = table[mb];
-    if (mb < row.first_id || mb - row.first_id >= row.id_count || row.pass_index >= params.pass_count
-        || row.batch_group >= TILING_MAX_BATCH_GROUPS || row.primitive_bits > TILING_MAX_PRIMITIVE_BITS) {
+    // The row's fields one by one: a whole-row load fetches its 64 bytes, these 28.
+    let first_id = table[mb].first_id;
+    let id_count = table[mb].id_count;
+    let pass_index = table[mb].pass_index;
+    let batch_group = table[mb].batch_group;
+    let primitive_bits = table[mb].primitive_bits;
+    let primitive_count = table[mb].primitive_count;
+    let instance_count = table[mb].instance_count;
+    if (mb < first_id || mb - first_id >= id_count || pass_index >= params.pass_count
+        || batch_group >= TILING_MAX_BATCH_GROUPS || primitive_bits > TILING_MAX_PRIMITIVE_BITS) {
         return px;
     }
-    let field = visbuf_instance_field(word, row.primitive_bits);
-    let prim = visbuf_primitive(word, row.primitive_bits);
-    let instance = visbuf_instance_index(mb, row.first_id, field, row.primitive_bits);
+    let field = visbuf_instance_field(word, primitive_bits);
+    let prim = visbuf_primitive(word, primitive_bits);
+    let instance = visbuf_instance_index(mb, first_id, field, primitive_bits);
     px.kind = TILING_PX_OUT_OF_RANGE;
-    if (instance >= row.instance_count || prim >= row.primitive_count) {
+    if (instance >= instance_count || prim >= primitive_count) {
         return px;
     }
-    return TilingPixel(TILING_PX_VALID, row.pass_index * TILING_MAX_BATCH_GROUPS + row.batch_group, mb, instance, prim);
+    return TilingPixel(TILING_PX_VALID, pass_index * TILING_MAX_BATCH_GROUPS + batch_group, mb, instance, prim);
 }
