@@ -106,11 +106,11 @@ fn main() -> anyhow::Result<()> {
             variant(&[], &[], &["counter_offsets_pass", "pixel_offsets_pass"]),
         ),
         (
-            "output: write_commands only",
+            "output: commands only",
             variant(&[], &[], &["entry_waves", "write_waves"]),
         ),
         (
-            "output: write_commands + write_waves",
+            "output: commands + write_waves (mixed frame: no entry_waves)",
             variant(&[], &[], &["entry_waves"]),
         ),
     ];
@@ -126,15 +126,15 @@ fn main() -> anyhow::Result<()> {
         let g = r.read_classification(&prepared)?;
         let (_, mismatch) = r.classification_statistics(&prepared, &g)?;
         println!(
-            "{name:<52} finalize {:>6.3}  mid {:>6.3} (count_pixels {:>6.3})  output {:>6.3} (commands {:>6.3}) ms  equal to the CPU twin: {}",
+            "{name:<52} finalize {:>6.3}  mid {:>6.3} (count_pixels {:>6.3})  output {:>6.3} (commands, and without a mask entry waves, {:>6.3}) ms  equal to the CPU twin: {}",
             get("laydown_finalize"),
             get("counter_offsets_pass") + get("count_pixels") + get("pixel_offsets_pass"),
             get("count_pixels"),
             get("write_commands")
-                + get("scatter_commands")
+                + get("scatter_entry_waves")
                 + get("entry_waves")
                 + get("write_waves"),
-            get("write_commands") + get("scatter_commands"),
+            get("write_commands") + get("scatter_entry_waves"),
             if mismatch.is_none() { "yes" } else { "no" }
         );
     }

@@ -153,21 +153,13 @@ const fn per_quad(name: &'static str) -> Entry<TilingParams> {
 /// [`quads`] with a validity mask (`write_commands` classifies the final mask), none
 /// without.
 fn quads_with_validity(p: &TilingParams) -> [u32; 2] {
-    if p.flags & crate::classify::FLAG_VALIDITY != 0 {
-        quads(p)
-    } else {
-        [0, 0]
-    }
+    if has_validity(p) { quads(p) } else { [0, 0] }
 }
 
-/// [`quads`] without a validity mask (`scatter_commands` places mid classify's records),
-/// none with one.
-fn quads_without_validity(p: &TilingParams) -> [u32; 2] {
-    if p.flags & crate::classify::FLAG_VALIDITY == 0 {
-        quads(p)
-    } else {
-        [0, 0]
-    }
+/// Whether the frame has a validity mask (`write_commands` and `entry_waves` run, else
+/// `scatter_entry_waves`).
+fn has_validity(p: &TilingParams) -> bool {
+    p.flags & crate::classify::FLAG_VALIDITY != 0
 }
 
 /// Words of mid classify's `offset_scratch` for `tiles` tiles and `passes` passes: a
@@ -313,14 +305,15 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 ///
 /// With a validity mask (the mixed frame: the mask changed since phase 2),
 /// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
-/// `stats`; without one `scatter_commands` (per quad) writes each pixel's command at the
-/// slot phase 2 recorded (`commands`; the final counts are the counts, and `stats` phase
-/// 2's, written by `entry_waves`, with commands that found no room moved to dropped);
-/// `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a workgroup) clamps
-/// `final_counts` to the counts, sums waves per entry, block and pass into `wave_scratch`,
-/// and its last workgroup writes the blocks' first waves, `passes` and `totals.wave_count`;
+/// `stats`, then `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a
+/// workgroup) clamps `final_counts` to the counts, sums waves per entry, block and pass
+/// into `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
+/// `totals.wave_count`. Without one the final counts are the counts, so one dispatch,
+/// `scatter_entry_waves`, does both: its first workgroups (one per 32x32 block) write each
+/// pixel's command at the slot phase 2 recorded, the others `entry_waves`' work. Then
 /// `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes
-/// `wave_offsets` and `waves`.
+/// `wave_offsets` and `waves`, and without a validity mask `stats`: phase 2's, with
+/// commands that found no room moved to dropped.
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
@@ -348,8 +341,18 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     }],
     entries: &[
         Entry::grid("write_commands", 16, 16, quads_with_validity),
-        Entry::grid("scatter_commands", 16, 16, quads_without_validity),
-        Entry::items("entry_waves", ENTRY_BLOCK, entries),
+        Entry::items("entry_waves", ENTRY_BLOCK, |p| {
+            if has_validity(p) { entries(p) } else { 0 }
+        }),
+        // A workgroup per 32x32 block, then one per ENTRY_BLOCK entries.
+        Entry::items("scatter_entry_waves", 256, |p| {
+            if has_validity(p) {
+                0
+            } else {
+                let [x, y] = quads(p);
+                256 * (x.div_ceil(16) * y.div_ceil(16) + entries(p).div_ceil(ENTRY_BLOCK))
+            }
+        }),
         // WAVE_ENTRY_LANES invocations per entry, in rows of MAX_WORKGROUPS_X workgroups.
         Entry::grid("write_waves", 256, 1, |p| {
             let groups = entries(p).div_ceil(256 / WAVE_ENTRY_LANES);

@@ -348,16 +348,20 @@ fn gpu_passes_equal_the_cpu_twins() {
     // More (tile, pass) entries than one workgroup of classify output's entry_waves sums
     // (tiling::wgsl::ENTRY_BLOCK): the blocks' first waves come from its last workgroup.
     for features in subgroup_variants() {
-        classification_case(
-            features,
-            4,
-            1700,
-            1300,
-            VisLayout::Standard,
-            true,
-            true,
-            true,
-        );
+        // With a validity mask entry_waves alone, without one entry_waves' blocks after
+        // scatter_commands' in scatter_entry_waves.
+        for masked in [true, false] {
+            classification_case(
+                features,
+                4,
+                1700,
+                1300,
+                VisLayout::Standard,
+                masked,
+                true,
+                true,
+            );
+        }
     }
     // Without vertex culling (no index reads): the cull buffer stays zero and no bad
     // indices are counted, though seed 2's index buffer is truncated.

@@ -1,9 +1,12 @@
-// tiling: phase 3, classify output (Rust twin: tiling::classify_output). Three entry
-// points, in this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
-//   write_commands     pixel (or quad) commands, with a validity mask (the mixed frame)
-//   scatter_commands   the same without one, from mid classify's per-pixel records
-//   entry_waves        final counts, waves per (tile, pass) entry and block, pass dispatches
-//   write_waves        wave offsets and wave commands
+// tiling: phase 3, classify output (Rust twin: tiling::classify_output). Entry points, in
+// this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
+//   write_commands       pixel (or quad) commands, with a validity mask (the mixed frame)
+//   entry_waves          then final counts, waves per (tile, pass) entry and block, pass
+//                        dispatches (with a validity mask)
+//   scatter_entry_waves  without one: the commands from mid classify's per-pixel records
+//                        and, in the same dispatch, entry_waves' work
+//   write_waves          wave offsets and wave commands (and, without a validity mask, the
+//                        stats)
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
 #import wave::append
@@ -238,15 +241,11 @@ fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
 }
 
 // Frames without a validity mask: every pixel's command from its record, at the slot mid
-// classify took for it (no decode, no histogram: mid and output classify alike). No
-// per-pixel stats: the pixels classify as in mid classify (entry_waves copies its stats);
-// only commands that find no room here (corrupt counts) are counted, dropped.
-@compute @workgroup_size(16, 16)
-fn scatter_commands(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
+// classify took for it (no decode, no histogram: mid and output classify alike), for the
+// 16x16 quads of 2D workgroup `wid` (`gid`: this invocation's quad). No per-pixel stats:
+// the pixels classify as in mid classify (write_waves copies its stats); only commands
+// that find no room here (corrupt counts) are counted, dropped.
+fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>, li: u32) {
     var records = vec4<u32>(0u);
     let q = tiling_quad_index(gid);
     if (q < arrayLength(&slots)) {
@@ -260,6 +259,11 @@ fn scatter_commands(
     }
 }
 
+// scatter_commands' workgroups: a 16x16 workgroup per 32x32 block of the vis buffer.
+fn tiling_scatter_groups() -> vec2<u32> {
+    return vec2<u32>((params.width + TILING_BLOCK_SIZE - 1u) / TILING_BLOCK_SIZE, (params.height + TILING_BLOCK_SIZE - 1u) / TILING_BLOCK_SIZE);
+}
+
 var<workgroup> tiling_wg_pass_waves: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 
@@ -268,19 +272,13 @@ var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 // sum and, per pass, its waves and commands. The last workgroup to finish turns the block
 // sums into the blocks' first waves and the pass sums into the pass dispatches (every
 // cross-workgroup value an atomic, ordered by storageBarrier's device-scope fences).
-@compute @workgroup_size(256)
-fn entry_waves(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
+// Workgroup `block` of `blocks` (the entry blocks of the frame).
+fn tiling_entry_waves(block: u32, blocks: u32, li: u32) {
     atomicStore(&tiling_wg_pass_waves[li], 0u);
     atomicStore(&tiling_wg_pass_items[li], 0u);
     workgroupBarrier();
     let tiles = params.tiles_x * params.tiles_y;
     let n = min(tiling_entry_count(), arrayLength(&masks));
-    let block = wid.y * groups.x + wid.x;
     let q = block * TILING_ENTRY_BLOCK + li;
     let first_pass = block * TILING_ENTRY_BLOCK / max(tiles, 1u);
     var waves = 0u;
@@ -322,7 +320,7 @@ fn entry_waves(
         tiling_scratch_add(tiling_scratch_pass_items() + my_pass, atomicLoad(&tiling_wg_pass_items[li]));
     }
     // The last workgroup: every block sum and pass sum is in.
-    if (tiling_scan_blocks(li, groups, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK).x == 0u) {
+    if (tiling_scan_blocks(li, blocks, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK).x == 0u) {
         return;
     }
     var pass_waves = 0u;
@@ -336,16 +334,40 @@ fn entry_waves(
     if (li == 0u) {
         totals.wave_count = scan.y;
     }
-    // Without a validity mask scatter_commands kept no stats but its lost commands: the
-    // rest are mid classify's (no index reads in this phase).
-    if (!tiling_has_validity() && li == 0u) {
-        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
-        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
-            atomicStore(&stats[f], mid_stats[f]);
-        }
-        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
-        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
-        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
+}
+
+// The entry blocks of the frame: ceil(entries / TILING_ENTRY_BLOCK).
+fn tiling_entry_blocks() -> u32 {
+    return (min(tiling_entry_count(), arrayLength(&masks)) + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
+}
+
+// With a validity mask, after write_commands: a workgroup per block of entries.
+@compute @workgroup_size(256)
+fn entry_waves(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    tiling_entry_waves(wid.y * groups.x + wid.x, groups.x * groups.y * groups.z, li);
+}
+
+// Without a validity mask the final counts are mid classify's counts, so the entries' waves
+// need not wait for the commands: scatter_commands' workgroups (first) and entry_waves'
+// (after them) in one dispatch, one pass fewer. Workgroups in rows (Dispatch::Items).
+@compute @workgroup_size(256)
+fn scatter_entry_waves(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    let g = wid.y * groups.x + wid.x;
+    let scatter = tiling_scatter_groups();
+    let s = scatter.x * scatter.y;
+    if (g < s) {
+        let w = vec3<u32>(g % scatter.x, g / scatter.x, 0u);
+        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w, li);
+    } else if (g - s < tiling_entry_blocks()) {
+        tiling_entry_waves(g - s, tiling_entry_blocks(), li);
     }
 }
 
@@ -365,6 +387,17 @@ fn write_waves(
     @builtin(local_invocation_index) li: u32,
 ) {
     let tiles = params.tiles_x * params.tiles_y;
+    // Without a validity mask scatter_commands kept no stats but its lost commands: the
+    // rest are mid classify's (no index reads in this phase).
+    if (!tiling_has_validity() && wid.x == 0u && wid.y == 0u && li == 0u) {
+        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
+        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
+            atomicStore(&stats[f], mid_stats[f]);
+        }
+        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
+        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
+        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
+    }
     let sub = li / TILING_WAVE_ENTRY_LANES;
     let lane = li % TILING_WAVE_ENTRY_LANES;
     let q = (wid.y * groups.x + wid.x) * TILING_WAVE_ENTRIES + sub;

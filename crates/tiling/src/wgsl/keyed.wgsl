@@ -126,7 +126,8 @@ fn tiling_append(key: u32, li: u32) -> vec2<u32> {
 
 var<workgroup> tiling_wg_last: u32;
 
-// The end of a block scan's workgroup (counter_offsets_pass, entry_waves), after it wrote
+// The end of a block scan's workgroup (counter_offsets_pass, entry_waves; `workgroups` of
+// them take part), after it wrote
 // its block's sum: whether it is the last workgroup to finish, and if so the blocks' sums
 // turned in place into the blocks' first values (exclusive prefix sum) and their total:
 // (1, total), else (0, 0). Every value another workgroup wrote is read with an atomic
@@ -135,10 +136,10 @@ var<workgroup> tiling_wg_last: u32;
 // returns the old), `tiling_scratch_blocks()` (where the block sums start) and
 // `tiling_scratch_load(i)` / `tiling_scratch_store(i, v)`. Contains barriers: call from
 // uniform control flow.
-fn tiling_scan_blocks(li: u32, groups: vec3<u32>, blocks: u32) -> vec2<u32> {
+fn tiling_scan_blocks(li: u32, workgroups: u32, blocks: u32) -> vec2<u32> {
     storageBarrier();
     if (li == 0u) {
-        tiling_wg_last = select(0u, 1u, tiling_scratch_done() == groups.x * groups.y * groups.z - 1u);
+        tiling_wg_last = select(0u, 1u, tiling_scratch_done() == workgroups - 1u);
     }
     if (workgroupUniformLoad(&tiling_wg_last) == 0u) {
         return vec2<u32>(0u);

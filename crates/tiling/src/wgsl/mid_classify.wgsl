@@ -100,7 +100,7 @@ fn counter_offsets_pass(
     if (li == 0u) {
         tiling_scratch_store(tiling_scratch_blocks() + block, scan.y);
     }
-    let last = tiling_scan_blocks(li, groups, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK);
+    let last = tiling_scan_blocks(li, groups.x * groups.y * groups.z, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK);
     if (last.x == 0u) {
         return;
     }
