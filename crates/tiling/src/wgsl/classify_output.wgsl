@@ -61,8 +61,8 @@ fn tiling_has_validity() -> bool {
 }
 
 // Writes command `cmd` at `slot` of counter `c` (two 16-bit commands per word) when the
-// counter has room for it, and counts it as written or dropped.
-fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
+// counter has room for it: 1 if written, else 0 and counted as dropped.
+fn tiling_put_command(c: u32, slot: u32, cmd: u32) -> u32 {
     if (c < arrayLength(&counts) && slot < counts[c]) {
         let at = pixel_offsets[c] + slot;
         if (at / 2u < arrayLength(&commands)) {
@@ -72,10 +72,10 @@ fn tiling_put_command(c: u32, slot: u32, cmd: u32) {
             atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
 #endif
         }
-        tiling_stat(TILING_STAT_COMMANDS, 1u);
-    } else {
-        tiling_stat(TILING_STAT_DROPPED, 1u);
+        return 1u;
     }
+    tiling_stat(TILING_STAT_DROPPED, 1u);
+    return 0u;
 }
 
 // Pixel k of `gid`'s quad, word `word`: decode, stats, and its (key, command), key
@@ -86,12 +86,13 @@ fn tiling_write_pixel(gid: vec3<u32>, k: u32, word: u32, range: vec2<u32>) -> ve
         return vec2<u32>(TILING_NONE, 0u);
     }
     let px = tiling_decode(word, p.y * params.width + p.x);
-    tiling_stat_pixel(px);
+    tiling_stat_kind(px.kind);
     if (px.kind != TILING_PX_VALID) {
         return vec2<u32>(TILING_NONE, 0u);
     }
     let mask = tiling_sample_mask(p.x, p.y, word);
     if (mask == 0u) {
+        tiling_stat(TILING_STAT_NO_SAMPLE, 1u);
         return vec2<u32>(TILING_NONE, 0u);
     }
     if (!tiling_tile_has(range, px.pg)) {
@@ -101,19 +102,23 @@ fn tiling_write_pixel(gid: vec3<u32>, k: u32, word: u32, range: vec2<u32>) -> ve
     return vec2<u32>(px.pg, tiling_command(p.x, p.y, mask));
 }
 
-// Pixel's command `kc` (key, command) at the slot the keyed histogram gave it.
-fn tiling_put_ranked(kc: vec2<u32>, r: TilingRanked) {
+// Pixel's command `kc` (key, command) at the slot the keyed histogram gave it: 1 if
+// written.
+fn tiling_put_ranked(kc: vec2<u32>, r: TilingRanked) -> u32 {
     if (kc.x != TILING_NONE) {
-        tiling_put_command(r.counter, tiling_hist_first[r.slot] + r.rank, kc.y);
+        return tiling_put_command(r.counter, tiling_hist_first[r.slot] + r.rank, kc.y);
     }
+    return 0u;
 }
 
-// Pixel's command `kc` through the wave-append loop (keyed.wgsl; barriers inside).
-fn tiling_put_appended(kc: vec2<u32>, li: u32) {
+// Pixel's command `kc` through the wave-append loop (keyed.wgsl; barriers inside): 1 if
+// written.
+fn tiling_put_appended(kc: vec2<u32>, li: u32) -> u32 {
     let a = tiling_append(kc.x, li);
     if (a.y != TILING_NONE) {
-        tiling_put_command(a.x, a.y, kc.y);
+        return tiling_put_command(a.x, a.y, kc.y);
     }
+    return 0u;
 }
 
 // With a validity mask (the mixed frame): classifies the final mask again. The quad's four
@@ -140,20 +145,19 @@ fn write_commands(
         let r2 = tiling_rank(c2.x, range);
         let r3 = tiling_rank(c3.x, range);
         tiling_hist_flush(li, range);
-        tiling_put_ranked(c0, r0);
-        tiling_put_ranked(c1, r1);
-        tiling_put_ranked(c2, r2);
-        tiling_put_ranked(c3, r3);
+        tiling_stat(TILING_STAT_COMMANDS, tiling_put_ranked(c0, r0) + tiling_put_ranked(c1, r1)
+            + tiling_put_ranked(c2, r2) + tiling_put_ranked(c3, r3));
     } else {
         // Aggregated appends, one pixel of the quads at a time.
-        tiling_put_appended(c0, li);
-        tiling_put_appended(c1, li);
-        tiling_put_appended(c2, li);
-        tiling_put_appended(c3, li);
+        let a0 = tiling_put_appended(c0, li);
+        let a1 = tiling_put_appended(c1, li);
+        let a2 = tiling_put_appended(c2, li);
+        let a3 = tiling_put_appended(c3, li);
+        tiling_stat(TILING_STAT_COMMANDS, a0 + a1 + a2 + a3);
     }
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
-        let v = atomicLoad(&tiling_wg_stats[li]);
+        let v = tiling_stats_field(wid, li);
         if (v != 0u) {
             atomicAdd(&stats[li], v);
         }

@@ -206,7 +206,7 @@ fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, lef
         return out;
     }
     let px = tiling_decode(word, p.y * params.width + p.x);
-    tiling_stat_pixel(px);
+    tiling_stat_kind(px.kind);
     out.record = px.kind;
     if (px.kind != TILING_PX_VALID) {
         return out;
@@ -220,15 +220,15 @@ fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, lef
     }
 #endif
     let mask = tiling_sample_mask(p.x, p.y, word);
-    if (mask != 0u) {
-        if (tiling_tile_has(range, px.pg)) {
-            out.key = px.pg;
-            out.mask = mask;
-            tiling_stat(TILING_STAT_COMMANDS, 1u);
-        } else {
-            out.record |= TILING_RECORD_DROPPED;
-            tiling_stat(TILING_STAT_DROPPED, 1u);
-        }
+    if (mask == 0u) {
+        tiling_stat(TILING_STAT_NO_SAMPLE, 1u);
+    } else if (tiling_tile_has(range, px.pg)) {
+        // Counted with the quad's other commands (count_pixels).
+        out.key = px.pg;
+        out.mask = mask;
+    } else {
+        out.record |= TILING_RECORD_DROPPED;
+        tiling_stat(TILING_STAT_DROPPED, 1u);
     }
     return out;
 }
@@ -276,6 +276,8 @@ fn count_pixels(
     let p1 = tiling_count_pixel(gid, 1u, w.y, true, w.x, false, 0u, range);
     let p2 = tiling_count_pixel(gid, 2u, w.z, false, 0u, true, w.x, range);
     let p3 = tiling_count_pixel(gid, 3u, w.w, true, w.z, true, w.y, range);
+    tiling_stat(TILING_STAT_COMMANDS, u32(p0.key != TILING_NONE) + u32(p1.key != TILING_NONE)
+        + u32(p2.key != TILING_NONE) + u32(p3.key != TILING_NONE));
     // Each command's slot within its counter, as classify output's write_commands takes
     // them (the commands' order within a counter is free).
     var counters = vec4<u32>(0u);
@@ -312,7 +314,7 @@ fn count_pixels(
     ));
     workgroupBarrier();
     if (li < TILING_STAT_COUNT) {
-        let v = atomicLoad(&tiling_wg_stats[li]);
+        let v = tiling_stats_field(wid, li);
         if (v != 0u) {
             atomicAdd(&stats[li], v);
         }
