@@ -11,9 +11,12 @@
 //! is decoded by its functions), `wave::append` where a pass appends (one atomic per
 //! subgroup with the `subgroups` feature, per workgroup without; needs
 //! `wgpu::Features::SUBGROUP` with it), `tiling::common` (constants, structs, the
-//! workgroup scan, the block sizes of the entry scans), `tiling::pixel` (bindings 0-3, the
-//! pixel decode, the quads and the per-pixel records) and `tiling::keyed` (bindings 4-5
-//! and the keyed workgroup histogram). The pixel phases run an invocation per 2x2 quad (a
+//! workgroup scan, the block sizes of the entry scans), `tiling::decode` (bindings 0, 2, 3
+//! and the pixel decode), `tiling::pixel` (adds the vis words at binding 1: the quads, the
+//! per-pixel records and stats), `tiling::finalize` (laydown finalise's workgroup marks and
+//! the masks at binding 4, imported by `laydown_finalize` and by any pass that has the
+//! words in hand: [`finalize_bindings`]) and `tiling::keyed` (bindings 4-5 and the keyed
+//! workgroup histogram). The pixel phases run an invocation per 2x2 quad (a
 //! 32x32 block per workgroup, the quad's pixels spelled out: loop-indexed vectors live in
 //! local memory on some GPUs). `count_pixels` and `write_commands` aggregate through the
 //! histogram: a block lies in one tile whose counters are contiguous, so one LDS atomic per
@@ -21,7 +24,11 @@
 //! keys; tiles with more than `TILING_HIST_LIMIT` (an `override`, 256) counters take that
 //! loop. Both give the same counts and, after [`canonical_sort`](crate::canonical_sort),
 //! the same commands. `count_pixels` records each pixel's slot, and without a validity
-//! mask classify output's `scatter_commands` places the commands from those records.
+//! mask classify output's `scatter_entry_waves` places the commands from those records
+//! (and, in the same dispatch, sums the entries' waves). The pixel phases count only the
+//! rare stats per pixel; valid and empty pixels follow from the others at the flush.
+//! `count_pixels` reads a triangle's indices and marks its vertex chunks only with
+//! [`FLAG_VERTEX_CULL`](crate::classify::FLAG_VERTEX_CULL).
 //!
 //! Units: every length and offset is in elements of the named buffer; a buffer's `size`
 //! in the descriptions is the bytes of one element (the least a binding may hold). "Zeroed"

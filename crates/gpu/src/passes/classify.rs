@@ -1,7 +1,9 @@
 //! GPU classification of the laid-down vis buffer: `tiling`'s three phases (seed 000:
 //! laydown finalise, mid classify, classify output) run from their descriptions in
-//! `tiling::wgsl`, after a zero fill of the buffers they expect zeroed (`gpu::zero`), over
-//! buffers sized for the worst case of a frame.
+//! `tiling::wgsl`, after a zero fill of the buffers they expect zeroed (`gpu::zero`, one
+//! dispatch), over buffers sized for the worst case of a frame. After the compute laydown
+//! the zero fill runs in the raster's pass and laydown finalise in the laydown's unpack
+//! (`tiling::finalize`), so the classification starts at mid classify.
 //!
 //! Buffer sizes, per prepared scene, for a `width x height` image, `T` 128x128 tiles, `P`
 //! passes and `G` batch groups over all passes: masks and counter offsets `T * P` words;

@@ -37,7 +37,7 @@
 // count_pixels' records, a vec4 per quad (TILING_RECORD_*, tiling::pixel).
 @group(0) @binding(16) var<storage, read> slots: array<vec4<u32>>;
 // Mid classify's tiling::PixelStats: without a validity mask both phases classify alike,
-// and entry_waves derives this phase's stats from them.
+// and write_waves derives this phase's stats from them.
 @group(0) @binding(17) var<storage, read> mid_stats: array<u32, 8>;
 
 // Adds `n` to counter c's commands written and returns the old value (keyed.wgsl's
@@ -55,7 +55,7 @@ fn tiling_counter_offset(e: u32) -> u32 {
 }
 
 // Whether the frame has a validity mask (the mixed frame): then write_commands classifies
-// the final mask again; without one scatter_commands places count_pixels' records.
+// the final mask again; without one scatter_entry_waves places count_pixels' records.
 fn tiling_has_validity() -> bool {
     return (params.flags & TILING_FLAG_VALIDITY) != 0u;
 }
