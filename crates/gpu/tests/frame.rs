@@ -432,10 +432,9 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
     }
 }
 
-/// The compute laydown's unpack finalises the laydown (the classification's masks, with
-/// and without subgroups) after the frame's zero fill: a second frame from another
-/// viewpoint classifies only its own pixels (masks left over from the first would add
-/// counters the CPU twin lacks).
+/// The compute laydown's unpack finalises the laydown (the classification's masks) after
+/// the frame's zero fill: a second frame from another viewpoint classifies only its own
+/// pixels (masks left over from the first would add counters the CPU twin lacks).
 #[test]
 fn the_compute_laydown_classifies_each_frame_afresh() {
     assert!(
@@ -444,38 +443,33 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         ctx().adapter_line()
     );
     let (scene, frame) = scene(DemoScene::Forest);
+    let mut r = common::renderer_with(gpu::RendererConfig {
+        width: 320,
+        height: 180,
+        shadows: common::test_shadows(),
+        laydown: gpu::Laydown::Compute,
+        ..gpu::RendererConfig::default()
+    });
+    assert_eq!(r.laydown(), gpu::Laydown::Compute);
+    let prepared = r.prepare(&scene).unwrap();
     let mut turned = frame.clone();
     let c = &mut turned.camera;
     c.target = c.position + (c.position - c.target);
-    // The unpack marks through subgroups where the device has them, else through
-    // workgroup memory.
-    for subgroups in subgroup_settings() {
-        let mut r = common::renderer_with(gpu::RendererConfig {
-            width: 320,
-            height: 180,
-            shadows: common::test_shadows(),
-            laydown: gpu::Laydown::Compute,
-            subgroups,
-            ..gpu::RendererConfig::default()
-        });
-        assert_eq!(r.laydown(), gpu::Laydown::Compute);
-        let prepared = r.prepare(&scene).unwrap();
-        let mut masks = Vec::new();
-        for f in [&frame, &turned] {
-            r.render(&prepared, f, RenderPath::Deferred).unwrap();
-            let gpu = r.read_classification(&prepared).unwrap();
-            let (_, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
-            assert_eq!(
-                mismatch, None,
-                "subgroups {subgroups}: GPU classification differs from the CPU twin"
-            );
-            masks.push(gpu.masks);
-        }
-        assert_ne!(
-            masks[0], masks[1],
-            "the two views should cover different groups"
+    let mut masks = Vec::new();
+    for f in [&frame, &turned] {
+        r.render(&prepared, f, RenderPath::Deferred).unwrap();
+        let gpu = r.read_classification(&prepared).unwrap();
+        let (_, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+        assert_eq!(
+            mismatch, None,
+            "GPU classification differs from the CPU twin"
         );
+        masks.push(gpu.masks);
     }
+    assert_ne!(
+        masks[0], masks[1],
+        "the two views should cover different groups"
+    );
 }
 
 /// Issue 17's compute laydown in the whole deferred frame: on both scenes (foliage:

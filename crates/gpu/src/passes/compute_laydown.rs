@@ -324,8 +324,7 @@ pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
     name: "laydown unpack",
     module: "gpu::laydown_unpack",
     library: LIBRARY,
-    // The finalise marks per subgroup instead of through workgroup memory.
-    features: &["subgroups"],
+    features: &[],
     groups: &[
         Group {
             name: "classification",
@@ -360,7 +359,7 @@ pub(crate) const LAYDOWN_UNPACK_TEXTURE: Pass<[u32; 2]> = Pass {
             ],
         },
     ],
-    features: &["texture_target", "subgroups"],
+    features: &["texture_target"],
     ..LAYDOWN_UNPACK
 };
 
@@ -543,7 +542,7 @@ impl ComputeLaydown {
             hybrid,
             target_layouts,
             target,
-            unpack: ComputePass::new(device, unpack_pass, &features, &[])?,
+            unpack: ComputePass::new(device, unpack_pass, target_feature, &[])?,
             kind,
         })
     }
@@ -802,13 +801,7 @@ mod tests {
         });
         shadercheck::check_pass(&COMPUTE_LAYDOWN_HYBRID, |_| Caps::INT64);
         shadercheck::check_pass(&LAYDOWN_TARGET, |_| Caps::CORE);
-        shadercheck::check_pass(&LAYDOWN_UNPACK, |f| {
-            if f.contains(&"subgroups") {
-                Caps::SUBGROUP
-            } else {
-                Caps::CORE
-            }
-        });
+        shadercheck::check_pass(&LAYDOWN_UNPACK, |_| Caps::CORE);
         // The texture target's variants: the feature on, and naga's 64-bit texture atomics.
         shadercheck::check_pass_with(&COMPUTE_LAYDOWN_TEXTURE, &["texture_target"], |f| {
             if f.contains(&"subgroups") {
@@ -820,12 +813,8 @@ mod tests {
         shadercheck::check_pass_with(&COMPUTE_LAYDOWN_HYBRID_TEXTURE, &["texture_target"], |_| {
             Caps::TEXTURE_INT64
         });
-        shadercheck::check_pass_with(&LAYDOWN_UNPACK_TEXTURE, &["texture_target"], |f| {
-            if f.contains(&"subgroups") {
-                Caps::TEXTURE_INT64.union(Caps::SUBGROUP)
-            } else {
-                Caps::TEXTURE_INT64
-            }
+        shadercheck::check_pass_with(&LAYDOWN_UNPACK_TEXTURE, &["texture_target"], |_| {
+            Caps::TEXTURE_INT64
         });
         let src = COMPUTE_LAYDOWN_TEXTURE.source(&["texture_target"]).unwrap();
         assert!(shadercheck::validate(&src, Caps::INT64).is_err());

@@ -31,9 +31,7 @@ fn unpack(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
-#if !subgroups
     tiling_finalize_begin(li);
-#endif
     let size = textureDimensions(depth_float);
     var key = TILING_NONE;
     if (all(id.xy < size)) {
@@ -63,13 +61,8 @@ fn unpack(
         textureStore(depth_float, id.xy, vec4<f32>(depth, 0.0, 0.0, 0.0));
         key = tiling_finalize_key(id.xy, word);
     }
-    let tile = (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE;
-#if subgroups
-    tiling_finalize_mark_subgroup(key, tile, li);
-#else
     workgroupBarrier();
     tiling_finalize_mark(key);
     workgroupBarrier();
-    tiling_finalize_flush(li, tile);
-#endif
+    tiling_finalize_flush(li, (wid.y * 16u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 16u / TILING_TILE_SIZE);
 }

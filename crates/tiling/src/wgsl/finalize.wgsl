@@ -62,32 +62,3 @@ fn tiling_finalize_flush(li: u32, tile: u32) {
         }
     }
 }
-
-#if subgroups
-// With subgroups (feature `subgroups`, instead of the workgroup masks): each distinct pass
-// among the subgroup's keys ORs its groups' bits across the subgroup, and the first lane
-// sets them in tile `tile`'s mask (reading first: most are set already). No workgroup
-// memory and no barriers. Call from every invocation of the subgroup (key TILING_NONE for
-// none), `lane` unique within it.
-fn tiling_finalize_mark_subgroup(key: u32, tile: u32, lane: u32) {
-    var pending = key;
-    loop {
-        let k = subgroupMin(pending);
-        if (k == TILING_NONE) {
-            break;
-        }
-        let p = k / TILING_MAX_BATCH_GROUPS;
-        let same = pending != TILING_NONE && pending / TILING_MAX_BATCH_GROUPS == p;
-        let bits = subgroupOr(select(0u, 1u << (pending % TILING_MAX_BATCH_GROUPS), same));
-        if (same) {
-            pending = TILING_NONE;
-        }
-        if (subgroupBroadcastFirst(lane) == lane) {
-            let e = tile * params.pass_count + p;
-            if (e < arrayLength(&masks) && (atomicLoad(&masks[e]) & bits) != bits) {
-                atomicOr(&masks[e], bits);
-            }
-        }
-    }
-}
-#endif
