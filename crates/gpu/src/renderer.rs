@@ -244,8 +244,10 @@ pub struct RendererConfig {
     /// HFW's vertex ring (seed 000: 12 MiB on PS4, 24 MiB on PS5; `gpu::RING_BYTES_PS4`,
     /// `gpu::RING_BYTES_PS5`): bytes of the ring the deferred path transforms each pass's
     /// visible 64-vertex chunks into (tiling's vertex wave commands, built on the GPU from
-    /// the vertex cull buffer), a pass never more than half of it. `None` (the default):
-    /// no vertex side, the resolve transforms its triangle's vertices per pixel.
+    /// the vertex cull buffer, which mid classify then fills:
+    /// `tiling::ClassifyConfig::vertex_cull`), a pass never more than half of it. `None`
+    /// (the default): no vertex side and no chunk marks (the classification reads no
+    /// index), the resolve transforms its triangle's vertices per pixel.
     pub vertex_ring: Option<u64>,
     /// With [`vertex_ring`](Self::vertex_ring): the resolve reads its triangle's three
     /// transformed vertices from the ring (each pass's transform recorded right before
