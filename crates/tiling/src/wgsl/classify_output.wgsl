@@ -130,7 +130,8 @@ fn write_commands(
     @builtin(local_invocation_index) li: u32,
 ) {
     let w = tiling_quad_words(gid);
-    tiling_stats_begin(li);
+    tiling_stats_zero(li);
+    tiling_hist_zero(li);
     let range = tiling_tile_counters(tiling_block_tile(wid), li);
     let c0 = tiling_write_pixel(gid, 0u, w.x, range);
     let c1 = tiling_write_pixel(gid, 1u, w.y, range);
@@ -139,7 +140,6 @@ fn write_commands(
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): a rank within the block per command, one global
         // atomic per counter of the block for the block's first slot.
-        tiling_hist_begin(li);
         let r0 = tiling_rank(c0.x, range);
         let r1 = tiling_rank(c1.x, range);
         let r2 = tiling_rank(c2.x, range);

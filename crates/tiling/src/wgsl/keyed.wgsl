@@ -176,11 +176,11 @@ fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
     return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
 }
 
-// Zeroes this invocation's histogram slot; a barrier follows. Call from uniform control
-// flow, before tiling_rank.
-fn tiling_hist_begin(li: u32) {
+// Zeroes this invocation's histogram slot; a barrier must follow before any tiling_rank
+// (the pixel phases call it right before tiling_tile_counters, whose barrier serves: one
+// barrier fewer).
+fn tiling_hist_zero(li: u32) {
     atomicStore(&tiling_hist[li], 0u);
-    workgroupBarrier();
 }
 
 // After every tiling_rank of the workgroup: one global atomic per counter of the block

@@ -260,7 +260,8 @@ fn count_pixels(
 ) {
     atomicStore(&tiling_chunk_cache[li], TILING_NONE);
     let w = tiling_quad_words(gid);
-    tiling_stats_begin(li);
+    tiling_stats_zero(li);
+    tiling_hist_zero(li);
     let tile = tiling_block_tile(wid);
     let range = tiling_tile_counters(tile, li);
     // The tile's first block writes the tile's final counter offsets.
@@ -284,7 +285,6 @@ fn count_pixels(
     var slots = vec4<u32>(TILING_NONE);
     if (range.y <= TILING_HIST_LIMIT) {
         // Keyed histogram (keyed.wgsl): one global atomic per counter of the block.
-        tiling_hist_begin(li);
         let r0 = tiling_rank(p0.key, range);
         let r1 = tiling_rank(p1.key, range);
         let r2 = tiling_rank(p2.key, range);

@@ -124,11 +124,12 @@ var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
 // pixels whose VRS sample an earlier pixel carries.
 const TILING_STAT_NO_SAMPLE: u32 = 7u;
 
-fn tiling_stats_begin(li: u32) {
+// Zeroes the workgroup's stats; a barrier must follow before any tiling_stat (the pixel
+// phases call it right before tiling_tile_counters, whose barrier serves).
+fn tiling_stats_zero(li: u32) {
     if (li < TILING_STAT_COUNT) {
         atomicStore(&tiling_wg_stats[li], 0u);
     }
-    workgroupBarrier();
 }
 
 fn tiling_stat(field: u32, n: u32) {
