@@ -363,21 +363,42 @@ impl TilingParams {
         table_len: u32,
         micro_batch_count: u32,
     ) -> Self {
+        Self::for_frame(
+            (vis.width, vis.height),
+            vis.layout,
+            vis.valid.is_some(),
+            config,
+            table_len,
+            micro_batch_count,
+        )
+    }
+
+    /// [`new`](Self::new) for a vis buffer not in hand (it lives on the GPU): its `size`
+    /// (width, height in pixels), its word `layout`, whether a validity bitmask applies.
+    #[must_use]
+    pub fn for_frame(
+        size: (u32, u32),
+        layout: VisLayout,
+        validity: bool,
+        config: &ClassifyConfig,
+        table_len: u32,
+        micro_batch_count: u32,
+    ) -> Self {
         let mut flags = 0;
-        if vis.valid.is_some() {
+        if validity {
             flags |= FLAG_VALIDITY;
         }
-        if vis.layout == VisLayout::Vrs {
+        if layout == VisLayout::Vrs {
             flags |= FLAG_VRS;
         }
         if config.vertex_cull {
             flags |= FLAG_VERTEX_CULL;
         }
         Self {
-            width: vis.width,
-            height: vis.height,
-            tiles_x: vis.tiles_x(),
-            tiles_y: vis.tiles_y(),
+            width: size.0,
+            height: size.1,
+            tiles_x: size.0.div_ceil(TILE_SIZE),
+            tiles_y: size.1.div_ceil(TILE_SIZE),
             pass_count: config.pass_count,
             wave_width: config.wave_width.lanes(),
             flags,

@@ -505,6 +505,10 @@ mod tests {
                 "TILING_STAT_BAD_INDICES",
                 stat(core::mem::offset_of!(PixelStats, bad_indices))
             ),
+            (
+                "TILING_STAT_NO_SAMPLE",
+                stat(core::mem::offset_of!(PixelStats, pad))
+            ),
             ("TILING_STAT_COUNT", (size_of::<PixelStats>() / 4) as u32),
             ("TILING_ENTRY_BLOCK", ENTRY_BLOCK),
             ("TILING_SCRATCH_ENTRIES", SCRATCH_HEADER_WORDS),

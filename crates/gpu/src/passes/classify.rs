@@ -38,8 +38,9 @@ pub(crate) const ZERO: Pass<u32> = Pass {
 /// Words each invocation of [`ZERO_MANY`] zeroes (WGSL `ZERO_MANY_WORDS`).
 const ZERO_MANY_WORDS: u32 = 4;
 
-/// Buffers [`ZERO_MANY`] zeroes in one dispatch (bind a one-word buffer to those left over).
-pub(crate) const ZERO_BINDINGS: usize = 10;
+/// Buffers [`ZERO_MANY`] zeroes in one dispatch (bind a one-word buffer to those left over):
+/// its description's bindings.
+pub(crate) const ZERO_BINDINGS: usize = ZERO_MANY.groups[0].bindings.len();
 
 /// [`ZERO`] over [`ZERO_BINDINGS`] buffers in one dispatch (feature `many`), over the sum of
 /// their word counts: the classification's zeroed buffers.
@@ -355,34 +356,16 @@ impl Buffers {
         let table = &plan.table;
         let micro_batch_count = plan.order.len() as u32;
         let s = sizes;
-        let params = TilingParams {
-            width: s.width,
-            height: s.height,
-            tiles_x: s.width.div_ceil(tiling::TILE_SIZE),
-            tiles_y: s.height.div_ceil(tiling::TILE_SIZE),
-            pass_count: s.passes,
-            wave_width: config.wave_width.lanes(),
-            // The validity bitmask applies (the mixed frame); the plan's word layout: with
-            // VRS the commands are quad commands.
-            flags: (if validity {
-                tiling::classify::FLAG_VALIDITY
-            } else {
-                0
-            }) | if plan.layout == visbuf::VisLayout::Vrs {
-                tiling::classify::FLAG_VRS
-            } else {
-                0
-            } | if config.vertex_cull {
-                tiling::classify::FLAG_VERTEX_CULL
-            } else {
-                0
-            },
-            table_len: table.len() as u32,
+        // The validity bitmask applies (the mixed frame); the plan's word layout (with VRS
+        // the commands are quad commands); the config's vertex culling.
+        let params = TilingParams::for_frame(
+            (s.width, s.height),
+            plan.layout,
+            validity,
+            &config,
+            table.len() as u32,
             micro_batch_count,
-            chunk_count: config.chunk_count,
-            uber_count: config.chunk_count.div_ceil(64),
-            pad: 0,
-        };
+        );
         let zeroed = |label: &str, words: u32, extra: wgpu::BufferUsages| {
             storage_buffer(device, label, u64::from(words) * 4, extra)
         };
@@ -578,6 +561,12 @@ mod tests {
     fn zero_description_matches_its_module() {
         shadercheck::check_pass(&ZERO, |_| shadercheck::Caps::CORE);
         let many = shadercheck::check_pass_with(&ZERO_MANY, &["many"], |_| shadercheck::Caps::CORE);
+        // Buffers::new binds every zeroed buffer of the phases to ZERO_MANY.
+        let zeroed: usize = tiling::wgsl::CLASSIFICATION
+            .iter()
+            .map(|p| p.zeroed.len())
+            .sum();
+        assert!(zeroed <= ZERO_BINDINGS, "{zeroed} zeroed buffers");
         assert_eq!(
             shadercheck::const_u32(&many[0], "ZERO_MANY_WORDS"),
             Some(ZERO_MANY_WORDS)

@@ -45,6 +45,9 @@ const TILING_STAT_OUT_OF_RANGE: u32 = 3u;
 const TILING_STAT_COMMANDS: u32 = 4u;
 const TILING_STAT_DROPPED: u32 = 5u;
 const TILING_STAT_BAD_INDICES: u32 = 6u;
+// The pad field, which stays 0 in the output: the pixel phases' workgroup-only count of
+// valid pixels whose VRS sample an earlier pixel carries (tiling::pixel's stats).
+const TILING_STAT_NO_SAMPLE: u32 = 7u;
 const TILING_STAT_COUNT: u32 = 8u;
 
 // Rust: tiling::TilingParams, 48 bytes (uniform).

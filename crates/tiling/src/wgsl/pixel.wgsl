@@ -120,10 +120,6 @@ fn tiling_command(x: u32, y: u32, mask: u32) -> u32 {
 // command, on the same eight words, took 15 us of count_pixels on the H200.
 var<workgroup> tiling_wg_stats: array<atomic<u32>, 8>;
 
-// Workgroup-only slot (the pad field of PixelStats, which stays 0 in the output): valid
-// pixels whose VRS sample an earlier pixel carries.
-const TILING_STAT_NO_SAMPLE: u32 = 7u;
-
 // Zeroes the workgroup's stats; a barrier must follow before any tiling_stat (the pixel
 // phases call it right before tiling_tile_counters, whose barrier serves).
 fn tiling_stats_zero(li: u32) {
