@@ -106,6 +106,18 @@ fn main() -> anyhow::Result<()> {
             variant(&[], &[], &["counter_offsets_pass", "pixel_offsets_pass"]),
         ),
         (
+            "mid: no append-loop code (tiles past 256 counters)",
+            variant(&["timing_omit_append_loop"], &[], &[]),
+        ),
+        (
+            "mid: neither index reads nor append-loop code",
+            variant(
+                &["timing_omit_index_reads", "timing_omit_append_loop"],
+                &[],
+                &[],
+            ),
+        ),
+        (
             "output: commands only",
             variant(&[], &[], &["entry_waves", "write_waves"]),
         ),

@@ -34,9 +34,14 @@
 //! in the descriptions is the bytes of one element (the least a binding may hold). "Zeroed"
 //! buffers must hold zeros when the pass's first entry point starts.
 //!
-//! The `override` `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere). Features
+//! The `override`s: `TILING_HIST_LIMIT` (tests set 0 to force the loop everywhere) and mid
+//! classify's `TILING_VERTEX_CULL_CODE` (false: `count_pixels` without the vertex-cull
+//! code, which ignores [`FLAG_VERTEX_CULL`](crate::classify::FLAG_VERTEX_CULL); its
+//! registers alone cost 7-9 µs of the pass on the H200, so frames without the flag should
+//! take such a pipeline). Features
 //! besides `subgroups`: the timing experiments of `gpu`'s `classify_variants`
 //! (`timing_omit_stats`, `timing_omit_cull_marks`, `timing_omit_index_reads`,
+//! `timing_omit_append_loop`,
 //! `timing_omit_records`, `timing_store_commands`, and laydown finalize's `timing_load_only`
 //! and `timing_no_table`; each drops work and most make the output wrong, and the shipped
 //! build has none of their code).
@@ -265,6 +270,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
         "timing_omit_stats",
         "timing_omit_cull_marks",
         "timing_omit_index_reads",
+        "timing_omit_append_loop",
         "timing_omit_records",
     ],
     groups: &[Group {

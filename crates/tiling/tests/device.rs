@@ -109,12 +109,17 @@ fn classification_case(
     let masks: Vec<u32> = p1.read("masks", tiles * p);
     assert_eq!(masks, cpu.masks, "masks, {what}");
 
-    // Phase 2.
+    // Phase 2. Without vertex culling the pipeline without the vertex-cull code, as `gpu`
+    // takes it.
+    let mut mid_constants = constants.to_vec();
+    if !vertex_cull {
+        mid_constants.push(("TILING_VERTEX_CULL_CODE", 0.0));
+    }
     let counters = cpu.mid.counter_count as usize;
     let p2 = run_pass(
         &MID_CLASSIFY,
         features,
-        constants,
+        &mid_constants,
         &params,
         &joined(
             &pixel,

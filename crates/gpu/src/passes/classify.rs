@@ -90,6 +90,9 @@ pub(crate) struct Classify {
     /// until the regular geometry pass clears its bit.
     fill: ComputePass<u32>,
     phases: Vec<ComputePass<TilingParams>>,
+    /// Mid classify without the vertex-cull code (`TILING_VERTEX_CULL_CODE` false), for
+    /// frames without `FLAG_VERTEX_CULL`: the code's registers alone slow count_pixels.
+    mid_without_cull: Option<ComputePass<TilingParams>>,
     features: &'static [&'static str],
     skip: Vec<&'static str>,
 }
@@ -103,6 +106,7 @@ impl Classify {
             zero: ComputePass::new(device, &ZERO_MANY, &["many"], &[])?,
             fill: ComputePass::new(device, &ZERO, &[], &[("ZERO_FILL", f64::from(u32::MAX))])?,
             phases: Vec::new(),
+            mid_without_cull: None,
             features,
             skip: Vec::new(),
         };
@@ -117,30 +121,36 @@ impl Classify {
         device: &wgpu::Device,
         variant: &ClassificationVariant,
     ) -> Result<()> {
+        // Each phase takes the features and overrides its module declares.
+        let build = |pass: &'static Pass<TilingParams>, extra: &[(&'static str, f64)]| {
+            let wanted: Vec<&str> = self
+                .features
+                .iter()
+                .chain(&variant.features)
+                .copied()
+                .collect();
+            let features: Vec<&str> = wanted
+                .into_iter()
+                .filter(|f| pass.features.contains(f))
+                .collect();
+            let src = pass.source(&features)?;
+            let constants: Vec<(&str, f64)> = variant
+                .overrides
+                .iter()
+                .chain(extra)
+                .copied()
+                .filter(|(name, _)| src.contains(&format!("override {name}")))
+                .collect();
+            ComputePass::new(device, pass, &features, &constants)
+        };
         self.phases = tiling::wgsl::CLASSIFICATION
             .iter()
-            .map(|pass| {
-                // Each phase takes the features and overrides its module declares.
-                let wanted: Vec<&str> = self
-                    .features
-                    .iter()
-                    .chain(&variant.features)
-                    .copied()
-                    .collect();
-                let features: Vec<&str> = wanted
-                    .into_iter()
-                    .filter(|f| pass.features.contains(f))
-                    .collect();
-                let src = pass.source(&features)?;
-                let constants: Vec<(&str, f64)> = variant
-                    .overrides
-                    .iter()
-                    .copied()
-                    .filter(|(name, _)| src.contains(&format!("override {name}")))
-                    .collect();
-                ComputePass::new(device, pass, &features, &constants)
-            })
+            .map(|pass| build(pass, &[]))
             .collect::<Result<_, shader::Error>>()?;
+        self.mid_without_cull = Some(build(
+            &tiling::wgsl::MID_CLASSIFY,
+            &[("TILING_VERTEX_CULL_CODE", 0.0)],
+        )?);
         self.skip.clone_from(&variant.skip);
         Ok(())
     }
@@ -222,13 +232,20 @@ impl Classify {
         range: std::ops::Range<usize>,
     ) {
         let b = &f.scene.classification;
-        for (phase, group) in self
+        let cull = b.params.flags & tiling::classify::FLAG_VERTEX_CULL != 0;
+        for (k, (phase, group)) in self
             .phases
             .iter()
             .zip(&b.groups)
+            .enumerate()
             .take(range.end)
             .skip(range.start)
         {
+            // Mid classify without the vertex-cull code where the frame culls no vertices.
+            let phase = match &self.mid_without_cull {
+                Some(mid) if k == 1 && !cull => mid,
+                _ => phase,
+            };
             for step in &phase.steps {
                 if self.skip.contains(&step.entry.name) {
                     continue;

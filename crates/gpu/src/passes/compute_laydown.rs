@@ -342,7 +342,10 @@ pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
             ],
         },
     ],
-    entries: &[Entry::grid("unpack", 16, 16, |size| *size)],
+    // Four pixels an invocation: a 16x16 workgroup per 32x32 block.
+    entries: &[Entry::grid("unpack", 16, 16, |[w, h]| {
+        [w.div_ceil(32) * 16, h.div_ceil(32) * 16]
+    })],
     zeroed: &["masks"],
 };
 

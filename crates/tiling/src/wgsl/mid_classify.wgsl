@@ -132,6 +132,12 @@ fn tiling_run_start(x: u32, y: u32, word: u32, left_in_quad: bool, left: u32, up
     return true;
 }
 
+// Whether count_pixels holds the vertex-cull code at all. A pipeline built with false has
+// none (and ignores TILING_FLAG_VERTEX_CULL): its registers alone cost 7-9 us of the
+// pass on the H200 though the uniform flag skips it, so frames without vertex culling
+// take that pipeline.
+override TILING_VERTEX_CULL_CODE: bool = true;
+
 // The chunks this workgroup marked last, direct-mapped by a hash of the chunk: neighbouring
 // run starts mostly hit the same few chunks, and a global atomic per mark serialises on
 // their words (grass and the hillside: most pixels start a run).
@@ -214,7 +220,7 @@ fn tiling_count_pixel(gid: vec3<u32>, k: u32, word: u32, left_in_quad: bool, lef
 #if !timing_omit_index_reads
     // Only where the frame culls vertex chunks (a uniform branch): the index reads are
     // a third of this pass.
-    if ((params.flags & TILING_FLAG_VERTEX_CULL) != 0u && tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up)
+    if (TILING_VERTEX_CULL_CODE && (params.flags & TILING_FLAG_VERTEX_CULL) != 0u && tiling_run_start(p.x, p.y, word, left_in_quad, left, up_in_quad, up)
         && !tiling_mark_triangle(px)) {
         tiling_stat(TILING_STAT_BAD_INDICES, 1u);
     }
@@ -297,7 +303,9 @@ fn count_pixels(
             tiling_hist_first[r2.slot] + r2.rank,
             tiling_hist_first[r3.slot] + r3.rank,
         );
-    } else {
+    }
+#if !timing_omit_append_loop
+    else {
         // Aggregated appends, one pixel of the quads at a time.
         let a0 = tiling_append(p0.key, li);
         let a1 = tiling_append(p1.key, li);
@@ -306,6 +314,7 @@ fn count_pixels(
         counters = vec4<u32>(a0.x, a1.x, a2.x, a3.x);
         slots = vec4<u32>(a0.y, a1.y, a2.y, a3.y);
     }
+#endif
     tiling_put_records(gid, vec4<u32>(
         tiling_record(p0, counters.x, slots.x, range),
         tiling_record(p1, counters.y, slots.y, range),
