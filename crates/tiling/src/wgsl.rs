@@ -247,10 +247,9 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
 /// | `masks` | phase 1's | `u32` |
 /// | `counter_offsets` | `tiles * P`: first counter per (tile, pass) | `u32` |
 /// | `counts` | per counter (at most `tiles * P * 32`), zeroed | `atomic<u32>` |
-/// | `pixel_offsets` | per counter: first pixel command | `u32` |
 /// | `vertex_cull` | `ceil(chunk_count / 4)`, four bytes per word, zeroed | `atomic<u32>` |
 /// | `indices` | the index buffer the table's `first_index` points into | `u32` |
-/// | `totals` | `counter_count`, `command_count` | [`Totals`] |
+/// | `totals` | `counter_count` | [`Totals`] |
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
 /// | `slots` | [`record_quads`]: each 2x2 quad's pixel records (WGSL `TILING_RECORD_*`: a command's slot and counter, or the pixel's kind) | `vec4<u32>` |
 ///
@@ -259,8 +258,8 @@ pub const LAYDOWN_FINALIZE: Pass<TilingParams> = Pass {
 /// `counter_offsets_pass` (per (tile, pass) entry, [`ENTRY_BLOCK`] a workgroup) writes the
 /// entries' offsets within their blocks and the blocks' first counters into
 /// `offset_scratch`, and `totals.counter_count`; `count_pixels` (per quad) `counts`,
-/// `vertex_cull`, `stats`, `slots` and, from the tile's first block, `counter_offsets`;
-/// `pixel_offsets_pass` (one workgroup) `pixel_offsets` and `totals.command_count`.
+/// `vertex_cull`, `stats`, `slots` and, from the tile's first block, `counter_offsets`.
+/// The counts' prefix sum, `pixel_offsets`, is [`CLASSIFY_OUTPUT`]'s first entry point.
 pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     name: "classify 2: mid classify",
     module: "tiling::mid_classify",
@@ -275,11 +274,10 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     ],
     groups: &[Group {
         name: "classification",
-        bindings: &join::<6, 8, 14>(
+        bindings: &join::<6, 7, 13>(
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read_write(4)),
-                Binding::new("pixel_offsets", Kind::read_write(4)),
                 Binding::new("vertex_cull", Kind::read_write(4)),
                 Binding::new("indices", Kind::read(4)),
                 Binding::new("totals", Kind::read_write(size_of::<Totals>())),
@@ -292,7 +290,6 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
     entries: &[
         Entry::items("counter_offsets_pass", ENTRY_BLOCK, entries),
         per_quad("count_pixels"),
-        Entry::once("pixel_offsets_pass", 256),
     ],
     zeroed: &["counts", "vertex_cull", "stats", "offset_scratch"],
 };
@@ -302,28 +299,33 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// | binding | buffer | element |
 /// | --- | --- | --- |
 /// | `params`, `vis`, `valid`, `table` | as phase 1 | |
-/// | `masks`, `counts`, `pixel_offsets` | phase 2's (read) | `u32` |
+/// | `masks`, `counts` | phase 2's (read) | `u32` |
+/// | `pixel_offsets` | per counter: first pixel command | `u32` |
 /// | `counter_offsets` | phase 2's (bound `read_write`, shared with phase 2 through `tiling::keyed`; only read here) | `u32` |
 /// | `final_counts` | per counter: commands written, zeroed | `atomic<u32>` |
 /// | `commands` | `ceil(command_count / 2)`, command `i` in bits `16 (i % 2)..` of word `i / 2`, zeroed | `atomic<u32>` |
 /// | `wave_offsets` | per counter: first wave command | `u32` |
 /// | `waves` | wave commands, pass-major | [`WaveCommand`] |
 /// | `passes` | `P`, the shading passes' indirect arguments | [`PassDispatch`] |
-/// | `totals` | `wave_count` | [`Totals`] |
+/// | `totals` | phase 2's `counter_count` (read); `command_count`, `wave_count` | [`Totals`] |
 /// | `stats` | zeroed | [`PixelStats`] as `array<atomic<u32>, 8>` |
 ///
 /// | `wave_scratch` | [`wave_scratch_words`], zeroed | `atomic<u32>` |
 /// | `slots` | phase 2's | `vec4<u32>` |
 /// | `mid_stats` | phase 2's `stats` | [`PixelStats`] |
 ///
-/// With a validity mask (the mixed frame: the mask changed since phase 2),
+/// `pixel_offsets_pass` (one workgroup; part of the CPU twin's mid classify, here where
+/// the counts are plain loads: the atomic loads waited for each other) writes
+/// `pixel_offsets` and `totals.command_count`. With a validity mask (the mixed frame: the
+/// mask changed since phase 2),
 /// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
 /// `stats`, then `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a
 /// workgroup) clamps `final_counts` to the counts, sums waves per entry, block and pass
 /// into `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
 /// `totals.wave_count`. Without one the final counts are the counts, so one dispatch,
-/// `scatter_entry_waves`, does both: its first workgroups (one per 32x32 block) write each
-/// pixel's command at the slot phase 2 recorded, the others `entry_waves`' work. Then
+/// `scatter_entry_waves`, does both: its first workgroups `entry_waves`' work (first, so
+/// their last workgroup's scan overlaps the rest), the others (one per 32x32 block) each
+/// pixel's command at the slot phase 2 recorded. Then
 /// `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes
 /// `wave_offsets` and `waves`, and without a validity mask `stats`: phase 2's, with
 /// commands that found no room moved to dropped.
@@ -338,7 +340,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
             KEYED_BINDINGS,
             [
                 Binding::new("counts", Kind::read(4)),
-                Binding::new("pixel_offsets", Kind::read(4)),
+                Binding::new("pixel_offsets", Kind::read_write(4)),
                 Binding::new("final_counts", Kind::read_write(4)),
                 Binding::new("commands", Kind::read_write(4)),
                 Binding::new("wave_offsets", Kind::read_write(4)),
@@ -353,11 +355,12 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
         ),
     }],
     entries: &[
+        Entry::once("pixel_offsets_pass", 256),
         Entry::grid("write_commands", 16, 16, quads_with_validity),
         Entry::items("entry_waves", ENTRY_BLOCK, |p| {
             if has_validity(p) { entries(p) } else { 0 }
         }),
-        // A workgroup per 32x32 block, then one per ENTRY_BLOCK entries.
+        // A workgroup per ENTRY_BLOCK entries, then one per 32x32 block.
         Entry::items("scatter_entry_waves", 256, |p| {
             if has_validity(p) {
                 0

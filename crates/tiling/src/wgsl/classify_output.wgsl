@@ -1,5 +1,7 @@
 // tiling: phase 3, classify output (Rust twin: tiling::classify_output). Entry points, in
 // this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
+//   pixel_offsets_pass   the counts' prefix sum (one workgroup; the CPU twin's mid
+//                        classify has it, here the counts are plain loads)
 //   write_commands       pixel (or quad) commands, with a validity mask (the mixed frame)
 //   entry_waves          then final counts, waves per (tile, pass) entry and block, pass
 //                        dispatches (with a validity mask)
@@ -16,9 +18,9 @@
 // output comes out wrong): a plain store instead of the packed `atomicOr`.
 // Per counter: room for commands, phase 2's counts.
 @group(0) @binding(6) var<storage, read> counts: array<u32>;
-// Per counter: first command (phase 2).
-@group(0) @binding(7) var<storage, read> pixel_offsets: array<u32>;
-// Per counter: commands written (clamped to `counts` by wave_offsets_pass). Zero first.
+// Per counter: first command, the exclusive prefix sum of the counts (pixel_offsets_pass).
+@group(0) @binding(7) var<storage, read_write> pixel_offsets: array<u32>;
+// Per counter: commands written (clamped to `counts` by entry_waves). Zero first.
 @group(0) @binding(8) var<storage, read_write> final_counts: array<atomic<u32>>;
 // The 16-bit commands, two per word (command i: bits 16 (i % 2) of word i / 2). Zero first.
 @group(0) @binding(9) var<storage, read_write> commands: array<atomic<u32>>;
@@ -28,7 +30,7 @@
 @group(0) @binding(11) var<storage, read_write> waves: array<TilingWaveCommand>;
 // Per pass: the shading dispatch.
 @group(0) @binding(12) var<storage, read_write> passes: array<TilingPassDispatch>;
-// wave_count (written by wave_offsets_pass).
+// command_count (written by pixel_offsets_pass), wave_count (by entry_waves).
 @group(0) @binding(13) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of write_commands. Zero first.
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
@@ -52,6 +54,60 @@ fn tiling_counter_add(c: u32, n: u32) -> u32 {
 // The first counter of (tile, pass) entry e (keyed.wgsl).
 fn tiling_counter_offset(e: u32) -> u32 {
     return counter_offsets[e];
+}
+
+// Counter i's count, 0 past the buffer.
+fn tiling_count(i: u32) -> u32 {
+    if (i >= arrayLength(&counts)) {
+        return 0u;
+    }
+    return counts[i];
+}
+
+// The sum of the counts [r.x, r.y), four loads in flight at a time (a loop of one load an
+// iteration waits for each).
+fn tiling_count_sum(r: vec2<u32>) -> u32 {
+    var sum = 0u;
+    var i = r.x;
+    for (; i + 4u <= r.y; i += 4u) {
+        sum += tiling_count(i) + tiling_count(i + 1u) + tiling_count(i + 2u) + tiling_count(i + 3u);
+    }
+    for (; i < r.y; i++) {
+        sum += tiling_count(i);
+    }
+    return sum;
+}
+
+fn tiling_put_pixel_offset(i: u32, v: u32) {
+    if (i < arrayLength(&pixel_offsets)) {
+        pixel_offsets[i] = v;
+    }
+}
+
+// One workgroup: pixel_offsets and totals.command_count from the counts (each invocation a
+// contiguous run of counters).
+@compute @workgroup_size(256)
+fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
+    let n = min(totals.counter_count, arrayLength(&counts));
+    let r = tiling_wg_range(li, n);
+    let scan = tiling_wg_scan(li, tiling_count_sum(r));
+    var run = scan.x;
+    var i = r.x;
+    for (; i + 4u <= r.y; i += 4u) {
+        let c = vec4<u32>(tiling_count(i), tiling_count(i + 1u), tiling_count(i + 2u), tiling_count(i + 3u));
+        tiling_put_pixel_offset(i, run);
+        tiling_put_pixel_offset(i + 1u, run + c.x);
+        tiling_put_pixel_offset(i + 2u, run + c.x + c.y);
+        tiling_put_pixel_offset(i + 3u, run + c.x + c.y + c.z);
+        run += c.x + c.y + c.z + c.w;
+    }
+    for (; i < r.y; i++) {
+        tiling_put_pixel_offset(i, run);
+        run += tiling_count(i);
+    }
+    if (li == 0u) {
+        totals.command_count = scan.y;
+    }
 }
 
 // Whether the frame has a validity mask (the mixed frame): then write_commands classifies
@@ -356,8 +412,10 @@ fn entry_waves(
 }
 
 // Without a validity mask the final counts are mid classify's counts, so the entries' waves
-// need not wait for the commands: scatter_commands' workgroups (first) and entry_waves'
-// (after them) in one dispatch, one pass fewer. Workgroups in rows (Dispatch::Items).
+// need not wait for the commands: entry_waves' workgroups and scatter_commands' in one
+// dispatch, one pass fewer. entry_waves' come first: workgroups start roughly in order, so
+// its last workgroup's scan runs while the scatter's do, not after them. Workgroups in rows
+// (Dispatch::Items).
 @compute @workgroup_size(256)
 fn scatter_entry_waves(
     @builtin(workgroup_id) wid: vec3<u32>,
@@ -365,13 +423,14 @@ fn scatter_entry_waves(
     @builtin(local_invocation_index) li: u32,
 ) {
     let g = wid.y * groups.x + wid.x;
+    let entry_blocks = tiling_entry_blocks();
     let scatter = tiling_scatter_groups();
-    let s = scatter.x * scatter.y;
-    if (g < s) {
-        let w = vec3<u32>(g % scatter.x, g / scatter.x, 0u);
+    if (g < entry_blocks) {
+        tiling_entry_waves(g, entry_blocks, li);
+    } else if (g - entry_blocks < scatter.x * scatter.y) {
+        let s = g - entry_blocks;
+        let w = vec3<u32>(s % scatter.x, s / scatter.x, 0u);
         tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w, li);
-    } else if (g - s < tiling_entry_blocks()) {
-        tiling_entry_waves(g - s, tiling_entry_blocks(), li);
     }
 }
 

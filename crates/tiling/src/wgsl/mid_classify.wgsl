@@ -1,8 +1,9 @@
-// tiling: phase 2, mid classify (Rust twin: tiling::mid_classify). Three entry points, in
+// tiling: phase 2, mid classify (Rust twin: tiling::mid_classify). Two entry points, in
 // this order (dispatches and zeroed buffers: `tiling::MID_CLASSIFY`):
 //   counter_offsets_pass  prefix sums of popcount(masks) per block of entries, and of blocks
 //   count_pixels          counts, vertex cull buffer, records, the final counter offsets
-//   pixel_offsets_pass    prefix sum of the counts
+// (The counts' prefix sum, the pixel offsets, is classify output's first entry point,
+// where the counts are plain loads.)
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
 #import wave::append
@@ -11,25 +12,23 @@
 // output comes out wrong): no vertex-cull atomics, or no index reads at all.
 // Per counter: commands counted (pixels, or VRS samples). Zero before count_pixels.
 @group(0) @binding(6) var<storage, read_write> counts: array<atomic<u32>>;
-// Per counter: first pixel command, the exclusive prefix sum of the counts.
-@group(0) @binding(7) var<storage, read_write> pixel_offsets: array<u32>;
 // One byte per 64-vertex chunk, four per word (chunk c: byte c % 4 of word c / 4).
 // Zero before count_pixels.
-@group(0) @binding(8) var<storage, read_write> vertex_cull: array<atomic<u32>>;
+@group(0) @binding(7) var<storage, read_write> vertex_cull: array<atomic<u32>>;
 // The shared index buffer: three indices per triangle, local to the geometry.
-@group(0) @binding(9) var<storage, read> indices: array<u32>;
-// counter_count (written by counter_offsets), command_count (by pixel_offsets).
-@group(0) @binding(10) var<storage, read_write> totals: TilingTotals;
+@group(0) @binding(8) var<storage, read> indices: array<u32>;
+// counter_count (written by counter_offsets_pass).
+@group(0) @binding(9) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of count_pixels. Zero before count_pixels.
-@group(0) @binding(11) var<storage, read_write> stats: array<atomic<u32>, 8>;
+@group(0) @binding(10) var<storage, read_write> stats: array<atomic<u32>, 8>;
 // counter_offsets_pass' sums (layout above tiling_counter_offset). Zero first.
-@group(0) @binding(13) var<storage, read_write> offset_scratch: array<atomic<u32>>;
+@group(0) @binding(12) var<storage, read_write> offset_scratch: array<atomic<u32>>;
 
 // Per 2x2 quad, row-major over ceil(width / 2) x ceil(height / 2): its pixels' records
 // (TILING_RECORD_*, tiling::pixel), pixel k in component k, for classify output. One
 // 16-byte store per invocation: four scalar stores two words apart cost 5x the bytes'
 // time on the H200 (partial sectors).
-@group(0) @binding(12) var<storage, read_write> slots: array<vec4<u32>>;
+@group(0) @binding(11) var<storage, read_write> slots: array<vec4<u32>>;
 
 fn tiling_put_records(gid: vec3<u32>, records: vec4<u32>) {
 #if timing_omit_records
@@ -327,26 +326,5 @@ fn count_pixels(
         if (v != 0u) {
             atomicAdd(&stats[li], v);
         }
-    }
-}
-
-@compute @workgroup_size(256)
-fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
-    let n = min(totals.counter_count, arrayLength(&counts));
-    let r = tiling_wg_range(li, n);
-    var sum = 0u;
-    for (var i = r.x; i < r.y; i++) {
-        sum += atomicLoad(&counts[i]);
-    }
-    let scan = tiling_wg_scan(li, sum);
-    var run = scan.x;
-    for (var i = r.x; i < r.y; i++) {
-        if (i < arrayLength(&pixel_offsets)) {
-            pixel_offsets[i] = run;
-        }
-        run += atomicLoad(&counts[i]);
-    }
-    if (li == 0u) {
-        totals.command_count = scan.y;
     }
 }
