@@ -184,9 +184,9 @@ impl Classify {
     }
 
     /// [`record_zero`](Self::record_zero)'s dispatches in `pass`: the compute laydown
-    /// records them at the start of its raster pass, whose work they share no buffer
-    /// with, so they run beside it (they must precede its unpack, which finalises the
-    /// laydown into the zeroed masks).
+    /// records them after the large triangles' dispatch in its pass, whose work they
+    /// share no buffer with, so they run on the SMs its last workgroups leave idle (they
+    /// must precede its unpack, which finalises the laydown into the zeroed masks).
     pub(crate) fn record_zero_in(&self, pass: &mut wgpu::ComputePass<'_>, f: &FrameContext<'_>) {
         let b = &f.scene.classification;
         if let Some((group, words)) = &b.zero_group {

@@ -673,9 +673,11 @@ impl ComputeLaydown {
         })
     }
 
-    /// Records the laydown: clear target and lists, `before_raster`'s dispatches and the
-    /// raster in one pass (timed "laydown"), the
-    /// large triangles ("laydown large"), the hardware part ("laydown hybrid"), with
+    /// Records the laydown: clear target and lists, the raster in one pass (timed
+    /// "laydown"), the large triangles ("laydown large") and after them, in the same pass,
+    /// `beside_raster`'s dispatches (which must share no buffer with the raster: they run
+    /// on the SMs the large triangles' last workgroups leave idle; in the small triangles'
+    /// pass where there is no large pass), the hardware part ("laydown hybrid"), with
     /// `depth_target` the depth target's conversion ("laydown target"), then the unpack
     /// ("laydown unpack": words, vis texture, float depth; no vis copy follows).
     /// Returns false, recording nothing, where the scene or the renderer has no compute
@@ -686,7 +688,7 @@ impl ComputeLaydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
         depth_target: bool,
-        before_raster: impl FnOnce(&mut wgpu::ComputePass<'_>),
+        beside_raster: impl FnOnce(&mut wgpu::ComputePass<'_>),
     ) -> bool {
         let (Some(g), Some(target), Some(groups)) = (
             &f.scene.compute_laydown,
@@ -698,6 +700,8 @@ impl ComputeLaydown {
         let Ok(unpack) = self.unpack.step("unpack") else {
             return false;
         };
+        let large = self.raster.step("raster_large");
+        let mut beside_raster = Some(beside_raster);
         if let TargetResource::Buffer(target) = target {
             encoder.clear_buffer(target, 0, None);
         }
@@ -709,14 +713,18 @@ impl ComputeLaydown {
                 label: Some("compute laydown"),
                 timestamp_writes: timer.compute("laydown"),
             });
-            before_raster(&mut pass);
             if g.items > 0 {
                 self.raster
                     .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);
             }
+            if (g.items == 0 || large.is_err())
+                && let Some(beside) = beside_raster.take()
+            {
+                beside(&mut pass);
+            }
         }
         if g.items > 0
-            && let Ok(large) = self.raster.step("raster_large")
+            && let Ok(large) = large
         {
             encoder.copy_buffer_to_buffer(&g.large, 0, &g.large_dispatch, 0, 12);
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -727,6 +735,9 @@ impl ComputeLaydown {
             pass.set_bind_group(1, &g.raster[1], &[]);
             pass.set_pipeline(&large.pipeline);
             pass.dispatch_workgroups_indirect(&g.large_dispatch, 0);
+            if let Some(beside) = beside_raster.take() {
+                beside(&mut pass);
+            }
         }
         // The hybrid part neither tests nor writes the attachment (loading it is cheap,
         // clearing it cost 0.6 ms at 4K on the H200); the conversion writes every pixel.
