@@ -379,7 +379,8 @@ impl Pipelines {
         match what {
             Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown => {
                 // The compute laydown's unpack finalises the laydown into the masks, which
-                // the classification's zero fill clears beside its raster.
+                // the classification's zero fill clears beside its raster (after the large
+                // triangles, in their pass).
                 let classifies = what == Recording::Deferred;
                 let compute = f.compute_laydown
                     && !late
