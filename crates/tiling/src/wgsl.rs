@@ -199,12 +199,6 @@ fn entries(p: &TilingParams) -> u32 {
 /// its counters' waves (WGSL `TILING_WAVE_ENTRY_LANES`).
 pub const WAVE_ENTRY_LANES: u32 = 32;
 
-/// (tile, pass) entries of one `write_waves` workgroup, a run within one [`ENTRY_BLOCK`]
-/// (it divides it): the workgroup compacts the non-empty ones and gives each
-/// [`WAVE_ENTRY_LANES`] invocations (WGSL `TILING_WAVE_BLOCK_ENTRIES`).
-pub const WAVE_BLOCK_ENTRIES: u32 = 64;
-const _: () = assert!(ENTRY_BLOCK.is_multiple_of(WAVE_BLOCK_ENTRIES));
-
 /// (tile, pass) entries a workgroup of the block scans sums (`counter_offsets_pass`,
 /// `entry_waves`; WGSL `TILING_ENTRY_BLOCK`).
 pub const ENTRY_BLOCK: u32 = 256;
@@ -332,8 +326,7 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// `scatter_entry_waves`, does both: its first workgroups `entry_waves`' work (first, so
 /// their last workgroup's scan overlaps the rest), the others (one per 32x32 block) each
 /// pixel's command at the slot phase 2 recorded. Then
-/// `write_waves` ([`WAVE_BLOCK_ENTRIES`] entries a workgroup, [`WAVE_ENTRY_LANES`]
-/// invocations for each non-empty one) writes
+/// `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes
 /// `wave_offsets` and `waves`, and without a validity mask `stats`: phase 2's, with
 /// commands that found no room moved to dropped.
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
@@ -376,9 +369,9 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 256 * (x.div_ceil(16) * y.div_ceil(16) + entries(p).div_ceil(ENTRY_BLOCK))
             }
         }),
-        // WAVE_BLOCK_ENTRIES entries a workgroup, in rows of MAX_WORKGROUPS_X workgroups.
+        // WAVE_ENTRY_LANES invocations per entry, in rows of MAX_WORKGROUPS_X workgroups.
         Entry::grid("write_waves", 256, 1, |p| {
-            let groups = entries(p).div_ceil(WAVE_BLOCK_ENTRIES);
+            let groups = entries(p).div_ceil(256 / WAVE_ENTRY_LANES);
             [
                 256 * groups.min(shader::MAX_WORKGROUPS_X),
                 groups.div_ceil(shader::MAX_WORKGROUPS_X),
@@ -492,7 +485,6 @@ mod tests {
             ("TILING_WAVE_GROUP_SHIFT", WAVE_GROUP_SHIFT),
             ("TILING_COMMAND_BITS", u16::BITS),
             ("TILING_WAVE_ENTRY_LANES", WAVE_ENTRY_LANES),
-            ("TILING_WAVE_BLOCK_ENTRIES", WAVE_BLOCK_ENTRIES),
             ("TILING_NONE", u32::MAX),
             (
                 "TILING_STAT_VALID",

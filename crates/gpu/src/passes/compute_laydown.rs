@@ -674,10 +674,10 @@ impl ComputeLaydown {
     }
 
     /// Records the laydown: clear target and lists, the raster in one pass (timed
-    /// "laydown"), the large triangles ("laydown large"), in whose pass `beside_raster`'s
-    /// dispatches come first (they must share no buffer with the raster, so they run beside
-    /// the long large-triangle dispatch; in the small triangles' pass where there is no
-    /// large pass), the hardware part ("laydown hybrid"), with
+    /// "laydown"), the large triangles ("laydown large") and after them, in the same pass,
+    /// `beside_raster`'s dispatches (which must share no buffer with the raster: they run
+    /// on the SMs the large triangles' last workgroups leave idle; in the small triangles'
+    /// pass where there is no large pass), the hardware part ("laydown hybrid"), with
     /// `depth_target` the depth target's conversion ("laydown target"), then the unpack
     /// ("laydown unpack": words, vis texture, float depth; no vis copy follows).
     /// Returns false, recording nothing, where the scene or the renderer has no compute
@@ -731,13 +731,13 @@ impl ComputeLaydown {
                 label: Some("compute laydown, large triangles"),
                 timestamp_writes: timer.compute("laydown large"),
             });
-            if let Some(beside) = beside_raster.take() {
-                beside(&mut pass);
-            }
             pass.set_bind_group(0, &g.raster[0], &[]);
             pass.set_bind_group(1, &g.raster[1], &[]);
             pass.set_pipeline(&large.pipeline);
             pass.dispatch_workgroups_indirect(&g.large_dispatch, 0);
+            if let Some(beside) = beside_raster.take() {
+                beside(&mut pass);
+            }
         }
         // The hybrid part neither tests nor writes the attachment (loading it is cheap,
         // clearing it cost 0.6 ms at 4K on the H200); the conversion writes every pixel.

@@ -434,25 +434,61 @@ fn scatter_entry_waves(
     }
 }
 
-// write_waves takes TILING_WAVE_BLOCK_ENTRIES (tile, pass) entries a workgroup, a run of
-// pass-major entries within one block of TILING_ENTRY_BLOCK. Most entries are empty at
-// many passes (83 000 at 163 passes, most without a counter), so the workgroup compacts
-// the non-empty ones and gives each TILING_WAVE_ENTRY_LANES invocations, 256 /
-// TILING_WAVE_ENTRY_LANES at a time.
+// write_waves' entries per workgroup of 256 (TILING_WAVE_ENTRY_LANES each). A workgroup per
+// entry launched 84 us of mostly empty workgroups at 163 passes on the H200.
+const TILING_WAVE_ENTRIES: u32 = 256u / TILING_WAVE_ENTRY_LANES;
 
-// The workgroup's non-empty entries (their index in the run) and each entry's first wave.
-var<workgroup> tiling_wg_live: array<u32, TILING_WAVE_BLOCK_ENTRIES>;
-var<workgroup> tiling_wg_live_count: atomic<u32>;
-var<workgroup> tiling_wg_live_total: u32;
-var<workgroup> tiling_wg_first_wave: array<u32, TILING_WAVE_BLOCK_ENTRIES>;
+// Per entry of the workgroup: the waves of its block's earlier entries.
+var<workgroup> tiling_wg_before: array<atomic<u32>, TILING_WAVE_ENTRIES>;
 
-// Pass-major entry q's wave offsets and wave commands from its first wave `first`, the
-// TILING_WAVE_ENTRY_LANES lanes (this one `lane`) striding over each counter's waves.
-fn tiling_write_entry_waves(q: u32, first_wave: u32, lane: u32) {
+// TILING_WAVE_ENTRY_LANES lanes per pass-major entry: its counters' wave offsets and wave
+// commands, the lanes striding over each counter's waves.
+@compute @workgroup_size(256)
+fn write_waves(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
     let tiles = params.tiles_x * params.tiles_y;
-    let e = tiling_entry_of(q);
-    var bits = masks[e];
-    var first = first_wave;
+    // Without a validity mask scatter_commands kept no stats but its lost commands: the
+    // rest are mid classify's (no index reads in this phase).
+    if (!tiling_has_validity() && wid.x == 0u && wid.y == 0u && li == 0u) {
+        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
+        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
+            atomicStore(&stats[f], mid_stats[f]);
+        }
+        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
+        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
+        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
+    }
+    let sub = li / TILING_WAVE_ENTRY_LANES;
+    let lane = li % TILING_WAVE_ENTRY_LANES;
+    let q = (wid.y * groups.x + wid.x) * TILING_WAVE_ENTRIES + sub;
+    var bits = 0u;
+    var e = 0u;
+    if (q < min(tiling_entry_count(), arrayLength(&masks))) {
+        e = tiling_entry_of(q);
+        bits = masks[e];
+    }
+    if (li < TILING_WAVE_ENTRIES) {
+        atomicStore(&tiling_wg_before[li], 0u);
+    }
+    workgroupBarrier();
+    // The entry's first wave: its block's, plus the waves of the block's earlier entries.
+    var before = 0u;
+    if (bits != 0u) {
+        for (var j = q - q % TILING_ENTRY_BLOCK + lane; j < q; j += TILING_WAVE_ENTRY_LANES) {
+            before += tiling_scratch_load(TILING_SCRATCH_ENTRIES + j);
+        }
+    }
+    if (before != 0u) {
+        atomicAdd(&tiling_wg_before[sub], before);
+    }
+    workgroupBarrier();
+    if (bits == 0u) {
+        return;
+    }
+    var first = atomicLoad(&tiling_wg_before[sub]) + tiling_scratch_load(tiling_scratch_blocks() + q / TILING_ENTRY_BLOCK);
     let t = q % tiles;
     let p = q / tiles;
     let tile = (t % params.tiles_x) | ((t / params.tiles_x) << TILING_WAVE_TILE_Y_SHIFT);
@@ -480,56 +516,5 @@ fn tiling_write_entry_waves(q: u32, first_wave: u32, lane: u32) {
             first += n;
         }
         c += 1u;
-    }
-}
-
-// TILING_WAVE_BLOCK_ENTRIES pass-major entries a workgroup: each non-empty entry's first
-// wave (its block's, plus a workgroup scan of the waves of the block's entries up to the
-// run's end), then its counters' wave offsets and wave commands.
-@compute @workgroup_size(256)
-fn write_waves(
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
-    // Without a validity mask scatter_commands kept no stats but its lost commands: the
-    // rest are mid classify's (no index reads in this phase).
-    if (!tiling_has_validity() && wid.x == 0u && wid.y == 0u && li == 0u) {
-        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
-        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
-            atomicStore(&stats[f], mid_stats[f]);
-        }
-        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
-        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
-        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
-    }
-    let n = min(tiling_entry_count(), arrayLength(&masks));
-    let q0 = (wid.y * groups.x + wid.x) * TILING_WAVE_BLOCK_ENTRIES;
-    // Invocation li holds the waves of the block's entry li, up to the run's end.
-    let j = q0 - q0 % TILING_ENTRY_BLOCK + li;
-    var waves_j = 0u;
-    if (j < q0 + TILING_WAVE_BLOCK_ENTRIES && j < n) {
-        waves_j = tiling_scratch_load(TILING_SCRATCH_ENTRIES + j);
-    }
-    if (li == 0u) {
-        atomicStore(&tiling_wg_live_count, 0u);
-    }
-    // The scan's barriers order the count's reset before the appends.
-    let before = tiling_wg_scan(li, waves_j).x;
-    if (j >= q0 && j < q0 + TILING_WAVE_BLOCK_ENTRIES && j < n && masks[tiling_entry_of(j)] != 0u) {
-        let k = atomicAdd(&tiling_wg_live_count, 1u);
-        tiling_wg_live[k] = j - q0;
-        tiling_wg_first_wave[j - q0] = before + tiling_scratch_load(tiling_scratch_blocks() + j / TILING_ENTRY_BLOCK);
-    }
-    workgroupBarrier();
-    if (li == 0u) {
-        tiling_wg_live_total = atomicLoad(&tiling_wg_live_count);
-    }
-    let live = workgroupUniformLoad(&tiling_wg_live_total);
-    let sub = li / TILING_WAVE_ENTRY_LANES;
-    let lane = li % TILING_WAVE_ENTRY_LANES;
-    for (var k = sub; k < live; k += 256u / TILING_WAVE_ENTRY_LANES) {
-        let r = tiling_wg_live[k];
-        tiling_write_entry_waves(q0 + r, tiling_wg_first_wave[r], lane);
     }
 }

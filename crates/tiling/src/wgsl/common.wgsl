@@ -34,9 +34,6 @@ const TILING_ENTRY_BLOCK: u32 = 256u;
 const TILING_SCRATCH_ENTRIES: u32 = 4u;
 // Invocations of classify output's write_waves per (tile, pass) entry.
 const TILING_WAVE_ENTRY_LANES: u32 = 32u;
-// (tile, pass) entries a workgroup of classify output's write_waves takes (it divides
-// TILING_ENTRY_BLOCK).
-const TILING_WAVE_BLOCK_ENTRIES: u32 = 64u;
 // "No key / no value": larger than any valid key, index or count.
 const TILING_NONE: u32 = 0xffffffffu;
 
