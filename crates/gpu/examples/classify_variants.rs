@@ -16,6 +16,7 @@ enum SceneArg {
     Forest,
     Grass,
     Hillside,
+    HillsideGrass,
 }
 
 /// Time the classification's phases with parts of their WGSL switched off.
@@ -54,6 +55,7 @@ fn main() -> anyhow::Result<()> {
             SceneArg::Forest => DemoScene::Forest,
             SceneArg::Grass => DemoScene::Grass,
             SceneArg::Hillside => DemoScene::Hillside,
+            SceneArg::HillsideGrass => DemoScene::HillsideGrass,
         },
         ..DemoOptions::default()
     });
