@@ -156,8 +156,14 @@ fn quads(p: &TilingParams) -> [u32; 2] {
     [p.width.div_ceil(2), p.height.div_ceil(2)]
 }
 
-/// A 16x16 workgroup per 32x32 block of the vis buffer, an invocation per 2x2 quad (WGSL
-/// `TILING_BLOCK_SIZE`, `tiling_quad_pixel`).
+/// Pixels across the square block of one 16x16 workgroup of the pixel phases and of laydown
+/// finalise, four an invocation (WGSL `TILING_BLOCK_SIZE`, `tiling_block_tile`): a block
+/// lies in one tile. A pass that finalises the laydown itself (`gpu`'s unpack) dispatches
+/// one workgroup per block.
+pub const BLOCK_SIZE: u32 = 32;
+
+/// A 16x16 workgroup per [`BLOCK_SIZE`] block of the vis buffer, an invocation per 2x2
+/// quad (WGSL `tiling_quad_pixel`).
 const fn per_quad(name: &'static str) -> Entry<TilingParams> {
     Entry::grid(name, 16, 16, quads)
 }
@@ -485,6 +491,7 @@ mod tests {
             ("TILING_WAVE_GROUP_SHIFT", WAVE_GROUP_SHIFT),
             ("TILING_COMMAND_BITS", u16::BITS),
             ("TILING_WAVE_ENTRY_LANES", WAVE_ENTRY_LANES),
+            ("TILING_BLOCK_SIZE", BLOCK_SIZE),
             ("TILING_NONE", u32::MAX),
             (
                 "TILING_STAT_VALID",

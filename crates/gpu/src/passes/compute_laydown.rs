@@ -6,8 +6,8 @@
 //! compute pass that unpacks the target into what the rest of the frame reads: the vis
 //! words, the vis texture and the float depth, finalising the laydown for the
 //! classification on the way (`tiling::finalize`'s masks; the classification's zero fill
-//! runs beside the raster, after the large triangles in their pass). Frames whose later raster passes test
-//! against the depth target (the stencil light volumes, the mixed frame's regular pass, the
+//! runs beside the raster, after the large triangles in their pass). Frames whose later
+//! raster passes test against the depth target (the stencil light volumes, the mixed frame's regular pass, the
 //! water) also get it, from a full-screen raster pass over the unpacked float depth: 1.05 ms
 //! of fill at 4K on the H200, which every other frame skips.
 //!
@@ -342,9 +342,10 @@ pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
             ],
         },
     ],
-    // Four pixels an invocation: a 16x16 workgroup per 32x32 block.
+    // Four pixels an invocation: a 16x16 workgroup per tiling block.
     entries: &[Entry::grid("unpack", 16, 16, |[w, h]| {
-        [w.div_ceil(32) * 16, h.div_ceil(32) * 16]
+        let blocks = |n: u32| n.div_ceil(tiling::wgsl::BLOCK_SIZE) * 16;
+        [blocks(*w), blocks(*h)]
     })],
     zeroed: &["masks"],
 };

@@ -67,12 +67,13 @@ fn unpack_store(p: vec2<u32>, size: vec2<u32>, t: vec2<u32>) -> u32 {
     return tiling_finalize_key(p, word);
 }
 
-// A 16x16 workgroup covers a 32x32 block of one 128x128 tile (tiling::finalize's rule,
-// tiling's pixel-phase blocks), an invocation the four pixels 16 apart in x and y: four
-// loads in flight (all loads before any store: the compiler may not move a load of one
-// binding past a store to another), a quarter of the workgroups, barriers and mask
-// flushes, and each store instruction of a subgroup still covers whole rows of 16
-// neighbouring pixels (2x2 quads per invocation cost 1.7x the time: the texture stores).
+// A 16x16 workgroup covers a TILING_BLOCK_SIZE block of one 128x128 tile (tiling::finalize's
+// rule, tiling's pixel-phase blocks), an invocation the four pixels half a block apart in x
+// and y: four loads in flight (the buffer target's loads all before any store: the compiler
+// may not move a load of one binding past a store to another; the texture target's reset
+// store follows each load), a quarter of the workgroups, barriers and mask flushes, and
+// each store instruction of a subgroup still covers whole rows of 16 neighbouring pixels
+// (2x2 quads per invocation cost 1.7x the time: the texture stores).
 @compute @workgroup_size(16, 16)
 fn unpack(
     @builtin(local_invocation_id) lid: vec3<u32>,
@@ -81,10 +82,11 @@ fn unpack(
 ) {
     tiling_finalize_begin(li);
     let size = textureDimensions(depth_float);
-    let p0 = 32u * wid.xy + lid.xy;
-    let p1 = p0 + vec2<u32>(16u, 0u);
-    let p2 = p0 + vec2<u32>(0u, 16u);
-    let p3 = p0 + vec2<u32>(16u, 16u);
+    let half = TILING_BLOCK_SIZE / 2u;
+    let p0 = TILING_BLOCK_SIZE * wid.xy + lid.xy;
+    let p1 = p0 + vec2<u32>(half, 0u);
+    let p2 = p0 + vec2<u32>(0u, half);
+    let p3 = p0 + vec2<u32>(half, half);
     let t0 = unpack_load(p0, size);
     let t1 = unpack_load(p1, size);
     let t2 = unpack_load(p2, size);
@@ -99,5 +101,5 @@ fn unpack(
     tiling_finalize_mark(k2);
     tiling_finalize_mark(k3);
     workgroupBarrier();
-    tiling_finalize_flush(li, (wid.y * 32u / TILING_TILE_SIZE) * params.tiles_x + wid.x * 32u / TILING_TILE_SIZE);
+    tiling_finalize_flush(li, tiling_block_tile(wid));
 }

@@ -32,6 +32,9 @@ const TILING_COMMAND_BITS: u32 = 16u;
 // their scratch buffers (a workgroup counter, pad).
 const TILING_ENTRY_BLOCK: u32 = 256u;
 const TILING_SCRATCH_ENTRIES: u32 = 4u;
+// Pixels across the square block a 16x16 workgroup of the pixel phases, laydown finalise and
+// gpu's unpack covers (four pixels an invocation; a block lies in one tile).
+const TILING_BLOCK_SIZE: u32 = 32u;
 // Invocations of classify output's write_waves per (tile, pass) entry.
 const TILING_WAVE_ENTRY_LANES: u32 = 32u;
 // "No key / no value": larger than any valid key, index or count.

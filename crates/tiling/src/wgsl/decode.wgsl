@@ -12,6 +12,12 @@
 // The MicroBatchInfoTable, indexed by micro-batch ID.
 @group(0) @binding(3) var<storage, read> table: array<TilingMicroBatchInfo>;
 
+// The tile of the TILING_BLOCK_SIZE block that workgroup `wid` covers (the pixel phases'
+// and laydown finalise's workgroups: a block lies in one tile).
+fn tiling_block_tile(wid: vec3<u32>) -> u32 {
+    return (wid.y * TILING_BLOCK_SIZE / TILING_TILE_SIZE) * params.tiles_x + wid.x * TILING_BLOCK_SIZE / TILING_TILE_SIZE;
+}
+
 const TILING_PX_EMPTY: u32 = 0u;
 const TILING_PX_UNKNOWN: u32 = 1u;
 const TILING_PX_OUT_OF_RANGE: u32 = 2u;

@@ -7,15 +7,9 @@
 @group(0) @binding(1) var<storage, read> vis: array<u32>;
 
 // The pixel phases' workgroups: 16x16 invocations, each a 2x2 quad of pixels, so a
-// workgroup covers a 32x32 block of one 128x128 tile. Four pixels an invocation keep four
-// vis loads in flight and cut the workgroups (and their barriers) by four: the phases are
-// bound by latency, not bandwidth.
-const TILING_BLOCK_SIZE: u32 = 32u;
-
-// The tile of the block that workgroup `wid` covers.
-fn tiling_block_tile(wid: vec3<u32>) -> u32 {
-    return (wid.y * TILING_BLOCK_SIZE / TILING_TILE_SIZE) * params.tiles_x + wid.x * TILING_BLOCK_SIZE / TILING_TILE_SIZE;
-}
+// workgroup covers a TILING_BLOCK_SIZE block of one 128x128 tile (tiling_block_tile). Four
+// pixels an invocation keep four vis loads in flight and cut the workgroups (and their
+// barriers) by four: the phases are bound by latency, not bandwidth.
 
 // Pixel k (0..4: x = k % 2, y = k / 2) of invocation `gid`'s quad.
 fn tiling_quad_pixel(gid: vec3<u32>, k: u32) -> vec2<u32> {
