@@ -214,8 +214,8 @@ pub const ENTRY_BLOCK: u32 = 256;
 pub const SCRATCH_HEADER_WORDS: u32 = 4;
 
 /// Words of classify output's `wave_scratch` for `tiles` tiles and `passes` passes: a
-/// workgroup counter and three pad words, the waves of every (tile, pass) entry, one sum
-/// per [`ENTRY_BLOCK`] entries, the waves and the commands of every pass (WGSL
+/// workgroup counter and three pad words, each (tile, pass) entry's first wave within its
+/// block of [`ENTRY_BLOCK`] entries, one sum per block, the waves and the commands of every pass (WGSL
 /// `tiling_scratch_*`).
 #[must_use]
 pub const fn wave_scratch_words(tiles: u32, passes: u32) -> u32 {
@@ -326,8 +326,8 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// mask changed since phase 2),
 /// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
 /// `stats`, then `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a
-/// workgroup) clamps `final_counts` to the counts, sums waves per entry, block and pass
-/// into `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
+/// workgroup) clamps `final_counts` to the counts, writes each entry's first wave within its
+/// block and the sums per block and pass into `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
 /// `totals.wave_count`. Without one the final counts are the counts, so one dispatch,
 /// `scatter_entry_waves`, does both: its first workgroups `entry_waves`' work (first, so
 /// their last workgroup's scan overlaps the rest), the others (one per 32x32 block) each

@@ -237,9 +237,9 @@ fn tiling_counter_in_buffers(c: u32) -> bool {
 }
 
 // wave_scratch, in words (Rust: tiling::wgsl::wave_scratch_words): [0] workgroups done,
-// then per pass-major entry its waves, then per block of TILING_ENTRY_BLOCK entries their
-// sum (the last workgroup turns these into the blocks' first waves), then per pass its
-// waves and its commands.
+// then per pass-major entry its first wave within its block of TILING_ENTRY_BLOCK entries,
+// then per block its sum (the last workgroup turns these into the blocks' first waves), then
+// per pass its waves and its commands.
 
 fn tiling_entry_count() -> u32 {
     return params.tiles_x * params.tiles_y * params.pass_count;
@@ -361,7 +361,6 @@ fn tiling_entry_waves(block: u32, blocks: u32, li: u32) {
             }
             c += 1u;
         }
-        tiling_scratch_store(TILING_SCRATCH_ENTRIES + q, waves);
         let local = q / tiles - first_pass;
         if (waves != 0u) {
             atomicAdd(&tiling_wg_pass_waves[local], waves);
@@ -370,9 +369,13 @@ fn tiling_entry_waves(block: u32, blocks: u32, li: u32) {
             atomicAdd(&tiling_wg_pass_items[local], items);
         }
     }
-    let sum = tiling_wg_scan(li, waves).y;
+    // Each entry's first wave within its block (write_waves adds the block's first wave).
+    let in_block = tiling_wg_scan(li, waves);
+    if (q < n && tiles != 0u) {
+        tiling_scratch_store(TILING_SCRATCH_ENTRIES + q, in_block.x);
+    }
     if (li == 0u) {
-        tiling_scratch_store(tiling_scratch_blocks() + block, sum);
+        tiling_scratch_store(tiling_scratch_blocks() + block, in_block.y);
     }
     let my_pass = first_pass + li;
     if (my_pass < params.pass_count) {
@@ -438,9 +441,6 @@ fn scatter_entry_waves(
 // entry launched 84 us of mostly empty workgroups at 163 passes on the H200.
 const TILING_WAVE_ENTRIES: u32 = 256u / TILING_WAVE_ENTRY_LANES;
 
-// Per entry of the workgroup: the waves of its block's earlier entries.
-var<workgroup> tiling_wg_before: array<atomic<u32>, TILING_WAVE_ENTRIES>;
-
 // TILING_WAVE_ENTRY_LANES lanes per pass-major entry: its counters' wave offsets and wave
 // commands, the lanes striding over each counter's waves.
 @compute @workgroup_size(256)
@@ -470,25 +470,11 @@ fn write_waves(
         e = tiling_entry_of(q);
         bits = masks[e];
     }
-    if (li < TILING_WAVE_ENTRIES) {
-        atomicStore(&tiling_wg_before[li], 0u);
-    }
-    workgroupBarrier();
-    // The entry's first wave: its block's, plus the waves of the block's earlier entries.
-    var before = 0u;
-    if (bits != 0u) {
-        for (var j = q - q % TILING_ENTRY_BLOCK + lane; j < q; j += TILING_WAVE_ENTRY_LANES) {
-            before += tiling_scratch_load(TILING_SCRATCH_ENTRIES + j);
-        }
-    }
-    if (before != 0u) {
-        atomicAdd(&tiling_wg_before[sub], before);
-    }
-    workgroupBarrier();
     if (bits == 0u) {
         return;
     }
-    var first = atomicLoad(&tiling_wg_before[sub]) + tiling_scratch_load(tiling_scratch_blocks() + q / TILING_ENTRY_BLOCK);
+    // The entry's first wave: its block's plus its own within the block (entry_waves).
+    var first = tiling_scratch_load(TILING_SCRATCH_ENTRIES + q) + tiling_scratch_load(tiling_scratch_blocks() + q / TILING_ENTRY_BLOCK);
     let t = q % tiles;
     let p = q / tiles;
     let tile = (t % params.tiles_x) | ((t / params.tiles_x) << TILING_WAVE_TILE_Y_SHIFT);
