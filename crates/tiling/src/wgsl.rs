@@ -24,8 +24,8 @@
 //! keys; tiles with more than `TILING_HIST_LIMIT` (an `override`, 256) counters take that
 //! loop. Both give the same counts and, after [`canonical_sort`](crate::canonical_sort),
 //! the same commands. `count_pixels` records each pixel's slot, and without a validity
-//! mask classify output's `scatter_entry_waves` places the commands from those records
-//! (and, in the same dispatch, sums the entries' waves). The pixel phases count only the
+//! mask classify output's `scatter_write_waves` places the commands from those records
+//! (and, in the same dispatch, writes the wave commands). The pixel phases count only the
 //! rare stats per pixel; valid and empty pixels follow from the others at the flush.
 //! `count_pixels` reads a triangle's indices and marks its vertex chunks only with
 //! [`FLAG_VERTEX_CULL`](crate::classify::FLAG_VERTEX_CULL).
@@ -174,8 +174,8 @@ fn quads_with_validity(p: &TilingParams) -> [u32; 2] {
     if has_validity(p) { quads(p) } else { [0, 0] }
 }
 
-/// Whether the frame has a validity mask (`write_commands` and `entry_waves` run, else
-/// `scatter_entry_waves`).
+/// Whether the frame has a validity mask (classify output's four dispatches run, else its
+/// two).
 fn has_validity(p: &TilingParams) -> bool {
     p.flags & crate::classify::FLAG_VALIDITY != 0
 }
@@ -208,6 +208,11 @@ pub const WAVE_ENTRY_LANES: u32 = 32;
 /// (tile, pass) entries a workgroup of the block scans sums (`counter_offsets_pass`,
 /// `entry_waves`; WGSL `TILING_ENTRY_BLOCK`).
 pub const ENTRY_BLOCK: u32 = 256;
+
+/// Workgroups of classify output's write_waves: one per `256 / WAVE_ENTRY_LANES` entries.
+fn write_waves_groups(p: &TilingParams) -> u32 {
+    entries(p).div_ceil(256 / WAVE_ENTRY_LANES)
+}
 
 /// Words before the entries in `offset_scratch` and `wave_scratch`: a workgroup counter and
 /// pad (WGSL `TILING_SCRATCH_ENTRIES`).
@@ -322,19 +327,20 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 ///
 /// `pixel_offsets_pass` (one workgroup; part of the CPU twin's mid classify, here where
 /// the counts are plain loads: the atomic loads waited for each other) writes
-/// `pixel_offsets` and `totals.command_count`. With a validity mask (the mixed frame: the
-/// mask changed since phase 2),
-/// `write_commands` (per quad) classifies again and writes `final_counts`, `commands`,
-/// `stats`, then `entry_waves` (per (tile, pass) entry, pass-major, [`ENTRY_BLOCK`] a
-/// workgroup) clamps `final_counts` to the counts, writes each entry's first wave within its
-/// block and the sums per block and pass into `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
-/// `totals.wave_count`. Without one the final counts are the counts, so one dispatch,
-/// `scatter_entry_waves`, does both: its first workgroups `entry_waves`' work (first, so
-/// their last workgroup's scan overlaps the rest), the others (one per 32x32 block) each
-/// pixel's command at the slot phase 2 recorded. Then
-/// `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes
-/// `wave_offsets` and `waves`, and without a validity mask `stats`: phase 2's, with
-/// commands that found no room moved to dropped.
+/// `pixel_offsets` and `totals.command_count`. `entry_waves` (per (tile, pass) entry,
+/// pass-major, [`ENTRY_BLOCK`] a workgroup) clamps `final_counts` to the counts, writes each
+/// entry's first wave within its block and the sums per block and pass into
+/// `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
+/// `totals.wave_count`. `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a
+/// workgroup) writes `wave_offsets` and `waves`.
+///
+/// With a validity mask (the mixed frame: the mask changed since phase 2) four dispatches:
+/// `pixel_offsets_pass`, `write_commands` (per quad: classifies again and writes
+/// `final_counts`, `commands`, `stats`), `entry_waves`, `write_waves`. Without one the
+/// final counts are the counts, so two: `pixel_offsets_entry_waves` (`pixel_offsets_pass`'
+/// workgroup first, then `entry_waves`'; and `stats`: phase 2's) and `scatter_write_waves`
+/// (`write_waves`' workgroups, then one per 32x32 block placing each pixel's command at the
+/// slot phase 2 recorded; commands that find no room move from commands to dropped).
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
@@ -361,27 +367,37 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
         ),
     }],
     entries: &[
-        Entry::once("pixel_offsets_pass", 256),
+        // With a validity mask (the mixed frame) four dispatches:
+        Entry::items("pixel_offsets_pass", 256, |p| {
+            if has_validity(p) { 256 } else { 0 }
+        }),
         Entry::grid("write_commands", 16, 16, quads_with_validity),
         Entry::items("entry_waves", ENTRY_BLOCK, |p| {
             if has_validity(p) { entries(p) } else { 0 }
         }),
-        // A workgroup per ENTRY_BLOCK entries, then one per 32x32 block.
-        Entry::items("scatter_entry_waves", 256, |p| {
+        Entry::items("write_waves", 256, |p| {
+            if has_validity(p) {
+                256 * write_waves_groups(p)
+            } else {
+                0
+            }
+        }),
+        // Without one two: pixel_offsets_pass' workgroup, then one per ENTRY_BLOCK entries;
+        Entry::items("pixel_offsets_entry_waves", 256, |p| {
+            if has_validity(p) {
+                0
+            } else {
+                256 * (1 + entries(p).div_ceil(ENTRY_BLOCK))
+            }
+        }),
+        // write_waves' workgroups, then one per 32x32 block.
+        Entry::items("scatter_write_waves", 256, |p| {
             if has_validity(p) {
                 0
             } else {
                 let [x, y] = quads(p);
-                256 * (x.div_ceil(16) * y.div_ceil(16) + entries(p).div_ceil(ENTRY_BLOCK))
+                256 * (write_waves_groups(p) + x.div_ceil(16) * y.div_ceil(16))
             }
-        }),
-        // WAVE_ENTRY_LANES invocations per entry, in rows of MAX_WORKGROUPS_X workgroups.
-        Entry::grid("write_waves", 256, 1, |p| {
-            let groups = entries(p).div_ceil(256 / WAVE_ENTRY_LANES);
-            [
-                256 * groups.min(shader::MAX_WORKGROUPS_X),
-                groups.div_ceil(shader::MAX_WORKGROUPS_X),
-            ]
         }),
     ],
     zeroed: &["final_counts", "commands", "stats", "wave_scratch"],

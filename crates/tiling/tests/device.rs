@@ -354,7 +354,7 @@ fn gpu_passes_equal_the_cpu_twins() {
     // (tiling::wgsl::ENTRY_BLOCK): the blocks' first waves come from its last workgroup.
     for features in subgroup_variants() {
         // With a validity mask entry_waves alone, without one entry_waves' blocks after
-        // scatter_commands' in scatter_entry_waves.
+        // pixel_offsets_pass' workgroup in pixel_offsets_entry_waves.
         for masked in [true, false] {
             classification_case(
                 features,

@@ -1,14 +1,18 @@
 // tiling: phase 3, classify output (Rust twin: tiling::classify_output). Entry points, in
-// this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`):
-//   pixel_offsets_pass   the counts' prefix sum (one workgroup; the CPU twin's mid
-//                        classify has it, here the counts are plain loads)
-//   write_commands       pixel (or quad) commands, with a validity mask (the mixed frame)
-//   entry_waves          then final counts, waves per (tile, pass) entry and block, pass
-//                        dispatches (with a validity mask)
-//   scatter_entry_waves  without one: the commands from mid classify's per-pixel records
-//                        and, in the same dispatch, entry_waves' work
-//   write_waves          wave offsets and wave commands (and, without a validity mask, the
-//                        stats)
+// this order (dispatches and zeroed buffers: `tiling::CLASSIFY_OUTPUT`). With a validity
+// mask (the mixed frame):
+//   pixel_offsets_pass         the counts' prefix sum (one workgroup; the CPU twin's mid
+//                              classify has it, here the counts are plain loads)
+//   write_commands             pixel (or quad) commands, classifying the final mask again
+//   entry_waves                final counts, each entry's first wave in its block, the
+//                              blocks' first waves, pass dispatches
+//   write_waves                wave offsets and wave commands
+// Without one the final counts are mid classify's counts, and the same work takes two
+// dispatches:
+//   pixel_offsets_entry_waves  pixel_offsets_pass' workgroup, then entry_waves' (and the
+//                              stats: mid classify's)
+//   scatter_write_waves        write_waves' workgroups, then the commands from mid
+//                              classify's per-pixel records
 // Bindings 0-3 are tiling::pixel's, 4 and 5 tiling::keyed's.
 
 #import wave::append
@@ -39,7 +43,7 @@
 // count_pixels' records, a vec4 per quad (TILING_RECORD_*, tiling::pixel).
 @group(0) @binding(16) var<storage, read> slots: array<vec4<u32>>;
 // Mid classify's tiling::PixelStats: without a validity mask both phases classify alike,
-// and write_waves derives this phase's stats from them.
+// and pixel_offsets_entry_waves copies them into this phase's.
 @group(0) @binding(17) var<storage, read> mid_stats: array<u32, 8>;
 
 // Adds `n` to counter c's commands written and returns the old value (keyed.wgsl's
@@ -86,8 +90,7 @@ fn tiling_put_pixel_offset(i: u32, v: u32) {
 
 // One workgroup: pixel_offsets and totals.command_count from the counts (each invocation a
 // contiguous run of counters).
-@compute @workgroup_size(256)
-fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
+fn tiling_pixel_offsets(li: u32) {
     let n = min(totals.counter_count, arrayLength(&counts));
     let r = tiling_wg_range(li, n);
     let scan = tiling_wg_scan(li, tiling_count_sum(r));
@@ -110,8 +113,13 @@ fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
     }
 }
 
+@compute @workgroup_size(256)
+fn pixel_offsets_pass(@builtin(local_invocation_index) li: u32) {
+    tiling_pixel_offsets(li);
+}
+
 // Whether the frame has a validity mask (the mixed frame): then write_commands classifies
-// the final mask again; without one scatter_entry_waves places count_pixels' records.
+// the final mask again; without one scatter_write_waves places count_pixels' records.
 fn tiling_has_validity() -> bool {
     return (params.flags & TILING_FLAG_VALIDITY) != 0u;
 }
@@ -315,6 +323,8 @@ fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>, li: u32) {
     let lost = tiling_scatter_pixel(gid, 0u, records.x, first) + tiling_scatter_pixel(gid, 1u, records.y, first)
         + tiling_scatter_pixel(gid, 2u, records.z, first) + tiling_scatter_pixel(gid, 3u, records.w, first);
     if (lost != 0u) {
+        // Mid classify counted them as commands (pixel_offsets_entry_waves copied its stats).
+        atomicSub(&stats[TILING_STAT_COMMANDS], lost);
         atomicAdd(&stats[TILING_STAT_DROPPED], lost);
     }
 }
@@ -415,25 +425,24 @@ fn entry_waves(
 }
 
 // Without a validity mask the final counts are mid classify's counts, so the entries' waves
-// need not wait for the commands: entry_waves' workgroups and scatter_commands' in one
-// dispatch, one pass fewer. entry_waves' come first: workgroups start roughly in order, so
-// its last workgroup's scan runs while the scatter's do, not after them. Workgroups in rows
-// (Dispatch::Items).
+// need not wait for the commands: pixel_offsets_pass' workgroup (first: it takes longest)
+// and entry_waves' in one dispatch, and the stats are mid classify's (no index reads in
+// this phase; scatter_write_waves moves the commands that find no room to dropped).
+// Workgroups in rows (Dispatch::Items).
 @compute @workgroup_size(256)
-fn scatter_entry_waves(
+fn pixel_offsets_entry_waves(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) groups: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
     let g = wid.y * groups.x + wid.x;
-    let entry_blocks = tiling_entry_blocks();
-    let scatter = tiling_scatter_groups();
-    if (g < entry_blocks) {
-        tiling_entry_waves(g, entry_blocks, li);
-    } else if (g - entry_blocks < scatter.x * scatter.y) {
-        let s = g - entry_blocks;
-        let w = vec3<u32>(s % scatter.x, s / scatter.x, 0u);
-        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w, li);
+    if (g == 0u) {
+        tiling_pixel_offsets(li);
+        if (li < TILING_STAT_COUNT) {
+            atomicStore(&stats[li], select(mid_stats[li], 0u, li == TILING_STAT_BAD_INDICES));
+        }
+    } else if (g - 1u < tiling_entry_blocks()) {
+        tiling_entry_waves(g - 1u, tiling_entry_blocks(), li);
     }
 }
 
@@ -442,28 +451,13 @@ fn scatter_entry_waves(
 const TILING_WAVE_ENTRIES: u32 = 256u / TILING_WAVE_ENTRY_LANES;
 
 // TILING_WAVE_ENTRY_LANES lanes per pass-major entry: its counters' wave offsets and wave
-// commands, the lanes striding over each counter's waves.
-@compute @workgroup_size(256)
-fn write_waves(
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) groups: vec3<u32>,
-    @builtin(local_invocation_index) li: u32,
-) {
+// commands, the lanes striding over each counter's waves. Workgroup `workgroup` of
+// write_waves'.
+fn tiling_write_waves(workgroup: u32, li: u32) {
     let tiles = params.tiles_x * params.tiles_y;
-    // Without a validity mask scatter_commands kept no stats but its lost commands: the
-    // rest are mid classify's (no index reads in this phase).
-    if (!tiling_has_validity() && wid.x == 0u && wid.y == 0u && li == 0u) {
-        let lost = atomicLoad(&stats[TILING_STAT_DROPPED]);
-        for (var f = 0u; f < TILING_STAT_COUNT; f++) {
-            atomicStore(&stats[f], mid_stats[f]);
-        }
-        atomicStore(&stats[TILING_STAT_COMMANDS], mid_stats[TILING_STAT_COMMANDS] - min(lost, mid_stats[TILING_STAT_COMMANDS]));
-        atomicStore(&stats[TILING_STAT_DROPPED], mid_stats[TILING_STAT_DROPPED] + lost);
-        atomicStore(&stats[TILING_STAT_BAD_INDICES], 0u);
-    }
     let sub = li / TILING_WAVE_ENTRY_LANES;
     let lane = li % TILING_WAVE_ENTRY_LANES;
-    let q = (wid.y * groups.x + wid.x) * TILING_WAVE_ENTRIES + sub;
+    let q = workgroup * TILING_WAVE_ENTRIES + sub;
     var bits = 0u;
     var e = 0u;
     if (q < min(tiling_entry_count(), arrayLength(&masks))) {
@@ -502,5 +496,41 @@ fn write_waves(
             first += n;
         }
         c += 1u;
+    }
+}
+
+// write_waves' workgroups: one per TILING_WAVE_ENTRIES entries.
+fn tiling_write_waves_groups() -> u32 {
+    return (min(tiling_entry_count(), arrayLength(&masks)) + TILING_WAVE_ENTRIES - 1u) / TILING_WAVE_ENTRIES;
+}
+
+// With a validity mask, after entry_waves. Workgroups in rows (Dispatch::Items).
+@compute @workgroup_size(256)
+fn write_waves(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    tiling_write_waves(wid.y * groups.x + wid.x, li);
+}
+
+// Without a validity mask, after pixel_offsets_entry_waves: write_waves' workgroups, then
+// (one per 32x32 block) each pixel's command at the slot mid classify recorded: neither
+// needs the other, so one dispatch, one pass fewer. Workgroups in rows (Dispatch::Items).
+@compute @workgroup_size(256)
+fn scatter_write_waves(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    let g = wid.y * groups.x + wid.x;
+    let wave_groups = tiling_write_waves_groups();
+    let scatter = tiling_scatter_groups();
+    if (g < wave_groups) {
+        tiling_write_waves(g, li);
+    } else if (g - wave_groups < scatter.x * scatter.y) {
+        let s = g - wave_groups;
+        let w = vec3<u32>(s % scatter.x, s / scatter.x, 0u);
+        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w, li);
     }
 }

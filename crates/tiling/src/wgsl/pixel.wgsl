@@ -44,7 +44,7 @@ fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
 }
 
 // count_pixels' record of each pixel (the `slots` buffer, a vec4 per quad), which classify output's
-// scatter_entry_waves turns into a command without decoding the vis word again (frames
+// scatter_write_waves turns into a command without decoding the vis word again (frames
 // without a validity mask, where the two phases classify alike). With a command: bit 31,
 // the slot within its counter (bits 0-13: a counter holds at most 128 * 128 pixels), the
 // counter's index within its tile's (bits 14-26), the sample mask (bits 27-30). Without
