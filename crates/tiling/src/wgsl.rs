@@ -330,9 +330,9 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// `pixel_offsets` and `totals.command_count`. `entry_waves` (per (tile, pass) entry,
 /// pass-major, [`ENTRY_BLOCK`] a workgroup) clamps `final_counts` to the counts, writes each
 /// entry's first wave within its block and the sums per block and pass into
-/// `wave_scratch`, and its last workgroup writes the blocks' first waves, `passes` and
-/// `totals.wave_count`. `write_waves` ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a
-/// workgroup) writes `wave_offsets` and `waves`.
+/// `wave_scratch`, and its last workgroup writes the blocks' first waves. `write_waves`
+/// ([`WAVE_ENTRY_LANES`] invocations per entry, 256 a workgroup) writes `wave_offsets` and
+/// `waves`, and its first workgroup `passes` and `totals.wave_count`.
 ///
 /// With a validity mask (the mixed frame: the mask changed since phase 2) four dispatches:
 /// `pixel_offsets_pass`, `write_commands` (per quad: classifies again and writes

@@ -5,8 +5,9 @@
 //                              classify has it, here the counts are plain loads)
 //   write_commands             pixel (or quad) commands, classifying the final mask again
 //   entry_waves                final counts, each entry's first wave in its block, the
-//                              blocks' first waves, pass dispatches
-//   write_waves                wave offsets and wave commands
+//                              blocks' first waves, the passes' sums
+//   write_waves                wave offsets and wave commands; its first workgroup the
+//                              pass dispatches
 // Without one the final counts are mid classify's counts, and the same work takes two
 // dispatches:
 //   pixel_offsets_entry_waves  pixel_offsets_pass' workgroup, then entry_waves' (and the
@@ -34,7 +35,7 @@
 @group(0) @binding(11) var<storage, read_write> waves: array<TilingWaveCommand>;
 // Per pass: the shading dispatch.
 @group(0) @binding(12) var<storage, read_write> passes: array<TilingPassDispatch>;
-// command_count (written by pixel_offsets_pass), wave_count (by entry_waves).
+// command_count (written by pixel_offsets_pass), wave_count (by write_waves).
 @group(0) @binding(13) var<storage, read_write> totals: TilingTotals;
 // tiling::PixelStats of write_commands. Zero first.
 @group(0) @binding(14) var<storage, read_write> stats: array<atomic<u32>, 8>;
@@ -288,6 +289,18 @@ fn tiling_scratch_add(i: u32, v: u32) {
     }
 }
 
+// Tile `tile`'s first counter, as tiling_tile_counters' range.x (0 for a tile past the
+// buffers, whose pixels count_pixels recorded no command): one load, no workgroup memory or
+// barrier, for the scatter, which needs nothing else of the tile.
+fn tiling_tile_first_counter(tile: u32) -> u32 {
+    let e0 = tile * params.pass_count;
+    let e1 = e0 + params.pass_count - 1u;
+    if (params.pass_count == 0u || e1 >= arrayLength(&masks) || e1 >= arrayLength(&counter_offsets)) {
+        return 0u;
+    }
+    return counter_offsets[e0];
+}
+
 // Places pixel k of `gid`'s quad's command from its record `r` (tile's first counter
 // `first`); 1 when the counter has no room for it (corrupt counts), else 0.
 fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
@@ -311,15 +324,15 @@ fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
 // Frames without a validity mask: every pixel's command from its record, at the slot mid
 // classify took for it (no decode, no histogram: mid and output classify alike), for the
 // 16x16 quads of 2D workgroup `wid` (`gid`: this invocation's quad). No per-pixel stats:
-// the pixels classify as in mid classify (write_waves copies its stats); only commands
-// that find no room here (corrupt counts) are counted, dropped.
-fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>, li: u32) {
+// the pixels classify as in mid classify (pixel_offsets_entry_waves copied its stats); only
+// commands that find no room here (corrupt counts) move from commands to dropped.
+fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>) {
     var records = vec4<u32>(0u);
     let q = tiling_quad_index(gid);
     if (q < arrayLength(&slots)) {
         records = slots[q];
     }
-    let first = tiling_tile_counters(tiling_block_tile(wid), li).x;
+    let first = tiling_tile_first_counter(tiling_block_tile(wid));
     let lost = tiling_scatter_pixel(gid, 0u, records.x, first) + tiling_scatter_pixel(gid, 1u, records.y, first)
         + tiling_scatter_pixel(gid, 2u, records.z, first) + tiling_scatter_pixel(gid, 3u, records.w, first);
     if (lost != 0u) {
@@ -340,8 +353,8 @@ var<workgroup> tiling_wg_pass_items: array<atomic<u32>, TILING_ENTRY_BLOCK>;
 // Per pass-major entry (one invocation each, TILING_ENTRY_BLOCK per workgroup): clamps its
 // counters' final counts to their room and sums their waves; per workgroup the block's
 // sum and, per pass, its waves and commands. The last workgroup to finish turns the block
-// sums into the blocks' first waves and the pass sums into the pass dispatches (every
-// cross-workgroup value an atomic, ordered by storageBarrier's device-scope fences).
+// sums into the blocks' first waves (every cross-workgroup value an atomic, ordered by
+// storageBarrier's device-scope fences).
 // Workgroup `block` of `blocks` (the entry blocks of the frame).
 fn tiling_entry_waves(block: u32, blocks: u32, li: u32) {
     atomicStore(&tiling_wg_pass_waves[li], 0u);
@@ -392,10 +405,14 @@ fn tiling_entry_waves(block: u32, blocks: u32, li: u32) {
         tiling_scratch_add(tiling_scratch_pass_waves() + my_pass, atomicLoad(&tiling_wg_pass_waves[li]));
         tiling_scratch_add(tiling_scratch_pass_items() + my_pass, atomicLoad(&tiling_wg_pass_items[li]));
     }
-    // The last workgroup: every block sum and pass sum is in.
-    if (tiling_scan_blocks(li, blocks, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK).x == 0u) {
-        return;
-    }
+    // The last workgroup turns the block sums into the blocks' first waves.
+    _ = tiling_scan_blocks(li, blocks, (n + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK);
+}
+
+// The pass dispatches and totals.wave_count from entry_waves' pass sums (write_waves'
+// first workgroup: in entry_waves' last workgroup this scan lengthened the pass before
+// the scatter). Contains barriers: call from uniform control flow.
+fn tiling_pass_dispatches(li: u32) {
     var pass_waves = 0u;
     if (li < params.pass_count) {
         pass_waves = tiling_scratch_load(tiling_scratch_pass_waves() + li);
@@ -454,6 +471,9 @@ const TILING_WAVE_ENTRIES: u32 = 256u / TILING_WAVE_ENTRY_LANES;
 // commands, the lanes striding over each counter's waves. Workgroup `workgroup` of
 // write_waves'.
 fn tiling_write_waves(workgroup: u32, li: u32) {
+    if (workgroup == 0u) {
+        tiling_pass_dispatches(li);
+    }
     let tiles = params.tiles_x * params.tiles_y;
     let sub = li / TILING_WAVE_ENTRY_LANES;
     let lane = li % TILING_WAVE_ENTRY_LANES;
@@ -531,6 +551,6 @@ fn scatter_write_waves(
     } else if (g - wave_groups < scatter.x * scatter.y) {
         let s = g - wave_groups;
         let w = vec3<u32>(s % scatter.x, s / scatter.x, 0u);
-        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w, li);
+        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w);
     }
 }

@@ -204,24 +204,25 @@ fn tiling_mul_sat(a: u32, b: u32) -> u32 {
 }
 
 // A workgroup-wide exclusive prefix sum over 256 invocations (Hillis-Steele in workgroup
-// memory): returns (this invocation's exclusive prefix, the workgroup's total). Call from
+// memory, each step reading one half of the buffer and writing the other, so one barrier a
+// step): returns (this invocation's exclusive prefix, the workgroup's total). Call from
 // uniform control flow with @workgroup_size(256).
-var<workgroup> tiling_scan_a: array<u32, 256>;
+var<workgroup> tiling_scan_buf: array<u32, 512>;
 
 fn tiling_wg_scan(li: u32, value: u32) -> vec2<u32> {
-    tiling_scan_a[li] = value;
+    var inclusive = value;
+    var src = 0u;
+    tiling_scan_buf[li] = value;
     workgroupBarrier();
     for (var d = 1u; d < 256u; d = d * 2u) {
-        var add = 0u;
         if (li >= d) {
-            add = tiling_scan_a[li - d];
+            inclusive += tiling_scan_buf[src + li - d];
         }
-        workgroupBarrier();
-        tiling_scan_a[li] = tiling_scan_a[li] + add;
+        src = 256u - src;
+        tiling_scan_buf[src + li] = inclusive;
         workgroupBarrier();
     }
-    let inclusive = tiling_scan_a[li];
-    let total = tiling_scan_a[255];
+    let total = tiling_scan_buf[src + 255u];
     workgroupBarrier();
     return vec2<u32>(inclusive - value, total);
 }
