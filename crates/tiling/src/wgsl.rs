@@ -203,7 +203,7 @@ fn entries(p: &TilingParams) -> u32 {
 
 /// Invocations of classify output's `write_waves` per (tile, pass) entry, which stride over
 /// its counters' waves (WGSL `TILING_WAVE_ENTRY_LANES`).
-pub const WAVE_ENTRY_LANES: u32 = 32;
+pub const WAVE_ENTRY_LANES: u32 = 16;
 
 /// (tile, pass) entries a workgroup of the block scans sums (`counter_offsets_pass`,
 /// `entry_waves`; WGSL `TILING_ENTRY_BLOCK`).

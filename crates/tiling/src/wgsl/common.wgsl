@@ -35,8 +35,10 @@ const TILING_SCRATCH_ENTRIES: u32 = 4u;
 // Pixels across the square block a 16x16 workgroup of the pixel phases, laydown finalise and
 // gpu's unpack covers (four pixels an invocation; a block lies in one tile).
 const TILING_BLOCK_SIZE: u32 = 32u;
-// Invocations of classify output's write_waves per (tile, pass) entry.
-const TILING_WAVE_ENTRY_LANES: u32 = 32u;
+// Invocations of classify output's write_waves per (tile, pass) entry: 16 measured best on
+// the H200 beside the scatter (32 launched twice the mostly empty workgroups at 163 passes;
+// 4 serialised dense entries' waves).
+const TILING_WAVE_ENTRY_LANES: u32 = 16u;
 // "No key / no value": larger than any valid key, index or count.
 const TILING_NONE: u32 = 0xffffffffu;
 
