@@ -13,6 +13,6 @@ for s in "forest" "grass" "hillside" "forest --density 4" "grass --density 4" "h
   run4k $NEW --scene $s --path baseline
 done
 for s in "forest" "hillside-grass"; do
-  run4k $NEW --scene $s --path deferred --laydown compute | grep "===\|==\|classify\|_pass\|count_pixels\|write_\|scatter\|laydown"
-  run4k $OLD --scene $s --path deferred --laydown compute | grep "===\|==\|classify\|_pass\|count_pixels\|write_\|scatter\|laydown"
+  run4k $NEW --scene $s --path deferred --laydown compute | grep "===\|==\|classify\|_pass\|count_pixels\|write_\|scatter\|entry_waves\|laydown"
+  run4k $OLD --scene $s --path deferred --laydown compute | grep "===\|==\|classify\|_pass\|count_pixels\|write_\|scatter\|entry_waves\|laydown"
 done
