@@ -58,8 +58,8 @@
 use shader::{Binding, Entry, Group, Kind, Module, Pass, join};
 
 use crate::TilingParams;
-use crate::classify::{PassDispatch, PixelStats, Totals, WaveCommand};
-use crate::plan::{MicroBatchInfo, PassInfo};
+use crate::classify::{PassDispatch, PixelStats, TILE_SIZE, Totals, WaveCommand};
+use crate::plan::{MAX_BATCH_GROUPS_PER_PASS, MAX_PASSES, MicroBatchInfo, PassInfo};
 use crate::vertex::{UberChunk, VertexWaveCommand};
 
 /// `tiling::common`: constants, buffer structs and helpers of every pass (no bindings).
@@ -161,6 +161,32 @@ fn quads(p: &TilingParams) -> [u32; 2] {
 /// lies in one tile. A pass that finalises the laydown itself (`gpu`'s unpack) dispatches
 /// one workgroup per block.
 pub const BLOCK_SIZE: u32 = 32;
+
+/// Mid classify's per-pixel record (its `slots` buffer, four per 2x2 quad), which classify
+/// output's scatter turns into the pixel's command: with a command, this bit, the command's
+/// slot within its counter (bits `0..RECORD_COUNTER_SHIFT`, [`RECORD_SLOT_MASK`]), the
+/// counter's index among its tile's ([`RECORD_COUNTER_MASK`] at [`RECORD_COUNTER_SHIFT`])
+/// and the sample mask (4 bits at [`RECORD_MASK_SHIFT`]); without one, the pixel's kind
+/// (bits 0-1: empty, unknown, out of range, valid) and perhaps [`RECORD_DROPPED`]. WGSL
+/// `TILING_RECORD_*` in `tiling::pixel`.
+pub const RECORD_COMMAND: u32 = 1 << 31;
+/// A record without a command whose valid pixel was dropped (its key is not in its tile's
+/// masks).
+pub const RECORD_DROPPED: u32 = 4;
+/// Where a record's counter index starts; the slot below it.
+pub const RECORD_COUNTER_SHIFT: u32 = 14;
+/// A record's slot: a counter holds at most one tile's pixels, 128 * 128.
+pub const RECORD_SLOT_MASK: u32 = (1 << RECORD_COUNTER_SHIFT) - 1;
+/// Where a record's 4-bit sample mask starts.
+pub const RECORD_MASK_SHIFT: u32 = 27;
+/// A record's counter index within its tile's counters (after the shift).
+pub const RECORD_COUNTER_MASK: u32 = (1 << (RECORD_MASK_SHIFT - RECORD_COUNTER_SHIFT)) - 1;
+
+// The record's fields fit: a tile's pixels as slots, every counter a tile may have as an
+// index, the sample mask below the command bit, the dropped flag above the kind's two bits.
+const _: () = assert!(RECORD_SLOT_MASK + 1 >= TILE_SIZE * TILE_SIZE);
+const _: () = assert!(RECORD_COUNTER_MASK + 1 >= MAX_PASSES * MAX_BATCH_GROUPS_PER_PASS);
+const _: () = assert!(RECORD_MASK_SHIFT + 4 <= 31 && RECORD_DROPPED > 3);
 
 /// A 16x16 workgroup per [`BLOCK_SIZE`] block of the vis buffer, an invocation per 2x2
 /// quad (WGSL `tiling_quad_pixel`).
@@ -545,6 +571,21 @@ mod tests {
             ("TILING_ENTRY_BLOCK", ENTRY_BLOCK),
             ("TILING_SCRATCH_ENTRIES", SCRATCH_HEADER_WORDS),
         ]
+    }
+
+    #[test]
+    fn record_constants_match_rust() {
+        let m = shadercheck::assert_composed(LIBRARY, "tiling::pixel", &[], Caps::CORE);
+        for (name, value) in [
+            ("TILING_RECORD_COMMAND", RECORD_COMMAND),
+            ("TILING_RECORD_DROPPED", RECORD_DROPPED),
+            ("TILING_RECORD_COUNTER_SHIFT", RECORD_COUNTER_SHIFT),
+            ("TILING_RECORD_SLOT_MASK", RECORD_SLOT_MASK),
+            ("TILING_RECORD_MASK_SHIFT", RECORD_MASK_SHIFT),
+            ("TILING_RECORD_COUNTER_MASK", RECORD_COUNTER_MASK),
+        ] {
+            assert_eq!(const_u32(&m, name), Some(value), "WGSL const {name}");
+        }
     }
 
     #[test]

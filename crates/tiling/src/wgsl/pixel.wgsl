@@ -48,7 +48,8 @@ fn tiling_quad_words(gid: vec3<u32>) -> vec4<u32> {
 // without a validity mask, where the two phases classify alike). With a command: bit 31,
 // the slot within its counter (bits 0-13: a counter holds at most 128 * 128 pixels), the
 // counter's index within its tile's (bits 14-26), the sample mask (bits 27-30). Without
-// one: the pixel's TILING_PX_* kind (bits 0-1) and TILING_RECORD_DROPPED.
+// one: the pixel's TILING_PX_* kind (bits 0-1) and TILING_RECORD_DROPPED. Rust twin:
+// tiling::wgsl::RECORD_*.
 const TILING_RECORD_COMMAND: u32 = 1u << 31u;
 const TILING_RECORD_DROPPED: u32 = 4u;
 const TILING_RECORD_COUNTER_SHIFT: u32 = 14u;
