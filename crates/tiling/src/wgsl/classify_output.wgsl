@@ -426,9 +426,14 @@ fn tiling_pass_dispatches(li: u32) {
     }
 }
 
+// Workgroups of `per` (tile, pass) entries each over the frame's entries.
+fn tiling_entry_groups(per: u32) -> u32 {
+    return (min(tiling_entry_count(), arrayLength(&masks)) + per - 1u) / per;
+}
+
 // The entry blocks of the frame: ceil(entries / TILING_ENTRY_BLOCK).
 fn tiling_entry_blocks() -> u32 {
-    return (min(tiling_entry_count(), arrayLength(&masks)) + TILING_ENTRY_BLOCK - 1u) / TILING_ENTRY_BLOCK;
+    return tiling_entry_groups(TILING_ENTRY_BLOCK);
 }
 
 // With a validity mask, after write_commands: a workgroup per block of entries.
@@ -521,7 +526,7 @@ fn tiling_write_waves(workgroup: u32, li: u32) {
 
 // write_waves' workgroups: one per TILING_WAVE_ENTRIES entries.
 fn tiling_write_waves_groups() -> u32 {
-    return (min(tiling_entry_count(), arrayLength(&masks)) + TILING_WAVE_ENTRIES - 1u) / TILING_WAVE_ENTRIES;
+    return tiling_entry_groups(TILING_WAVE_ENTRIES);
 }
 
 // With a validity mask, after entry_waves. Workgroups in rows (Dispatch::Items).
