@@ -577,9 +577,10 @@ impl PassDispatch {
 pub struct Totals {
     /// Counters (mid classify's `counter_offsets` pass): [`MidClassify::counter_count`].
     pub counter_count: u32,
-    /// Commands (mid classify's `pixel_offsets` pass): [`MidClassify::command_count`].
+    /// Commands ([`MidClassify::command_count`]; on the GPU the counts' prefix sum, classify
+    /// output's first dispatch).
     pub command_count: u32,
-    /// Wave commands (classify output's `entry_waves` pass).
+    /// Wave commands (on the GPU written by classify output's `write_waves` work).
     pub wave_count: u32,
     /// Visible chunks, the vertex wave commands (the vertex pass's `build_pyramid`).
     pub visible_chunks: u32,
