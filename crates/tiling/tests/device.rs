@@ -2,9 +2,10 @@
 //! classification phases (pixel commands compared after `canonical_sort`, everything else
 //! as written) on both the subgroup path (where the adapter has `Features::SUBGROUP`) and
 //! the workgroup fallback, the keyed histogram and the wave-append loop, both vis-word
-//! layouts, with and without a validity mask; and the vertex wave commands. The passes
-//! run through their descriptions (`tiling::wgsl`) on testkit's device (lavapipe in CI);
-//! without an adapter every test fails, saying how to install one.
+//! layouts, with and without a validity mask (without one also over corrupt counts); and
+//! the vertex wave commands. The passes run through their descriptions (`tiling::wgsl`)
+//! on testkit's device (lavapipe in CI); without an adapter every test fails, saying how to
+//! install one.
 
 mod common;
 
@@ -257,6 +258,12 @@ fn classification_case(
         "output stats, {what}"
     );
 
+    if !masked {
+        corrupt_counts_case(
+            &what, &params, &pixel, &masks, &cpu, &totals, &slots, features, constants,
+        );
+    }
+
     // Vertex wave commands from the cull buffer.
     let v = vertex_wave_commands(
         &cpu.mid.vertex_cull,
@@ -334,6 +341,141 @@ fn classification_case(
         commands,
         cpu.output.waves.len(),
         v.commands.len()
+    );
+}
+
+/// Classify output without a validity mask over corrupt counts (every third counter's
+/// halved after phase 2): the commands mid classify recorded past their counter's count
+/// find no room and move from commands to dropped, nothing is written past a counter's
+/// commands, and the rest stand: each counter holds its own commands (a sub-multiset of
+/// the CPU twin's), the offsets and final counts follow the corrupt counts. The reference
+/// is the records themselves (`tiling::wgsl::RECORD_*`), read independently of the scatter.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the case's phase-2 results, passed on as they are"
+)]
+fn corrupt_counts_case(
+    what: &str,
+    params: &TilingParams,
+    pixel: &[(&'static str, Data<'_>)],
+    masks: &[u32],
+    cpu: &tiling::Classification,
+    totals: &[Totals],
+    slots: &[u32],
+    features: &[&str],
+    constants: &[(&str, f64)],
+) {
+    use tiling::wgsl::{
+        RECORD_COMMAND, RECORD_COUNTER_MASK, RECORD_COUNTER_SHIFT, RECORD_SLOT_MASK,
+    };
+    let counts: Vec<u32> = (cpu.mid.counts.iter().enumerate())
+        .map(|(i, &n)| if i % 3 == 0 { n / 2 } else { n })
+        .collect();
+    let counters = counts.len();
+    let p = params.pass_count as usize;
+    let tiles = (params.tiles_x * params.tiles_y) as usize;
+    // The reference: each recorded command's counter and slot.
+    let quads_x = params.width.div_ceil(2) as usize;
+    let mut lost = 0u32;
+    for (i, &r) in slots.iter().enumerate() {
+        if r & RECORD_COMMAND == 0 {
+            continue;
+        }
+        let (q, k) = (i / 4, i % 4);
+        let x = 2 * (q % quads_x) + k % 2;
+        let y = 2 * (q / quads_x) + k / 2;
+        let tile = y / 128 * params.tiles_x as usize + x / 128;
+        let c = cpu.mid.counter_offsets[tile * p] as usize
+            + ((r >> RECORD_COUNTER_SHIFT) & RECORD_COUNTER_MASK) as usize;
+        if r & RECORD_SLOT_MASK >= counts[c] {
+            lost += 1;
+        }
+    }
+    assert!(lost > 0, "{what}: the halved counts lose commands");
+    let offsets: Vec<u32> = counts
+        .iter()
+        .scan(0u32, |run, &n| {
+            let o = *run;
+            *run += n;
+            Some(o)
+        })
+        .collect();
+    let commands: usize = counts.iter().map(|&n| n as usize).sum();
+    let wave_width = params.wave_width;
+    let waves: u32 = counts.iter().map(|n| n.div_ceil(wave_width)).sum();
+    // One guard word past the commands and one guard wave past the waves.
+    let words = commands.div_ceil(2) + 1;
+    let p3 = run_pass(
+        &CLASSIFY_OUTPUT,
+        features,
+        constants,
+        params,
+        &pixel
+            .iter()
+            .copied()
+            .chain([
+                ("masks", Data::Words(masks)),
+                ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
+                ("counts", Data::Words(&counts)),
+                ("pixel_offsets", Data::Zeros(counters)),
+                ("final_counts", Data::Zeros(counters)),
+                ("commands", Data::Zeros(words)),
+                ("wave_offsets", Data::Zeros(counters)),
+                ("waves", zeros::<WaveCommand>(waves as usize + 1)),
+                ("passes", zeros::<PassDispatch>(p)),
+                ("totals", Data::rows(totals)),
+                ("stats", zeros::<PixelStats>(1)),
+                (
+                    "wave_scratch",
+                    Data::Zeros(tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize),
+                ),
+                ("slots", Data::Words(slots)),
+                ("mid_stats", Data::Bytes(bytemuck::bytes_of(&cpu.mid.stats))),
+            ])
+            .collect::<Vec<_>>(),
+    );
+    assert_eq!(p3.read::<u32>("pixel_offsets", counters), offsets, "{what}");
+    assert_eq!(p3.read::<u32>("final_counts", counters), counts, "{what}");
+    let written: Vec<u32> = p3.read("commands", words);
+    assert_eq!(written[words - 1], 0, "{what}: a command past the last one");
+    let got: Vec<u16> = written
+        .iter()
+        .flat_map(|w| [*w as u16, (*w >> 16) as u16])
+        .collect();
+    for c in 0..counters {
+        let mut mine: Vec<u16> = got[offsets[c] as usize..][..counts[c] as usize].to_vec();
+        let o = cpu.mid.pixel_offsets[c] as usize;
+        let mut all: Vec<u16> = cpu.output.commands[o..][..cpu.mid.counts[c] as usize].to_vec();
+        mine.sort_unstable();
+        all.sort_unstable();
+        // `mine` within `all`, as multisets (both sorted).
+        let mut rest = all.iter();
+        for m in &mine {
+            assert!(
+                rest.any(|a| a == m),
+                "{what}: counter {c} holds a command that is not its own: {m:#x}"
+            );
+        }
+    }
+    let stats = p3.read::<PixelStats>("stats", 1)[0];
+    let mid = cpu.mid.stats;
+    assert_eq!(
+        stats,
+        PixelStats {
+            commands: mid.commands - lost,
+            dropped: mid.dropped + lost,
+            bad_indices: 0,
+            ..mid
+        },
+        "{what}: {lost} lost"
+    );
+    let totals3 = p3.read::<Totals>("totals", 1)[0];
+    assert_eq!(totals3.wave_count, waves, "{what}");
+    assert_eq!(totals3.command_count as usize, commands, "{what}");
+    assert_eq!(
+        p3.read::<WaveCommand>("waves", waves as usize + 1)[waves as usize],
+        WaveCommand::default(),
+        "{what}: a wave past the last one"
     );
 }
 
