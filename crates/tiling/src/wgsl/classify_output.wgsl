@@ -20,7 +20,8 @@
 #import tiling::keyed
 
 // The `timing_*` features are timing experiments only (gpu's `classify_variants`; the
-// output comes out wrong): a plain store instead of the packed `atomicOr`.
+// output comes out wrong): a plain store instead of the packed `atomicOr` (write_commands
+// and the scatter).
 // Per counter: room for commands, phase 2's counts.
 @group(0) @binding(6) var<storage, read> counts: array<u32>;
 // Per counter: first command, the exclusive prefix sum of the counts (pixel_offsets_pass).
@@ -316,7 +317,11 @@ fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
     let at = pixel_offsets[c] + slot;
     if (at / 2u < arrayLength(&commands)) {
         let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
+#if timing_store_commands
+        atomicStore(&commands[at / 2u], cmd);
+#else
         atomicOr(&commands[at / 2u], cmd << ((at % 2u) * 16u));
+#endif
     }
     return 0u;
 }
