@@ -246,8 +246,8 @@ pub const SCRATCH_HEADER_WORDS: u32 = 4;
 
 /// Words of classify output's `wave_scratch` for `tiles` tiles and `passes` passes: a
 /// workgroup counter and three pad words, each (tile, pass) entry's first wave within its
-/// block of [`ENTRY_BLOCK`] entries, one sum per block, the waves and the commands of every pass (WGSL
-/// `tiling_scratch_*`).
+/// block of [`ENTRY_BLOCK`] entries, one sum per block, the waves and the commands of every
+/// pass (WGSL `tiling_scratch_*`).
 #[must_use]
 pub const fn wave_scratch_words(tiles: u32, passes: u32) -> u32 {
     let n = tiles * passes;
@@ -365,8 +365,9 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 /// `final_counts`, `commands`, `stats`), `entry_waves`, `write_waves`. Without one the
 /// final counts are the counts, so two: `pixel_offsets_entry_waves` (`pixel_offsets_pass`'
 /// workgroup first, then `entry_waves`'; and `stats`: phase 2's) and `scatter_write_waves`
-/// (`write_waves`' workgroups, then one per 32x32 block placing each pixel's command at the
-/// slot phase 2 recorded; commands that find no room move from commands to dropped).
+/// (`write_waves`' workgroups, then one per [`BLOCK_SIZE`] block placing each pixel's
+/// command at the slot phase 2 recorded; commands that find no room move from commands to
+/// dropped).
 pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
     name: "classify 3: output",
     module: "tiling::classify_output",
@@ -416,13 +417,13 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
                 256 * (1 + entries(p).div_ceil(ENTRY_BLOCK))
             }
         }),
-        // write_waves' workgroups, then one per 32x32 block.
+        // write_waves' workgroups, then one per BLOCK_SIZE block.
         Entry::items("scatter_write_waves", 256, |p| {
             if has_validity(p) {
                 0
             } else {
-                let [x, y] = quads(p);
-                256 * (write_waves_groups(p) + x.div_ceil(16) * y.div_ceil(16))
+                let blocks = p.width.div_ceil(BLOCK_SIZE) * p.height.div_ceil(BLOCK_SIZE);
+                256 * (write_waves_groups(p) + blocks)
             }
         }),
     ],

@@ -7,9 +7,9 @@
 //! words, the vis texture and the float depth, finalising the laydown for the
 //! classification on the way (`tiling::finalize`'s masks; the classification's zero fill
 //! runs beside the raster, after the large triangles in their pass). Frames whose later
-//! raster passes test against the depth target (the stencil light volumes, the mixed frame's regular pass, the
-//! water) also get it, from a full-screen raster pass over the unpacked float depth: 1.05 ms
-//! of fill at 4K on the H200, which every other frame skips.
+//! raster passes test against the depth target (the stencil light volumes, the mixed
+//! frame's regular pass, the water) also get it, from a full-screen raster pass over the
+//! unpacked float depth: 1.05 ms of fill at 4K on the H200, which every other frame skips.
 //!
 //! Four described passes: `gpu::compute_laydown` (one dispatch, one invocation per
 //! (instance, triangle) of the scene's planned draws: a draw table with per-draw item

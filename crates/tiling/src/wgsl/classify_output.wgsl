@@ -290,18 +290,6 @@ fn tiling_scratch_add(i: u32, v: u32) {
     }
 }
 
-// Tile `tile`'s first counter, as tiling_tile_counters' range.x (0 for a tile past the
-// buffers, whose pixels count_pixels recorded no command): one load, no workgroup memory or
-// barrier, for the scatter, which needs nothing else of the tile.
-fn tiling_tile_first_counter(tile: u32) -> u32 {
-    let e0 = tile * params.pass_count;
-    let e1 = e0 + params.pass_count - 1u;
-    if (params.pass_count == 0u || e1 >= arrayLength(&masks) || e1 >= arrayLength(&counter_offsets)) {
-        return 0u;
-    }
-    return counter_offsets[e0];
-}
-
 // Places pixel k of `gid`'s quad's command from its record `r` (tile's first counter
 // `first`); 1 when the counter has no room for it (corrupt counts), else 0.
 fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
@@ -347,7 +335,7 @@ fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>) {
     }
 }
 
-// scatter_commands' workgroups: a 16x16 workgroup per 32x32 block of the vis buffer.
+// The scatter's workgroups: a 16x16 workgroup per TILING_BLOCK_SIZE block of the vis buffer.
 fn tiling_scatter_groups() -> vec2<u32> {
     return vec2<u32>((params.width + TILING_BLOCK_SIZE - 1u) / TILING_BLOCK_SIZE, (params.height + TILING_BLOCK_SIZE - 1u) / TILING_BLOCK_SIZE);
 }
@@ -545,7 +533,7 @@ fn write_waves(
 }
 
 // Without a validity mask, after pixel_offsets_entry_waves: write_waves' workgroups, then
-// (one per 32x32 block) each pixel's command at the slot mid classify recorded: neither
+// (one per TILING_BLOCK_SIZE block) each pixel's command at the slot mid classify recorded: neither
 // needs the other, so one dispatch, one pass fewer. Workgroups in rows (Dispatch::Items).
 @compute @workgroup_size(256)
 fn scatter_write_waves(
@@ -561,6 +549,7 @@ fn scatter_write_waves(
     } else if (g - wave_groups < scatter.x * scatter.y) {
         let s = g - wave_groups;
         let w = vec3<u32>(s % scatter.x, s / scatter.x, 0u);
-        tiling_scatter_commands(vec3<u32>(w.x * 16u + li % 16u, w.y * 16u + li / 16u, 0u), w);
+        let quads = TILING_BLOCK_SIZE / 2u;
+        tiling_scatter_commands(vec3<u32>(w.x * quads + li % quads, w.y * quads + li / quads, 0u), w);
     }
 }

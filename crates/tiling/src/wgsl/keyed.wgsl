@@ -36,14 +36,35 @@ var<workgroup> tiling_hist_range: vec2<u32>;
 var<workgroup> tiling_wg_entry_first: array<u32, TILING_MAX_PASSES>;
 var<workgroup> tiling_wg_entry_mask: array<u32, TILING_MAX_PASSES>;
 
+// Tile `tile`'s first (tile, pass) entry, TILING_NONE when its entries lie past `masks` or
+// `counter_offsets` (or the frame has no passes).
+fn tiling_tile_first_entry(tile: u32) -> u32 {
+    let e0 = tile * params.pass_count;
+    let e1 = e0 + params.pass_count - 1u;
+    if (params.pass_count == 0u || e1 >= arrayLength(&masks) || e1 >= arrayLength(&counter_offsets)) {
+        return TILING_NONE;
+    }
+    return e0;
+}
+
+// Tile `tile`'s first counter, tiling_tile_counters' range.x (0 for a tile past the
+// buffers, whose pixels get no command): one load, no workgroup memory or barrier, for a
+// pass that needs nothing else of the tile (classify output's scatter).
+fn tiling_tile_first_counter(tile: u32) -> u32 {
+    let e0 = tiling_tile_first_entry(tile);
+    if (e0 == TILING_NONE) {
+        return 0u;
+    }
+    return tiling_counter_offset(e0);
+}
+
 // The tile's counters as (first, count), the same in every invocation; a tile past the
 // buffers reports TILING_NONE counters (the loop path). Also loads the tile's entries into
 // workgroup memory (one invocation per pass), which tiling_counter_of then reads: the
 // pixel phases look up a counter per pixel. Call from uniform control flow.
 fn tiling_tile_counters(tile: u32, li: u32) -> vec2<u32> {
-    let e0 = tile * params.pass_count;
-    let e1 = e0 + params.pass_count - 1u;
-    let inside = e1 < arrayLength(&masks) && e1 < arrayLength(&counter_offsets);
+    let e0 = tiling_tile_first_entry(tile);
+    let inside = e0 != TILING_NONE;
     if (inside && li < params.pass_count) {
         tiling_wg_entry_first[li] = tiling_counter_offset(e0 + li);
         tiling_wg_entry_mask[li] = masks[e0 + li];
