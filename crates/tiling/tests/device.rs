@@ -350,6 +350,8 @@ fn classification_case(
 /// commands, and the rest stand: each counter holds its own commands (a sub-multiset of
 /// the CPU twin's), the offsets and final counts follow the corrupt counts. The reference
 /// is the records themselves (`tiling::wgsl::RECORD_*`), read independently of the scatter.
+/// Run twice: with this frame's mid stats, and with another frame's that counted fewer
+/// commands than get lost, where commands stop at 0 instead of wrapping.
 #[expect(
     clippy::too_many_arguments,
     reason = "the case's phase-2 results, passed on as they are"
@@ -371,9 +373,7 @@ fn corrupt_counts_case(
     let counts: Vec<u32> = (cpu.mid.counts.iter().enumerate())
         .map(|(i, &n)| if i % 3 == 0 { n / 2 } else { n })
         .collect();
-    let counters = counts.len();
     let p = params.pass_count as usize;
-    let tiles = (params.tiles_x * params.tiles_y) as usize;
     // The reference: each recorded command's counter and slot.
     let quads_x = params.width.div_ceil(2) as usize;
     let mut lost = 0u32;
@@ -392,6 +392,42 @@ fn corrupt_counts_case(
         }
     }
     assert!(lost > 0, "{what}: the halved counts lose commands");
+    // Mid stats as this frame's count_pixels wrote them, then stale ones (another frame's)
+    // that counted fewer commands than get lost: the count stops at 0 instead of wrapping.
+    let stale = PixelStats {
+        commands: lost / 2,
+        ..cpu.mid.stats
+    };
+    for mid in [cpu.mid.stats, stale] {
+        corrupt_counts_run(
+            what, params, pixel, masks, cpu, totals, slots, features, constants, &counts, lost, mid,
+        );
+    }
+}
+
+/// One classify output run of corrupt_counts_case over `counts` (which lose `lost`
+/// commands) with `mid` as mid classify's stats.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "corrupt_counts_case's inputs and the corrupt counts, passed on as they are"
+)]
+fn corrupt_counts_run(
+    what: &str,
+    params: &TilingParams,
+    pixel: &[(&'static str, Data<'_>)],
+    masks: &[u32],
+    cpu: &tiling::Classification,
+    totals: &[Totals],
+    slots: &[u32],
+    features: &[&str],
+    constants: &[(&str, f64)],
+    counts: &[u32],
+    lost: u32,
+    mid: PixelStats,
+) {
+    let counters = counts.len();
+    let p = params.pass_count as usize;
+    let tiles = (params.tiles_x * params.tiles_y) as usize;
     let offsets: Vec<u32> = counts
         .iter()
         .scan(0u32, |run, &n| {
@@ -401,8 +437,7 @@ fn corrupt_counts_case(
         })
         .collect();
     let commands: usize = counts.iter().map(|&n| n as usize).sum();
-    let wave_width = params.wave_width;
-    let waves: u32 = counts.iter().map(|n| n.div_ceil(wave_width)).sum();
+    let waves: u32 = counts.iter().map(|n| n.div_ceil(params.wave_width)).sum();
     // One guard word past the commands and one guard wave past the waves.
     let words = commands.div_ceil(2) + 1;
     let p3 = run_pass(
@@ -416,7 +451,7 @@ fn corrupt_counts_case(
             .chain([
                 ("masks", Data::Words(masks)),
                 ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
-                ("counts", Data::Words(&counts)),
+                ("counts", Data::Words(counts)),
                 ("pixel_offsets", Data::Zeros(counters)),
                 ("final_counts", Data::Zeros(counters)),
                 ("commands", Data::Zeros(words)),
@@ -430,7 +465,7 @@ fn corrupt_counts_case(
                     Data::Zeros(tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize),
                 ),
                 ("slots", Data::Words(slots)),
-                ("mid_stats", Data::Bytes(bytemuck::bytes_of(&cpu.mid.stats))),
+                ("mid_stats", Data::Bytes(bytemuck::bytes_of(&mid))),
             ])
             .collect::<Vec<_>>(),
     );
@@ -458,16 +493,16 @@ fn corrupt_counts_case(
         }
     }
     let stats = p3.read::<PixelStats>("stats", 1)[0];
-    let mid = cpu.mid.stats;
     assert_eq!(
         stats,
         PixelStats {
-            commands: mid.commands - lost,
+            commands: mid.commands.saturating_sub(lost),
             dropped: mid.dropped + lost,
             bad_indices: 0,
             ..mid
         },
-        "{what}: {lost} lost"
+        "{what}: {lost} lost, mid classify counted {} commands",
+        mid.commands
     );
     let totals3 = p3.read::<Totals>("totals", 1)[0];
     assert_eq!(totals3.wave_count, waves, "{what}");

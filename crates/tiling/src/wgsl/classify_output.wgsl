@@ -330,8 +330,24 @@ fn tiling_scatter_commands(gid: vec3<u32>, wid: vec3<u32>) {
         + tiling_scatter_pixel(gid, 2u, records.z, first) + tiling_scatter_pixel(gid, 3u, records.w, first);
     if (lost != 0u) {
         // Mid classify counted them as commands (pixel_offsets_entry_waves copied its stats).
-        atomicSub(&stats[TILING_STAT_COMMANDS], lost);
+        tiling_stat_sub_saturating(TILING_STAT_COMMANDS, lost);
         atomicAdd(&stats[TILING_STAT_DROPPED], lost);
+    }
+}
+
+// Subtracts `n` from stats field `field`, stopping at 0: records and stats of different
+// frames (a caller's mistake) could otherwise wrap the count. Corrupt frames only.
+fn tiling_stat_sub_saturating(field: u32, n: u32) {
+    var old = atomicLoad(&stats[field]);
+    loop {
+        if (old == 0u) {
+            break;
+        }
+        let r = atomicCompareExchangeWeak(&stats[field], old, old - min(old, n));
+        if (r.exchanged) {
+            break;
+        }
+        old = r.old_value;
     }
 }
 
