@@ -398,35 +398,7 @@ fn corrupt_counts_case(
         commands: lost / 2,
         ..cpu.mid.stats
     };
-    for mid in [cpu.mid.stats, stale] {
-        corrupt_counts_run(
-            what, params, pixel, masks, cpu, totals, slots, features, constants, &counts, lost, mid,
-        );
-    }
-}
-
-/// One classify output run of corrupt_counts_case over `counts` (which lose `lost`
-/// commands) with `mid` as mid classify's stats.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "corrupt_counts_case's inputs and the corrupt counts, passed on as they are"
-)]
-fn corrupt_counts_run(
-    what: &str,
-    params: &TilingParams,
-    pixel: &[(&'static str, Data<'_>)],
-    masks: &[u32],
-    cpu: &tiling::Classification,
-    totals: &[Totals],
-    slots: &[u32],
-    features: &[&str],
-    constants: &[(&str, f64)],
-    counts: &[u32],
-    lost: u32,
-    mid: PixelStats,
-) {
     let counters = counts.len();
-    let p = params.pass_count as usize;
     let tiles = (params.tiles_x * params.tiles_y) as usize;
     let offsets: Vec<u32> = counts
         .iter()
@@ -440,78 +412,82 @@ fn corrupt_counts_run(
     let waves: u32 = counts.iter().map(|n| n.div_ceil(params.wave_width)).sum();
     // One guard word past the commands and one guard wave past the waves.
     let words = commands.div_ceil(2) + 1;
-    let p3 = run_pass(
-        &CLASSIFY_OUTPUT,
-        features,
-        constants,
-        params,
-        &pixel
+    for mid in [cpu.mid.stats, stale] {
+        let p3 = run_pass(
+            &CLASSIFY_OUTPUT,
+            features,
+            constants,
+            params,
+            &pixel
+                .iter()
+                .copied()
+                .chain([
+                    ("masks", Data::Words(masks)),
+                    ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
+                    ("counts", Data::Words(&counts)),
+                    ("pixel_offsets", Data::Zeros(counters)),
+                    ("final_counts", Data::Zeros(counters)),
+                    ("commands", Data::Zeros(words)),
+                    ("wave_offsets", Data::Zeros(counters)),
+                    ("waves", zeros::<WaveCommand>(waves as usize + 1)),
+                    ("passes", zeros::<PassDispatch>(p)),
+                    ("totals", Data::rows(totals)),
+                    ("stats", zeros::<PixelStats>(1)),
+                    (
+                        "wave_scratch",
+                        Data::Zeros(
+                            tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize
+                        ),
+                    ),
+                    ("slots", Data::Words(slots)),
+                    ("mid_stats", Data::Bytes(bytemuck::bytes_of(&mid))),
+                ])
+                .collect::<Vec<_>>(),
+        );
+        assert_eq!(p3.read::<u32>("pixel_offsets", counters), offsets, "{what}");
+        assert_eq!(p3.read::<u32>("final_counts", counters), counts, "{what}");
+        let written: Vec<u32> = p3.read("commands", words);
+        assert_eq!(written[words - 1], 0, "{what}: a command past the last one");
+        let got: Vec<u16> = written
             .iter()
-            .copied()
-            .chain([
-                ("masks", Data::Words(masks)),
-                ("counter_offsets", Data::Words(&cpu.mid.counter_offsets)),
-                ("counts", Data::Words(counts)),
-                ("pixel_offsets", Data::Zeros(counters)),
-                ("final_counts", Data::Zeros(counters)),
-                ("commands", Data::Zeros(words)),
-                ("wave_offsets", Data::Zeros(counters)),
-                ("waves", zeros::<WaveCommand>(waves as usize + 1)),
-                ("passes", zeros::<PassDispatch>(p)),
-                ("totals", Data::rows(totals)),
-                ("stats", zeros::<PixelStats>(1)),
-                (
-                    "wave_scratch",
-                    Data::Zeros(tiling::wgsl::wave_scratch_words(tiles as u32, p as u32) as usize),
-                ),
-                ("slots", Data::Words(slots)),
-                ("mid_stats", Data::Bytes(bytemuck::bytes_of(&mid))),
-            ])
-            .collect::<Vec<_>>(),
-    );
-    assert_eq!(p3.read::<u32>("pixel_offsets", counters), offsets, "{what}");
-    assert_eq!(p3.read::<u32>("final_counts", counters), counts, "{what}");
-    let written: Vec<u32> = p3.read("commands", words);
-    assert_eq!(written[words - 1], 0, "{what}: a command past the last one");
-    let got: Vec<u16> = written
-        .iter()
-        .flat_map(|w| [*w as u16, (*w >> 16) as u16])
-        .collect();
-    for c in 0..counters {
-        let mut mine: Vec<u16> = got[offsets[c] as usize..][..counts[c] as usize].to_vec();
-        let o = cpu.mid.pixel_offsets[c] as usize;
-        let mut all: Vec<u16> = cpu.output.commands[o..][..cpu.mid.counts[c] as usize].to_vec();
-        mine.sort_unstable();
-        all.sort_unstable();
-        // `mine` within `all`, as multisets (both sorted).
-        let mut rest = all.iter();
-        for m in &mine {
-            assert!(
-                rest.any(|a| a == m),
-                "{what}: counter {c} holds a command that is not its own: {m:#x}"
-            );
+            .flat_map(|w| [*w as u16, (*w >> 16) as u16])
+            .collect();
+        for c in 0..counters {
+            let mut mine: Vec<u16> = got[offsets[c] as usize..][..counts[c] as usize].to_vec();
+            let o = cpu.mid.pixel_offsets[c] as usize;
+            let mut all: Vec<u16> = cpu.output.commands[o..][..cpu.mid.counts[c] as usize].to_vec();
+            mine.sort_unstable();
+            all.sort_unstable();
+            // `mine` within `all`, as multisets (both sorted).
+            let mut rest = all.iter();
+            for m in &mine {
+                assert!(
+                    rest.any(|a| a == m),
+                    "{what}: counter {c} holds a command that is not its own: {m:#x}"
+                );
+            }
         }
+        let stats = p3.read::<PixelStats>("stats", 1)[0];
+        assert_eq!(
+            stats,
+            PixelStats {
+                commands: mid.commands.saturating_sub(lost),
+                dropped: mid.dropped + lost,
+                bad_indices: 0,
+                ..mid
+            },
+            "{what}: {lost} lost, mid classify counted {} commands",
+            mid.commands
+        );
+        let totals3 = p3.read::<Totals>("totals", 1)[0];
+        assert_eq!(totals3.wave_count, waves, "{what}");
+        assert_eq!(totals3.command_count as usize, commands, "{what}");
+        assert_eq!(
+            p3.read::<WaveCommand>("waves", waves as usize + 1)[waves as usize],
+            WaveCommand::default(),
+            "{what}: a wave past the last one"
+        );
     }
-    let stats = p3.read::<PixelStats>("stats", 1)[0];
-    assert_eq!(
-        stats,
-        PixelStats {
-            commands: mid.commands.saturating_sub(lost),
-            dropped: mid.dropped + lost,
-            bad_indices: 0,
-            ..mid
-        },
-        "{what}: {lost} lost, mid classify counted {} commands",
-        mid.commands
-    );
-    let totals3 = p3.read::<Totals>("totals", 1)[0];
-    assert_eq!(totals3.wave_count, waves, "{what}");
-    assert_eq!(totals3.command_count as usize, commands, "{what}");
-    assert_eq!(
-        p3.read::<WaveCommand>("waves", waves as usize + 1)[waves as usize],
-        WaveCommand::default(),
-        "{what}: a wave past the last one"
-    );
 }
 
 #[test]
