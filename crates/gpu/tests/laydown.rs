@@ -458,6 +458,101 @@ fn large_triangles_match_the_f64_rasteriser() {
     }
 }
 
+/// A fan of huge triangles around a vertex `apex_x` m to the right of the view's centre,
+/// its rim far to the left, `px_per_m` pixels a metre at z = 0. The rim vertices lie
+/// alternately 2^18 px - 3000 and 2^18 + 3000 from the apex, two and two, so of two
+/// triangles sharing an edge one box may reach past 2^18 px (2^26 subpixels) and the
+/// other not (the large-triangle pass). Returns the fan and its two outer edges.
+fn huge_fan(apex_x: f32, px_per_m: f32) -> (Mesh, [[Vec3; 2]; 2]) {
+    let apex = Vec3::new(apex_x, 0.0, 0.0);
+    let rim: Vec<Vec3> = (0..=40)
+        .map(|i| {
+            let px = if (i / 2) % 2 == 0 {
+                262_144.0 - 3000.0
+            } else {
+                262_144.0 + 3000.0
+            };
+            Vec3::new(apex_x - px / px_per_m, -8.0 + 0.4 * i as f32, 0.0)
+        })
+        .collect();
+    let tris: Vec<[Vec3; 3]> = rim
+        .windows(2)
+        .map(|r| {
+            // Counter-clockwise seen from +z (the camera): front faces.
+            if (r[0] - apex).truncate().perp_dot((r[1] - apex).truncate()) > 0.0 {
+                [apex, r[0], r[1]]
+            } else {
+                [apex, r[1], r[0]]
+            }
+        })
+        .collect();
+    (
+        triangles_mesh("huge fan", &tris),
+        [[apex, rim[0]], [apex, rim[40]]],
+    )
+}
+
+#[test]
+fn huge_triangles_sharing_edges_leave_no_crack() {
+    assert!(compute_device());
+    let probe = ctx();
+    let camera = front_camera();
+    let vp = camera.view_projection(W as f32 / H as f32).as_dmat4();
+    let screen = |p: Vec3| {
+        let c = vp * p.as_dvec3().extend(1.0);
+        DVec2::new(
+            (c.x / c.w + 1.0) * 0.5 * f64::from(W),
+            (1.0 - c.y / c.w) * 0.5 * f64::from(H),
+        )
+    };
+    let px_per_m = (screen(Vec3::X) - screen(Vec3::ZERO)).x as f32;
+    // Several apexes: whether a box-relative f32 difference rounds depends on the apex's
+    // last bits, so one fan might happen to be exact.
+    for apex_x in [5_000.0, 5_000.37, 5_001.1, 4_999.6, 5_002.9, 4_998.3] {
+        let (mesh, outer) = huge_fan(apex_x, px_per_m);
+        let scene = plain_scene(mesh, vec![Affine3A::IDENTITY]);
+        for target in [LaydownTarget::Buffer, LaydownTarget::Texture] {
+            if !probe.device.features().contains(target.required_features()) {
+                continue; // compute_laydown_matches_the_f64_rasteriser says so
+            }
+            let name = format!("fan at {apex_x} m, {} target", target.name());
+            let config = compute_config(gpu::COMPUTE_LAYDOWN_MAX_EXTENT, target);
+            let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
+            let prepared = r.prepare(&scene).unwrap();
+            let (vis, _) = r
+                .render_laydown(&prepared, &FrameInput::new(camera))
+                .unwrap();
+            let stats = r.read_laydown_stats(&prepared).unwrap().unwrap();
+            assert_eq!((stats.large, stats.hybrid), (40, 0), "{name}: {stats:?}");
+            // Signed distance (pixels) of a pixel centre to each outer edge, positive on
+            // the fan's side.
+            let lines = outer.map(|[a, b]| (screen(a), screen(b)));
+            let inside = |q: DVec2| {
+                let d = lines.map(|(a, b)| (b - a).perp_dot(q - a) / (b - a).length());
+                d[0] * d[1] < 0.0 && d[0].abs().min(d[1].abs()) > 1.0
+            };
+            let mut inner = 0;
+            for y in 0..H {
+                for x in 0..W {
+                    let q = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
+                    if inside(q) {
+                        inner += 1;
+                        assert_ne!(
+                            vis[(y * W + x) as usize],
+                            visbuf::VIS_NONE,
+                            "{name}: crack at ({x}, {y})"
+                        );
+                    }
+                }
+            }
+            assert!(
+                inner > (W * H) as usize * 3 / 4,
+                "{name}: {inner} pixels inside"
+            );
+        }
+    }
+}
+
 /// 5 m up the z axis looking at the origin, 1 rad vertical field of view, near plane 0.5 m.
 fn front_camera() -> Camera {
     Camera {

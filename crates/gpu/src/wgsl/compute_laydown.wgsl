@@ -119,13 +119,14 @@ struct GpuRasterShade {
 
 // A triangle set up for rasterising: `kind` GPU_RASTER_NONE (nothing to draw),
 // GPU_RASTER_HARDWARE, GPU_RASTER_LARGE or GPU_RASTER_SMALL; then its snapped vertices
-// (a, b, c, 1/256 pixel relative to `corner`), its box clipped to the image, and shading.
+// (a, b, c, in 1/256 pixel relative to `corner`, below 2^29), its box clipped to the
+// image, and shading.
 struct GpuRasterTriangle {
     kind: u32,
     corner: vec2<i32>,
-    a: vec2<f32>,
-    b: vec2<f32>,
-    c: vec2<f32>,
+    a: vec2<i32>,
+    b: vec2<i32>,
+    c: vec2<i32>,
     x0: i32,
     x1: i32,
     y0: i32,
@@ -140,9 +141,12 @@ const GPU_RASTER_HARDWARE: u32 = 1u;
 const GPU_RASTER_LARGE: u32 = 2u;
 const GPU_RASTER_SMALL: u32 = 3u;
 
-// Sets up `item`'s triangle. Snapped positions are kept as f32 whole numbers of
-// subpixels (exact below 2^24) for the large path's 64-bit edge functions and as i32 for
-// the small path's.
+// Sets up `item`'s triangle. Each vertex snaps in whole image subpixels first, so a vertex
+// that triangles share snaps the same in each (a difference from each box's corner in f32
+// rounds differently per box past 2^24 subpixels, 65 536 px, and opened cracks between
+// huge triangles); x 256 and round are exact in f32, and with the box at most
+// GPU_LAYDOWN_LARGE_LIMIT past an image of at most 32 768 px every coordinate is below
+// 2^29 subpixels, so i32 holds it and its difference from the corner exactly.
 fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
     var r: GpuRasterTriangle;
     r.kind = GPU_RASTER_NONE;
@@ -199,12 +203,13 @@ fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
     let cs = array<vec4<f32>, 3>(c0, c1, c2);
     let ss = array<vec2<f32>, 3>(s0, s1, s2);
     let uvs = array<vec2<f32>, 3>(o0.uv, o1.uv, o2.uv);
-    var p: array<vec2<f32>, 3>;
+    let base = vec2<i32>(corner) * 256;
+    var p: array<vec2<i32>, 3>;
     var q: array<f32, 3>;
     var z: array<f32, 3>;
     var uq: array<vec2<f32>, 3>;
     for (var k = 0u; k < 3u; k++) {
-        p[k] = round((ss[k] - corner) * GPU_LAYDOWN_SUBPIXELS);
+        p[k] = vec2<i32>(round(ss[k] * GPU_LAYDOWN_SUBPIXELS)) - base;
         q[k] = 1.0 / cs[k].w;
         z[k] = cs[k].z * q[k];
         uq[k] = uvs[k] * q[k];
@@ -221,9 +226,9 @@ fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
     r.c = p[1];
     let inv_area = 1.0 / f32(-area0);
     r.inv_area = inv_area;
-    let eab = r.b - r.a;
-    let ebc = r.c - r.b;
-    let eca = r.a - r.c;
+    let eab = vec2<f32>(r.b - r.a);
+    let ebc = vec2<f32>(r.c - r.b);
+    let eca = vec2<f32>(r.a - r.c);
     var sh: GpuRasterShade;
     sh.z = vec3<f32>(z[0], z[2], z[1]);
     sh.q = vec3<f32>(q[0], q[2], q[1]);
@@ -253,14 +258,14 @@ fn gpu_raster_setup(item: u32) -> GpuRasterTriangle {
     return r;
 }
 
-// a x b of whole-subpixel f32 vectors, exactly, in 64 bits.
-fn gpu_cross64(a: vec2<f32>, b: vec2<f32>) -> i64 {
+// a x b of subpixel vectors, exactly, in 64 bits.
+fn gpu_cross64(a: vec2<i32>, b: vec2<i32>) -> i64 {
     return i64(a.x) * i64(b.y) - i64(a.y) * i64(b.x);
 }
 
-// The top-left rule's bias of edge `e` (whole-subpixel f32).
-fn gpu_top_left_bias64(e: vec2<f32>) -> i64 {
-    if ((e.y == 0.0 && e.x > 0.0) || e.y < 0.0) {
+// The top-left rule's bias of edge `e` (subpixels).
+fn gpu_top_left_bias64(e: vec2<i32>) -> i64 {
+    if ((e.y == 0 && e.x > 0) || e.y < 0) {
         return 0li;
     }
     return -1li;
@@ -295,9 +300,9 @@ fn gpu_raster_shade(x: i32, y: i32, bary: vec3<f32>, sh: GpuRasterShade, w: i32)
 // subpixel positions are below 2^16), or a negative x weight outside (the top-left rule:
 // samples on an edge that is not top or left are outside).
 fn gpu_raster_weights_small(r: GpuRasterTriangle, x: i32, y: i32) -> vec3<f32> {
-    let a = vec2<i32>(r.a);
-    let b = vec2<i32>(r.b);
-    let c = vec2<i32>(r.c);
+    let a = r.a;
+    let b = r.b;
+    let c = r.c;
     let p = vec2<i32>((x - r.corner.x) * 256 + 128, (y - r.corner.y) * 256 + 128);
     let e = vec3<i32>(gpu_cross(c - b, p - b), gpu_cross(a - c, p - c), gpu_cross(b - a, p - a));
     let bias = vec3<i32>(gpu_top_left_bias(c - b), gpu_top_left_bias(a - c), gpu_top_left_bias(b - a));
@@ -405,7 +410,7 @@ var<workgroup> gpu_large_round_blocks: u32;
 
 fn gpu_large_edges_of(r: GpuRasterTriangle) -> GpuLargeEdges {
     var g: GpuLargeEdges;
-    let p = vec2<f32>(f32((r.x0 - r.corner.x) * 256 + 128), f32((r.y0 - r.corner.y) * 256 + 128));
+    let p = vec2<i32>((r.x0 - r.corner.x) * 256 + 128, (r.y0 - r.corner.y) * 256 + 128);
     let e0 = r.c - r.b;
     let e1 = r.a - r.c;
     let e2 = r.b - r.a;
