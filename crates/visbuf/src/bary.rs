@@ -82,6 +82,33 @@ impl Barycentrics {
         ddy: Vec3::ZERO,
     };
 
+    /// The weights clamped to the triangle: negative ones set to 0 and all scaled to sum
+    /// to 1 (weights inside move by an ulp at most); the derivatives kept (the plane's,
+    /// for texture LOD). A vis-buffer pixel lies in its triangle as the rasteriser snapped
+    /// it, but HFW's vertex ring's f16 positions (or, by far less, unsnapped ones) can
+    /// leave its centre outside a sub-pixel or edge-on triangle, where the weights
+    /// extrapolate far along its plane: clamped, every attribute (the position, so the
+    /// motion too) stays within the triangle's range. [`Barycentrics::DEGENERATE`] when
+    /// the weights are not finite. WGSL: `visbuf_clamp_barycentrics` (for finite weights).
+    #[must_use]
+    #[inline]
+    pub fn clamped(&self) -> Barycentrics {
+        if !self.lambda.is_finite() {
+            return Barycentrics::DEGENERATE;
+        }
+        // No branch for the inside: the GPU pays for one in registers.
+        let l = self.lambda.max(Vec3::ZERO);
+        let sum = l.x + l.y + l.z;
+        // Finite weights summing to 1 keep one positive; other inputs may not.
+        if sum <= 0.0 {
+            return Barycentrics::DEGENERATE;
+        }
+        Barycentrics {
+            lambda: l / sum,
+            ..*self
+        }
+    }
+
     /// Interpolates a per-vertex attribute (f32 or any glam vector) with its derivatives.
     #[must_use]
     #[inline]

@@ -397,3 +397,55 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn clamped_weights_match_the_f64_clamp_outside_the_triangle_and_keep_those_inside() {
+    let mut rng = Rng::new(0xc1a3);
+    let (mut outside, mut worst) = (0, 0.0f64);
+    for i in 0..20_000 {
+        let (clip, inside) = random_triangle(&mut rng, 1.0 + (i % 50) as f64);
+        let clip = clip.map(|c| c.as_vec4().as_dvec4());
+        // The point inside, or moved up to 40 px away (mostly outside).
+        let p = if i % 4 == 0 {
+            inside
+        } else {
+            inside
+                + DVec2::new(
+                    f64::from(rng.range(-40.0, 40.0)),
+                    f64::from(rng.range(-40.0, 40.0)),
+                )
+        };
+        let p = p.as_vec2().as_dvec2();
+        let got = barycentrics(f32s(clip), p.as_vec2(), VIEWPORT.as_vec2());
+        let clamped = got.clamped();
+        // The derivatives are the plane's, kept.
+        assert_eq!((clamped.ddx, clamped.ddy), (got.ddx, got.ddy));
+        let l = raster_lambda(clip, p, VIEWPORT);
+        let want = l.max(DVec3::ZERO) / l.max(DVec3::ZERO).element_sum();
+        if l.min_element() < 0.0 {
+            outside += 1;
+        } else if l.min_element() > 1e-3 {
+            // Well inside: nothing to clamp, the weights as they were but for an ulp.
+            assert!((clamped.lambda - got.lambda).abs().max_element() <= 1.2e-7);
+        }
+        assert!(clamped.lambda.min_element() >= 0.0, "{clamped:?}");
+        assert!((clamped.lambda.element_sum() - 1.0).abs() < 1e-6);
+        // Relative to the unclamped weights' scale, which grows away from the triangle.
+        let err =
+            (clamped.lambda.as_dvec3() - want).abs().max_element() / (1.0 + l.abs().max_element());
+        worst = worst.max(err);
+        assert!(
+            err < 2e-3,
+            "case {i}: got {:?}, want {want:?}",
+            clamped.lambda
+        );
+    }
+    eprintln!("clamped weights vs f64: worst {worst:.2e}, {outside} points outside");
+    assert!(outside > 10_000);
+    // Not finite: the centroid.
+    let nan = Barycentrics {
+        lambda: Vec3::new(f32::NAN, 0.5, 0.5),
+        ..Barycentrics::DEGENERATE
+    };
+    assert_eq!(nan.clamped().lambda, Barycentrics::DEGENERATE.lambda);
+}

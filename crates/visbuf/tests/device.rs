@@ -64,7 +64,7 @@ fn id_decode_and_pack_match_the_cpu_for_every_primitive_bit_count() {
 }
 
 #[test]
-fn barycentrics_and_derivatives_match_the_cpu() {
+fn barycentrics_derivatives_and_clamped_weights_match_the_cpu() {
     let mut rng = Rng::new(0xbeef);
     let viewport = Vec2::new(1920.0, 1080.0);
     let mut input: Vec<u32> = Vec::new();
@@ -91,11 +91,13 @@ fn barycentrics_and_derivatives_match_the_cpu() {
     let c2 = bitcast<vec4<f32>>(vec4<u32>(input[b + 8u], input[b + 9u], input[b + 10u], input[b + 11u]));
     let px = bitcast<vec2<f32>>(vec2<u32>(input[b + 12u], input[b + 13u]));
     let r = visbuf_barycentrics(c0, c1, c2, px, vec2<f32>(1920.0, 1080.0));
-    let o = 9u * i;
+    let c = visbuf_clamp_barycentrics(r);
+    let o = 12u * i;
     for (var k = 0u; k < 3u; k++) {
         output[o + k] = bitcast<u32>(r.lambda[k]);
         output[o + 3u + k] = bitcast<u32>(r.ddx[k]);
         output[o + 6u + k] = bitcast<u32>(r.ddy[k]);
+        output[o + 9u + k] = bitcast<u32>(c.lambda[k]);
     }";
     let out = testkit::device::run_words(
         &[visbuf::wgsl::MODULES],
@@ -103,17 +105,18 @@ fn barycentrics_and_derivatives_match_the_cpu() {
         body,
         &input,
         cases.len() as u32,
-        9,
+        12,
         &[],
     );
     let mut worst = 0.0f32;
     for (k, (clip, pixel)) in cases.iter().enumerate() {
         let cpu = visbuf::bary::barycentrics(*clip, *pixel, viewport);
-        let g: Vec<f32> = out[9 * k..9 * k + 9]
+        let g: Vec<f32> = out[12 * k..12 * k + 12]
             .iter()
             .map(|&w| f32::from_bits(w))
             .collect();
-        for (i, want) in [cpu.lambda, cpu.ddx, cpu.ddy]
+        // Then the clamped weights (most pixels lie outside their random triangle).
+        for (i, want) in [cpu.lambda, cpu.ddx, cpu.ddy, cpu.clamped().lambda]
             .iter()
             .flat_map(|v| v.to_array())
             .enumerate()

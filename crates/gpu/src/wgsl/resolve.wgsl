@@ -56,7 +56,11 @@ fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchI
     let c0 = vec4<f32>(h0.xy, near, h0.z);
     let c1 = vec4<f32>(h1.xy, near, h1.z);
     let c2 = vec4<f32>(h2.xy, near, h2.z);
-    let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
+    // Clamped: the ring's f16 positions can leave the centre far outside a sub-pixel or
+    // edge-on triangle, and the weights extrapolate along its plane (motion 20x its
+    // neighbours'). The per-pixel path's exact f32 positions leave it about 1/512 px
+    // outside; there the clamp cost the resolve 22-40 us at 4K on the H200, here 1-4.
+    let b = visbuf_clamp_barycentrics(visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy));
     var t0 = visbuf_unpack_uv(r0.uv);
     var t1 = visbuf_unpack_uv(r1.uv);
     var t2 = visbuf_unpack_uv(r2.uv);
@@ -128,6 +132,7 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
     let c0 = frame.view_proj * vec4<f32>(r0, 1.0);
     let c1 = frame.view_proj * vec4<f32>(r1, 1.0);
     let c2 = frame.view_proj * vec4<f32>(r2, 1.0);
+    // Not clamped (resolve_from_ring says why).
     let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
     let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;

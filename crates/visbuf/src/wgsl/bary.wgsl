@@ -28,6 +28,20 @@ fn visbuf_degenerate_barycentrics() -> VisbufBarycentrics {
     return VisbufBarycentrics(vec3<f32>(1.0 / 3.0), vec3<f32>(0.0), vec3<f32>(0.0));
 }
 
+// The weights clamped to the triangle (negative ones 0, all scaled to sum to 1; inside
+// they move by an ulp at most), the derivatives kept: attributes of a pixel whose centre
+// the vertex ring's f16 positions leave outside a sub-pixel or edge-on triangle stay
+// within its range. No branch for the inside: it cost the resolve registers. For finite
+// weights (what visbuf_barycentrics returns). Rust: Barycentrics::clamped.
+fn visbuf_clamp_barycentrics(b: VisbufBarycentrics) -> VisbufBarycentrics {
+    let l = max(b.lambda, vec3<f32>(0.0));
+    let sum = l.x + l.y + l.z;
+    if (!(sum > 0.0)) {
+        return visbuf_degenerate_barycentrics();
+    }
+    return VisbufBarycentrics(l / sum, b.ddx, b.ddy);
+}
+
 fn visbuf_max_abs3(v: vec3<f32>) -> f32 {
     let a = abs(v);
     return max(max(a.x, a.y), a.z);
