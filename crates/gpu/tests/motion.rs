@@ -56,6 +56,23 @@ fn pixels(c: DVec4) -> (f64, f64) {
     )
 }
 
+/// Per pixel, the motion (pixels, +y down) of the point at its depth in `now`, reprojected
+/// through both cameras; None where nothing was drawn.
+fn reprojected_motion(before: &Camera, now: &Camera, depth: &[f32]) -> Vec<Option<DVec2>> {
+    (0..W * H)
+        .map(|i| {
+            let (x, y) = (i % W, i / W);
+            let d = depth[i as usize];
+            (d > 0.0).then(|| {
+                let world = unproject(now, x, y, d);
+                let (nx, ny) = pixels(clip(now, world));
+                let (px, py) = pixels(clip(before, world));
+                DVec2::new(nx - px, ny - py)
+            })
+        })
+        .collect()
+}
+
 #[test]
 fn motion_vectors_reproject_the_depth_through_both_cameras() {
     let (scene, frame) = demo::build(&DemoOptions {
@@ -87,25 +104,16 @@ fn motion_vectors_reproject_the_depth_through_both_cameras() {
         let depth = r.read_depth().unwrap();
         let (mut checked, mut off, mut moving) = (0, 0, 0);
         let mut worst: f64 = 0.0;
-        for y in 0..H {
-            for x in 0..W {
-                let i = (y * W + x) as usize;
-                if depth[i] <= 0.0 {
-                    continue;
-                }
-                let world = unproject(&moved.camera, x, y, depth[i]);
-                let (nx, ny) = pixels(clip(&moved.camera, world));
-                let (px, py) = pixels(clip(&before, world));
-                let want = (nx - px, ny - py);
-                let got = surfaces[i].motion.as_dvec2();
-                let err = (got.x - want.0).hypot(got.y - want.1);
-                let tolerance = 0.05 + 0.01 * want.0.hypot(want.1);
-                checked += 1;
-                moving += usize::from(want.0.hypot(want.1) > 1.0);
-                if err > tolerance {
-                    off += 1;
-                    worst = worst.max(err);
-                }
+        let wanted = reprojected_motion(&before, &moved.camera, &depth);
+        for (s, want) in surfaces.iter().zip(&wanted) {
+            let Some(want) = want else { continue };
+            let err = (s.motion.as_dvec2() - *want).length();
+            let tolerance = 0.05 + 0.01 * want.length();
+            checked += 1;
+            moving += usize::from(want.length() > 1.0);
+            if err > tolerance {
+                off += 1;
+                worst = worst.max(err);
             }
         }
         eprintln!(
@@ -150,22 +158,13 @@ fn sub_pixel_edge_on_blades_move_as_their_depth() {
         let surfaces = r.read_gbuffer().unwrap();
         let depth = r.read_depth().unwrap();
         let (mut checked, mut worst, mut at) = (0, 0.0f64, (0, 0));
-        for y in 0..H {
-            for x in 0..W {
-                let i = (y * W + x) as usize;
-                if depth[i] <= 0.0 {
-                    continue;
-                }
-                let world = unproject(&moved.camera, x, y, depth[i]);
-                let (nx, ny) = pixels(clip(&moved.camera, world));
-                let (px, py) = pixels(clip(&frame.camera, world));
-                let got = surfaces[i].motion.as_dvec2();
-                let want = DVec2::new(nx - px, ny - py);
-                let err = (got - want).length() - 0.1 * want.length();
-                checked += 1;
-                if err > worst {
-                    (worst, at) = (err, (x, y));
-                }
+        let wanted = reprojected_motion(&frame.camera, &moved.camera, &depth);
+        for (i, (s, want)) in surfaces.iter().zip(&wanted).enumerate() {
+            let Some(want) = want else { continue };
+            let err = (s.motion.as_dvec2() - *want).length() - 0.1 * want.length();
+            checked += 1;
+            if err > worst {
+                (worst, at) = (err, (i as u32 % W, i as u32 / W));
             }
         }
         eprintln!("ring {ring:?}: {checked} pixels, worst {worst:.3} px over 10% at {at:?}");
