@@ -603,14 +603,14 @@ impl fmt::Display for Report {
             )?;
             let total: f64 = t.gpu.iter().map(|x| x.ms).sum();
             for x in &t.gpu {
-                writeln!(f, "  {:<28} {:>9.3} ms", x.label, x.ms)?;
+                writeln!(f, "  {:<28} {:>10.4} ms", x.label, x.ms)?;
             }
             if t.gpu.is_empty() {
                 writeln!(f, "  (no timestamp queries on this adapter)")?;
             } else {
-                writeln!(f, "  {:<28} {:>9.3} ms", "total", total)?;
+                writeln!(f, "  {:<28} {:>10.4} ms", "total", total)?;
             }
-            writeln!(f, "  {:<28} {:>9.3} ms", "wall clock per frame", t.wall_ms)?;
+            writeln!(f, "  {:<28} {:>10.3} ms", "wall clock per frame", t.wall_ms)?;
         }
         if !self.images.is_empty() {
             writeln!(f, "\nimages:")?;
