@@ -96,7 +96,7 @@ impl Barycentrics {
         if !self.lambda.is_finite() {
             return Barycentrics::DEGENERATE;
         }
-        // No branch for the inside: the GPU pays for one in registers.
+        // As the WGSL twin: no early return for the inside (on the GPU it cost registers).
         let l = self.lambda.max(Vec3::ZERO);
         let sum = l.x + l.y + l.z;
         // Finite weights summing to 1 keep one positive; other inputs may not.

@@ -59,7 +59,7 @@ fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchI
     // Clamped: the ring's f16 positions can leave the centre far outside a sub-pixel or
     // edge-on triangle, and the weights extrapolate along its plane (motion 20x its
     // neighbours'). The per-pixel path's exact f32 positions leave it about 1/512 px
-    // outside; there the clamp cost the resolve 22-40 us at 4K on the H200, here 1-4.
+    // outside; there the clamp cost the resolve 22-40 us at 4K on the H200, here 0-4.
     let b = visbuf_clamp_barycentrics(visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy));
     var t0 = visbuf_unpack_uv(r0.uv);
     var t1 = visbuf_unpack_uv(r1.uv);
