@@ -7,10 +7,9 @@ use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
 use super::super::LIBRARY;
 use super::super::lighting::GpuLocalLights;
-use super::{GpuWaterFrame, WaterGroups};
+use super::GpuWaterFrame;
 use crate::error::Result;
 use crate::resources::rows::FrameUniforms;
-use crate::timing::GpuTimer;
 
 /// The pass, over the image (`[width, height]`).
 pub(crate) const COMPOSITE: Pass<[u32; 2]> = Pass {
@@ -57,32 +56,11 @@ pub(crate) const COMPOSITE: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-pub(crate) struct Composite {
-    pub pass: ComputePass<[u32; 2]>,
-}
-
-impl Composite {
-    /// With `half`, the `f16` variant (the device must have `SHADER_F16`).
-    pub(crate) fn new(device: &wgpu::Device, half: bool) -> Result<Self> {
-        let features: &[&str] = if half { &["f16"] } else { &[] };
-        Ok(Self {
-            pass: ComputePass::new(device, &COMPOSITE, features, &[])?,
-        })
-    }
-
-    pub(crate) fn record(
-        &self,
-        e: &mut wgpu::CommandEncoder,
-        g: &WaterGroups,
-        size: [u32; 2],
-        timer: &mut GpuTimer,
-    ) {
-        let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("water composite"),
-            timestamp_writes: timer.compute("water composite"),
-        });
-        self.pass.record(&mut pass, &[&g.composite], &size);
-    }
+/// The pass's pipelines; with `half`, the `f16` variant (the device must have
+/// `SHADER_F16`). Recorded by the water's `record_grid`.
+pub(crate) fn new(device: &wgpu::Device, half: bool) -> Result<ComputePass<[u32; 2]>> {
+    let features: &[&str] = if half { &["f16"] } else { &[] };
+    Ok(ComputePass::new(device, &COMPOSITE, features, &[])?)
 }
 
 #[cfg(test)]

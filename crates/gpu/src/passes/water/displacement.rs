@@ -5,10 +5,9 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
 
 use super::super::LIBRARY;
-use super::{GpuWaterDecal, GpuWaterFrame, WaterGroups, WaterTargets};
+use super::{GpuWaterDecal, GpuWaterFrame};
 use crate::error::Result;
 use crate::resources::rows::FrameUniforms;
-use crate::timing::GpuTimer;
 
 /// The pass, over the mini G-buffer (`[width, height]`).
 pub(crate) const DISPLACEMENT: Pass<[u32; 2]> = Pass {
@@ -53,30 +52,9 @@ pub(crate) const DISPLACEMENT: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-pub(crate) struct Displacement {
-    pub pass: ComputePass<[u32; 2]>,
-}
-
-impl Displacement {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
-        Ok(Self {
-            pass: ComputePass::new(device, &DISPLACEMENT, &[], &[])?,
-        })
-    }
-
-    pub(crate) fn record(
-        &self,
-        e: &mut wgpu::CommandEncoder,
-        t: &WaterTargets,
-        g: &WaterGroups,
-        timer: &mut GpuTimer,
-    ) {
-        let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("water displacement"),
-            timestamp_writes: timer.compute("water displacement"),
-        });
-        self.pass.record(&mut pass, &[&g.displacement], &t.size);
-    }
+/// The pass's pipelines, recorded by the water's `record_grid`.
+pub(crate) fn new(device: &wgpu::Device) -> Result<ComputePass<[u32; 2]>> {
+    Ok(ComputePass::new(device, &DISPLACEMENT, &[], &[])?)
 }
 
 #[cfg(test)]

@@ -5,10 +5,9 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
 use super::super::LIBRARY;
-use super::{GpuWaterFrame, WaterGroups};
+use super::GpuWaterFrame;
 use crate::error::Result;
 use crate::resources::rows::FrameUniforms;
-use crate::timing::GpuTimer;
 
 /// The pass, over the image (`[width, height]`).
 pub(crate) const FOAM: Pass<[u32; 2]> = Pass {
@@ -51,30 +50,9 @@ pub(crate) const FOAM: Pass<[u32; 2]> = Pass {
     zeroed: &[],
 };
 
-pub(crate) struct Foam {
-    pub pass: ComputePass<[u32; 2]>,
-}
-
-impl Foam {
-    pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
-        Ok(Self {
-            pass: ComputePass::new(device, &FOAM, &[], &[])?,
-        })
-    }
-
-    pub(crate) fn record(
-        &self,
-        e: &mut wgpu::CommandEncoder,
-        g: &WaterGroups,
-        size: [u32; 2],
-        timer: &mut GpuTimer,
-    ) {
-        let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("water foam"),
-            timestamp_writes: timer.compute("water foam"),
-        });
-        self.pass.record(&mut pass, &[&g.foam], &size);
-    }
+/// The pass's pipelines, recorded by the water's `record_grid`.
+pub(crate) fn new(device: &wgpu::Device) -> Result<ComputePass<[u32; 2]>> {
+    Ok(ComputePass::new(device, &FOAM, &[], &[])?)
 }
 
 #[cfg(test)]

@@ -757,17 +757,34 @@ impl WaterData {
 }
 
 /// Every water pass's pipelines, and the lighting variant's group.
+/// Records `pass`, one grid dispatch over `size` with `group`, as a compute pass of its own
+/// timed under its description's name: the water's grid passes (displacement, normals,
+/// foam, composite).
+fn record_grid(
+    e: &mut wgpu::CommandEncoder,
+    pass: &ComputePass<[u32; 2]>,
+    group: &wgpu::BindGroup,
+    size: [u32; 2],
+    timer: &mut GpuTimer,
+) {
+    let mut compute = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(pass.pass.name),
+        timestamp_writes: timer.compute(pass.pass.name),
+    });
+    pass.record(&mut compute, &[group], &size);
+}
+
 pub(crate) struct WaterPasses {
     pub visibility: visibility::Visibility,
     pub position: position::Position,
-    pub displacement: displacement::Displacement,
+    pub displacement: ComputePass<[u32; 2]>,
     pub tiles: tiles::Tiles,
     pub tessellation: tessellation::Tessellation,
     pub tile_depth: ComputePass<[u32; 2]>,
     pub cull: ComputePass<deferred::pass::LightCullParams>,
-    pub normals: normals::Normals,
-    pub foam: foam::Foam,
-    pub composite: composite::Composite,
+    pub normals: ComputePass<[u32; 2]>,
+    pub foam: ComputePass<[u32; 2]>,
+    pub composite: ComputePass<[u32; 2]>,
 }
 
 impl WaterPasses {
@@ -775,14 +792,14 @@ impl WaterPasses {
         Ok(Self {
             visibility: visibility::Visibility::new(device)?,
             position: position::Position::new(device)?,
-            displacement: displacement::Displacement::new(device)?,
+            displacement: displacement::new(device)?,
             tiles: tiles::Tiles::new(device, subgroups)?,
             tessellation: tessellation::Tessellation::new(device)?,
             tile_depth: ComputePass::new(device, &TILE_DEPTH, &[], &[])?,
             cull: ComputePass::new(device, &deferred::pass::LIGHT_CULL_PASS, &[], &[])?,
-            normals: normals::Normals::new(device)?,
-            foam: foam::Foam::new(device)?,
-            composite: composite::Composite::new(device, half)?,
+            normals: normals::new(device)?,
+            foam: foam::new(device)?,
+            composite: composite::new(device, half)?,
         })
     }
 }
@@ -873,7 +890,7 @@ impl WaterState {
                     ("hiz", b(&d.hiz.buffer)),
                 ],
             )?,
-            displacement: passes.displacement.pass.bind_group(
+            displacement: passes.displacement.bind_group(
                 device,
                 "water",
                 &[
@@ -931,7 +948,7 @@ impl WaterState {
                     ("counters", b(&t.light_counters)),
                 ],
             )?,
-            normals: passes.normals.pass.bind_group(
+            normals: passes.normals.bind_group(
                 device,
                 "water",
                 &[
@@ -944,7 +961,7 @@ impl WaterState {
                     ("normals", T(&t.normals.1)),
                 ],
             )?,
-            foam: passes.foam.pass.bind_group(
+            foam: passes.foam.bind_group(
                 device,
                 "water",
                 &[
@@ -961,7 +978,7 @@ impl WaterState {
                     ("foam", T(&t.foam.1)),
                 ],
             )?,
-            composite: passes.composite.pass.bind_group(
+            composite: passes.composite.bind_group(
                 device,
                 "water",
                 &[
@@ -1017,7 +1034,7 @@ impl WaterState {
             p.visibility.record(e, g, d, timer);
             p.position.record(e, t, d, g, timer);
         }
-        p.displacement.record(e, t, g, timer);
+        record_grid(e, &p.displacement, &g.displacement, t.size, timer);
         p.tiles.record(e, t, g, timer);
         // The depth with water starts as the opaque depth.
         e.copy_texture_to_texture(
@@ -1041,9 +1058,9 @@ impl WaterState {
             p.cull.record(&mut pass, &[&g.cull], &dispatch);
         }
         let size = [f.targets.width, f.targets.height];
-        p.normals.record(e, g, size, timer);
-        p.foam.record(e, g, size, timer);
-        p.composite.record(e, g, size, timer);
+        record_grid(e, &p.normals, &g.normals, size, timer);
+        record_grid(e, &p.foam, &g.foam, size, timer);
+        record_grid(e, &p.composite, &g.composite, size, timer);
     }
 
     /// Sets this frame's decals (checked against the scene's textures and the limit).
