@@ -391,12 +391,12 @@ struct GpuLargeEdges {
     step_x: vec3<i64>,
     step_y: vec3<i64>,
     least: vec3<i64>,
-    // The steps in 32 bits when 7 of each fit (near: 1): a pixel's offset from its
-    // block's first pixel then takes i32 products instead of i64 ones (the i64 ones cost
-    // the large pass 0.07-0.9 ms of 0.9-19 ms at 4K on the H200).
+    // The steps in 32 bits when a block's worth of each fits (steps32: 1): a pixel's
+    // offset from its block's first pixel then takes i32 products instead of i64 ones
+    // (the i64 ones cost the large pass 0.07-0.9 ms of 0.9-19 ms at 4K on the H200).
     step_x32: vec3<i32>,
     step_y32: vec3<i32>,
-    near: u32,
+    steps32: u32,
 }
 
 var<workgroup> gpu_large_edges: array<GpuLargeEdges, GPU_LAYDOWN_LARGE_BATCH>;
@@ -414,6 +414,9 @@ var<workgroup> gpu_large_block_edges: array<vec3<i64>, GPU_LAYDOWN_LARGE_WORKGRO
 var<workgroup> gpu_large_block_count: atomic<u32>;
 var<workgroup> gpu_large_round_blocks: u32;
 
+// The largest edge component (subpixels) whose steps a whole block adds up in i32.
+const GPU_LAYDOWN_STEPS32_LIMIT: i32 = 2147483647 / (256 * 2 * i32(GPU_LAYDOWN_BLOCK - 1u)) + 1;
+
 fn gpu_large_edges_of(r: GpuRasterTriangle) -> GpuLargeEdges {
     var g: GpuLargeEdges;
     let p = vec2<i32>((r.x0 - r.corner.x) * 256 + 128, (r.y0 - r.corner.y) * 256 + 128);
@@ -425,10 +428,11 @@ fn gpu_large_edges_of(r: GpuRasterTriangle) -> GpuLargeEdges {
     g.step_x = vec3<i64>(i64(-e0.y), i64(-e1.y), i64(-e2.y)) * 256li;
     g.step_y = vec3<i64>(i64(e0.x), i64(e1.x), i64(e2.x)) * 256li;
     g.least = -vec3<i64>(gpu_top_left_bias64(e0), gpu_top_left_bias64(e1), gpu_top_left_bias64(e2));
-    // |step| * 7 twice below 2^31: |e| * 256 * 14 < 2^31.
+    // A pixel's offset, |step_x| dx + |step_y| dy with dx, dy < GPU_LAYDOWN_BLOCK, below
+    // 2^31: |e| * 256 * 2 (GPU_LAYDOWN_BLOCK - 1) < 2^31.
     let most = max(max(abs(e0), abs(e1)), abs(e2));
-    g.near = u32(max(most.x, most.y) < 599186);
-    if (g.near == 1u) {
+    g.steps32 = u32(max(most.x, most.y) < GPU_LAYDOWN_STEPS32_LIMIT);
+    if (g.steps32 == 1u) {
         g.step_x32 = vec3<i32>(-e0.y, -e1.y, -e2.y) * 256;
         g.step_y32 = vec3<i32>(e0.x, e1.x, e2.x) * 256;
     }
@@ -528,7 +532,7 @@ fn raster_large(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation
             let x = x0 + i32((local % bw) * GPU_LAYDOWN_BLOCK + dx);
             let y = y0 + i32((local / bw) * GPU_LAYDOWN_BLOCK + dy);
             var e = gpu_large_block_edges[s];
-            if (gpu_large_edges[t].near == 1u) {
+            if (gpu_large_edges[t].steps32 == 1u) {
                 let o = gpu_large_edges[t].step_x32 * i32(dx) + gpu_large_edges[t].step_y32 * i32(dy);
                 e += vec3<i64>(o);
             } else {
