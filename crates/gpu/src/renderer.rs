@@ -1275,10 +1275,7 @@ impl Renderer {
         (query_label, place_label): (&'static str, &'static str),
     ) -> Result<()> {
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(query_label),
-                timestamp_writes: timer.compute(query_label),
-            });
+            let mut pass = timer.begin_compute(encoder, query_label);
             query.record_view(&mut pass, view, false);
         }
         let group =
@@ -1336,10 +1333,7 @@ impl Renderer {
             "static query"
         };
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(label),
-                timestamp_writes: self.timer.compute(label),
-            });
+            let mut pass = self.timer.begin_compute(encoder, label);
             query.record_view(&mut pass, view, second);
         }
         let group = self.pipelines.static_place.group(

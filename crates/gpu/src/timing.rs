@@ -85,6 +85,29 @@ impl GpuTimer {
             })
     }
 
+    /// Begins a compute pass in `encoder`, labelled and timed under `label`.
+    pub(crate) fn begin_compute<'e>(
+        &mut self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &'static str,
+    ) -> wgpu::ComputePass<'e> {
+        self.begin_compute_as(encoder, label, label)
+    }
+
+    /// Begins a compute pass in `encoder` labelled `label` (what debuggers show) and timed
+    /// under `timed` (where several passes share one timing, or the timing's name is shorter).
+    pub(crate) fn begin_compute_as<'e>(
+        &mut self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &'static str,
+        timed: &'static str,
+    ) -> wgpu::ComputePass<'e> {
+        encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: self.compute(timed),
+        })
+    }
+
     /// Timestamp writes for a render pass timed under `label`.
     pub fn render(&mut self, label: &'static str) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
         self.next(label)

@@ -176,10 +176,7 @@ impl Classify {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(ZERO.name),
-            timestamp_writes: timer.compute(ZERO.name),
-        });
+        let mut pass = timer.begin_compute(encoder, ZERO.name);
         self.record_zero_in(&mut pass, f);
     }
 
@@ -255,10 +252,8 @@ impl Classify {
                     && y != 0
                     && z != 0
                 {
-                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                        label: Some(phase.pass.name),
-                        timestamp_writes: timer.compute(step.entry.name),
-                    });
+                    let mut pass =
+                        timer.begin_compute_as(encoder, phase.pass.name, step.entry.name);
                     pass.set_bind_group(0, group, &[]);
                     pass.set_pipeline(&step.pipeline);
                     pass.dispatch_workgroups(x, y, z);

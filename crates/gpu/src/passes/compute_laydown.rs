@@ -710,10 +710,7 @@ impl ComputeLaydown {
         encoder.clear_buffer(&g.large, 0, Some(LARGE_HEADER));
         {
             // The small triangles, then the large list's count as arguments.
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("compute laydown"),
-                timestamp_writes: timer.compute("laydown"),
-            });
+            let mut pass = timer.begin_compute_as(encoder, "compute laydown", "laydown");
             if g.items > 0 {
                 self.raster
                     .record(&mut pass, &[&g.raster[0], &g.raster[1]], &g.items);
@@ -728,10 +725,11 @@ impl ComputeLaydown {
             && let Ok(large) = large
         {
             encoder.copy_buffer_to_buffer(&g.large, 0, &g.large_dispatch, 0, 12);
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("compute laydown, large triangles"),
-                timestamp_writes: timer.compute("laydown large"),
-            });
+            let mut pass = timer.begin_compute_as(
+                encoder,
+                "compute laydown, large triangles",
+                "laydown large",
+            );
             pass.set_bind_group(0, &g.raster[0], &[]);
             pass.set_bind_group(1, &g.raster[1], &[]);
             pass.set_pipeline(&large.pipeline);
@@ -766,10 +764,7 @@ impl ComputeLaydown {
         }
         let size = [f.targets.width, f.targets.height];
         if let Some([x, y, z]) = self.unpack.workgroups(unpack, &size) {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("laydown unpack"),
-                timestamp_writes: timer.compute("laydown unpack"),
-            });
+            let mut pass = timer.begin_compute(encoder, "laydown unpack");
             pass.set_bind_group(0, &g.unpack, &[]);
             pass.set_bind_group(1, &groups.unpack, &[]);
             pass.set_pipeline(&unpack.pipeline);

@@ -298,10 +298,7 @@ impl Conditional {
             ),
             None => encoder.clear_buffer(&b.static_counts, 0, None),
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("conditional volumes"),
-            timestamp_writes: timer.compute("conditional volumes"),
-        });
+        let mut pass = timer.begin_compute(encoder, "conditional volumes");
         self.pass
             .record(&mut pass, &[&b.group], &tests.max(b.casters));
     }

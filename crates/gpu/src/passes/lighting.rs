@@ -490,10 +490,7 @@ impl Lighting {
         {
             // The edge count (and the arguments after it) start at 0.
             encoder.clear_buffer(&t.edges, 0, Some(16));
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("lighting"),
-                timestamp_writes: timer.compute("lighting"),
-            });
+            let mut pass = timer.begin_compute(encoder, "lighting");
             // The pixels, then the edge count as arguments.
             m.pass.record(&mut pass, &[frame, gbuffer], &size);
             drop(pass);
@@ -501,10 +498,7 @@ impl Lighting {
                 && let Ok(edges) = m.pass.step("edges")
             {
                 encoder.copy_buffer_to_buffer(&t.edges, 0, &t.edge_dispatch, 0, 12);
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("msaa edges"),
-                    timestamp_writes: timer.compute("msaa edges"),
-                });
+                let mut pass = timer.begin_compute(encoder, "msaa edges");
                 pass.set_bind_group(0, frame, &[]);
                 pass.set_bind_group(1, gbuffer, &[]);
                 pass.set_pipeline(&edges.pipeline);
@@ -512,10 +506,7 @@ impl Lighting {
             }
             return;
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("lighting"),
-            timestamp_writes: timer.compute("lighting"),
-        });
+        let mut pass = timer.begin_compute(encoder, "lighting");
         if let (Some(w), Some((plain, volumes))) = (f.water, &self.water) {
             let variant = match volumes {
                 Some(v) if !f.volumes.is_empty() => v,

@@ -241,20 +241,14 @@ impl LocalLights {
         let g = &f.groups.lights;
         encoder.clear_buffer(&g.counters, 0, None);
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("light tile depth"),
-                timestamp_writes: timer.compute("light tile depth"),
-            });
+            let mut pass = timer.begin_compute(encoder, "light tile depth");
             let size = [f.targets.width, f.targets.height];
             match (f.msaa, &self.tile_depth_msaa, &g.tile_depth_msaa) {
                 (true, Some(p), Some(group)) => p.record(&mut pass, &[group], &size),
                 _ => self.tile_depth.record(&mut pass, &[&g.tile_depth], &size),
             }
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("light culling"),
-            timestamp_writes: timer.compute("light culling"),
-        });
+        let mut pass = timer.begin_compute(encoder, "light culling");
         let dispatch = LightCullParams {
             tiles: g.tiles,
             ..LightCullParams::default()

@@ -383,10 +383,7 @@ impl StaticQuery {
                 Ok((pass, group, *grid))
             })
             .collect::<Result<Vec<_>>>()?;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
-            timestamp_writes: timer.compute(label),
-        });
+        let mut pass = timer.begin_compute(encoder, label);
         for (variant, group, grid) in &groups {
             variant.record(&mut pass, &[group], grid);
         }
@@ -750,10 +747,7 @@ impl StaticQuery {
             label: Some("static query"),
         });
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("static query"),
-                timestamp_writes: self.timer.compute("static query"),
-            });
+            let mut pass = self.timer.begin_compute(&mut encoder, "static query");
             self.record_view(&mut pass, &view, false);
         }
         self.timer.resolve(&mut encoder);

@@ -283,10 +283,11 @@ impl Resolve {
         if let (true, Some(b)) = (g.reads_ring, &f.scene.vertex_ring) {
             for p in 0..c.sizes.passes {
                 ring.record_transform_timed(encoder, b, p, timer);
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("material resolve (wave commands, ring)"),
-                    timestamp_writes: timer.compute("resolve (wave commands)"),
-                });
+                let mut pass = timer.begin_compute_as(
+                    encoder,
+                    "material resolve (wave commands, ring)",
+                    "resolve (wave commands)",
+                );
                 self.bind(&mut pass, f);
                 pass.set_pipeline(&self.pass.steps[self.waves].pipeline);
                 pass.set_bind_group(3, &g.waves, &[p * g.pass_stride]);
@@ -297,10 +298,11 @@ impl Resolve {
             }
             return;
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("material resolve (wave commands)"),
-            timestamp_writes: timer.compute("resolve (wave commands)"),
-        });
+        let mut pass = timer.begin_compute_as(
+            encoder,
+            "material resolve (wave commands)",
+            "resolve (wave commands)",
+        );
         self.bind(&mut pass, f);
         let step = &self.pass.steps[self.waves];
         pass.set_pipeline(&step.pipeline);
@@ -320,10 +322,7 @@ impl Resolve {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("material resolve (full screen)"),
-            timestamp_writes: timer.compute("resolve"),
-        });
+        let mut pass = timer.begin_compute_as(encoder, "material resolve (full screen)", "resolve");
         self.bind(&mut pass, f);
         // Group 3 is in the layout; the full-screen entry point reads none of it.
         pass.set_bind_group(3, &f.scene.resolve.waves, &[0]);

@@ -355,10 +355,7 @@ impl StaticPlace {
             }
         }
         encoder.copy_buffer_to_buffer(&b.place_dispatch, 0, &b.place_indirect, 0, 12);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
-            timestamp_writes: timer.compute(label),
-        });
+        let mut pass = timer.begin_compute(encoder, label);
         pass.set_bind_group(0, group, &[]);
         let place = if late { self.place_late } else { self.place };
         pass.set_pipeline(&self.pass.steps[place].pipeline);

@@ -313,10 +313,7 @@ impl VertexRing {
     ) {
         encoder.clear_buffer(&b.deltas, 0, None);
         encoder.clear_buffer(&b.pass_items, 0, None);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(tiling::wgsl::VERTEX_WAVES.name),
-            timestamp_writes: timer.compute(tiling::wgsl::VERTEX_WAVES.name),
-        });
+        let mut pass = timer.begin_compute(encoder, tiling::wgsl::VERTEX_WAVES.name);
         pass.set_bind_group(0, &b.waves_group, &[]);
         for step in &self.waves.steps {
             if let Some([x, y, z]) = self.waves.workgroups(step, &b.params) {
@@ -352,10 +349,7 @@ impl VertexRing {
         if b.half_base.get(p as usize).is_none_or(|&h| h == RING_NONE) {
             return;
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(VERTEX_RING.name),
-            timestamp_writes: timer.compute(VERTEX_RING.name),
-        });
+        let mut pass = timer.begin_compute(encoder, VERTEX_RING.name);
         self.record_transform(&mut pass, b, p);
     }
 
@@ -370,10 +364,7 @@ impl VertexRing {
         let Some(b) = &f.scene.vertex_ring else {
             return;
         };
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(VERTEX_RING.name),
-            timestamp_writes: timer.compute(VERTEX_RING.name),
-        });
+        let mut pass = timer.begin_compute(encoder, VERTEX_RING.name);
         for p in 0..b.half_base.len() as u32 {
             self.record_transform(&mut pass, b, p);
         }

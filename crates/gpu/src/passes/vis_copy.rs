@@ -105,10 +105,7 @@ impl VisCopy {
         let Some([x, y, z]) = self.pass.workgroups(step, &size) else {
             return;
         };
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(label),
-            timestamp_writes: timer.compute(label),
-        });
+        let mut pass = timer.begin_compute(encoder, label);
         pass.set_bind_group(0, &f.groups.vis_copy, &[]);
         pass.set_pipeline(&step.pipeline);
         pass.dispatch_workgroups(x, y, z);

@@ -767,10 +767,7 @@ fn record_grid(
     size: [u32; 2],
     timer: &mut GpuTimer,
 ) {
-    let mut compute = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-        label: Some(pass.pass.name),
-        timestamp_writes: timer.compute(pass.pass.name),
-    });
+    let mut compute = timer.begin_compute(e, pass.pass.name);
     pass.record(&mut compute, &[group], &size);
 }
 
@@ -1025,10 +1022,7 @@ impl WaterState {
             e.clear_buffer(&d.far_args, 0, None);
             e.clear_buffer(&d.stats, 0, None);
             {
-                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("water hiz"),
-                    timestamp_writes: timer.compute("water hiz"),
-                });
+                let mut pass = timer.begin_compute(e, "water hiz");
                 p.visibility.record_hiz(&mut pass, &g.hiz);
             }
             p.visibility.record(e, g, d, timer);
@@ -1044,10 +1038,7 @@ impl WaterState {
         );
         p.tessellation.record(e, t, g, timer);
         {
-            let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("water light tiles"),
-                timestamp_writes: timer.compute("water light tiles"),
-            });
+            let mut pass = timer.begin_compute(e, "water light tiles");
             let size = [f.targets.width, f.targets.height];
             p.tile_depth.record(&mut pass, &[&g.tile_depth], &size);
             let (tx, ty) = deferred::lights::tile_counts(size[0], size[1]);

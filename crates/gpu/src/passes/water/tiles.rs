@@ -66,10 +66,7 @@ impl Tiles {
         g: &WaterGroups,
         timer: &mut GpuTimer,
     ) {
-        let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("water tiles"),
-            timestamp_writes: timer.compute("water tiles"),
-        });
+        let mut pass = timer.begin_compute(e, "water tiles");
         self.pass.record(
             &mut pass,
             &[&g.tiles],

@@ -159,10 +159,7 @@ impl Visibility {
         d: &WaterData,
         timer: &mut GpuTimer,
     ) {
-        let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("water visibility"),
-            timestamp_writes: timer.compute("water visibility"),
-        });
+        let mut pass = timer.begin_compute(e, "water visibility");
         self.pass.record(
             &mut pass,
             &[&g.visibility],
