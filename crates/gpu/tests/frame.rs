@@ -434,7 +434,9 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
 
 /// The compute laydown's unpack finalises the laydown (the classification's masks) after
 /// the frame's zero fill: a second frame from another viewpoint classifies only its own
-/// pixels (masks left over from the first would add counters the CPU twin lacks).
+/// pixels (masks left over from the first would add counters the CPU twin lacks). With the
+/// vertex ring, count_pixels also marks the vertex chunks over the unpacked words: the cull
+/// buffer equals the twin's too.
 #[test]
 fn the_compute_laydown_classifies_each_frame_afresh() {
     assert!(
@@ -443,33 +445,49 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         ctx().adapter_line()
     );
     let (scene, frame) = scene(DemoScene::Forest);
-    let mut r = common::renderer_with(gpu::RendererConfig {
-        width: 320,
-        height: 180,
-        shadows: common::test_shadows(),
-        laydown: gpu::Laydown::Compute,
-        ..gpu::RendererConfig::default()
-    });
-    assert_eq!(r.laydown(), gpu::Laydown::Compute);
-    let prepared = r.prepare(&scene).unwrap();
-    let mut turned = frame.clone();
-    let c = &mut turned.camera;
-    c.target = c.position + (c.position - c.target);
-    let mut masks = Vec::new();
-    for f in [&frame, &turned] {
-        r.render(&prepared, f, RenderPath::Deferred).unwrap();
-        let gpu = r.read_classification(&prepared).unwrap();
-        let (_, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
-        assert_eq!(
-            mismatch, None,
-            "GPU classification differs from the CPU twin"
+    for vertex_ring in [None, Some(gpu::RING_BYTES_PS4)] {
+        let mut r = common::renderer_with(gpu::RendererConfig {
+            width: 320,
+            height: 180,
+            shadows: common::test_shadows(),
+            laydown: gpu::Laydown::Compute,
+            vertex_ring,
+            ..gpu::RendererConfig::default()
+        });
+        assert_eq!(r.laydown(), gpu::Laydown::Compute);
+        let prepared = r.prepare(&scene).unwrap();
+        let mut turned = frame.clone();
+        let c = &mut turned.camera;
+        c.target = c.position + (c.position - c.target);
+        let mut masks = Vec::new();
+        let mut culls = Vec::new();
+        for f in [&frame, &turned] {
+            r.render(&prepared, f, RenderPath::Deferred).unwrap();
+            let gpu = r.read_classification(&prepared).unwrap();
+            let (_, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            assert_eq!(
+                mismatch, None,
+                "vertex ring {vertex_ring:?}: GPU classification differs from the CPU twin"
+            );
+            masks.push(gpu.masks);
+            culls.push(gpu.vertex_cull);
+        }
+        assert_ne!(
+            masks[0], masks[1],
+            "the two views should cover different groups"
         );
-        masks.push(gpu.masks);
+        if vertex_ring.is_some() {
+            assert!(
+                culls.iter().all(|c| c.iter().any(|&b| b != 0)) && culls[0] != culls[1],
+                "each view marks its own chunks"
+            );
+        } else {
+            assert!(
+                culls.iter().flatten().all(|&b| b == 0),
+                "no marks without the ring"
+            );
+        }
     }
-    assert_ne!(
-        masks[0], masks[1],
-        "the two views should cover different groups"
-    );
 }
 
 /// Issue 17's compute laydown in the whole deferred frame: on both scenes (foliage:
