@@ -424,6 +424,10 @@ pub struct FrameOutput {
     pub wall_ms: f64,
     /// The static query's and placement's statistics, in a frame with a static query.
     pub statics: Option<StaticFrameStats>,
+    /// Passes missing from `gpu`: begun after the timestamp query set was full. The set
+    /// grows for the next frame, so only a frame with more passes than any before it loses
+    /// some (0 for a frame not waited for, which reads no timings).
+    pub untimed_passes: u32,
 }
 
 /// The last frame's light tiles ([`Renderer::read_light_tiles`]), in the layout of
@@ -983,6 +987,7 @@ impl Renderer {
             let static_frame = statics.is_some();
             self.static_slices.clear();
             self.upload_frame(scene, frame, statics.as_deref_mut())?;
+            self.timer.fit(&device);
             let mut encoder = device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
             let view = match statics.as_deref_mut() {
@@ -1078,6 +1083,7 @@ impl Renderer {
                 gpu: Vec::new(),
                 wall_ms,
                 statics: None,
+                untimed_passes: 0,
             });
         }
         let gpu = self.timer.read(&self.device, &self.queue)?;
@@ -1089,6 +1095,7 @@ impl Renderer {
             gpu,
             wall_ms,
             statics,
+            untimed_passes: self.timer.untimed(),
         })
     }
 
@@ -1610,6 +1617,7 @@ impl Renderer {
             gpu,
             wall_ms,
             statics: all.last().and_then(|f| f.statics.clone()),
+            untimed_passes: all.iter().map(|f| f.untimed_passes).max().unwrap_or(0),
         })
     }
 

@@ -4,13 +4,21 @@
 use crate::error::Result;
 use crate::resources::readback::read_buffer;
 
-/// Collects begin/end timestamps of passes in one frame.
+/// Collects begin/end timestamps of passes in one frame. A frame with more passes than the
+/// query set holds leaves the rest untimed and says how many ([`GpuTimer::untimed`]); the
+/// next frame's [`GpuTimer::fit`] grows the set to hold them.
 pub struct GpuTimer {
     query_set: Option<wgpu::QuerySet>,
     resolve: Option<wgpu::Buffer>,
     labels: Vec<&'static str>,
     capacity: u32,
     period_ns: f32,
+    /// Passes begun this frame after the query set was full.
+    untimed: u32,
+    /// The last finished frame's untimed passes.
+    last_untimed: u32,
+    /// Timed passes the next frame should have room for.
+    wanted: u32,
 }
 
 /// One timed label: its total GPU time and how many passes it covered.
@@ -24,34 +32,69 @@ pub struct Timing {
     pub passes: u32,
 }
 
+/// The query set and resolve buffer for `capacity` timestamps.
+fn timestamp_storage(device: &wgpu::Device, capacity: u32) -> (wgpu::QuerySet, wgpu::Buffer) {
+    let query_set = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("pass timestamps"),
+        ty: wgpu::QueryType::Timestamp,
+        count: capacity,
+    });
+    let resolve = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("timestamp resolve"),
+        size: u64::from(capacity) * 8,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    (query_set, resolve)
+}
+
 impl GpuTimer {
     /// A timer for up to `max_passes` passes; inert (records nothing) when the device lacks
     /// `TIMESTAMP_QUERY`.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, max_passes: u32) -> Self {
         let capacity = max_passes.max(1) * 2;
         let enabled = device.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let query_set = enabled.then(|| {
-            device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("pass timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: capacity,
-            })
-        });
-        let resolve = enabled.then(|| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamp resolve"),
-                size: u64::from(capacity) * 8,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        });
+        let (query_set, resolve) = enabled.then(|| timestamp_storage(device, capacity)).unzip();
         Self {
             query_set,
             resolve,
             labels: Vec::new(),
             capacity,
             period_ns: queue.get_timestamp_period(),
+            untimed: 0,
+            last_untimed: 0,
+            wanted: 0,
         }
+    }
+
+    /// Before recording a frame: grows the query set where the last frame ran out of room
+    /// (twice what it wanted, so a few more passes fit too).
+    pub(crate) fn fit(&mut self, device: &wgpu::Device) {
+        if self.query_set.is_none() || self.wanted * 2 <= self.capacity {
+            return;
+        }
+        self.capacity = self
+            .wanted
+            .saturating_mul(4)
+            .min(wgpu::QUERY_SET_MAX_QUERIES);
+        let (query_set, resolve) = timestamp_storage(device, self.capacity);
+        self.query_set = Some(query_set);
+        self.resolve = Some(resolve);
+    }
+
+    /// Passes of the last finished (read or discarded) frame that found the query set full
+    /// and went untimed: missing from its timings.
+    pub fn untimed(&self) -> u32 {
+        self.last_untimed
+    }
+
+    /// Ends the frame's bookkeeping: what it left untimed, and what the next frame wants.
+    fn finish_frame(&mut self) {
+        self.last_untimed = self.untimed;
+        if self.untimed > 0 {
+            self.wanted = self.wanted.max(self.labels.len() as u32 + self.untimed);
+        }
+        self.untimed = 0;
     }
 
     /// A timer that records nothing (passes submitted outside a measured frame).
@@ -62,15 +105,20 @@ impl GpuTimer {
             labels: Vec::new(),
             capacity: 0,
             period_ns: 1.0,
+            untimed: 0,
+            last_untimed: 0,
+            wanted: 0,
         }
     }
 
     fn next(&mut self, label: &'static str) -> Option<(&wgpu::QuerySet, u32)> {
-        let qs = self.query_set.as_ref()?;
+        self.query_set.as_ref()?;
         let i = self.labels.len() as u32;
         if 2 * i + 2 > self.capacity {
+            self.untimed += 1;
             return None;
         }
+        let qs = self.query_set.as_ref()?;
         self.labels.push(label);
         Some((qs, 2 * i))
     }
@@ -130,12 +178,14 @@ impl GpuTimer {
 
     /// Forgets this frame's timed passes without reading them (a frame not waited for).
     pub fn discard(&mut self) {
+        self.finish_frame();
         self.labels.clear();
     }
 
     /// After the frame's submission: reads the timestamps back and sums them per label, in
     /// first-use order. Clears the timer for the next frame.
     pub fn read(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<Timing>> {
+        self.finish_frame();
         let labels = std::mem::take(&mut self.labels);
         let Some(buf) = &self.resolve else {
             return Ok(Vec::new());
@@ -162,5 +212,41 @@ impl GpuTimer {
             }
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frame with more passes than the query set holds times what fits, counts the rest
+    /// as untimed, and the next frame (after `fit`) times them all.
+    #[test]
+    fn a_full_timer_counts_untimed_passes_and_grows() {
+        let c = testkit::device::ctx();
+        assert!(
+            c.device
+                .features()
+                .contains(wgpu::Features::TIMESTAMP_QUERY),
+            "{} has no timestamp queries (lavapipe has them)",
+            c.adapter_line()
+        );
+        let labels = ["a", "b", "c", "d", "e"];
+        let mut timer = GpuTimer::new(&c.device, &c.queue, 2);
+        let mut frame = |timer: &mut GpuTimer| {
+            timer.fit(&c.device);
+            let mut encoder = c.device.create_command_encoder(&Default::default());
+            for label in labels {
+                drop(timer.begin_compute(&mut encoder, label));
+            }
+            timer.resolve(&mut encoder);
+            c.queue.submit([encoder.finish()]);
+            let timings = timer.read(&c.device, &c.queue).unwrap();
+            let timed: Vec<&str> = timings.iter().map(|t| t.label).collect();
+            (timed, timer.untimed())
+        };
+        assert_eq!(frame(&mut timer), (vec!["a", "b"], 3));
+        assert_eq!(frame(&mut timer), (labels.to_vec(), 0));
+        assert_eq!(frame(&mut timer), (labels.to_vec(), 0));
     }
 }

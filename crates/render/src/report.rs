@@ -610,6 +610,13 @@ impl fmt::Display for Report {
             } else {
                 writeln!(f, "  {:<28} {:>10.4} ms", "total", total)?;
             }
+            if t.untimed_passes > 0 {
+                writeln!(
+                    f,
+                    "  ({} passes of a measured frame untimed: the timestamp queries ran out; the total is short)",
+                    t.untimed_passes
+                )?;
+            }
             writeln!(f, "  {:<28} {:>10.3} ms", "wall clock per frame", t.wall_ms)?;
         }
         if !self.images.is_empty() {
