@@ -14,7 +14,7 @@ pub struct GpuTimer {
     capacity: u32,
     period_ns: f32,
     /// Passes begun this frame after the query set was full.
-    untimed: u32,
+    overflowed: u32,
     /// The last finished frame's untimed passes.
     last_untimed: u32,
     /// Timed passes the next frame should have room for.
@@ -61,7 +61,7 @@ impl GpuTimer {
             labels: Vec::new(),
             capacity,
             period_ns: queue.get_timestamp_period(),
-            untimed: 0,
+            overflowed: 0,
             last_untimed: 0,
             wanted: 0,
         }
@@ -90,11 +90,11 @@ impl GpuTimer {
 
     /// Ends the frame's bookkeeping: what it left untimed, and what the next frame wants.
     fn finish_frame(&mut self) {
-        self.last_untimed = self.untimed;
-        if self.untimed > 0 {
-            self.wanted = self.wanted.max(self.labels.len() as u32 + self.untimed);
+        self.last_untimed = self.overflowed;
+        if self.overflowed > 0 {
+            self.wanted = self.wanted.max(self.labels.len() as u32 + self.overflowed);
         }
-        self.untimed = 0;
+        self.overflowed = 0;
     }
 
     /// A timer that records nothing (passes submitted outside a measured frame).
@@ -105,7 +105,7 @@ impl GpuTimer {
             labels: Vec::new(),
             capacity: 0,
             period_ns: 1.0,
-            untimed: 0,
+            overflowed: 0,
             last_untimed: 0,
             wanted: 0,
         }
@@ -115,7 +115,7 @@ impl GpuTimer {
         self.query_set.as_ref()?;
         let i = self.labels.len() as u32;
         if 2 * i + 2 > self.capacity {
-            self.untimed += 1;
+            self.overflowed += 1;
             return None;
         }
         let qs = self.query_set.as_ref()?;
@@ -233,7 +233,7 @@ mod tests {
         );
         let labels = ["a", "b", "c", "d", "e"];
         let mut timer = GpuTimer::new(&c.device, &c.queue, 2);
-        let mut frame = |timer: &mut GpuTimer| {
+        let frame = |timer: &mut GpuTimer| {
             timer.fit(&c.device);
             let mut encoder = c.device.create_command_encoder(&Default::default());
             for label in labels {
