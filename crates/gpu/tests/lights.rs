@@ -56,8 +56,29 @@ fn light_tiles_equal_the_cpu_twin_on_the_depth_target() {
 fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool) {
     let mut r = renderer(LightPaths::Tiled, subgroups);
     let prepared = r.prepare(scene).unwrap();
-    for path in [RenderPath::Deferred, RenderPath::Baseline] {
-        r.render(&prepared, frame, path).unwrap();
+    // The compute laydown's frame too: its depth comes from the laydown's unpack.
+    let mut compute = common::renderer_with(RendererConfig {
+        width: W,
+        height: H,
+        light_paths: LightPaths::Tiled,
+        subgroups,
+        shadows: common::test_shadows(),
+        laydown: gpu::Laydown::Compute,
+        ..RendererConfig::default()
+    });
+    assert_eq!(compute.laydown(), gpu::Laydown::Compute);
+    let compute_prepared = compute.prepare(scene).unwrap();
+    for (in_compute, path) in [
+        (false, RenderPath::Deferred),
+        (true, RenderPath::Deferred),
+        (false, RenderPath::Baseline),
+    ] {
+        let (r, prepared) = if in_compute {
+            (&mut compute, &compute_prepared)
+        } else {
+            (&mut r, &prepared)
+        };
+        r.render(prepared, frame, path).unwrap();
         let tiles = r.read_light_tiles().unwrap();
         let depth = r.read_depth().unwrap();
         // Pass 1: exactly the CPU's reduction.
@@ -102,7 +123,8 @@ fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool
             differ += cpu.symmetric_difference(&gpu).count();
         }
         eprintln!(
-            "{path:?}, subgroups {subgroups}: {n} tiles, {} with geometry, {} lights, {} pairs, {differ} decisions differ",
+            "{path:?} ({:?} laydown), subgroups {subgroups}: {n} tiles, {} with geometry, {} lights, {} pairs, {differ} decisions differ",
+            r.laydown(),
             stats.tiles_with_geometry,
             lights.len(),
             stats.pairs

@@ -28,10 +28,10 @@ pub(crate) struct GpuTileDepthParams {
     pub reversed: u32,
 }
 
-/// Invocations per workgroup of pass 1: one per pixel of a tile.
-const TILE_AREA: u32 = deferred::lights::TILE_SIZE * deferred::lights::TILE_SIZE;
+/// Pass 1's workgroups are TILE x TILE invocations: one per pixel of a tile.
+const TILE: u32 = deferred::lights::TILE_SIZE;
 
-/// Pass 1 over the depth target (`[width, height]`): one workgroup per tile.
+/// Pass 1 over the depth target (`[width, height]`): one workgroup per 2x2 tiles.
 pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
     name: "light tile depth",
     module: "gpu::tile_depth",
@@ -52,10 +52,10 @@ pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
             ),
         ],
     }],
-    // One workgroup of TILE_SIZE² invocations per tile.
-    entries: &[Entry::grid("tile_depth", TILE_AREA, 1, |size| {
+    // One workgroup of TILE_SIZE² invocations per 2x2 tiles, an invocation a pixel of each.
+    entries: &[Entry::grid("tile_depth", TILE, TILE, |size| {
         let (tx, ty) = tile_counts(size[0], size[1]);
-        [tx.saturating_mul(TILE_AREA), ty]
+        [tx.div_ceil(2) * TILE, ty.div_ceil(2) * TILE]
     })],
     zeroed: &[],
 };
