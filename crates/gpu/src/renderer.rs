@@ -764,7 +764,9 @@ impl Renderer {
             let groups = TargetGroups {
                 vis_copy: pipelines.vis_copy.group(device, &targets)?,
                 laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
-                    (Some(c), Some(t)) => Some(c.target_groups(device, &targets, t)?),
+                    (Some(c), Some(t)) => {
+                        Some(c.target_groups(device, &targets, t, &lights.tile_depths)?)
+                    }
                     _ => None,
                 },
                 gbuffer_store: pipelines
@@ -2418,8 +2420,9 @@ impl Renderer {
             volumes.push(GpuLightVolume::default());
         }
         if rows.len() > self.lights.capacity {
-            self.lights =
-                LightBuffers::new(&self.device, &self.targets, rows.len().next_power_of_two())?;
+            self.lights = self
+                .lights
+                .with_capacity(&self.device, rows.len().next_power_of_two())?;
             self.groups.lighting = self.pipelines.lighting.groups(
                 &self.device,
                 &self.targets,

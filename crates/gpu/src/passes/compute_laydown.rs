@@ -6,7 +6,9 @@
 //! compute pass that unpacks the target into what the rest of the frame reads: the vis
 //! words, the vis texture and the float depth, finalising the laydown for the
 //! classification on the way (`tiling::finalize`'s masks; the classification's zero fill
-//! runs beside the raster, after the large triangles in their pass). Frames whose later
+//! runs beside the raster, after the large triangles in their pass) and reducing the depth
+//! to the light tiles' depth ranges (the lights' pass 1, which such frames skip unless a
+//! regular pass draws depth after the laydown). Frames whose later
 //! raster passes test against the depth target (the stencil light volumes, the mixed
 //! frame's regular pass, the water) also get it, from a full-screen raster pass over the
 //! unpacked float depth: 1.05 ms of fill at 4K on the H200, which every other frame skips.
@@ -183,6 +185,8 @@ pub(crate) struct GpuLaydownDraw {
     pub pad: u32,
 }
 const _: () = assert!(size_of::<GpuLaydownDraw>() == 32);
+// The unpack's workgroup covers a tiling block, which it reduces as 2x2 light tiles.
+const _: () = assert!(tiling::wgsl::BLOCK_SIZE == 2 * deferred::lights::TILE_SIZE);
 
 /// `GpuLaydownDraw::flags`: the material is alpha-tested.
 pub(crate) const DRAW_ALPHA_TESTED: u32 = 1;
@@ -316,8 +320,9 @@ pub(crate) const COMPUTE_LAYDOWN_HYBRID_TEXTURE: Pass = Pass {
 };
 
 /// The 64-bit target into the vis words, the vis texture and the float depth, over the
-/// image (`[width, height]`), and the classification's laydown finalise over the words
-/// (`tiling::finalize`): group 0 is tiling's with the vis words at binding 1 (a prepared
+/// image (`[width, height]`), the classification's laydown finalise over the words
+/// (`tiling::finalize`) and the light tiles' depth ranges (a tiling block is 2x2 light
+/// tiles): group 0 is tiling's with the vis words at binding 1 (a prepared
 /// scene's, [`Groups`]), group 1 the target and the textures (the renderer's,
 /// [`TargetGroups`]).
 pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
@@ -339,6 +344,12 @@ pub(crate) const LAYDOWN_UNPACK: Pass<[u32; 2]> = Pass {
                 Binding::new("laydown_target", Kind::read(8)),
                 Binding::new("vis_out", Kind::storage_texture_2d(Format::R32Uint)),
                 Binding::new("depth_float", Kind::storage_texture_2d(Format::R32Float)),
+                // The light tiles' depth ranges (passes::lights), a block's 2x2 tiles per
+                // workgroup.
+                Binding::new(
+                    "tile_depths",
+                    Kind::read_write(size_of::<deferred::DeferredTileDepth>()),
+                ),
             ],
         },
     ],
@@ -360,6 +371,7 @@ pub(crate) const LAYDOWN_UNPACK_TEXTURE: Pass<[u32; 2]> = Pass {
                 TEXTURE_TARGET,
                 LAYDOWN_UNPACK.groups[1].bindings[1],
                 LAYDOWN_UNPACK.groups[1].bindings[2],
+                LAYDOWN_UNPACK.groups[1].bindings[3],
             ],
         },
     ],
@@ -645,6 +657,7 @@ impl ComputeLaydown {
         device: &wgpu::Device,
         targets: &Targets,
         target: &TargetResource,
+        tile_depths: &wgpu::Buffer,
     ) -> Result<TargetGroups> {
         debug_assert_eq!(target.kind(), self.kind);
         Ok(TargetGroups {
@@ -669,6 +682,7 @@ impl ComputeLaydown {
                         "depth_float",
                         wgpu::BindingResource::TextureView(&targets.depth_float_view),
                     ),
+                    ("tile_depths", tile_depths.as_entire_binding()),
                 ],
             )?,
         })

@@ -83,6 +83,7 @@ pub(crate) const TILE_DEPTH_MSAA: Pass<[u32; 2]> = Pass {
 
 /// The light buffers of one target size: the lights (grown as needed), the per-tile depth
 /// ranges and lists, the counters and the two passes' uniforms.
+#[derive(Clone)]
 pub(crate) struct LightBuffers {
     pub tile_params: wgpu::Buffer,
     pub cull_params: wgpu::Buffer,
@@ -113,19 +114,12 @@ impl LightBuffers {
             })
         };
         let capacity = capacity.max(1);
+        let (lights, volumes) = Self::light_rows(device, capacity)?;
         Ok(Self {
             tile_params: uniform("light tile depth params", size_of::<GpuTileDepthParams>()),
             cull_params: uniform("light culling params", size_of::<LightCullParams>()),
-            lights: empty_storage(
-                device,
-                "local lights",
-                (capacity * size_of::<DeferredLight>()) as u64,
-            )?,
-            volumes: empty_storage(
-                device,
-                "light volumes",
-                (capacity * size_of::<super::light_volumes::GpuLightVolume>()) as u64,
-            )?,
+            lights,
+            volumes,
             tile_depths: empty_storage(
                 device,
                 "light tile depths",
@@ -145,6 +139,36 @@ impl LightBuffers {
             tiles: [tx, ty],
             capacity,
         })
+    }
+
+    /// These buffers with room for `capacity` lights: new light and volume rows, the same
+    /// per-tile buffers (so what binds them outside the light passes, the compute laydown's
+    /// unpack writing the tile depths, stays bound).
+    pub(crate) fn with_capacity(&self, device: &wgpu::Device, capacity: usize) -> Result<Self> {
+        let capacity = capacity.max(1);
+        let (lights, volumes) = Self::light_rows(device, capacity)?;
+        Ok(Self {
+            lights,
+            volumes,
+            capacity,
+            ..self.clone()
+        })
+    }
+
+    /// The light rows and volume rows for `capacity` lights.
+    fn light_rows(device: &wgpu::Device, capacity: usize) -> Result<(wgpu::Buffer, wgpu::Buffer)> {
+        Ok((
+            empty_storage(
+                device,
+                "local lights",
+                (capacity * size_of::<DeferredLight>()) as u64,
+            )?,
+            empty_storage(
+                device,
+                "light volumes",
+                (capacity * size_of::<super::light_volumes::GpuLightVolume>()) as u64,
+            )?,
+        ))
     }
 }
 
@@ -231,16 +255,18 @@ impl LocalLights {
         })
     }
 
-    /// Records pass 1 and the culling pass (the counters cleared first).
+    /// Records pass 1 (unless `tile_depths_done`: the compute laydown's unpack reduced the
+    /// frame's final depth already) and the culling pass (the counters cleared first).
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
+        tile_depths_done: bool,
     ) {
         let g = &f.groups.lights;
         encoder.clear_buffer(&g.counters, 0, None);
-        {
+        if !tile_depths_done {
             let mut pass = timer.begin_compute(encoder, "light tile depth");
             let size = [f.targets.width, f.targets.height];
             match (f.msaa, &self.tile_depth_msaa, &g.tile_depth_msaa) {

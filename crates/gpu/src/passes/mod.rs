@@ -500,7 +500,12 @@ impl Pipelines {
         if let Some(v) = &self.light_volumes {
             v.record(e, f, timer);
         }
-        self.lights.record(e, f, timer);
+        // The compute laydown's unpack reduced the depth to the light tiles' ranges; a
+        // regular pass drew depth after it, and the baseline has its own.
+        let unpacked = matches!(what, Recording::Deferred | Recording::DeferredFullScreen)
+            && self.laid_down_in_compute(f)
+            && self.regular.is_none();
+        self.lights.record(e, f, timer, unpacked);
         self.lighting.record(e, f, timer);
         if let Some(w) = f.water {
             w.record(e, f, timer);
