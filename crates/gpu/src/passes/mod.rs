@@ -93,6 +93,7 @@ gpu_modules!(
     ZERO = "zero",
     STATIC_PLACE = "static_place",
     HIZ_DEPTH = "hiz_depth",
+    TILE_RANGE = "tile_range",
     TILE_DEPTH = "tile_depth",
     RING_SLOTS = "ring_slots",
     VERTEX_RING = "vertex_ring",

@@ -15,8 +15,7 @@
 
 #import visbuf::id
 #import tiling::finalize
-#import deferred::lights
-#import wave::common
+#import gpu::tile_range
 
 @group(0) @binding(1) var<storage, read_write> vis_words: array<u32>;
 
@@ -28,40 +27,8 @@
 #endif
 @group(1) @binding(1) var vis_out: texture_storage_2d<r32uint, write>;
 @group(1) @binding(2) var depth_float: texture_storage_2d<r32float, write>;
-// Per light tile, row-major over ceil(width / DEFERRED_TILE_SIZE) tiles across.
+// Per light tile, row-major (gpu_tile_range_tiles of the image).
 @group(1) @binding(3) var<storage, read_write> tile_depths: array<DeferredTileDepth>;
-
-// The block's four light tiles' nearest and farthest, as order-preserving words (reversed
-// Z: nearest is the largest depth, from the far plane's 0, farthest the smallest, from 1,
-// kept complemented); tile k of the block at (k % 2, k / 2).
-var<workgroup> unpack_tile_near: array<atomic<u32>, 4>;
-var<workgroup> unpack_tile_far: array<atomic<u32>, 4>;
-
-// Folds target value `t` (depth bits 0: nothing drawn, the far plane) into tile k of the
-// block, as gpu::tile_depth does (the far plane and NaN skipped).
-fn unpack_tile_fold(k: u32, t: vec2<u32>) {
-    let d = bitcast<f32>(t.y);
-    let nan = (t.y & 0x7fffffffu) > 0x7f800000u;
-    if (t.y != 0u && d != 0.0 && !nan) {
-        let o = wave_ordered_f32(d);
-        atomicMax(&unpack_tile_near[k], o);
-        atomicMax(&unpack_tile_far[k], ~o);
-    }
-}
-
-// After the block's folds (a barrier between): tile k's range into `tile_depths` (nearest
-// at the far plane, farthest 1 where no pixel was drawn).
-fn unpack_tile_store(k: u32, wid: vec2<u32>, size: vec2<u32>) {
-    let tiles = (size + vec2<u32>(DEFERRED_TILE_SIZE - 1u)) / DEFERRED_TILE_SIZE;
-    let xy = wid * 2u + vec2<u32>(k % 2u, k / 2u);
-    let tile = xy.y * tiles.x + xy.x;
-    if (any(xy >= tiles) || tile >= arrayLength(&tile_depths)) {
-        return;
-    }
-    let n = atomicLoad(&unpack_tile_near[k]);
-    let f = atomicLoad(&unpack_tile_far[k]);
-    tile_depths[tile] = DeferredTileDepth(wave_unordered_f32(n), wave_unordered_f32(~f));
-}
 
 // Pixel `p`'s (vis word, depth bits) from the target (the texture target reset for the next
 // frame); depth bits 0 outside the image.
@@ -120,10 +87,7 @@ fn unpack(
     @builtin(local_invocation_index) li: u32,
 ) {
     tiling_finalize_begin(li);
-    if (li < 4u) {
-        atomicStore(&unpack_tile_near[li], wave_ordered_f32(0.0));
-        atomicStore(&unpack_tile_far[li], ~wave_ordered_f32(1.0));
-    }
+    gpu_tile_range_begin(li, true);
     let size = textureDimensions(depth_float);
     let half = TILING_BLOCK_SIZE / 2u;
     let p0 = TILING_BLOCK_SIZE * wid.xy + lid.xy;
@@ -143,13 +107,15 @@ fn unpack(
     tiling_finalize_mark(k1);
     tiling_finalize_mark(k2);
     tiling_finalize_mark(k3);
-    unpack_tile_fold(0u, t0);
-    unpack_tile_fold(1u, t1);
-    unpack_tile_fold(2u, t2);
-    unpack_tile_fold(3u, t3);
+    gpu_tile_range_fold(0u, gpu_tile_range_words(bitcast<f32>(t0.y), true));
+    gpu_tile_range_fold(1u, gpu_tile_range_words(bitcast<f32>(t1.y), true));
+    gpu_tile_range_fold(2u, gpu_tile_range_words(bitcast<f32>(t2.y), true));
+    gpu_tile_range_fold(3u, gpu_tile_range_words(bitcast<f32>(t3.y), true));
     workgroupBarrier();
     tiling_finalize_flush(li, tiling_block_tile(wid));
-    if (li < 4u) {
-        unpack_tile_store(li, wid.xy, size);
+    // The light tiles' ranges (reversed Z).
+    let tile = gpu_tile_range_index(li, wid.xy, gpu_tile_range_tiles(size));
+    if (li < 4u && tile < arrayLength(&tile_depths)) {
+        tile_depths[tile] = gpu_tile_range(li, true);
     }
 }
