@@ -8,6 +8,6 @@ echo "$SCENES" | tr '|' '\n' | while read -r s; do
     echo "=== $bin --scene $s $*"
     timeout 150 $bin --width 3840 --height 2160 --frames 20 --no-debug-views --out /tmp/o --path deferred --laydown compute --vertex-ring ${VERTEX_RING:-off} --no-wind --scene $s "$@" > /tmp/r.txt 2>&1
     grep -E "rror|aused|== CPU|mismatch" /tmp/r.txt | head -3
-    sed -n '/GPU times/,/wall clock/p' /tmp/r.txt | grep -E "classify|_pass|count_pixels|write_|scatter_|entry_waves|laydown|total"
+    sed -n '/GPU times/,/wall clock/p' /tmp/r.txt | grep -E "classify|_pass|count_pixels|mark_chunks|write_|scatter_|entry_waves|laydown|total"
   done
 done
