@@ -300,17 +300,30 @@ fn grass_patch_mesh(rng: &mut Rng, lod: &Lod, yaw: f32, variant: usize) -> Mesh 
     let e = lod.side * 0.5;
     // Columns of the blade layer's four colours (2 the yellowest, 3 the darkest green).
     let colours: [u32; 4] = if dry { [1, 2, 2, 2] } else { [0, 1, 3, 3] };
-    for _ in 0..lod.blades {
-        let base = Vec3::new(rng.range(-e, e), 0.0, rng.range(-e, e));
-        let a = yaw + rng.range(-1.05, 1.05);
-        let facing = Vec3::new(a.sin(), 0.0, a.cos());
-        let side = Vec3::Y.cross(facing);
-        let lean_a = rng.range(-LEAN_SPREAD, LEAN_SPREAD);
-        let lean = Vec3::new(lean_a.cos(), 0.0, lean_a.sin());
-        let h = rng.range(BLADE_HEIGHT.0, BLADE_HEIGHT.1);
-        let (tilt, droop) = (rng.range(TILT.0, TILT.1), rng.range(0.0, DROOP));
-        let width = rng.range(lod.width.0, lod.width.1);
-        let u0 = colours[((rng.f32() * 4.0) as usize).min(3)] as f32 * 0.25 + 0.03;
+    // The blades' draws first, then their geometry in Morton order of their bases, as a
+    // mesh tool would lay them out: blades side by side on screen share vertex chunks and
+    // neighbouring triangle numbers (in draw order, neighbouring pixels' blades would be
+    // unrelated, and the vertex ring's chunks would each hold blades from all over the
+    // patch).
+    let blades: Vec<Blade> = (0..lod.blades)
+        .map(|_| Blade::draw(rng, lod, yaw, &colours))
+        .collect();
+    let quantizer = morton::Quantizer2::new(Vec2::splat(-e), Vec2::splat(e), 16).ok();
+    let keys: Vec<u32> = blades
+        .iter()
+        .map(|bl| {
+            quantizer
+                .as_ref()
+                .and_then(|q| q.quantize(Vec2::new(bl.base.x, bl.base.z)).ok())
+                .map_or(0, |c| morton::encode2_u32(c.x, c.y))
+        })
+        .collect();
+    let order = morton::sort_permutation(&keys).unwrap_or_else(|_| (0..lod.blades).collect());
+    for &k in &order {
+        let bl = &blades[k as usize];
+        let (base, lean, h) = (bl.base, bl.lean, bl.height);
+        let side = Vec3::Y.cross(bl.facing);
+        let (tilt, droop, width, u0) = (bl.tilt, bl.droop, bl.width, bl.u0);
         let centre = |t: f32| base + Vec3::Y * (h * t) + lean * (h * (tilt * t + droop * t * t));
         let mut prev: Option<(u16, u16)> = None;
         for s in 0..=lod.segments {
@@ -335,6 +348,43 @@ fn grass_patch_mesh(rng: &mut Rng, lod: &Lod, yaw: f32, variant: usize) -> Mesh 
         }
     }
     b.finish()
+}
+
+/// One blade's random draws, in [`grass_patch_mesh`]'s order.
+struct Blade {
+    base: Vec3,
+    facing: Vec3,
+    lean: Vec3,
+    height: f32,
+    tilt: f32,
+    droop: f32,
+    width: f32,
+    u0: f32,
+}
+
+impl Blade {
+    fn draw(rng: &mut Rng, lod: &Lod, yaw: f32, colours: &[u32; 4]) -> Self {
+        let e = lod.side * 0.5;
+        let base = Vec3::new(rng.range(-e, e), 0.0, rng.range(-e, e));
+        let a = yaw + rng.range(-1.05, 1.05);
+        let facing = Vec3::new(a.sin(), 0.0, a.cos());
+        let lean_a = rng.range(-LEAN_SPREAD, LEAN_SPREAD);
+        let lean = Vec3::new(lean_a.cos(), 0.0, lean_a.sin());
+        let height = rng.range(BLADE_HEIGHT.0, BLADE_HEIGHT.1);
+        let (tilt, droop) = (rng.range(TILT.0, TILT.1), rng.range(0.0, DROOP));
+        let width = rng.range(lod.width.0, lod.width.1);
+        let u0 = colours[((rng.f32() * 4.0) as usize).min(3)] as f32 * 0.25 + 0.03;
+        Self {
+            base,
+            facing,
+            lean,
+            height,
+            tilt,
+            droop,
+            width,
+            u0,
+        }
+    }
 }
 
 /// A tree crown: `cards` single-sided leaf cards (`half` metres half-side) over an
