@@ -15,7 +15,7 @@ use glam::{Affine3A, Quat, Vec2, Vec3};
 
 use super::{
     MeshBuilder, Rng, bark_layer, blade_layer, count, fbm, ground_layer, lattice, leaf_layer,
-    material, rock_layer, rock_mesh, terrain_mesh_with, trunk_mesh,
+    material, morton_order, rock_layer, rock_mesh, terrain_mesh_with, trunk_mesh,
 };
 use crate::frame::{Camera, FrameInput};
 use crate::scene::{Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
@@ -300,11 +300,7 @@ fn grass_patch_mesh(rng: &mut Rng, lod: &Lod, yaw: f32, variant: usize) -> Mesh 
     let e = lod.side * 0.5;
     // Columns of the blade layer's four colours (2 the yellowest, 3 the darkest green).
     let colours: [u32; 4] = if dry { [1, 2, 2, 2] } else { [0, 1, 3, 3] };
-    // The blades' draws first, then their geometry in Morton order of their bases, as a
-    // mesh tool would lay them out: blades side by side on screen share vertex chunks and
-    // neighbouring triangle numbers (in draw order, neighbouring pixels' blades would be
-    // unrelated, and the vertex ring's chunks would each hold blades from all over the
-    // patch).
+    // The blades' draws first, then their geometry in Morton order of their bases.
     let blades: Vec<Blade> = (0..lod.blades)
         .map(|_| Blade::draw(rng, lod, yaw, &colours))
         .collect();
@@ -312,12 +308,7 @@ fn grass_patch_mesh(rng: &mut Rng, lod: &Lod, yaw: f32, variant: usize) -> Mesh 
         .iter()
         .map(|bl| Vec2::new(bl.base.x, bl.base.z))
         .collect();
-    let mut keys = vec![0u32; bases.len()];
-    let order = morton::Quantizer2::new(Vec2::splat(-e), Vec2::splat(e), morton::BITS2_U32)
-        .and_then(|q| q.morton_u32_slice(&bases, &mut keys))
-        .and_then(|()| morton::sort_permutation(&keys))
-        .unwrap_or_else(|_| (0..lod.blades).collect());
-    for &k in &order {
+    for k in morton_order(&bases, e) {
         let bl = &blades[k as usize];
         let (base, lean, h) = (bl.base, bl.lean, bl.height);
         let side = Vec3::Y.cross(bl.facing);
