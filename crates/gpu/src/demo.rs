@@ -1104,6 +1104,22 @@ fn rng_scale(rng: &mut Rng) -> f32 {
     rng.range(0.85, 1.2)
 }
 
+/// The mean distance (metres, in `x`, `z`) between the bases of consecutive blades of a
+/// patch mesh whose blades are `per_blade` vertices each, the first two straddling the base.
+#[cfg(test)]
+fn mean_blade_step(mesh: &Mesh, per_blade: usize) -> f32 {
+    let bases: Vec<Vec2> = mesh
+        .positions
+        .chunks(per_blade)
+        .map(|b| {
+            let base = (b[0] + b[1]) * 0.5;
+            Vec2::new(base.x, base.z)
+        })
+        .collect();
+    let steps = bases.len().saturating_sub(1).max(1);
+    bases.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() / steps as f32
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1116,15 +1132,7 @@ mod tests {
         let mesh = blade_patch_mesh(&mut Rng(5), 512, segments, half, 1.1);
         let per_blade = 2 * (segments as usize + 1);
         assert_eq!(mesh.positions.len(), per_blade * 512);
-        let bases: Vec<Vec2> = mesh
-            .positions
-            .chunks(per_blade)
-            .map(|b| {
-                let base = (b[0] + b[1]) * 0.5;
-                Vec2::new(base.x, base.z)
-            })
-            .collect();
-        let mean = bases.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() / 511.0;
+        let mean = mean_blade_step(&mesh, per_blade);
         assert!(mean < 0.1 * 2.0 * half, "consecutive blades {mean} m apart");
     }
 

@@ -632,17 +632,8 @@ mod tests {
         // Each blade: two vertices per segment, then the tip; the first two straddle the base.
         let per_blade = 2 * lod.segments as usize + 1;
         assert_eq!(mesh.positions.len(), per_blade * lod.blades as usize);
-        let bases: Vec<Vec2> = mesh
-            .positions
-            .chunks(per_blade)
-            .map(|b| {
-                let base = (b[0] + b[1]) * 0.5;
-                Vec2::new(base.x, base.z)
-            })
-            .collect();
-        assert!(bases.len() > 100, "{} blades", bases.len());
-        let mean =
-            bases.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() / (bases.len() - 1) as f32;
+        assert!(lod.blades > 100, "{} blades", lod.blades);
+        let mean = super::super::mean_blade_step(&mesh, per_blade);
         assert!(
             mean < 0.1 * lod.side,
             "consecutive blades {mean} m apart in a {} m patch",
