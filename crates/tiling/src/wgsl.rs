@@ -362,7 +362,9 @@ pub const MID_CLASSIFY: Pass<TilingParams> = Pass {
 ///
 /// With a validity mask (the mixed frame: the mask changed since phase 2) four dispatches:
 /// `pixel_offsets_pass`, `write_commands` (per quad: classifies again and writes
-/// `final_counts`, `commands`, `stats`), `entry_waves`, `write_waves`. Without one the
+/// `final_counts`, `commands`, `stats`; in the standard layout from phase 2's `slots`
+/// where the final mask keeps a pixel phase 2 classified, from the word where phase 2 had
+/// it empty: the mask may have grown), `entry_waves`, `write_waves`. Without one the
 /// final counts are the counts, so two: `pixel_offsets_entry_waves` (`pixel_offsets_pass`'
 /// workgroup first, then `entry_waves`'; and `stats`: phase 2's) and `scatter_write_waves`
 /// (`write_waves`' workgroups, then one per [`BLOCK_SIZE`] block placing each pixel's

@@ -2,7 +2,9 @@
 //! classification phases (pixel commands compared after `canonical_sort`, everything else
 //! as written) on both the subgroup path (where the adapter has `Features::SUBGROUP`) and
 //! the workgroup fallback, the keyed histogram and the wave-append loop, both vis-word
-//! layouts, with and without a validity mask (without one also over corrupt counts); and
+//! layouts, with and without a validity mask (without one also over corrupt counts; with
+//! one also changed since mid classify: HFW's mixed frame exactly, a grown mask in its
+//! counts and stats); and
 //! the vertex wave commands. The passes run through their descriptions (`tiling::wgsl`)
 //! on testkit's device (lavapipe in CI); without an adapter every test fails, saying how to
 //! install one.
@@ -13,12 +15,25 @@ use common::{Rng, random_mask, random_scene, random_vis};
 use testkit::device::{Data, run_pass, subgroup_variants};
 use tiling::wgsl::{CLASSIFY_OUTPUT, LAYDOWN_FINALIZE, MID_CLASSIFY, VERTEX_WAVES};
 use tiling::{
-    ClassifyConfig, PassDispatch, PixelStats, PlanConfig, TilingParams, Totals, UberChunk,
-    VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_phases, pixel_command,
-    unpack_pixel_command, vertex_wave_commands,
+    Classification, ClassifyConfig, PassDispatch, PixelStats, PlanConfig, TilingParams, Totals,
+    UberChunk, VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_output,
+    classify_phases, laydown_finalize, mid_classify, pixel_command, unpack_pixel_command,
+    vertex_wave_commands,
 };
 use visbuf::VisLayout;
 use wave::WaveWidth;
+
+/// The validity mask phases 1 and 2 see, against the final one classify output sees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum MidMask {
+    /// The final mask.
+    Same,
+    /// Every bit set: HFW's mixed frame (mid classify before the regular pass clears bits).
+    AllSet,
+    /// The final mask with about half its bits cleared: the mask grows after mid classify
+    /// (the reverse of the talk's rule), overfilling counters.
+    Sparser,
+}
 
 /// `n` zeroed elements of `T` (a whole number of words).
 fn zeros<T>(n: usize) -> Data<'static> {
@@ -37,6 +52,7 @@ fn classification_case(
     h: u32,
     layout: VisLayout,
     masked: bool,
+    mid_mask: MidMask,
     keyed: bool,
     vertex_cull: bool,
 ) {
@@ -56,6 +72,15 @@ fn classification_case(
     if masked {
         vis = vis.with_validity(&mask).unwrap();
     }
+    let mid_mask = if masked { mid_mask } else { MidMask::Same };
+    let early: Vec<u32> = match mid_mask {
+        MidMask::Same => mask.clone(),
+        MidMask::AllSet => vec![u32::MAX; mask.len()],
+        MidMask::Sparser => {
+            let keep = random_mask(&mut rng, w, h, 50);
+            mask.iter().zip(&keep).map(|(m, k)| m & k).collect()
+        }
+    };
     let cfg = ClassifyConfig {
         vertex_cull,
         ..ClassifyConfig::for_plan(plan, WaveWidth::W16)
@@ -66,7 +91,18 @@ fn classification_case(
     } else {
         &scene.indices[..]
     };
-    let cpu = classify_phases(&vis, &plan.table, indices, &cfg).unwrap();
+    let cpu = if mid_mask == MidMask::Same {
+        classify_phases(&vis, &plan.table, indices, &cfg).unwrap()
+    } else {
+        let early_vis = VisBuffer::new(&words, w, h, layout)
+            .unwrap()
+            .with_validity(&early)
+            .unwrap();
+        let (masks, _) = laydown_finalize(&early_vis, &plan.table, &cfg).unwrap();
+        let mid = mid_classify(&early_vis, &plan.table, indices, &cfg, &masks).unwrap();
+        let output = classify_output(&vis, &plan.table, &cfg, &masks, &mid).unwrap();
+        Classification { masks, mid, output }
+    };
     let params = TilingParams::new(&vis, &cfg, plan.table.len() as u32, plan.order.len() as u32);
     let tiles = vis.tile_count() as usize;
     let p = cfg.pass_count as usize;
@@ -77,7 +113,7 @@ fn classification_case(
         );
     }
     let what = format!(
-        "seed {seed} {w}x{h} {layout:?} masked {masked} {features:?} keyed {keyed} vertex cull {vertex_cull}"
+        "seed {seed} {w}x{h} {layout:?} masked {masked} {mid_mask:?} {features:?} keyed {keyed} vertex cull {vertex_cull}"
     );
     // `keyed` false forces the wave-append loop that tiles with more counters than the
     // keyed histogram holds take.
@@ -92,6 +128,9 @@ fn classification_case(
         ("valid", Data::Words(&mask)),
         ("table", Data::rows(&plan.table)),
     ];
+    // Phases 1 and 2 see the mask mid classify ran with.
+    let mut pixel_mid = pixel;
+    pixel_mid[2] = ("valid", Data::Words(&early));
     fn joined<'a>(
         a: &[(&'static str, Data<'a>)],
         b: &[(&'static str, Data<'a>)],
@@ -105,7 +144,7 @@ fn classification_case(
         &[],
         &[],
         &params,
-        &joined(&pixel, &[("masks", Data::Zeros(tiles * p))]),
+        &joined(&pixel_mid, &[("masks", Data::Zeros(tiles * p))]),
     );
     let masks: Vec<u32> = p1.read("masks", tiles * p);
     assert_eq!(masks, cpu.masks, "masks, {what}");
@@ -123,7 +162,7 @@ fn classification_case(
         &mid_constants,
         &params,
         &joined(
-            &pixel,
+            &pixel_mid,
             &[
                 ("masks", Data::Words(&masks)),
                 ("counter_offsets", Data::Zeros(tiles * p)),
@@ -219,6 +258,18 @@ fn classification_case(
     );
     let finals: Vec<u32> = p3.read("final_counts", counters);
     assert_eq!(finals, cpu.output.final_counts, "final counts, {what}");
+    if mid_mask == MidMask::Sparser {
+        // Pixels that appeared after mid classify overfill their counters, and which of a
+        // counter's commands find room follows the order of the workgroups' atomics: the
+        // counts are fixed, the commands kept are not.
+        assert_eq!(
+            p3.read::<PixelStats>("stats", 1)[0],
+            cpu.output.stats,
+            "output stats, {what}"
+        );
+        assert!(cpu.output.stats.dropped > 0, "{what}: nothing overfilled");
+        return;
+    }
     let mut cmds: Vec<u16> = p3
         .read::<u32>("commands", commands.div_ceil(2))
         .iter()
@@ -361,7 +412,7 @@ fn corrupt_counts_case(
     params: &TilingParams,
     pixel: &[(&'static str, Data<'_>)],
     masks: &[u32],
-    cpu: &tiling::Classification,
+    cpu: &Classification,
     totals: &[Totals],
     slots: &[u32],
     features: &[&str],
@@ -497,7 +548,17 @@ fn gpu_passes_equal_the_cpu_twins() {
             for masked in [false, true] {
                 for keyed in [true, false] {
                     for features in subgroup_variants() {
-                        classification_case(features, seed, w, h, layout, masked, keyed, true);
+                        classification_case(
+                            features,
+                            seed,
+                            w,
+                            h,
+                            layout,
+                            masked,
+                            MidMask::Same,
+                            keyed,
+                            true,
+                        );
                     }
                 }
             }
@@ -516,6 +577,7 @@ fn gpu_passes_equal_the_cpu_twins() {
                 1300,
                 VisLayout::Standard,
                 masked,
+                MidMask::Same,
                 true,
                 true,
             );
@@ -525,7 +587,33 @@ fn gpu_passes_equal_the_cpu_twins() {
     // indices are counted, though seed 2's index buffer is truncated.
     for features in subgroup_variants() {
         for layout in [VisLayout::Standard, VisLayout::Vrs] {
-            classification_case(features, 2, 129, 257, layout, false, true, false);
+            classification_case(
+                features,
+                2,
+                129,
+                257,
+                layout,
+                false,
+                MidMask::Same,
+                true,
+                false,
+            );
+        }
+    }
+    // The mask changes between mid classify and classify output: HFW's mixed frame (every
+    // bit set at mid classify; classify output's write_commands then takes phase 2's
+    // records where it can) and a mask that grows (pixels without a record).
+    for features in subgroup_variants() {
+        for (seed, (w, h)) in [(1u64, (300u32, 200u32)), (3, (64, 48))] {
+            for layout in [VisLayout::Standard, VisLayout::Vrs] {
+                for mid_mask in [MidMask::AllSet, MidMask::Sparser] {
+                    for keyed in [true, false] {
+                        classification_case(
+                            features, seed, w, h, layout, true, mid_mask, keyed, true,
+                        );
+                    }
+                }
+            }
         }
     }
 }

@@ -4,6 +4,7 @@
 //   pixel_offsets_pass         the counts' prefix sum (one workgroup; the CPU twin's mid
 //                              classify has it, here the counts are plain loads)
 //   write_commands             pixel (or quad) commands, classifying the final mask again
+//                              (from count_pixels' records where the layout is standard)
 //   entry_waves                final counts, each entry's first wave in its block, the
 //                              blocks' first waves, the passes' sums
 //   write_waves                wave offsets and wave commands; its first workgroup the
@@ -168,6 +169,54 @@ fn tiling_write_pixel(gid: vec3<u32>, k: u32, word: u32, range: vec2<u32>) -> ve
     return vec2<u32>(px.pg, tiling_command(p.x, p.y, mask));
 }
 
+// `kc` (key, command) from tiling_write_pixel with its key turned into the counter's index
+// among the tile's (`range` from tiling_tile_counters), the key tiling_rank_index takes.
+fn tiling_index_key(kc: vec2<u32>, range: vec2<u32>) -> vec2<u32> {
+    if (kc.x == TILING_NONE) {
+        return kc;
+    }
+    return vec2<u32>(tiling_counter_of(kc.x) - range.x, kc.y);
+}
+
+// Pixel k of `gid`'s quad under the final mask from count_pixels' record `r` (standard
+// layout only: a VRS sample's mask depends on its block's validity bits, which changed):
+// (counter index within the tile, command), TILING_NONE without one. The mask only shrinks
+// in the mixed frame, so a pixel still valid classifies as its record says, without the
+// decode. A record without a pixel (empty then: no vis ID, or a mask that has grown since)
+// is classified from its word.
+fn tiling_record_pixel(gid: vec3<u32>, k: u32, r: u32, range: vec2<u32>) -> vec2<u32> {
+    let p = tiling_quad_pixel(gid, k);
+    if (p.x >= params.width || p.y >= params.height) {
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    let i = p.y * params.width + p.x;
+    if (!tiling_valid_bit(i)) {
+        return vec2<u32>(TILING_NONE, 0u);
+    }
+    if ((r & TILING_RECORD_COMMAND) != 0u) {
+        let index = (r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK;
+        return vec2<u32>(index, tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u));
+    }
+    let kind = r & 3u;
+    if (kind == TILING_PX_EMPTY) {
+        return tiling_index_key(tiling_write_pixel(gid, k, tiling_word(i), range), range);
+    }
+    tiling_stat_kind(kind);
+    if (kind == TILING_PX_VALID) {
+        tiling_stat(select(TILING_STAT_NO_SAMPLE, TILING_STAT_DROPPED, (r & TILING_RECORD_DROPPED) != 0u), 1u);
+    }
+    return vec2<u32>(TILING_NONE, 0u);
+}
+
+// tiling_rank for a key that is the counter's index within the tile.
+fn tiling_rank_index(index: u32, range: vec2<u32>) -> TilingRanked {
+    if (index == TILING_NONE) {
+        return TilingRanked(0u, 0u, 0u);
+    }
+    let slot = min(index, TILING_HIST_SLOTS - 1u);
+    return TilingRanked(range.x + index, slot, atomicAdd(&tiling_hist[slot], 1u));
+}
+
 // Pixel's command `kc` (key, command) at the slot the keyed histogram gave it: 1 if
 // written.
 fn tiling_put_ranked(kc: vec2<u32>, r: TilingRanked) -> u32 {
@@ -187,34 +236,57 @@ fn tiling_put_appended(kc: vec2<u32>, li: u32) -> u32 {
     return 0u;
 }
 
-// With a validity mask (the mixed frame): classifies the final mask again. The quad's four
-// pixels are spelled out, never indexed by a loop variable (tiling::pixel).
+// With a validity mask (the mixed frame): classifies the final mask again, from
+// count_pixels' records where it can (tiling_record_pixel: no decode), else from the words.
+// The quad's four pixels are spelled out, never indexed by a loop variable (tiling::pixel).
 @compute @workgroup_size(16, 16)
 fn write_commands(
     @builtin(global_invocation_id) gid: vec3<u32>,
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) li: u32,
 ) {
-    let w = tiling_quad_words(gid);
     tiling_stats_zero(li);
     tiling_hist_zero(li);
     let range = tiling_tile_counters(tiling_block_tile(wid), li);
-    let c0 = tiling_write_pixel(gid, 0u, w.x, range);
-    let c1 = tiling_write_pixel(gid, 1u, w.y, range);
-    let c2 = tiling_write_pixel(gid, 2u, w.z, range);
-    let c3 = tiling_write_pixel(gid, 3u, w.w, range);
     if (range.y <= TILING_HIST_LIMIT) {
+        // (counter index, command) per pixel.
+        var c0: vec2<u32>;
+        var c1: vec2<u32>;
+        var c2: vec2<u32>;
+        var c3: vec2<u32>;
+        if (!tiling_vrs()) {
+            var records = vec4<u32>(0u);
+            let q = tiling_quad_index(gid);
+            if (q < arrayLength(&slots)) {
+                records = slots[q];
+            }
+            c0 = tiling_record_pixel(gid, 0u, records.x, range);
+            c1 = tiling_record_pixel(gid, 1u, records.y, range);
+            c2 = tiling_record_pixel(gid, 2u, records.z, range);
+            c3 = tiling_record_pixel(gid, 3u, records.w, range);
+        } else {
+            let w = tiling_quad_words(gid);
+            c0 = tiling_index_key(tiling_write_pixel(gid, 0u, w.x, range), range);
+            c1 = tiling_index_key(tiling_write_pixel(gid, 1u, w.y, range), range);
+            c2 = tiling_index_key(tiling_write_pixel(gid, 2u, w.z, range), range);
+            c3 = tiling_index_key(tiling_write_pixel(gid, 3u, w.w, range), range);
+        }
         // Keyed histogram (keyed.wgsl): a rank within the block per command, one global
         // atomic per counter of the block for the block's first slot.
-        let r0 = tiling_rank(c0.x, range);
-        let r1 = tiling_rank(c1.x, range);
-        let r2 = tiling_rank(c2.x, range);
-        let r3 = tiling_rank(c3.x, range);
+        let r0 = tiling_rank_index(c0.x, range);
+        let r1 = tiling_rank_index(c1.x, range);
+        let r2 = tiling_rank_index(c2.x, range);
+        let r3 = tiling_rank_index(c3.x, range);
         tiling_hist_flush(li, range);
         tiling_stat(TILING_STAT_COMMANDS, tiling_put_ranked(c0, r0) + tiling_put_ranked(c1, r1)
             + tiling_put_ranked(c2, r2) + tiling_put_ranked(c3, r3));
     } else {
         // Aggregated appends, one pixel of the quads at a time.
+        let w = tiling_quad_words(gid);
+        let c0 = tiling_write_pixel(gid, 0u, w.x, range);
+        let c1 = tiling_write_pixel(gid, 1u, w.y, range);
+        let c2 = tiling_write_pixel(gid, 2u, w.z, range);
+        let c3 = tiling_write_pixel(gid, 3u, w.w, range);
         let a0 = tiling_put_appended(c0, li);
         let a1 = tiling_put_appended(c1, li);
         let a2 = tiling_put_appended(c2, li);
