@@ -122,15 +122,17 @@ fn classification_case(
     } else {
         &[("TILING_HIST_LIMIT", 0.0)]
     };
-    let pixel = [
-        ("params", Data::Bytes(bytemuck::bytes_of(&params))),
-        ("vis", Data::Words(&words)),
-        ("valid", Data::Words(&mask)),
-        ("table", Data::rows(&plan.table)),
-    ];
+    let pixel_with = |valid| {
+        [
+            ("params", Data::Bytes(bytemuck::bytes_of(&params))),
+            ("vis", Data::Words(&words)),
+            ("valid", Data::Words(valid)),
+            ("table", Data::rows(&plan.table)),
+        ]
+    };
+    let pixel = pixel_with(&mask);
     // Phases 1 and 2 see the mask mid classify ran with.
-    let mut pixel_mid = pixel;
-    pixel_mid[2] = ("valid", Data::Words(&early));
+    let pixel_mid = pixel_with(&early);
     fn joined<'a>(
         a: &[(&'static str, Data<'a>)],
         b: &[(&'static str, Data<'a>)],

@@ -47,13 +47,13 @@ fn gpu_tile_range_tiles(size: vec2<u32>) -> vec2<u32> {
     return (size + vec2<u32>(DEFERRED_TILE_SIZE - 1u)) / DEFERRED_TILE_SIZE;
 }
 
-// Row-major index of tile k of workgroup `wid`'s block among `tiles`, or TILE_RANGE_NONE
+// Row-major index of tile k of workgroup `wid`'s block among `tiles`, or GPU_TILE_RANGE_NONE
 // outside them.
-const TILE_RANGE_NONE: u32 = 0xffffffffu;
+const GPU_TILE_RANGE_NONE: u32 = 0xffffffffu;
 fn gpu_tile_range_index(k: u32, wid: vec2<u32>, tiles: vec2<u32>) -> u32 {
     let xy = wid * 2u + vec2<u32>(k % 2u, k / 2u);
     if (any(xy >= tiles)) {
-        return TILE_RANGE_NONE;
+        return GPU_TILE_RANGE_NONE;
     }
     return xy.y * tiles.x + xy.x;
 }

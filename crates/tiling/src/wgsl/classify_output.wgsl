@@ -194,8 +194,7 @@ fn tiling_record_pixel(gid: vec3<u32>, k: u32, r: u32, range: vec2<u32>) -> vec2
         return vec2<u32>(TILING_NONE, 0u);
     }
     if ((r & TILING_RECORD_COMMAND) != 0u) {
-        let index = (r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK;
-        return vec2<u32>(index, tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u));
+        return vec2<u32>(tiling_record_counter(r), tiling_command(p.x, p.y, tiling_record_mask(r)));
     }
     let kind = r & 3u;
     if (kind == TILING_PX_EMPTY) {
@@ -206,15 +205,6 @@ fn tiling_record_pixel(gid: vec3<u32>, k: u32, r: u32, range: vec2<u32>) -> vec2
         tiling_stat(select(TILING_STAT_NO_SAMPLE, TILING_STAT_DROPPED, (r & TILING_RECORD_DROPPED) != 0u), 1u);
     }
     return vec2<u32>(TILING_NONE, 0u);
-}
-
-// tiling_rank for a key that is the counter's index within the tile.
-fn tiling_rank_index(index: u32, range: vec2<u32>) -> TilingRanked {
-    if (index == TILING_NONE) {
-        return TilingRanked(0u, 0u, 0u);
-    }
-    let slot = min(index, TILING_HIST_SLOTS - 1u);
-    return TilingRanked(range.x + index, slot, atomicAdd(&tiling_hist[slot], 1u));
 }
 
 // Pixel's command `kc` (key, command) at the slot the keyed histogram gave it: 1 if
@@ -369,14 +359,14 @@ fn tiling_scatter_pixel(gid: vec3<u32>, k: u32, r: u32, first: u32) -> u32 {
     if (p.x >= params.width || p.y >= params.height || (r & TILING_RECORD_COMMAND) == 0u) {
         return 0u;
     }
-    let c = first + ((r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK);
+    let c = first + tiling_record_counter(r);
     let slot = r & TILING_RECORD_SLOT_MASK;
     if (c >= arrayLength(&counts) || slot >= counts[c]) {
         return 1u;
     }
     let at = pixel_offsets[c] + slot;
     if (at / 2u < arrayLength(&commands)) {
-        let cmd = tiling_command(p.x, p.y, (r >> TILING_RECORD_MASK_SHIFT) & 15u);
+        let cmd = tiling_command(p.x, p.y, tiling_record_mask(r));
 #if timing_store_commands
         atomicStore(&commands[at / 2u], cmd);
 #else

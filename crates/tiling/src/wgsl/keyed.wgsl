@@ -192,9 +192,17 @@ fn tiling_rank(key: u32, range: vec2<u32>) -> TilingRanked {
     if (key == TILING_NONE) {
         return TilingRanked(0u, 0u, 0u);
     }
-    let c = tiling_counter_of(key);
-    let slot = min(c - range.x, TILING_HIST_SLOTS - 1u);
-    return TilingRanked(c, slot, atomicAdd(&tiling_hist[slot], 1u));
+    return tiling_rank_index(tiling_counter_of(key) - range.x, range);
+}
+
+// tiling_rank for a key that is already the counter's index within the tile's counters
+// (TILING_NONE: no command).
+fn tiling_rank_index(index: u32, range: vec2<u32>) -> TilingRanked {
+    if (index == TILING_NONE) {
+        return TilingRanked(0u, 0u, 0u);
+    }
+    let slot = min(index, TILING_HIST_SLOTS - 1u);
+    return TilingRanked(range.x + index, slot, atomicAdd(&tiling_hist[slot], 1u));
 }
 
 // Zeroes this invocation's histogram slot; a barrier must follow before any tiling_rank

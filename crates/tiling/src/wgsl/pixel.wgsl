@@ -57,6 +57,16 @@ const TILING_RECORD_SLOT_MASK: u32 = (1u << TILING_RECORD_COUNTER_SHIFT) - 1u;
 const TILING_RECORD_MASK_SHIFT: u32 = 27u;
 const TILING_RECORD_COUNTER_MASK: u32 = (1u << (TILING_RECORD_MASK_SHIFT - TILING_RECORD_COUNTER_SHIFT)) - 1u;
 
+// A command record's counter index within its tile's counters.
+fn tiling_record_counter(r: u32) -> u32 {
+    return (r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK;
+}
+
+// A command record's 4-bit sample mask.
+fn tiling_record_mask(r: u32) -> u32 {
+    return (r >> TILING_RECORD_MASK_SHIFT) & 15u;
+}
+
 // The word of pixel i, or VISBUF_NONE outside the buffer.
 fn tiling_word(i: u32) -> u32 {
     if (i >= arrayLength(&vis)) {
