@@ -34,6 +34,19 @@ use crate::plan::{MicroBatchInfo, PassInfo, VERTEX_CHUNK_SIZE};
 pub const UBER_CHUNK_CHUNKS: u32 = 64;
 /// Children per node of the histogram pyramid.
 pub const PYRAMID_FANOUT: u32 = 4;
+/// Deltas per workgroup of the GPU's prefix sum over the micro-batch-ID deltas (WGSL
+/// `TILING_DELTA_BLOCK`): the size of the block sums buffer is `ceil(chunk_count /
+/// DELTA_BLOCK)` words ([`delta_block_count`]).
+pub const DELTA_BLOCK: u32 = 1024;
+
+/// Words of the GPU's block sums buffer (`delta_blocks` of
+/// [`wgsl::VERTEX_WAVES`](crate::wgsl::VERTEX_WAVES)) for a cull buffer of `chunk_count`
+/// entries: one per [`DELTA_BLOCK`] chunks, at least one.
+#[must_use]
+pub const fn delta_block_count(chunk_count: u32) -> u32 {
+    let n = chunk_count.div_ceil(DELTA_BLOCK);
+    if n == 0 { 1 } else { n }
+}
 
 /// 64 chunks of the cull buffer (WGSL `TilingUberChunk`), 16 bytes.
 #[repr(C)]

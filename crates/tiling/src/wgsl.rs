@@ -60,7 +60,7 @@ use shader::{Binding, Entry, Group, Kind, Module, Pass, join};
 use crate::TilingParams;
 use crate::classify::{PassDispatch, PixelStats, TILE_SIZE, Totals, WaveCommand};
 use crate::plan::{MAX_BATCH_GROUPS_PER_PASS, MAX_PASSES, MicroBatchInfo, PassInfo};
-use crate::vertex::{UberChunk, VertexWaveCommand};
+use crate::vertex::{DELTA_BLOCK, UberChunk, VertexWaveCommand};
 
 /// `tiling::common`: constants, buffer structs and helpers of every pass (no bindings).
 pub const COMMON: Module = Module::new("tiling::common", include_str!("wgsl/common.wgsl"));
@@ -449,6 +449,7 @@ pub const CLASSIFY_OUTPUT: Pass<TilingParams> = Pass {
 /// | `vertex_dispatches` | `P` | [`PassDispatch`] |
 /// | `pass_items` | visible vertices per pass, `P`, zeroed | `atomic<u32>` |
 /// | `totals` | `visible_chunks` | [`Totals`] |
+/// | `delta_blocks` | the deltas' block sums, [`delta_block_count`](crate::vertex::delta_block_count)`(chunk_count)` | `u32` |
 pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
     name: "vertex wave commands",
     module: "tiling::vertex_waves",
@@ -476,6 +477,7 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
             ),
             Binding::new("pass_items", Kind::read_write(4)),
             Binding::new("totals", Kind::read_write(size_of::<Totals>())),
+            Binding::new("delta_blocks", Kind::read_write(4)),
         ],
     }],
     entries: &[
@@ -484,7 +486,9 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
         Entry::items("micro_batch_deltas", ITEMS_WORKGROUP_SIZE, |p| {
             p.micro_batch_count
         }),
-        Entry::once("scan_deltas", 256),
+        Entry::items("delta_block_sums", 256, delta_scan_items),
+        Entry::once("scan_delta_blocks", 256),
+        Entry::items("scan_deltas", 256, delta_scan_items),
         Entry::items("write_vertex_commands", ITEMS_WORKGROUP_SIZE, |p| {
             p.chunk_count
         }),
@@ -492,6 +496,12 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
     ],
     zeroed: &["deltas", "pass_items"],
 };
+
+/// A workgroup of 256 invocations per block of the deltas' prefix sum (the visible chunks,
+/// which only the GPU knows, are at most `chunk_count`).
+fn delta_scan_items(p: &TilingParams) -> u32 {
+    p.chunk_count.div_ceil(DELTA_BLOCK).saturating_mul(256)
+}
 
 /// The three classification phases, in the order a frame runs them.
 pub const CLASSIFICATION: [&Pass<TilingParams>; 3] =
@@ -527,6 +537,7 @@ mod tests {
             ("TILING_CHUNK_SIZE", VERTEX_CHUNK_SIZE),
             ("TILING_UBER_CHUNKS", UBER_CHUNK_CHUNKS),
             ("TILING_PYRAMID_FANOUT", PYRAMID_FANOUT),
+            ("TILING_DELTA_BLOCK", DELTA_BLOCK),
             ("TILING_MAX_DISPATCH_X", MAX_DISPATCH_X),
             ("TILING_ITEMS_WORKGROUP_SIZE", ITEMS_WORKGROUP_SIZE),
             ("TILING_FLAG_VALIDITY", FLAG_VALIDITY),

@@ -13,10 +13,11 @@ mod common;
 
 use common::{Rng, random_mask, random_scene, random_vis};
 use testkit::device::{Data, run_pass, subgroup_variants};
+use tiling::vertex::{DELTA_BLOCK, delta_block_count};
 use tiling::wgsl::{CLASSIFY_OUTPUT, LAYDOWN_FINALIZE, MID_CLASSIFY, VERTEX_WAVES};
 use tiling::{
-    Classification, ClassifyConfig, PassDispatch, PixelStats, PlanConfig, TilingParams, Totals,
-    UberChunk, VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_output,
+    Classification, ClassifyConfig, PassDispatch, PixelStats, Plan, PlanConfig, TilingParams,
+    Totals, UberChunk, VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_output,
     classify_phases, laydown_finalize, mid_classify, pixel_command, unpack_pixel_command,
     vertex_wave_commands,
 };
@@ -318,8 +319,22 @@ fn classification_case(
     }
 
     // Vertex wave commands from the cull buffer.
+    let vertex_waves = vertex_waves_case(&what, &params, plan, &cpu.mid.vertex_cull);
+    eprintln!(
+        "{what}: {} valid pixels, {} counters, {} commands, {} waves, {} vertex waves: equal",
+        cpu.output.stats.valid,
+        counters,
+        commands,
+        cpu.output.waves.len(),
+        vertex_waves
+    );
+}
+
+/// `tiling::wgsl::VERTEX_WAVES` over the cull buffer `cull` of `plan` against the CPU twin,
+/// every output; returns the vertex waves (visible chunks).
+fn vertex_waves_case(what: &str, params: &TilingParams, plan: &Plan, cull: &[u8]) -> usize {
     let v = vertex_wave_commands(
-        &cpu.mid.vertex_cull,
+        cull,
         plan.chunk_count,
         &plan.table,
         &plan.order,
@@ -332,13 +347,13 @@ fn classification_case(
         &VERTEX_WAVES,
         &[],
         &[],
-        &params,
+        params,
         &[
-            ("params", Data::Bytes(bytemuck::bytes_of(&params))),
+            ("params", Data::Bytes(bytemuck::bytes_of(params))),
             ("table", Data::rows(&plan.table)),
             ("order", Data::Words(&plan.order)),
             ("pass_infos", Data::rows(&plan.passes)),
-            ("vertex_cull", Data::Bytes(&cpu.mid.vertex_cull)),
+            ("vertex_cull", Data::Bytes(cull)),
             ("ubers", zeros::<UberChunk>(ubers)),
             ("pyramid", Data::Zeros(v.pyramid.data.len())),
             ("deltas", Data::Zeros(chunks)),
@@ -350,6 +365,10 @@ fn classification_case(
             ),
             ("pass_items", Data::Zeros(plan.passes.len())),
             ("totals", zeros::<Totals>(1)),
+            (
+                "delta_blocks",
+                Data::Zeros(delta_block_count(plan.chunk_count) as usize),
+            ),
         ],
     );
     assert_eq!(
@@ -385,16 +404,10 @@ fn classification_case(
     );
     assert_eq!(
         p4.read::<Totals>("totals", 1)[0].visible_chunks as usize,
-        v.commands.len()
+        v.commands.len(),
+        "visible chunks, {what}"
     );
-    eprintln!(
-        "{what}: {} valid pixels, {} counters, {} commands, {} waves, {} vertex waves: equal",
-        cpu.output.stats.valid,
-        counters,
-        commands,
-        cpu.output.waves.len(),
-        v.commands.len()
-    );
+    v.commands.len()
 }
 
 /// Classify output without a validity mask over corrupt counts (every third counter's
@@ -618,6 +631,51 @@ fn gpu_passes_equal_the_cpu_twins() {
             }
         }
     }
+}
+
+/// The vertex wave commands of a scene with hundreds of thousands of chunks against the
+/// CPU twin: the deltas' prefix sum runs over many blocks (`tiling::vertex::DELTA_BLOCK`),
+/// more than one per invocation of its block scan, with visible chunks dense, sparse and
+/// absent over whole micro batches (their deltas share the next one's position).
+#[test]
+fn vertex_waves_over_many_blocks() {
+    let mut rng = Rng::new(17);
+    let config = PlanConfig {
+        ring_bytes: 32 * 2 * 1_000_000,
+        ..PlanConfig::default()
+    };
+    let scene = random_scene(&mut rng, 1500, &config);
+    let plan = &scene.plan;
+    let cfg = ClassifyConfig::for_plan(plan, WaveWidth::W16);
+    let params = TilingParams::for_frame(
+        (64, 64),
+        VisLayout::Standard,
+        false,
+        &cfg,
+        plan.table.len() as u32,
+        plan.order.len() as u32,
+    );
+    // Per micro batch a density: none visible, a few, most, all.
+    let mut cull = vec![0u8; plan.chunk_count as usize];
+    for row in &plan.table {
+        let percent = [0, 3, 60, 100][rng.below(4) as usize];
+        let first = row.first_chunk as usize;
+        let end = (first + row.chunk_count() as usize).min(cull.len());
+        for c in &mut cull[first..end] {
+            *c = u8::from(rng.chance(percent));
+        }
+    }
+    let visible = vertex_waves_case("many blocks", &params, plan, &cull);
+    let blocks = visible.div_ceil(DELTA_BLOCK as usize);
+    assert!(
+        blocks > 256,
+        "{visible} visible chunks of {}: {blocks} blocks, too few to cover the block scan",
+        plan.chunk_count
+    );
+    eprintln!(
+        "{visible} visible chunks of {} in {blocks} blocks: equal",
+        plan.chunk_count
+    );
 }
 
 /// `tiling`'s WGSL unpack helpers (what the `gpu` resolve uses to find a wave command's

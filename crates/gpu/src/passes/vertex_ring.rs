@@ -116,7 +116,7 @@ pub(crate) struct Buffers {
     waves_group: wgpu::BindGroup,
     scene_group: wgpu::BindGroup,
     ring_group: wgpu::BindGroup,
-    _kept: [wgpu::Buffer; 4],
+    _kept: [wgpu::Buffer; 5],
 }
 
 impl VertexRing {
@@ -220,6 +220,11 @@ impl VertexRing {
         )?;
         let pyramid = storage("histogram pyramid", pyramid_len * 4, none)?;
         let deltas = storage("micro-batch deltas", chunks * 4, none)?;
+        let delta_blocks = storage(
+            "micro-batch delta blocks",
+            u64::from(tiling::vertex::delta_block_count(params.chunk_count)) * 4,
+            none,
+        )?;
         let micro_batch_waves = storage(
             "micro-batch vertex waves",
             plan.order.len() as u64 * 4,
@@ -259,6 +264,7 @@ impl VertexRing {
                 ("vertex_dispatches", vertex_dispatches.as_entire_binding()),
                 ("pass_items", pass_items.as_entire_binding()),
                 ("totals", totals.as_entire_binding()),
+                ("delta_blocks", delta_blocks.as_entire_binding()),
             ],
         )?;
         let ring_group = self.transform.bind_group(
@@ -299,7 +305,7 @@ impl VertexRing {
             waves_group,
             scene_group: self.transform.bind_group(device, "scene", scene)?,
             ring_group,
-            _kept: [params_buffer, table, order, pass_infos],
+            _kept: [params_buffer, table, order, pass_infos, delta_blocks],
         })
     }
 

@@ -16,6 +16,8 @@ const TILING_MAX_PRIMITIVE_BITS: u32 = 16u;
 const TILING_CHUNK_SIZE: u32 = 64u;
 const TILING_UBER_CHUNKS: u32 = 64u;
 const TILING_PYRAMID_FANOUT: u32 = 4u;
+// Deltas per workgroup of the vertex wave commands' scan (256 invocations, four each).
+const TILING_DELTA_BLOCK: u32 = 1024u;
 const TILING_MAX_DISPATCH_X: u32 = 65535u;
 // Invocations per workgroup of every one-invocation-per-item entry point
 // (`shader::Entry::items` in the descriptions of `tiling::wgsl`).

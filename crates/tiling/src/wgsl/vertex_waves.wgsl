@@ -1,7 +1,7 @@
 // tiling: vertex wave commands from the vertex cull buffer (Rust twin:
 // tiling::vertex_wave_commands). Entry points, in this order (dispatches and zeroed
 // buffers: `tiling::VERTEX_WAVES`): uber_chunks, build_pyramid, micro_batch_deltas,
-// scan_deltas, write_vertex_commands, pass_args.
+// delta_block_sums, scan_delta_blocks, scan_deltas, write_vertex_commands, pass_args.
 
 #import tiling::common
 
@@ -31,6 +31,9 @@
 @group(0) @binding(11) var<storage, read_write> pass_items: array<atomic<u32>>;
 // visible_chunks (written by build_pyramid).
 @group(0) @binding(12) var<storage, read_write> totals: TilingTotals;
+// Per TILING_DELTA_BLOCK deltas: their sum (delta_block_sums), then the sum of the blocks
+// before it (scan_delta_blocks).
+@group(0) @binding(13) var<storage, read_write> delta_blocks: array<u32>;
 
 // Levels of the pyramid over `uber_count` entries (at least one level of length 1).
 fn tiling_level_count() -> u32 {
@@ -272,19 +275,90 @@ fn micro_batch_deltas(
     }
 }
 
-@compute @workgroup_size(256)
-fn scan_deltas(@builtin(local_invocation_index) li: u32) {
-    let n = min(tiling_total(), arrayLength(&deltas));
-    let r = tiling_wg_range(li, n);
-    var sum = 0u;
-    for (var i = r.x; i < r.y; i++) {
-        sum += atomicLoad(&deltas[i]);
+// The deltas' inclusive prefix sum, over the GPU: each workgroup of delta_block_sums and
+// scan_deltas takes a block of TILING_DELTA_BLOCK deltas, four consecutive ones an
+// invocation: a single workgroup walking hundreds of thousands of deltas is a long serial
+// chain per invocation.
+
+// Deltas to scan: the visible chunks.
+fn tiling_delta_count() -> u32 {
+    return min(tiling_total(), arrayLength(&deltas));
+}
+
+// Blocks of the scan over `n` deltas (no overflow near 2^32).
+fn tiling_delta_blocks(n: u32) -> u32 {
+    return n / TILING_DELTA_BLOCK + select(0u, 1u, n % TILING_DELTA_BLOCK != 0u);
+}
+
+// Invocation li's four deltas of block `block` (zero past the n deltas).
+fn tiling_block_deltas(block: u32, li: u32, n: u32) -> vec4<u32> {
+    var v = vec4<u32>(0u);
+    if (block < tiling_delta_blocks(n)) {
+        let first = block * TILING_DELTA_BLOCK + li * 4u;
+        for (var k = 0u; k < 4u; k++) {
+            if (first + k < n) {
+                v[k] = atomicLoad(&deltas[first + k]);
+            }
+        }
     }
-    let scan = tiling_wg_scan(li, sum);
-    var run = scan.x;
-    for (var i = r.x; i < r.y; i++) {
-        run += atomicLoad(&deltas[i]);
-        atomicStore(&deltas[i], run);
+    return v;
+}
+
+// Per block: the sum of its deltas (wrapping, as the IDs' deltas are).
+@compute @workgroup_size(256)
+fn delta_block_sums(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    let block = wid.y * groups.x + wid.x;
+    let n = tiling_delta_count();
+    let v = tiling_block_deltas(block, li, n);
+    let sum = tiling_wg_scan(li, v.x + v.y + v.z + v.w).y;
+    if (li == 0u && block < tiling_delta_blocks(n) && block < arrayLength(&delta_blocks)) {
+        delta_blocks[block] = sum;
+    }
+}
+
+// One workgroup: the block sums in place into the sums of the blocks before each.
+@compute @workgroup_size(256)
+fn scan_delta_blocks(@builtin(local_invocation_index) li: u32) {
+    let blocks = min(tiling_delta_blocks(tiling_delta_count()), arrayLength(&delta_blocks));
+    let r = tiling_wg_range(li, blocks);
+    var sum = 0u;
+    for (var b = r.x; b < r.y; b++) {
+        sum += delta_blocks[b];
+    }
+    var run = tiling_wg_scan(li, sum).x;
+    for (var b = r.x; b < r.y; b++) {
+        let v = delta_blocks[b];
+        delta_blocks[b] = run;
+        run += v;
+    }
+}
+
+// Per block: the deltas in place into the micro-batch IDs (the blocks before it, then the
+// workgroup's exclusive scan, then the invocation's four).
+@compute @workgroup_size(256)
+fn scan_deltas(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) groups: vec3<u32>,
+    @builtin(local_invocation_index) li: u32,
+) {
+    let block = wid.y * groups.x + wid.x;
+    let n = tiling_delta_count();
+    let v = tiling_block_deltas(block, li, n);
+    var run = tiling_wg_scan(li, v.x + v.y + v.z + v.w).x;
+    if (block >= tiling_delta_blocks(n) || block >= arrayLength(&delta_blocks)) {
+        return;
+    }
+    run += delta_blocks[block];
+    let first = block * TILING_DELTA_BLOCK + li * 4u;
+    for (var k = 0u; k < 4u; k++) {
+        if (first + k < n) {
+            run += v[k];
+            atomicStore(&deltas[first + k], run);
+        }
     }
 }
 
