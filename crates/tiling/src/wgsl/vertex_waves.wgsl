@@ -290,8 +290,15 @@ fn tiling_delta_blocks(n: u32) -> u32 {
     return n / TILING_DELTA_BLOCK + select(0u, 1u, n % TILING_DELTA_BLOCK != 0u);
 }
 
-// Invocation li's four deltas of block `block` (zero past the n deltas).
-fn tiling_block_deltas(block: u32, li: u32, n: u32) -> vec4<u32> {
+// Invocation li's four deltas of block `block` (zero past the n deltas) and the
+// workgroup's scan of their sums (exclusive, total). Contains barriers: call from uniform
+// control flow.
+struct TilingDeltaBlock {
+    deltas: vec4<u32>,
+    scan: vec2<u32>,
+}
+
+fn tiling_delta_block(block: u32, li: u32, n: u32) -> TilingDeltaBlock {
     var v = vec4<u32>(0u);
     if (block < tiling_delta_blocks(n)) {
         let first = block * TILING_DELTA_BLOCK + li * 4u;
@@ -301,7 +308,7 @@ fn tiling_block_deltas(block: u32, li: u32, n: u32) -> vec4<u32> {
             }
         }
     }
-    return v;
+    return TilingDeltaBlock(v, tiling_wg_scan(li, v.x + v.y + v.z + v.w));
 }
 
 // Per block: the sum of its deltas (wrapping, as the IDs' deltas are).
@@ -313,8 +320,7 @@ fn delta_block_sums(
 ) {
     let block = wid.y * groups.x + wid.x;
     let n = tiling_delta_count();
-    let v = tiling_block_deltas(block, li, n);
-    let sum = tiling_wg_scan(li, v.x + v.y + v.z + v.w).y;
+    let sum = tiling_delta_block(block, li, n).scan.y;
     if (li == 0u && block < tiling_delta_blocks(n) && block < arrayLength(&delta_blocks)) {
         delta_blocks[block] = sum;
     }
@@ -347,8 +353,9 @@ fn scan_deltas(
 ) {
     let block = wid.y * groups.x + wid.x;
     let n = tiling_delta_count();
-    let v = tiling_block_deltas(block, li, n);
-    var run = tiling_wg_scan(li, v.x + v.y + v.z + v.w).x;
+    let d = tiling_delta_block(block, li, n);
+    let v = d.deltas;
+    var run = d.scan.x;
     if (block >= tiling_delta_blocks(n) || block >= arrayLength(&delta_blocks)) {
         return;
     }
