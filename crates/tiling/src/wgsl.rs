@@ -486,9 +486,9 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
         Entry::items("micro_batch_deltas", ITEMS_WORKGROUP_SIZE, |p| {
             p.micro_batch_count
         }),
-        Entry::items("delta_block_sums", 256, delta_scan_items),
-        Entry::once("scan_delta_blocks", 256),
-        Entry::items("scan_deltas", 256, delta_scan_items),
+        Entry::items("delta_block_sums", DELTA_SCAN_WORKGROUP, delta_scan_items),
+        Entry::once("scan_delta_blocks", DELTA_SCAN_WORKGROUP),
+        Entry::items("scan_deltas", DELTA_SCAN_WORKGROUP, delta_scan_items),
         Entry::items("write_vertex_commands", ITEMS_WORKGROUP_SIZE, |p| {
             p.chunk_count
         }),
@@ -497,10 +497,17 @@ pub const VERTEX_WAVES: Pass<TilingParams> = Pass {
     zeroed: &["deltas", "pass_items"],
 };
 
-/// A workgroup of 256 invocations per block of the deltas' prefix sum (the visible chunks,
-/// which only the GPU knows, are at most `chunk_count`).
+/// Invocations per workgroup of the deltas' prefix sum (`tiling_wg_scan`'s 256), each
+/// taking four consecutive deltas of its block.
+const DELTA_SCAN_WORKGROUP: u32 = 256;
+const _: () = assert!(DELTA_BLOCK == 4 * DELTA_SCAN_WORKGROUP);
+
+/// A workgroup per block of the deltas' prefix sum (the visible chunks, which only the GPU
+/// knows, are at most `chunk_count`).
 fn delta_scan_items(p: &TilingParams) -> u32 {
-    p.chunk_count.div_ceil(DELTA_BLOCK).saturating_mul(256)
+    p.chunk_count
+        .div_ceil(DELTA_BLOCK)
+        .saturating_mul(DELTA_SCAN_WORKGROUP)
 }
 
 /// The three classification phases, in the order a frame runs them.

@@ -196,7 +196,7 @@ fn tiling_record_pixel(gid: vec3<u32>, k: u32, r: u32, range: vec2<u32>) -> vec2
     if ((r & TILING_RECORD_COMMAND) != 0u) {
         return vec2<u32>(tiling_record_counter(r), tiling_command(p.x, p.y, tiling_record_mask(r)));
     }
-    let kind = r & 3u;
+    let kind = tiling_record_kind(r);
     if (kind == TILING_PX_EMPTY) {
         return tiling_index_key(tiling_write_pixel(gid, k, tiling_word(i), range), range);
     }

@@ -62,6 +62,11 @@ fn tiling_record_counter(r: u32) -> u32 {
     return (r >> TILING_RECORD_COUNTER_SHIFT) & TILING_RECORD_COUNTER_MASK;
 }
 
+// A record's TILING_PX_* kind (a record without a command).
+fn tiling_record_kind(r: u32) -> u32 {
+    return r & 3u;
+}
+
 // A command record's 4-bit sample mask.
 fn tiling_record_mask(r: u32) -> u32 {
     return (r >> TILING_RECORD_MASK_SHIFT) & 15u;
