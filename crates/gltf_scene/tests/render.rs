@@ -232,8 +232,8 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
         let p = r.prepare(s).unwrap();
         r.render(&p, &frame, RenderPath::Deferred).unwrap();
         let deferred = r.read_output().unwrap();
-        let gpu_classes = r.read_classification(&p).unwrap();
-        let (stats, mismatch) = r.classification_statistics(&p, &gpu_classes).unwrap();
+        let gpu_classes = r.inspect().read_classification(&p).unwrap();
+        let (stats, mismatch) = r.inspect().classification_statistics(&p, &gpu_classes).unwrap();
         assert!(mismatch.is_none(), "{mismatch:?}");
         r.render(&p, &frame, RenderPath::Baseline).unwrap();
         let baseline = r.read_output().unwrap();

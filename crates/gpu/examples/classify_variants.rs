@@ -121,7 +121,7 @@ fn main() -> anyhow::Result<()> {
         ),
     ];
     for (name, v) in &variants {
-        r.set_classification_variant(v)?;
+        r.hooks().set_classification_variant(v)?;
         let t = r.render_frames(&prepared, &frame, RenderPath::Deferred, args.frames)?;
         let get = |label: &str| {
             t.gpu
@@ -129,8 +129,8 @@ fn main() -> anyhow::Result<()> {
                 .find(|x| x.label == label)
                 .map_or(0.0, |x| x.ms)
         };
-        let g = r.read_classification(&prepared)?;
-        let (_, mismatch) = r.classification_statistics(&prepared, &g)?;
+        let g = r.inspect().read_classification(&prepared)?;
+        let (_, mismatch) = r.inspect().classification_statistics(&prepared, &g)?;
         println!(
             "{name:<52} finalize {:>6.3}  mid {:>6.3} (count_pixels {:>6.3})  output {:>6.3} (with a mask write_commands, without scatter_write_waves {:>6.3}) ms  equal to the CPU twin: {}",
             get("laydown_finalize"),

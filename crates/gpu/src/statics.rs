@@ -200,7 +200,7 @@ pub struct StaticPixel {
 }
 
 /// The static instances' debug words of the last frame with a static query, and how vis
-/// words map to them ([`Renderer::read_static_debug`](crate::Renderer::read_static_debug)).
+/// words map to them ([`Inspect::read_static_debug`](crate::Inspect::read_static_debug)).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StaticDebug {
     /// Per setup handle: first micro-batch ID, IDs, first slot, capacity, primitive bits;

@@ -29,7 +29,7 @@
 //!
 //! | depth | what it holds | read by |
 //! | --- | --- | --- |
-//! | the depth target ([`Renderer::read_depth`](crate::Renderer::read_depth)) | the opaque scene only | lighting, shadows' light tiles, the static query's HiZ (next frame's occlusion), the water's own HiZ, refraction and the water depth under the surface (foam, light transport), screen-space reflections |
+//! | the depth target ([`Inspect::read_depth`](crate::Inspect::read_depth)) | the opaque scene only | lighting, shadows' light tiles, the static query's HiZ (next frame's occlusion), the water's own HiZ, refraction and the water depth under the surface (foam, light transport), screen-space reflections |
 //! | the depth with water ([`Renderer::read_water_depth`](crate::Renderer::read_water_depth)) | a copy of the opaque depth with the tessellated water drawn into it (depth-tested, writing) | the water's local light tiles; whatever draws after the water and must be hidden by it (particles, fog, transparent objects): choose this one |
 //!
 //! A pass that looks *through* the water (what lies under it) reads the depth target; a

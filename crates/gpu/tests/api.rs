@@ -55,7 +55,8 @@ fn an_empty_scene_renders_the_sky() {
             assert!(first[2] > first[0], "{first:?} for sky {sky}");
         }
         assert_eq!(
-            r.read_classification(&prepared)
+            r.inspect()
+                .read_classification(&prepared)
                 .unwrap()
                 .totals
                 .counter_count,
@@ -298,7 +299,7 @@ fn renderer_misuse_is_an_error() {
         Err(Error::ForeignScene)
     ));
     assert!(matches!(
-        a.classify_words(&prepared, &[0; 10]),
+        a.hooks().classify_words(&prepared, &[0; 10]),
         Err(Error::Length { got: 10, .. })
     ));
     assert!(matches!(

@@ -45,8 +45,11 @@ fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
             let mut r = common::renderer(300, 200, subgroups);
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-            let gpu = r.read_classification(&prepared).unwrap();
-            let (stats, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            let gpu = r.inspect().read_classification(&prepared).unwrap();
+            let (stats, mismatch) = r
+                .inspect()
+                .classification_statistics(&prepared, &gpu)
+                .unwrap();
             assert_eq!(
                 mismatch,
                 None,
@@ -120,9 +123,12 @@ fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
                 }
                 words.push(current);
             }
-            let gpu = r.classify_words(&prepared, &words).unwrap();
+            let gpu = r.hooks().classify_words(&prepared, &words).unwrap();
             assert_eq!(gpu.vis, words);
-            let (stats, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            let (stats, mismatch) = r
+                .inspect()
+                .classification_statistics(&prepared, &gpu)
+                .unwrap();
             assert_eq!(
                 mismatch, None,
                 "seed {seed} subgroups {subgroups}: GPU classification differs from the CPU twin"
@@ -243,7 +249,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
     assert!(!one.blocks.is_empty() && one.blocks.len() < 6, "{one:?}");
     assert!(one.writes >= 8, "{one:?}");
 
-    r.hold_upload_completions(true);
+    r.hooks().hold_upload_completions(true);
     let mut frames: Vec<Vec<u32>> = Vec::new();
     let error = loop {
         // Each frame its own camera, so that each frame's uploads differ.
@@ -289,7 +295,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
     );
 
     // The GPU catches up: the pool recovers and the frame is right.
-    r.hold_upload_completions(false);
+    r.hooks().hold_upload_completions(false);
     r.render(&p, &frame, RenderPath::Deferred).unwrap();
     let image = r.read_output().unwrap();
     let (mut reference, rp, _) = upload_rig(PoolConfig::KZ2);
@@ -393,8 +399,11 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
         let (a, b) = (kz2.read_output().unwrap(), oct.read_output().unwrap());
         let (mean, p99) = diff_metrics(&a, &b, 0.99).unwrap();
         let (_, worst) = diff_metrics(&a, &b, 1.0).unwrap();
-        let (sa, sb) = (kz2.read_gbuffer().unwrap(), oct.read_gbuffer().unwrap());
-        let depth = oct.read_depth().unwrap();
+        let (sa, sb) = (
+            kz2.inspect().read_gbuffer().unwrap(),
+            oct.inspect().read_gbuffer().unwrap(),
+        );
+        let depth = oct.inspect().read_depth().unwrap();
         // KZ2 keeps the view-space normal's x and y and rebuilds z >= 0: a normal facing
         // away from the eye comes back mirrored (the layout's lost sign).
         let rotation = frame.camera.view_rotation();
@@ -463,8 +472,11 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         let mut culls = Vec::new();
         for f in [&frame, &turned] {
             r.render(&prepared, f, RenderPath::Deferred).unwrap();
-            let gpu = r.read_classification(&prepared).unwrap();
-            let (_, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            let gpu = r.inspect().read_classification(&prepared).unwrap();
+            let (_, mismatch) = r
+                .inspect()
+                .classification_statistics(&prepared, &gpu)
+                .unwrap();
             assert_eq!(
                 mismatch, None,
                 "vertex ring {vertex_ring:?}: GPU classification differs from the CPU twin"
@@ -519,8 +531,11 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
             assert_eq!(r.laydown(), laydown);
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-            let gpu = r.read_classification(&prepared).unwrap();
-            let (stats, mismatch) = r.classification_statistics(&prepared, &gpu).unwrap();
+            let gpu = r.inspect().read_classification(&prepared).unwrap();
+            let (stats, mismatch) = r
+                .inspect()
+                .classification_statistics(&prepared, &gpu)
+                .unwrap();
             assert_eq!(
                 mismatch,
                 None,
@@ -528,14 +543,18 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
                 kind.name(),
                 laydown.name()
             );
-            let laydown_stats = r.read_laydown_stats(&prepared).unwrap();
+            let laydown_stats = r.inspect().read_laydown_stats(&prepared).unwrap();
             eprintln!(
                 "{} {}: {} pixels, laydown {laydown_stats:?}",
                 kind.name(),
                 laydown.name(),
                 stats.vis_pixels
             );
-            (r.read_output().unwrap(), gpu.vis, r.read_depth().unwrap())
+            (
+                r.read_output().unwrap(),
+                gpu.vis,
+                r.inspect().read_depth().unwrap(),
+            )
         };
         let volumes = |laydown| image(laydown, gpu::LightPaths::Volumes).0;
         let (hw_volumes, cs_volumes) = (

@@ -221,7 +221,7 @@ fn check_scene_against_f64(
     let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
     let prepared = renderer.prepare(scene).unwrap();
     let reference = cpu_raster(scene, &frame.camera, &prepared);
-    let (vis, _depth) = renderer.render_laydown(&prepared, frame).unwrap();
+    let (vis, _depth) = renderer.hooks().render_laydown(&prepared, frame).unwrap();
     let (mut checked, mut covered) = (0, 0);
     for (i, (&got, &(hit, runner_up, near_miss))) in vis.iter().zip(&reference).enumerate() {
         match hit {
@@ -251,7 +251,7 @@ fn check_scene_against_f64(
         checked > (W * H) as usize * 9 / 10,
         "{name}: only {checked} unambiguous pixels"
     );
-    let stats = renderer.read_laydown_stats(&prepared).unwrap();
+    let stats = renderer.inspect().read_laydown_stats(&prepared).unwrap();
     if let Some(s) = &stats {
         eprintln!(
             "{name}: {} triangles, {} a workgroup each, {} to the hardware part, {checked} \
@@ -520,9 +520,10 @@ fn huge_triangles_sharing_edges_leave_no_crack() {
             let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
             let prepared = r.prepare(&scene).unwrap();
             let (vis, _) = r
+                .hooks()
                 .render_laydown(&prepared, &FrameInput::new(camera))
                 .unwrap();
-            let stats = r.read_laydown_stats(&prepared).unwrap().unwrap();
+            let stats = r.inspect().read_laydown_stats(&prepared).unwrap().unwrap();
             assert_eq!((stats.large, stats.hybrid), (40, 0), "{name}: {stats:?}");
             // Signed distance (pixels) of a pixel centre to each outer edge, positive on
             // the fan's side.
@@ -625,8 +626,8 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
         };
         let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
         let prepared = r.prepare(&scene).unwrap();
-        let (vis, _) = r.render_laydown(&prepared, &frame).unwrap();
-        (vis, r.read_laydown_stats(&prepared).unwrap())
+        let (vis, _) = r.hooks().render_laydown(&prepared, &frame).unwrap();
+        (vis, r.inspect().read_laydown_stats(&prepared).unwrap())
     };
     let (hardware, _) = render(Laydown::Hardware);
     let (compute, stats) = render(Laydown::Compute);
@@ -698,9 +699,9 @@ fn the_compute_laydown_falls_back_to_the_hardware_one_without_64_bit_atomics() {
     assert_eq!(r.laydown(), Laydown::Hardware);
     let (scene, frame) = test_scene();
     let prepared = r.prepare(&scene).unwrap();
-    let (vis, _) = r.render_laydown(&prepared, &frame).unwrap();
+    let (vis, _) = r.hooks().render_laydown(&prepared, &frame).unwrap();
     assert!(vis.iter().any(|&w| w != visbuf::VIS_NONE));
-    assert_eq!(r.read_laydown_stats(&prepared).unwrap(), None);
+    assert_eq!(r.inspect().read_laydown_stats(&prepared).unwrap(), None);
 }
 
 /// Trilinear alpha of `chain` (level 0 first, `size` texels square at level 0) at `uv` and
@@ -828,7 +829,7 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
         .unwrap();
         assert_eq!(r.laydown(), laydown);
         let prepared = r.prepare(&scene).unwrap();
-        r.render_laydown(&prepared, &frame).unwrap().0
+        r.hooks().render_laydown(&prepared, &frame).unwrap().0
     };
     let (hardware, compute) = (vis(Laydown::Hardware), vis(Laydown::Compute));
 

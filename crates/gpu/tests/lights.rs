@@ -79,8 +79,8 @@ fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool
             (&mut r, &prepared)
         };
         r.render(prepared, frame, path).unwrap();
-        let tiles = r.read_light_tiles().unwrap();
-        let depth = r.read_depth().unwrap();
+        let tiles = r.inspect().read_light_tiles().unwrap();
+        let depth = r.inspect().read_depth().unwrap();
         // Pass 1: exactly the CPU's reduction.
         let mut cpu_depths = vec![deferred::DeferredTileDepth::default(); tiles.depths.len()];
         tile_depth_ranges(&depth, W, H, DepthMode::Reversed, &mut cpu_depths).unwrap();
@@ -210,7 +210,7 @@ fn stencil_volumes_give_the_tiled_image() {
             let a = tiled.read_output().unwrap();
             r.render(&pr, &frame, path).unwrap();
             let b = r.read_output().unwrap();
-            let counts = r.light_path_counts();
+            let counts = r.inspect().light_path_counts();
             match paths {
                 LightPaths::Volumes => {
                     assert_eq!(counts.tiled, 0);
@@ -377,8 +377,8 @@ fn against_f64_reference(
 /// of `r`'s last frame: per pixel, RGB in 1 / 255 steps.
 fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
     use glam::{DMat4, DVec3, DVec4};
-    let surfaces = r.read_gbuffer().unwrap();
-    let depth = r.read_depth().unwrap();
+    let surfaces = r.inspect().read_gbuffer().unwrap();
+    let depth = r.inspect().read_depth().unwrap();
     let cam = &frame.camera;
     let aspect = f64::from(W) / f64::from(H);
     let view = DMat4::look_at_rh(
@@ -576,16 +576,19 @@ fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
     let with = on.read_output().unwrap();
     off.render(&p_off, &frame, RenderPath::Deferred).unwrap();
     let without = off.read_output().unwrap();
-    let counts = on.light_path_counts();
-    eprintln!("with: {counts:?}; without: {:?}", off.light_path_counts());
+    let counts = on.inspect().light_path_counts();
+    eprintln!(
+        "with: {counts:?}; without: {:?}",
+        off.inspect().light_path_counts()
+    );
     assert_eq!(counts.spot_shadow_maps, 3, "{counts:?}");
     assert_eq!(counts.volumes_tested, 3, "{counts:?}");
-    assert_eq!(off.light_path_counts().volumes_tested, 0);
+    assert_eq!(off.inspect().light_path_counts().volumes_tested, 0);
     let differ = common::differing_pixels(&with, &without);
     assert_eq!(differ, 0, "{differ} pixels differ with the emulation");
     // The GPU's decisions, per spot (matched by their view-space positions).
     let rows = local_light_rows(&frame.lighting, &frame.camera);
-    let tested = on.read_conditional_volumes().unwrap();
+    let tested = on.inspect().read_conditional_volumes().unwrap();
     assert_eq!(tested.len(), 3);
     for (i, row) in rows.iter().filter(|r| r.is_spot()).enumerate() {
         let t = tested
@@ -598,9 +601,9 @@ fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
             // Its map, drawn through the indirect arguments, is the directly drawn one (both
             // renderers give the lights the same slots).
             let slot = (t.light.flags >> 8) as usize - 1;
-            let map = &on.read_spot_shadow_maps().unwrap()[slot];
+            let map = &on.inspect().read_spot_shadow_maps().unwrap()[slot];
             assert!(map.iter().any(|&d| d < 1.0), "the lit light's map is empty");
-            assert!(map == &off.read_spot_shadow_maps().unwrap()[slot]);
+            assert!(map == &off.inspect().read_spot_shadow_maps().unwrap()[slot]);
             assert!(t.samples > 0, "lit light {i}: {t:?}");
             assert_eq!(t.volume_instances, 1);
             assert_eq!(t.caster_count, t.caster_rows);

@@ -73,10 +73,10 @@ fn classify_output_takes_exactly_the_pixels_the_regular_pass_left() {
         eprintln!("{} laydown {:?}", kind.name(), r.laydown());
         let prepared = r.prepare(&scene).unwrap();
         // The laydown alone: the vis buffer without the regular batches, and its depth.
-        let (laydown_vis, laydown_depth) = r.render_laydown(&prepared, &frame).unwrap();
+        let (laydown_vis, laydown_depth) = r.hooks().render_laydown(&prepared, &frame).unwrap();
         r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-        let depth = r.read_depth().unwrap();
-        let c = r.read_classification(&prepared).unwrap();
+        let depth = r.inspect().read_depth().unwrap();
+        let c = r.inspect().read_classification(&prepared).unwrap();
         assert_eq!(
             c.vis, laydown_vis,
             "the frame's laydown is the laydown alone"
@@ -120,7 +120,10 @@ fn classify_output_takes_exactly_the_pixels_the_regular_pass_left() {
         );
         // The GPU equals tiling's CPU twin run as the frame runs it (mid classify over every
         // bit set, classify output over the final mask).
-        let (stats, mismatch) = r.classification_statistics(&prepared, &c).unwrap();
+        let (stats, mismatch) = r
+            .inspect()
+            .classification_statistics(&prepared, &c)
+            .unwrap();
         assert_eq!(mismatch, None, "{}: GPU vs CPU twin", kind.name());
         let regular = covered.iter().filter(|&&c| c).count();
         let hidden = (0..(W * H) as usize)
@@ -178,7 +181,7 @@ fn the_mixed_frame_looks_like_the_all_vis_buffer_frame() {
             }
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             images.push(r.read_output().unwrap());
-            depths.push(r.read_depth().unwrap());
+            depths.push(r.inspect().read_depth().unwrap());
             if mixed {
                 images[1]
                     .write_png(&std::env::temp_dir().join(format!("mixed_{}.png", kind.name())))

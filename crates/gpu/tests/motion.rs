@@ -87,7 +87,7 @@ fn motion_vectors_reproject_the_depth_through_both_cameras() {
         let mut first = common::renderer(W, H, true);
         let p = first.prepare(&scene).unwrap();
         first.render(&p, &frame, path).unwrap();
-        let still = first.read_gbuffer().unwrap();
+        let still = first.inspect().read_gbuffer().unwrap();
         assert!(
             still.iter().all(|s| s.motion == Vec2::ZERO),
             "{path:?}: first frame"
@@ -100,8 +100,8 @@ fn motion_vectors_reproject_the_depth_through_both_cameras() {
         moved.camera.position += Vec3::new(0.6, 0.1, -0.4);
         moved.camera.target += Vec3::new(-1.5, 0.3, 0.0);
         r.render(&prepared, &moved, path).unwrap();
-        let surfaces = r.read_gbuffer().unwrap();
-        let depth = r.read_depth().unwrap();
+        let surfaces = r.inspect().read_gbuffer().unwrap();
+        let depth = r.inspect().read_depth().unwrap();
         let (mut checked, mut off, mut moving) = (0, 0, 0);
         let mut worst: f64 = 0.0;
         let wanted = reprojected_motion(&before, &moved.camera, &depth);
@@ -155,8 +155,8 @@ fn sub_pixel_edge_on_blades_move_as_their_depth() {
         moved.camera.position += Vec3::new(0.3, 0.0, 0.2);
         moved.camera.target += Vec3::new(0.3, 0.0, 0.2);
         r.render(&prepared, &moved, RenderPath::Deferred).unwrap();
-        let surfaces = r.read_gbuffer().unwrap();
-        let depth = r.read_depth().unwrap();
+        let surfaces = r.inspect().read_gbuffer().unwrap();
+        let depth = r.inspect().read_depth().unwrap();
         let (mut checked, mut worst, mut at) = (0, 0.0f64, (0, 0));
         let wanted = reprojected_motion(&frame.camera, &moved.camera, &depth);
         for (i, (s, want)) in surfaces.iter().zip(&wanted).enumerate() {
@@ -267,8 +267,8 @@ fn animated_foliage_moves_as_the_cpu_reference_and_has_motion_vectors() {
         r.render(&prepared, &frame, path).unwrap();
         frame.time = t1;
         r.render(&prepared, &frame, path).unwrap();
-        let surfaces = r.read_gbuffer().unwrap();
-        let depth = r.read_depth().unwrap();
+        let surfaces = r.inspect().read_gbuffer().unwrap();
+        let depth = r.inspect().read_depth().unwrap();
 
         // Coverage: the corners displaced by the reference, projected.
         let poly: Vec<(f64, f64)> = swaying_quad(None).0.meshes[0]
@@ -328,7 +328,7 @@ fn animated_foliage_moves_as_the_cpu_reference_and_has_motion_vectors() {
         r.render(&prepared, &frame, path).unwrap();
         frame.time = t1;
         r.render(&prepared, &frame, path).unwrap();
-        let surfaces = r.read_gbuffer().unwrap();
+        let surfaces = r.inspect().read_gbuffer().unwrap();
         assert!(surfaces.iter().all(|s| s.motion == Vec2::ZERO));
     }
     assert!(

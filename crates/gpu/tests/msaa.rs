@@ -167,7 +167,7 @@ fn edges_are_the_partly_covered_pixels_and_resolve_to_their_coverage() {
         let prepared = r.prepare(&scene).unwrap();
         r.render(&prepared, &frame, RenderPath::Baseline).unwrap();
         let image = r.read_output().unwrap();
-        let edges = r.read_msaa_edges().unwrap();
+        let edges = r.inspect().read_msaa_edges().unwrap();
         if mode == MsaaLighting::Kz2 {
             let missing = partly.iter().filter(|p| edges.binary_search(p).is_err());
             let extra = edges
@@ -248,7 +248,10 @@ fn kz2_tricks_give_the_every_sample_image() {
         });
         let prepared = r.prepare(&scene).unwrap();
         r.render(&prepared, &frame, RenderPath::Baseline).unwrap();
-        (r.read_output().unwrap(), r.read_msaa_edges().unwrap())
+        (
+            r.read_output().unwrap(),
+            r.inspect().read_msaa_edges().unwrap(),
+        )
     };
     for shadows in [None, common::test_shadows()] {
         let (kz2, edges) = render(MsaaLighting::Kz2, shadows);

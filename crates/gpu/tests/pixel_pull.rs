@@ -55,10 +55,10 @@ fn the_pixel_pull_image_matches_the_baseline() {
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Baseline).unwrap();
             let baseline = r.read_output().unwrap();
-            let baseline_gbuffer = r.read_gbuffer().unwrap();
+            let baseline_gbuffer = r.inspect().read_gbuffer().unwrap();
             r.render(&prepared, &frame, RenderPath::PixelPull).unwrap();
             let pull = r.read_output().unwrap();
-            let pull_gbuffer = r.read_gbuffer().unwrap();
+            let pull_gbuffer = r.inspect().read_gbuffer().unwrap();
             if path.is_none() {
                 pull.write_png(&std::env::temp_dir().join(format!("pull_{}.png", kind.name())))
                     .unwrap();
@@ -105,7 +105,9 @@ fn corrupt_primitive_ids_never_read_out_of_bounds() {
     let deferred = r.read_output().unwrap();
     // Every ID past every mesh: each fragment discards, the G-buffer keeps the deferred
     // frame's texels, and lighting (over the same depth) gives the deferred image.
-    r.write_payloads(&prepared, &vec![u32::MAX; n]).unwrap();
+    r.hooks()
+        .write_payloads(&prepared, &vec![u32::MAX; n])
+        .unwrap();
     r.render(&prepared, &frame, RenderPath::PixelPull).unwrap();
     assert_eq!(
         r.read_output().unwrap().pixels,
@@ -122,8 +124,8 @@ fn corrupt_primitive_ids_never_read_out_of_bounds() {
             _ => 0xffff - rng.next_u32() % 4,
         })
         .collect();
-    r.write_payloads(&prepared, &words).unwrap();
+    r.hooks().write_payloads(&prepared, &words).unwrap();
     r.render(&prepared, &frame, RenderPath::PixelPull).unwrap();
     r.read_output().unwrap();
-    assert!(r.write_payloads(&prepared, &words[1..]).is_err());
+    assert!(r.hooks().write_payloads(&prepared, &words[1..]).is_err());
 }

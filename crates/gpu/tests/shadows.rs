@@ -23,9 +23,9 @@ struct Maps {
 
 fn render(r: &mut Renderer, prepared: &gpu::PreparedScene, frame: &FrameInput) -> Maps {
     r.render(prepared, frame, RenderPath::Deferred).unwrap();
-    let c = r.shadow_cascades().unwrap();
+    let c = r.inspect().shadow_cascades().unwrap();
     Maps {
-        texels: r.read_shadow_maps().unwrap(),
+        texels: r.inspect().read_shadow_maps().unwrap(),
         origin_clip: c
             .cascades()
             .iter()
@@ -175,8 +175,8 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
     let mut off = make(false);
     let p = off.prepare(&scene).unwrap();
     off.render(&p, &frame, RenderPath::Deferred).unwrap();
-    let depth_off = off.read_depth().unwrap();
-    let surfaces_off = off.read_gbuffer().unwrap();
+    let depth_off = off.inspect().read_depth().unwrap();
+    let surfaces_off = off.inspect().read_gbuffer().unwrap();
     assert!(
         surfaces_off
             .iter()
@@ -187,10 +187,10 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
     let mut r = make(true);
     let prepared = r.prepare(&scene).unwrap();
     r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-    let surfaces = r.read_gbuffer().unwrap();
-    let depth = r.read_depth().unwrap();
-    let maps = r.read_shadow_maps().unwrap();
-    let cascades = r.shadow_cascades().unwrap().cascades().to_vec();
+    let surfaces = r.inspect().read_gbuffer().unwrap();
+    let depth = r.inspect().read_depth().unwrap();
+    let maps = r.inspect().read_shadow_maps().unwrap();
+    let cascades = r.inspect().shadow_cascades().unwrap().cascades().to_vec();
     let config = common::test_shadows().unwrap();
     let stride = i64::from(config.resolution);
     let cam = frame.camera;
@@ -373,10 +373,10 @@ fn shadowed_spots_only_darken_and_fade_out() {
     let p = r.prepare(&scene).unwrap();
     r.render(&p, &unshadowed, RenderPath::Deferred).unwrap();
     let plain = r.read_output().unwrap();
-    assert_eq!(r.light_path_counts().spot_shadow_maps, 0);
+    assert_eq!(r.inspect().light_path_counts().spot_shadow_maps, 0);
     r.render(&p, &frame, RenderPath::Deferred).unwrap();
     let shadowed = r.read_output().unwrap();
-    assert_eq!(r.light_path_counts().spot_shadow_maps, 3);
+    assert_eq!(r.inspect().light_path_counts().spot_shadow_maps, 3);
     let (mut darker, mut brighter) = (0, 0);
     for (a, b) in shadowed.pixels.iter().zip(&plain.pixels) {
         darker += usize::from((0..3).any(|k| a[k] < b[k]));
@@ -399,7 +399,7 @@ fn shadowed_spots_only_darken_and_fade_out() {
     }));
     let pf = faded.prepare(&scene).unwrap();
     faded.render(&pf, &frame, RenderPath::Deferred).unwrap();
-    assert_eq!(faded.light_path_counts().spot_shadow_maps, 0);
+    assert_eq!(faded.inspect().light_path_counts().spot_shadow_maps, 0);
     assert_eq!(
         common::differing_pixels(&faded.read_output().unwrap(), &plain),
         0
@@ -434,10 +434,10 @@ fn culling_casters_per_shadow_view_changes_no_texel() {
     );
     culled.render(&pc, &frame, RenderPath::Deferred).unwrap();
     every.render(&pe, &frame, RenderPath::Deferred).unwrap();
-    assert!(culled.light_path_counts().spot_shadow_maps > 0);
+    assert!(culled.inspect().light_path_counts().spot_shadow_maps > 0);
     let (a, b) = (
-        culled.read_shadow_maps().unwrap(),
-        every.read_shadow_maps().unwrap(),
+        culled.inspect().read_shadow_maps().unwrap(),
+        every.inspect().read_shadow_maps().unwrap(),
     );
     for (k, (x, y)) in a.iter().zip(&b).enumerate() {
         let differ = x.iter().zip(y).filter(|(p, q)| p != q).count();

@@ -287,7 +287,7 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
         let deferred = RenderPath::Deferred;
         rig.query.set_hiz(&c.device, &c.queue, None).unwrap();
         let (off, _) = rig.frame(desc(&camera, false), camera, deferred);
-        let hiz = HiZ::build(&rig.r.read_depth().unwrap(), W, H, true).unwrap();
+        let hiz = HiZ::build(&rig.r.inspect().read_depth().unwrap(), W, H, true).unwrap();
         rig.query.set_hiz(&c.device, &c.queue, Some(&hiz)).unwrap();
         let mut twin = rig.cpu.clone();
         let (on, stats) = rig.frame(desc(&camera, true), camera, deferred);
@@ -377,7 +377,7 @@ fn hiz_of_the_previous_frame(w: u32, h: u32) {
         let previous = StaticOcclusion::PreviousFrame;
         let (off, _) = rig.frame(desc(&camera), camera, deferred);
         // The frame before has no static view of this renderer's depth: no occlusion.
-        let depth = rig.r.read_depth().unwrap();
+        let depth = rig.r.inspect().read_depth().unwrap();
         let want = HiZ::build(&depth, w, h, true).unwrap();
         let mut twin = rig.cpu.clone();
         let (on, stats) = rig.frame_with(desc(&camera), camera, deferred, previous);
@@ -477,8 +477,8 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
             if path == RenderPath::Deferred {
                 // The debug words: every static pixel resolves to a placed instance, late
                 // pixels exactly when the second pass drew something, no fade (0 frames).
-                let vis = rig.r.read_vis().unwrap();
-                let debug = rig.r.read_static_debug(&rig.prepared).unwrap();
+                let vis = rig.r.inspect().read_vis().unwrap();
+                let debug = rig.r.inspect().read_static_debug(&rig.prepared).unwrap();
                 let (mut statics, mut late) = (0, 0);
                 for &w in &vis {
                     if let Some(p) = debug.lookup(w) {
@@ -598,8 +598,8 @@ fn the_lod_fade_view_shows_instances_fading() {
         let mut desc = static_view_desc(&camera, W, H);
         desc.fade_frames = 4;
         rig.frame(desc, camera, RenderPath::Deferred);
-        let vis = rig.r.read_vis().unwrap();
-        let debug = rig.r.read_static_debug(&rig.prepared).unwrap();
+        let vis = rig.r.inspect().read_vis().unwrap();
+        let debug = rig.r.inspect().read_static_debug(&rig.prepared).unwrap();
         for (i, p) in vis
             .iter()
             .enumerate()
@@ -807,8 +807,8 @@ fn conditional_volumes_keep_the_static_frame() {
         });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
         let (image, _) = rig.frame(desc, camera, RenderPath::Deferred);
-        let counts = rig.r.light_path_counts();
-        let tested = rig.r.read_conditional_volumes().unwrap();
+        let counts = rig.r.inspect().light_path_counts();
+        let tested = rig.r.inspect().read_conditional_volumes().unwrap();
         eprintln!("conditional {conditional_volumes}: {counts:?}");
         for t in &tested {
             eprintln!("  {t:?}");

@@ -265,7 +265,7 @@ fn casters_outside_the_view_shadow_it_as_planned_batches_do() {
     let config = shadows(0.0);
     let mut r = renderer(Some(config), false);
     let stats = static_frame(&mut r, WITH_CUBE);
-    let maps = r.read_shadow_maps().unwrap();
+    let maps = r.inspect().read_shadow_maps().unwrap();
     let image = r.read_output().unwrap();
     eprintln!(
         "camera: {} instances; slices: {:?}",
@@ -292,7 +292,7 @@ fn casters_outside_the_view_shadow_it_as_planned_batches_do() {
 
     let mut reference = renderer(Some(config), false);
     planned_frame(&mut reference, WITH_CUBE);
-    let want = reference.read_shadow_maps().unwrap();
+    let want = reference.inspect().read_shadow_maps().unwrap();
     let differ = differing_texels(&maps, &want, &config);
     eprintln!("texels differing from the planned batches' maps: {differ:?}");
     assert!(differ.iter().all(|&d| d == 0), "{differ:?}");
@@ -340,7 +340,7 @@ fn the_size_threshold_drops_small_casters_per_slice() {
     let probe = shadows(0.0);
     let mut r = renderer(Some(probe), false);
     static_frame(&mut r, WITH_CUBE);
-    let cascades = r.shadow_cascades().unwrap().cascades().to_vec();
+    let cascades = r.inspect().shadow_cascades().unwrap().cascades().to_vec();
     // The cube's and the towers' bounding sphere diameters (the query's size test: the
     // box's diagonal) in each slice's texels, for the slices whose volume holds the
     // cube's centre.
@@ -374,13 +374,21 @@ fn the_size_threshold_drops_small_casters_per_slice() {
     let config = shadows(threshold);
     let mut r = renderer(Some(config), false);
     let stats = static_frame(&mut r, WITH_CUBE);
-    let maps = r.read_shadow_maps().unwrap();
+    let maps = r.inspect().read_shadow_maps().unwrap();
     let mut with_cube = renderer(Some(config), false);
     planned_frame(&mut with_cube, WITH_CUBE);
     let mut without_cube = renderer(Some(config), false);
     planned_frame(&mut without_cube, NO_CUBE);
-    let with = differing_texels(&maps, &with_cube.read_shadow_maps().unwrap(), &config);
-    let without = differing_texels(&maps, &without_cube.read_shadow_maps().unwrap(), &config);
+    let with = differing_texels(
+        &maps,
+        &with_cube.inspect().read_shadow_maps().unwrap(),
+        &config,
+    );
+    let without = differing_texels(
+        &maps,
+        &without_cube.inspect().read_shadow_maps().unwrap(),
+        &config,
+    );
     eprintln!("differing from the maps with the cube {with:?}, without {without:?}");
     let (mut kept, mut dropped) = (0, 0);
     for &(k, span) in &spans {
@@ -434,14 +442,14 @@ fn shadow_views_leave_the_camera_views_rows_alone() {
         let plain = static_frame(&mut without, layout);
         assert!(plain.shadow_slices.is_empty());
         assert_eq!(stats.instances, plain.instances);
-        let vis = with.read_vis().unwrap();
-        let other = without.read_vis().unwrap();
+        let vis = with.inspect().read_vis().unwrap();
+        let other = without.inspect().read_vis().unwrap();
         let moved = vis.iter().zip(&other).filter(|(a, b)| a != b).count();
         assert_eq!(moved, 0, "{in_view}: vis IDs differing");
         assert!(vis.iter().any(|&w| w != visbuf::VIS_NONE));
         let (a, b) = (
-            with.read_gbuffer().unwrap(),
-            without.read_gbuffer().unwrap(),
+            with.inspect().read_gbuffer().unwrap(),
+            without.inspect().read_gbuffer().unwrap(),
         );
         let differ = a
             .iter()
@@ -468,7 +476,8 @@ fn the_baked_sun_map_holds_the_static_casters() {
     assert_eq!(baked.instances, 5, "every static caster");
     assert_eq!(baked.placed, 5);
     let sun = |r: &Renderer| -> Vec<f32> {
-        r.read_gbuffer()
+        r.inspect()
+            .read_gbuffer()
             .unwrap()
             .iter()
             .map(|s| s.sun_shadow)

@@ -65,8 +65,12 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
         now.time = 2.25;
         r.render(&prepared, &before, RenderPath::Deferred).unwrap();
         r.render(&prepared, &now, RenderPath::Deferred).unwrap();
-        let gpu_class = r.read_classification(&prepared).unwrap();
-        let ring = r.read_vertex_ring(&prepared).unwrap().expect("a ring");
+        let gpu_class = r.inspect().read_classification(&prepared).unwrap();
+        let ring = r
+            .inspect()
+            .read_vertex_ring(&prepared)
+            .unwrap()
+            .expect("a ring");
         let plan = prepared.tiling_plan();
 
         // The commands: tiling's CPU twin on the read-back cull buffer.
@@ -87,7 +91,10 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
         assert_eq!(ring.dispatches, cpu.passes, "vertex dispatches");
         assert_eq!(ring.visible_chunks as usize, cpu.commands.len());
         // The talk's table from the GPU's own counters and from the read-back.
-        let (stats, _) = r.classification_statistics(&prepared, &gpu_class).unwrap();
+        let (stats, _) = r
+            .inspect()
+            .classification_statistics(&prepared, &gpu_class)
+            .unwrap();
         assert_eq!(ring.vertices_transformed(), cpu.visible_vertices());
         assert_eq!(
             ring.vertices_transformed(),
@@ -260,7 +267,10 @@ fn resolve_from_the_ring_equals_the_per_pixel_transform() {
             let out = r.render(&prepared, &now, RenderPath::Deferred).unwrap();
             let labels: Vec<&str> = out.gpu.iter().map(|t| t.label).collect();
             eprintln!("ring {ring_bytes} B, ring resolve {ring_resolve}: passes timed {labels:?}");
-            gbuffers.push((r.read_gbuffer().unwrap(), r.read_depth().unwrap()));
+            gbuffers.push((
+                r.inspect().read_gbuffer().unwrap(),
+                r.inspect().read_depth().unwrap(),
+            ));
         }
         let (per_pixel, depth) = &gbuffers[0];
         let (ring, depth_ring) = &gbuffers[1];

@@ -51,13 +51,16 @@ fn quad_commands_cover_every_pixel_once_and_the_broadcast_equals_the_sample() {
                 let prepared = r.prepare(&scene).unwrap();
                 r.render(&prepared, &before, RenderPath::Deferred).unwrap();
                 r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-                let class = r.read_classification(&prepared).unwrap();
-                let (stats, mismatch) = r.classification_statistics(&prepared, &class).unwrap();
+                let class = r.inspect().read_classification(&prepared).unwrap();
+                let (stats, mismatch) = r
+                    .inspect()
+                    .classification_statistics(&prepared, &class)
+                    .unwrap();
                 assert_eq!(
                     mismatch, None,
                     "GPU classification vs CPU twin (VRS {vrs:?})"
                 );
-                runs.push((r.read_gbuffer().unwrap(), class, stats));
+                runs.push((r.inspect().read_gbuffer().unwrap(), class, stats));
             }
             let (plain, _, plain_stats) = &runs[0];
             let (rated, class, stats) = &runs[1];

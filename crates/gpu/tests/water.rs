@@ -287,8 +287,8 @@ fn water_on_and_off_leave_the_opaque_image_alone() {
             "{path:?}: {water} water pixels, {changed} changed"
         );
         // The opaque depth is untouched; the depth with water is nearer where water is.
-        let depth = on.read_depth().unwrap();
-        assert_eq!(depth, off.read_depth().unwrap(), "{path:?}");
+        let depth = on.inspect().read_depth().unwrap();
+        assert_eq!(depth, off.inspect().read_depth().unwrap(), "{path:?}");
         let with = on.read_water_depth().unwrap().unwrap();
         for (i, s) in surface.iter().enumerate() {
             assert!(with[i] >= depth[i]);

@@ -504,14 +504,14 @@ fn report_lighting(
     frame: &gpu::FrameInput,
     name: &str,
 ) -> Result<()> {
-    let tiles = renderer.read_light_tiles()?;
+    let tiles = renderer.inspect().read_light_tiles()?;
     let lights = frame.lighting.point_lights.len() + frame.lighting.spot_lights.len();
     report.light_tiles(lights, &tiles);
-    report.light_paths(renderer.light_path_counts());
-    report.conditional_volumes(&renderer.read_conditional_volumes()?);
+    report.light_paths(renderer.inspect().light_path_counts());
+    report.conditional_volumes(&renderer.inspect().read_conditional_volumes()?);
     report.uploads(renderer.upload_stats(), renderer.config().upload_pool);
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
-    let (surfaces, depth) = (renderer.read_gbuffer()?, renderer.read_depth()?);
+    let (surfaces, depth) = (renderer.inspect().read_gbuffer()?, renderer.inspect().read_depth()?);
     let to_sun = frame
         .lighting
         .sun_direction
@@ -563,10 +563,10 @@ fn shadow_views(
     near: f32,
     name: &str,
 ) -> Result<()> {
-    let Some(cascades) = renderer.shadow_cascades() else {
+    let Some(cascades) = renderer.inspect().shadow_cascades() else {
         return Ok(());
     };
-    let maps = renderer.read_shadow_maps()?;
+    let maps = renderer.inspect().read_shadow_maps()?;
     let Some(config) = renderer.config().shadows else {
         return Ok(());
     };
@@ -585,7 +585,7 @@ fn shadow_views(
         &file,
     );
     let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
-    let depth = renderer.read_depth()?;
+    let depth = renderer.inspect().read_depth()?;
     let file = args.out.join(format!("{name}_debug_cascades.png"));
     gpu::debug::cascade_index(args.width, args.height, &depth, near, &splits).write_png(&file)?;
     let ends: Vec<String> = splits.iter().map(|d| format!("{d:.1}")).collect();
@@ -622,7 +622,7 @@ fn motion_view(
     renderer.render(prepared, &before, RenderPath::Deferred)?;
     renderer.render(prepared, frame, RenderPath::Deferred)?;
     let (img, scale) =
-        gpu::debug::motion_vectors(args.width, args.height, &renderer.read_gbuffer()?, 0.0);
+        gpu::debug::motion_vectors(args.width, args.height, &renderer.inspect().read_gbuffer()?, 0.0);
     let file = args.out.join(format!("{name}_debug_motion.png"));
     img.write_png(&file)?;
     report.image_named(
@@ -1027,7 +1027,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         renderer.render_static(&prepared, &frame, RenderPath::Deferred, &mut view)?;
     }
     if readback {
-        let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
+        let hiz = HiZ::build(&renderer.inspect().read_depth()?, w, h, true)?;
         query.set_hiz(&ctx.device, &ctx.queue, Some(&hiz))?;
         desc.occlusion_camera = Some(desc.camera);
     }
@@ -1071,14 +1071,14 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             report.static_shadows(s);
         }
         if path == RenderPath::Deferred {
-            let classified = renderer.read_classification(&prepared)?;
-            let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
+            let classified = renderer.inspect().read_classification(&prepared)?;
+            let (stats, mismatch) = renderer.inspect().classification_statistics(&prepared, &classified)?;
             report.classification(&stats);
             if !args.no_debug_views {
                 let file = args.out.join("city_debug_vis_ids.png");
                 gpu::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
                 report.image_named("vis IDs", &file);
-                let statics = renderer.read_static_debug(&prepared)?;
+                let statics = renderer.inspect().read_static_debug(&prepared)?;
                 let file = args.out.join("city_debug_lod_fade.png");
                 gpu::debug::static_lod_fade(w, h, &classified.vis, &statics).write_png(&file)?;
                 report.image_named("static setups and LOD fade", &file);
@@ -1106,7 +1106,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     if args.occlusion != OcclusionArg::Off && !args.no_debug_views && args.walk == 0.0 {
         // What occlusion culls, from the CPU twin on this view: without occlusion, and
         // against the last frame's depth (the camera holds still).
-        let hiz = HiZ::build(&renderer.read_depth()?, w, h, true)?;
+        let hiz = HiZ::build(&renderer.inspect().read_depth()?, w, h, true)?;
         let mut off_view = desc;
         off_view.occlusion_camera = None;
         let mut on_view = desc;
@@ -1272,7 +1272,7 @@ fn render_scene(
         report.timings(path, &frames);
         let name = built.name;
         if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
-            let edges = renderer.read_msaa_edges()?;
+            let edges = renderer.inspect().read_msaa_edges()?;
             if renderer.config().msaa == Some(gpu::MsaaLighting::Kz2) {
                 report.msaa_edges(edges.len(), (args.width * args.height) as usize);
             }
@@ -1301,7 +1301,7 @@ fn render_scene(
             let n = f64::from(args.frames);
             let pipelined = t.elapsed().as_secs_f64() * 1e3 / n;
             report.frame_pacing(frames.wall_ms, pipelined, cpu_ms / n, in_flight);
-            if let Some(s) = renderer.read_laydown_stats(&prepared)? {
+            if let Some(s) = renderer.inspect().read_laydown_stats(&prepared)? {
                 report.laydown_stats(&s);
             }
             if let Some(s) = renderer.water_stats()? {
@@ -1309,14 +1309,14 @@ fn render_scene(
             }
             report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();
-            let classified = renderer.read_classification(&prepared)?;
-            let (stats, mismatch) = renderer.classification_statistics(&prepared, &classified)?;
+            let classified = renderer.inspect().read_classification(&prepared)?;
+            let (stats, mismatch) = renderer.inspect().classification_statistics(&prepared, &classified)?;
             report.cpu_ms(
                 "read-back + CPU twin + talk measurements (CPU)",
                 t.elapsed().as_secs_f64() * 1e3,
             );
             report.classification(&stats);
-            if let Some(ring) = renderer.read_vertex_ring(&prepared)? {
+            if let Some(ring) = renderer.inspect().read_vertex_ring(&prepared)? {
                 report.vertex_ring(&ring, &stats);
             }
             if let Some(m) = &mismatch {

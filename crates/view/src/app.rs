@@ -863,8 +863,8 @@ impl State {
         }
         let read = self
             .renderer
-            .read_classification(&self.prepared)
-            .and_then(|c| self.renderer.classification_statistics(&self.prepared, &c));
+            .inspect().read_classification(&self.prepared)
+            .and_then(|c| self.renderer.inspect().classification_statistics(&self.prepared, &c));
         match read {
             Ok((stats, mismatch)) => {
                 if let Some(m) = mismatch {
@@ -1007,7 +1007,7 @@ impl State {
 
                 ui.separator();
                 let s = self.prepared.summary();
-                let lights = self.renderer.light_path_counts();
+                let lights = self.renderer.inspect().light_path_counts();
                 let uploads = self.renderer.upload_stats();
                 egui::Grid::new("counters")
                     .striped(true)

@@ -105,11 +105,11 @@ pub fn debug_image(
     let out = match view {
         DebugView::Image => return Ok(None),
         DebugView::VisIds => (
-            gpu::debug::vis_ids(w, h, &renderer.read_vis()?),
+            gpu::debug::vis_ids(w, h, &renderer.inspect().read_vis()?),
             "one colour per triangle and instance; sky yellow".to_string(),
         ),
         DebugView::WavesPerTile => {
-            let c = renderer.read_classification(scene)?;
+            let c = renderer.inspect().read_classification(scene)?;
             let (img, max) = gpu::debug::wave_heatmap(w, h, &c);
             (
                 img,
@@ -117,14 +117,14 @@ pub fn debug_image(
             )
         }
         DebugView::QuadOverdraw => {
-            let (img, mean) = gpu::debug::quad_overdraw(w, h, &renderer.read_vis()?);
+            let (img, mean) = gpu::debug::quad_overdraw(w, h, &renderer.inspect().read_vis()?);
             (
                 img,
                 format!("triangles per 2x2 quad, blue 1 .. red 4 (mean {mean:.2})"),
             )
         }
         DebugView::LightsPerTile => {
-            let tiles = renderer.read_light_tiles()?;
+            let tiles = renderer.inspect().read_light_tiles()?;
             let (img, max) = gpu::debug::lights_per_tile(w, h, &tiles, 0);
             (
                 img,
@@ -140,14 +140,14 @@ pub fn debug_image(
             )
         }
         DebugView::Cascades => {
-            let Some(cascades) = renderer.shadow_cascades() else {
+            let Some(cascades) = renderer.inspect().shadow_cascades() else {
                 bail!("the cascades view needs the sun's shadows (O switches them on)");
             };
             let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
             let img = gpu::debug::cascade_index(
                 w,
                 h,
-                &renderer.read_depth()?,
+                &renderer.inspect().read_depth()?,
                 frame.camera.near,
                 &splits,
             );
@@ -161,7 +161,7 @@ pub fn debug_image(
             )
         }
         DebugView::Motion => {
-            let (img, scale) = gpu::debug::motion_vectors(w, h, &renderer.read_gbuffer()?, 0.0);
+            let (img, scale) = gpu::debug::motion_vectors(w, h, &renderer.inspect().read_gbuffer()?, 0.0);
             (
                 img,
                 format!("hue: direction; full brightness at {scale:.1} px"),
@@ -171,7 +171,7 @@ pub fn debug_image(
             let Some(shadows) = config.shadows else {
                 bail!("the shadow atlas needs the sun's shadows (O switches them on)");
             };
-            let maps = renderer.read_shadow_maps()?;
+            let maps = renderer.inspect().read_shadow_maps()?;
             let step = shadows.resolution.div_ceil(512);
             (
                 gpu::debug::shadow_atlas(&maps, shadows.resolution, step),

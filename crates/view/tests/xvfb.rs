@@ -236,7 +236,7 @@ fn the_viewer_under_xvfb_shows_what_the_headless_renderer_renders() {
     // A debug view is shown instead of the image: the vis IDs, exact up to rasterisation.
     let window = run_viewer(&x.display, "forest_vis_ids", &["--debug-view", "vis-ids"]);
     let (r, _, _) = headless(RenderPath::Deferred);
-    let ids = gpu::debug::vis_ids(WIDTH, HEIGHT, &r.read_vis().unwrap());
+    let ids = gpu::debug::vis_ids(WIDTH, HEIGHT, &r.inspect().read_vis().unwrap());
     if window.1 {
         assert_close("vis IDs", &window, &ids);
     } else {

@@ -401,7 +401,7 @@ pub(crate) const LAYDOWN_TARGET: Pass = Pass {
 };
 
 /// What the last compute laydown drew (read back by
-/// [`Renderer::read_laydown_stats`](crate::Renderer::read_laydown_stats)).
+/// [`Inspect::read_laydown_stats`](crate::Inspect::read_laydown_stats)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct LaydownStats {
     /// Triangles sent (instances x mesh triangles of every planned draw).

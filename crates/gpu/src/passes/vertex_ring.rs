@@ -378,7 +378,7 @@ impl VertexRing {
 }
 
 /// Everything the vertex side wrote in the last deferred frame, read back
-/// ([`Renderer::read_vertex_ring`](crate::Renderer::read_vertex_ring)).
+/// ([`Inspect::read_vertex_ring`](crate::Inspect::read_vertex_ring)).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VertexRingReadback {
     /// The uber chunks (one per 64 chunks of the cull buffer).

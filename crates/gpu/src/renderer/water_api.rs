@@ -202,8 +202,8 @@ impl Renderer {
                     frame: &self.frame,
                     depth: &self.targets.depth_view,
                     output: &self.targets.output_view,
-                    local: &self.local,
-                    lights: &self.lights,
+                    local: &self.light.local,
+                    lights: &self.light.buffers,
                     hdr_layout,
                 },
             )?;
@@ -240,8 +240,8 @@ impl Renderer {
                 frame: &self.frame,
                 depth: &self.targets.depth_view,
                 output: &self.targets.output_view,
-                local: &self.local,
-                lights: &self.lights,
+                local: &self.light.local,
+                lights: &self.light.buffers,
                 hdr_layout,
             },
         )?;

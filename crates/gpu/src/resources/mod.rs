@@ -208,7 +208,7 @@ impl PreparedScene {
     }
 
     /// Words of the primitive-ID payloads (one per vertex of the encoded geometry; what
-    /// [`Renderer::write_payloads`](crate::Renderer::write_payloads) takes).
+    /// [`Hooks::write_payloads`](crate::Hooks::write_payloads) takes).
     #[doc(hidden)]
     pub fn payload_count(&self) -> usize {
         (self.payloads().size() / 4) as usize
