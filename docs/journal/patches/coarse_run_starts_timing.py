@@ -1,6 +1,6 @@
 # Timing builds of the tenth part (BENCHMARKS, issue 17): run starts over `word >> k` (k from
 # the command line). Outputs are wrong; only the times count. Usage, from the repository root:
-#   python3 scripts/bench/coarse_run_starts_timing.py 8 && cargo build --release -p render
+#   python3 docs/journal/patches/coarse_run_starts_timing.py 8 && cargo build --release -p render
 #   git checkout crates/tiling/src/wgsl/mid_classify.wgsl
 import sys
 k=sys.argv[1]

@@ -2,7 +2,7 @@
 # CPU twin): R loads the table row's three mark fields before the run-start test; L marks
 # the quad's run starts after its four pixels, in a loop over them (the pixels kept); L2 is
 # L with each run start decoded again from its word. Usage, from the repository root:
-#   python3 scripts/bench/run_start_variants.py R|L|L2 && cargo build --release -p render
+#   python3 docs/journal/patches/run_start_variants.py R|L|L2 && cargo build --release -p render
 #   git checkout crates/tiling/src/wgsl/mid_classify.wgsl
 import sys
 v = sys.argv[1]

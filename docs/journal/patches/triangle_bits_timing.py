@@ -1,7 +1,7 @@
 # Timing builds of the tenth part (BENCHMARKS, issue 17): count_pixels enters each run start's
 # triangle in a made-up bitset (the vertex cull buffer reused, numbers aliased) instead of
 # marking its chunks. Outputs are wrong; only the times count. Usage, from the repository root:
-#   python3 scripts/bench/triangle_bits_timing.py T1|T2|T3|T4 && cargo build --release -p render
+#   python3 docs/journal/patches/triangle_bits_timing.py T1|T2|T3|T4 && cargo build --release -p render
 #   git checkout crates/tiling/src/wgsl/mid_classify.wgsl
 import sys,re
 v=sys.argv[1]
