@@ -127,9 +127,9 @@ pub use passes::vertex_ring::{
 #[doc(hidden)]
 pub use renderer::ConditionalLight;
 pub use renderer::{
-    FrameOutput, Hooks, Inspect, Laydown, LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES,
-    MsaaLighting, RenderPath, Renderer, RendererConfig, VrsConfig, WARM_UP, WaterGBuffer,
-    WaterGBufferInput, WaterTiles, WaterView,
+    AUTO_LAYDOWN_FRAMES, FrameOutput, Hooks, Inspect, Laydown, LaydownChoice, LaydownReason,
+    LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting, RenderPath, Renderer,
+    RendererConfig, VrsConfig, WARM_UP, WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView,
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};

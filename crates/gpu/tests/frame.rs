@@ -240,7 +240,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
     const BLOCKS: u64 = 12;
     let (mut r, p, frame) = upload_rig(PoolConfig::new(BLOCKS * u64::from(BLOCK), BLOCK));
     r.render(&p, &frame, RenderPath::Deferred).unwrap();
-    let one = r.upload_stats().clone();
+    let one = r.inspect().upload_stats().clone();
     eprintln!("one frame's uploads: {one:?}");
     assert!(
         one.bytes > 300 * 48,
@@ -257,7 +257,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
         f.camera.position.x += 0.01 * frames.len() as f32;
         match r.submit(&p, &f, RenderPath::Deferred) {
             Ok(_) => {
-                let s = r.upload_stats();
+                let s = r.inspect().upload_stats();
                 assert_eq!(s.frames_in_flight as usize, frames.len() + 1, "{s:?}");
                 frames.push(s.blocks.clone());
             }
@@ -304,7 +304,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
         common::differing_pixels(&image, &reference.read_output().unwrap()),
         0
     );
-    assert!(r.upload_stats().free_blocks as u64 >= BLOCKS - one.blocks.len() as u64);
+    assert!(r.inspect().upload_stats().free_blocks as u64 >= BLOCKS - one.blocks.len() as u64);
 }
 
 /// Uploads larger than a block (the 300 lights' 14 400 bytes in 4 KiB blocks) are split
@@ -313,7 +313,7 @@ fn uploads_never_reuse_a_block_the_gpu_may_still_read() {
 fn uploads_larger_than_a_block_are_split_across_blocks() {
     let (mut small, p, frame) = upload_rig(PoolConfig::new(64 * 4096, 4096));
     small.render(&p, &frame, RenderPath::Deferred).unwrap();
-    let stats = small.upload_stats().clone();
+    let stats = small.inspect().upload_stats().clone();
     assert!(stats.blocks.len() >= 5, "{stats:?}");
     assert!(
         stats.writes > 11,

@@ -940,3 +940,96 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
     );
     assert!(differ <= straddling);
 }
+
+/// The time `Laydown::Auto` counts for a frame: its GPU passes summed, else its wall time.
+fn frame_ms(out: &gpu::FrameOutput) -> f64 {
+    if out.gpu.is_empty() {
+        out.wall_ms
+    } else {
+        out.gpu.iter().map(|t| t.ms).sum()
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+#[test]
+fn auto_times_both_laydowns_then_keeps_the_faster() {
+    assert!(compute_device());
+    let c = ctx();
+    let config = RendererConfig {
+        width: W,
+        height: H,
+        laydown: Laydown::Auto,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
+    let (scene, frame) = test_scene();
+    let prepared = r.prepare(&scene).unwrap();
+    let trial = 2 * (1 + gpu::AUTO_LAYDOWN_FRAMES);
+    // Frames without a laydown leave the trial where it is.
+    r.render(&prepared, &frame, gpu::RenderPath::Baseline)
+        .unwrap();
+    assert_eq!(
+        r.laydown_choice().reason,
+        gpu::LaydownReason::Trial {
+            frames_left: trial as u32
+        }
+    );
+    let mut times = [Vec::new(), Vec::new()];
+    for k in 0..trial {
+        let asked = r.laydown();
+        assert!(matches!(
+            r.laydown_choice().reason,
+            gpu::LaydownReason::Trial { .. }
+        ));
+        // `submit` waits during the trial, so every trial frame is timed.
+        let out = r
+            .submit(&prepared, &frame, gpu::RenderPath::Deferred)
+            .unwrap();
+        let expected = if k % 2 == 0 {
+            Laydown::Hardware
+        } else {
+            Laydown::Compute
+        };
+        assert_eq!(
+            (asked, out.laydown),
+            (expected, Some(expected)),
+            "frame {k}"
+        );
+        assert!(out.wall_ms > 0.0);
+        if k >= 2 {
+            times[k % 2].push(frame_ms(&out));
+        }
+    }
+    let (h, c) = (median(times[0].clone()), median(times[1].clone()));
+    let choice = r.laydown_choice();
+    match choice.reason {
+        gpu::LaydownReason::Measured {
+            hardware_ms,
+            compute_ms,
+            ..
+        } => {
+            assert_eq!((hardware_ms, compute_ms), (h, c));
+        }
+        other => panic!("{other:?}"),
+    }
+    let faster = if c < h {
+        Laydown::Compute
+    } else {
+        Laydown::Hardware
+    };
+    assert_eq!(choice.laydown, faster, "hardware {h} ms, compute {c} ms");
+    println!(
+        "Laydown::Auto on {}: hardware {h:.3} ms, compute {c:.3} ms -> {faster:?}",
+        ctx().adapter_line()
+    );
+    for _ in 0..3 {
+        let out = r
+            .render(&prepared, &frame, gpu::RenderPath::Deferred)
+            .unwrap();
+        assert_eq!(out.laydown, Some(faster));
+    }
+}

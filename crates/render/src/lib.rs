@@ -158,8 +158,12 @@ pub enum LaydownArg {
     /// The hardware rasteriser (one indexed draw per micro batch).
     Hardware,
     /// Issue 17's compute laydown (64-bit atomics; large and near-plane triangles through
-    /// its hardware part); the hardware laydown where the adapter lacks the atomics.
+    /// its hardware part); the hardware laydown where the adapter lacks the atomics, and
+    /// in frames with a static query (the report says which laydown each path ran).
     Compute,
+    /// Both timed over the first deferred frames, the faster kept (the report says which
+    /// and the times it measured).
+    Auto,
 }
 
 /// `--laydown-target`.
@@ -255,7 +259,7 @@ pub struct Args {
     pub primitive_id: PrimitiveIdArg,
     /// How the deferred paths lay down depth and the vis buffer (the baseline keeps its
     /// hardware depth prepass).
-    #[arg(long, value_enum, default_value = "hardware")]
+    #[arg(long, value_enum, default_value = "auto")]
     pub laydown: LaydownArg,
     /// The compute laydown's split: triangles whose screen box is wider or taller than this
     /// many pixels, or larger than a quarter of its square in area, take its
@@ -509,9 +513,15 @@ fn report_lighting(
     report.light_tiles(lights, &tiles);
     report.light_paths(renderer.inspect().light_path_counts());
     report.conditional_volumes(&renderer.inspect().read_conditional_volumes()?);
-    report.uploads(renderer.upload_stats(), renderer.config().upload_pool);
+    report.uploads(
+        renderer.inspect().upload_stats(),
+        renderer.config().upload_pool,
+    );
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
-    let (surfaces, depth) = (renderer.inspect().read_gbuffer()?, renderer.inspect().read_depth()?);
+    let (surfaces, depth) = (
+        renderer.inspect().read_gbuffer()?,
+        renderer.inspect().read_depth()?,
+    );
     let to_sun = frame
         .lighting
         .sun_direction
@@ -621,8 +631,12 @@ fn motion_view(
     before.time = frame.time - 1.0 / 30.0;
     renderer.render(prepared, &before, RenderPath::Deferred)?;
     renderer.render(prepared, frame, RenderPath::Deferred)?;
-    let (img, scale) =
-        gpu::debug::motion_vectors(args.width, args.height, &renderer.inspect().read_gbuffer()?, 0.0);
+    let (img, scale) = gpu::debug::motion_vectors(
+        args.width,
+        args.height,
+        &renderer.inspect().read_gbuffer()?,
+        0.0,
+    );
     let file = args.out.join(format!("{name}_debug_motion.png"));
     img.write_png(&file)?;
     report.image_named(
@@ -829,6 +843,7 @@ pub fn run(args: &Args) -> Result<()> {
         laydown: match args.laydown {
             LaydownArg::Hardware => gpu::Laydown::Hardware,
             LaydownArg::Compute => gpu::Laydown::Compute,
+            LaydownArg::Auto => gpu::Laydown::Auto,
         },
         compute_laydown_max_extent: args.laydown_max_extent,
         compute_laydown_target: match args.laydown_target {
@@ -1063,6 +1078,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
+        report.laydown_ran(path, renderer, &frames);
         if path == RenderPath::Deferred {
             report_lighting(args, &mut report, renderer, &frame, "city")?;
         }
@@ -1072,7 +1088,9 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         }
         if path == RenderPath::Deferred {
             let classified = renderer.inspect().read_classification(&prepared)?;
-            let (stats, mismatch) = renderer.inspect().classification_statistics(&prepared, &classified)?;
+            let (stats, mismatch) = renderer
+                .inspect()
+                .classification_statistics(&prepared, &classified)?;
             report.classification(&stats);
             if !args.no_debug_views {
                 let file = args.out.join("city_debug_vis_ids.png");
@@ -1270,6 +1288,7 @@ fn render_scene(
         image.write_png(&file)?;
         report.image(path, &file);
         report.timings(path, &frames);
+        report.laydown_ran(path, renderer, &frames);
         let name = built.name;
         if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
             let edges = renderer.inspect().read_msaa_edges()?;
@@ -1295,7 +1314,7 @@ fn render_scene(
             let mut cpu_ms = 0.0;
             for _ in 0..args.frames {
                 cpu_ms += renderer.submit(&prepared, frame, path)?.wall_ms;
-                in_flight = in_flight.max(renderer.upload_stats().frames_in_flight);
+                in_flight = in_flight.max(renderer.inspect().upload_stats().frames_in_flight);
             }
             renderer.wait()?;
             let n = f64::from(args.frames);
@@ -1310,7 +1329,9 @@ fn render_scene(
             report_lighting(args, &mut report, renderer, frame, name)?;
             let t = std::time::Instant::now();
             let classified = renderer.inspect().read_classification(&prepared)?;
-            let (stats, mismatch) = renderer.inspect().classification_statistics(&prepared, &classified)?;
+            let (stats, mismatch) = renderer
+                .inspect()
+                .classification_statistics(&prepared, &classified)?;
             report.cpu_ms(
                 "read-back + CPU twin + talk measurements (CPU)",
                 t.elapsed().as_secs_f64() * 1e3,

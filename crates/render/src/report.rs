@@ -48,18 +48,18 @@ impl Report {
         let c = renderer.config();
         r.row(
             "laydown (deferred paths)",
-            if renderer.laydown() == c.laydown {
-                match c.laydown {
-                    gpu::Laydown::Compute => format!(
-                        "compute into a 64-bit {}, triangles over {} pixels a workgroup each",
-                        renderer.laydown_target().map_or("?", |t| t.name()),
-                        c.compute_laydown_max_extent
-                    ),
-                    gpu::Laydown::Hardware => "hardware".to_string(),
-                }
-            } else {
-                "hardware (compute asked for: the adapter lacks SHADER_INT64_ATOMIC_MIN_MAX)"
-                    .to_string()
+            match (c.laydown, renderer.laydown_target()) {
+                (gpu::Laydown::Hardware, _) => "hardware".to_string(),
+                (asked, None) => format!(
+                    "hardware ({} asked for: the adapter lacks SHADER_INT64_ATOMIC_MIN_MAX)",
+                    asked.name()
+                ),
+                (asked, Some(target)) => format!(
+                    "{}: compute into a 64-bit {}, triangles over {} pixels a workgroup each",
+                    asked.name(),
+                    target.name(),
+                    c.compute_laydown_max_extent
+                ),
             },
         );
         r.row(
@@ -483,6 +483,38 @@ impl Report {
     /// GPU and wall times of a path.
     pub fn timings(&mut self, path: RenderPath, t: &FrameOutput) {
         self.timings.push((path.name().to_string(), t.clone()));
+    }
+
+    /// The laydown `path`'s frames ran, and why (a frame with a static query runs the
+    /// hardware laydown; `Laydown::Auto` reports what it measured).
+    pub fn laydown_ran(&mut self, path: RenderPath, renderer: &Renderer, t: &FrameOutput) {
+        let Some(ran) = t.laydown else {
+            return;
+        };
+        let why = match renderer.laydown_choice().reason {
+            _ if t.statics.is_some() && ran == gpu::Laydown::Hardware => {
+                "frames with a static query take the hardware laydown".to_string()
+            }
+            gpu::LaydownReason::Asked => "asked for".to_string(),
+            gpu::LaydownReason::NoComputeFeatures => {
+                "the adapter lacks the compute laydown's 64-bit atomics".to_string()
+            }
+            gpu::LaydownReason::Trial { frames_left } => {
+                format!("auto: still timing both, {frames_left} frames to go")
+            }
+            gpu::LaydownReason::Measured {
+                hardware_ms,
+                compute_ms,
+                gpu_timed,
+            } => format!(
+                "auto, {} frame medians: hardware {hardware_ms:.3} ms, compute {compute_ms:.3} ms",
+                if gpu_timed { "GPU" } else { "wall" }
+            ),
+        };
+        self.row(
+            &format!("laydown ran ({})", path.name()),
+            format!("{} ({why})", ran.name()),
+        );
     }
 
     /// GPU and wall times of a named variant of a path.

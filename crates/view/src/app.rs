@@ -863,8 +863,13 @@ impl State {
         }
         let read = self
             .renderer
-            .inspect().read_classification(&self.prepared)
-            .and_then(|c| self.renderer.inspect().classification_statistics(&self.prepared, &c));
+            .inspect()
+            .read_classification(&self.prepared)
+            .and_then(|c| {
+                self.renderer
+                    .inspect()
+                    .classification_statistics(&self.prepared, &c)
+            });
         match read {
             Ok((stats, mismatch)) => {
                 if let Some(m) = mismatch {
@@ -1008,7 +1013,7 @@ impl State {
                 ui.separator();
                 let s = self.prepared.summary();
                 let lights = self.renderer.inspect().light_path_counts();
-                let uploads = self.renderer.upload_stats();
+                let uploads = self.renderer.inspect().upload_stats();
                 egui::Grid::new("counters")
                     .striped(true)
                     .num_columns(2)

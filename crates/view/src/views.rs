@@ -161,7 +161,8 @@ pub fn debug_image(
             )
         }
         DebugView::Motion => {
-            let (img, scale) = gpu::debug::motion_vectors(w, h, &renderer.inspect().read_gbuffer()?, 0.0);
+            let (img, scale) =
+                gpu::debug::motion_vectors(w, h, &renderer.inspect().read_gbuffer()?, 0.0);
             (
                 img,
                 format!("hue: direction; full brightness at {scale:.1} px"),

@@ -275,6 +275,65 @@ pub(crate) struct TargetGroups {
     pub light_volumes: Option<light_volumes::Groups>,
 }
 
+impl TargetGroups {
+    /// The groups over the renderer's targets, its frame and local-light uniforms
+    /// (`frame`, `local`) and its light buffers.
+    pub(crate) fn new(
+        device: &wgpu::Device,
+        p: &Pipelines,
+        targets: &Targets,
+        frame: &wgpu::Buffer,
+        local: &wgpu::Buffer,
+        lights: &lights::LightBuffers,
+    ) -> Result<Self> {
+        let mut groups = Self {
+            vis_copy: p.vis_copy.group(device, targets)?,
+            laydown_target: match (&p.compute_laydown, &targets.vis64) {
+                (Some(c), Some(t)) => {
+                    Some(c.target_groups(device, targets, t, &lights.tile_depths)?)
+                }
+                _ => None,
+            },
+            gbuffer_store: p.resolve.gbuffer_group(device, &targets.gbuffer_views)?,
+            lighting: p.lighting.groups(device, targets, frame, local, lights)?,
+            lights: p.lights.groups(device, targets, lights)?,
+            light_volumes: None,
+        };
+        groups.refresh_lights(device, p, targets, frame, local, lights)?;
+        Ok(groups)
+    }
+
+    /// Makes the groups that bind the light buffers again, over `lights` (after they grew;
+    /// the per-tile buffers the compute laydown's unpack binds are kept when they grow).
+    pub(crate) fn refresh_lights(
+        &mut self,
+        device: &wgpu::Device,
+        p: &Pipelines,
+        targets: &Targets,
+        frame: &wgpu::Buffer,
+        local: &wgpu::Buffer,
+        lights: &lights::LightBuffers,
+    ) -> Result<()> {
+        self.lighting = p.lighting.groups(device, targets, frame, local, lights)?;
+        self.lights = p.lights.groups(device, targets, lights)?;
+        self.light_volumes = p
+            .light_volumes
+            .as_ref()
+            .map(|v| {
+                v.groups(
+                    device,
+                    targets,
+                    frame,
+                    local,
+                    &lights.lights,
+                    &lights.volumes,
+                )
+            })
+            .transpose()?;
+        Ok(())
+    }
+}
+
 /// What a pass records against: the scene's resources, the targets and the renderer's
 /// groups.
 pub(crate) struct FrameContext<'a> {
@@ -341,6 +400,15 @@ impl Recording {
         }
     }
 
+    /// Whether it lays down depth and the vis buffer (the deferred paths and the laydown
+    /// alone; the baseline and pixel pull have a depth prepass instead).
+    pub(crate) fn lays_down(self) -> bool {
+        matches!(
+            self,
+            Recording::Deferred | Recording::DeferredFullScreen | Recording::Laydown
+        )
+    }
+
     /// Whether it ends with the sun's shadow maps, the light tiles and lighting.
     pub(crate) fn lights(self) -> bool {
         matches!(
@@ -405,7 +473,7 @@ impl Pipelines {
 
     /// Whether this frame's laydown was the compute one (the same test `record_geometry`
     /// made).
-    fn laid_down_in_compute(&self, f: &FrameContext<'_>) -> bool {
+    pub(crate) fn laid_down_in_compute(&self, f: &FrameContext<'_>) -> bool {
         f.compute_laydown
             && self.compute_laydown.is_some()
             && f.scene.compute_laydown.is_some()

@@ -64,7 +64,8 @@ impl Renderer {
         })
     }
 
-    /// Renders for [`WARM_UP`], then `frames` more (at least one), and averages those.
+    /// Renders for [`WARM_UP`] (and on until [`Laydown::Auto`]'s trial has chosen, where
+    /// these frames advance it), then `frames` more (at least one), and averages those.
     pub(super) fn measure(
         &mut self,
         frames: u32,
@@ -79,8 +80,12 @@ impl Renderer {
         }
         let start = Instant::now();
         loop {
-            render(self)?;
-            if start.elapsed() >= WARM_UP {
+            let out = render(self)?;
+            // Measured frames all take the laydown Auto chose.
+            let trial = matches!(self.laydown_choice().reason, LaydownReason::Trial { .. })
+                && out.laydown.is_some()
+                && out.statics.is_none();
+            if start.elapsed() >= WARM_UP && !trial {
                 break;
             }
         }
@@ -108,6 +113,7 @@ impl Renderer {
             wall_ms,
             statics: all.last().and_then(|f| f.statics.clone()),
             untimed_passes: all.iter().map(|f| f.untimed_passes).max().unwrap_or(0),
+            laydown: all.last().and_then(|f| f.laydown),
         })
     }
 }

@@ -34,12 +34,11 @@ impl RenderPath {
 
 /// How the deferred paths ([`RenderPath::Deferred`], [`RenderPath::DeferredFullScreen`])
 /// lay down depth and the vis buffer. The baseline keeps its hardware depth prepass (HZD's
-/// method) either way.
+/// method) either way. [`Renderer::laydown_choice`] says which one the frames take and why.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Laydown {
-    /// The hardware rasteriser: one indexed draw per micro batch. The default: faster
-    /// wherever the raster units are a fair share of the chip (and on lavapipe).
-    #[default]
+    /// The hardware rasteriser: one indexed draw per micro batch. Faster wherever the
+    /// raster units are a fair share of the chip.
     Hardware,
     /// Issue 17's compute laydown: triangles rasterised in compute into a 64-bit target
     /// with `atomicMax` (depth bits high, vis word low), an invocation each, or the
@@ -50,9 +49,17 @@ pub enum Laydown {
     /// TPCs (0.56-0.81x of the hardware laydown; BENCHMARKS.md). Needs
     /// [`COMPUTE_LAYDOWN_FEATURES`](crate::COMPUTE_LAYDOWN_FEATURES) (64-bit storage-buffer
     /// atomics); on a device without them, and in frames with a static query (whose
-    /// indirect draw lists the hardware draws), the hardware laydown runs instead:
-    /// [`Renderer::laydown`] says which one a renderer got.
+    /// indirect draw lists the hardware draws), the hardware laydown runs instead, and
+    /// [`FrameOutput::laydown`](crate::FrameOutput::laydown) says so.
     Compute,
+    /// The default: the first deferred frames without a static query alternate the two
+    /// laydowns, [`AUTO_LAYDOWN_FRAMES`](crate::AUTO_LAYDOWN_FRAMES) timed frames
+    /// each after one untimed frame each (waited for, so [`Renderer::submit`] waits
+    /// during the trial), and every later frame takes the one whose median frame time
+    /// (the GPU's timestamps, else wall time) was lower. A device without the compute
+    /// laydown's features takes the hardware one at once.
+    #[default]
+    Auto,
 }
 
 impl Laydown {
@@ -61,7 +68,14 @@ impl Laydown {
         match self {
             Laydown::Hardware => "hardware",
             Laydown::Compute => "compute",
+            Laydown::Auto => "auto",
         }
+    }
+
+    /// Whether the renderer builds the compute laydown's pipelines and targets (where the
+    /// device has its features).
+    pub(crate) fn wants_compute(self) -> bool {
+        matches!(self, Laydown::Compute | Laydown::Auto)
     }
 }
 
@@ -180,9 +194,10 @@ pub struct RendererConfig {
     /// that has volumes on a device with `INDIRECT_FIRST_INSTANCE` (else the draws are
     /// direct); default on.
     pub conditional_volumes: bool,
-    /// How the deferred paths lay down depth and the vis buffer (default: the hardware
-    /// rasteriser; [`Laydown::Compute`] falls back to it on a device without 64-bit
-    /// atomics).
+    /// How the deferred paths lay down depth and the vis buffer (default
+    /// [`Laydown::Auto`]: both timed over the first frames, the faster kept;
+    /// [`Laydown::Compute`] falls back to the hardware laydown on a device without 64-bit
+    /// atomics, and so does every frame with a static query).
     pub laydown: Laydown,
     /// The compute laydown's split: triangles whose screen box is wider or taller than this
     /// many pixels, or larger than a quarter of its square in area, go to its
@@ -351,6 +366,31 @@ impl RendererConfig {
     }
 }
 
+impl RendererConfig {
+    /// The recommended pipeline for `adapter` at `width` x `height`: the pipeline the
+    /// README describes and `render` runs by default. [`Laydown::Auto`] (the compute
+    /// laydown where it measures faster, as on GPUs with few raster units such as the
+    /// H100/H200), HFW's 24 MiB vertex ring, subgroups where the adapter has them, the
+    /// tiled light lists, the sun's cascades and the spot maps. Every other field is
+    /// [`RendererConfig::default`]'s.
+    #[must_use]
+    pub fn recommended(adapter: &wgpu::Adapter, width: u32, height: u32) -> Self {
+        let features = adapter.features();
+        Self {
+            width,
+            height,
+            subgroups: features.contains(wgpu::Features::SUBGROUP),
+            laydown: Laydown::Auto,
+            vertex_ring: Some(tiling::RING_BYTES_PS5),
+            ..Self::default()
+        }
+    }
+}
+
+/// The portable, deterministic configuration every frame of which runs the same passes
+/// (what the tests start from): 1280x720, the hardware laydown, no vertex ring, no VRS,
+/// no MSAA, the tiled light lists, the sun's cascades, the spot maps, the baked sun.
+/// An embedder starts from [`RendererConfig::recommended`].
 impl Default for RendererConfig {
     fn default() -> Self {
         Self {

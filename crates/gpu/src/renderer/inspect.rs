@@ -74,6 +74,12 @@ impl Renderer {
 }
 
 impl<'r> Inspect<'r> {
+    /// What the last frame's uploads took from the upload pool: bytes, blocks, the CPU
+    /// time spent in `framealloc`, the pool's free blocks and the frames in flight.
+    pub fn upload_stats(&self) -> &'r UploadStats {
+        self.r.uploads.stats()
+    }
+
     /// Reads the G-buffer of the last frame back, one [`deferred::Surface`] per pixel
     /// (row-major; world-space normals, turned back from view space under the KZ2 preset;
     /// motion in pixels, `+y` down): what lighting read.

@@ -159,32 +159,14 @@ impl Renderer {
                 .light
                 .buffers
                 .with_capacity(&self.device, rows.len().next_power_of_two())?;
-            self.groups.lighting = self.pipelines.lighting.groups(
+            self.groups.refresh_lights(
                 &self.device,
+                &self.pipelines,
                 &self.targets,
                 &self.frame,
                 &self.light.local,
                 &self.light.buffers,
             )?;
-            self.groups.lights =
-                self.pipelines
-                    .lights
-                    .groups(&self.device, &self.targets, &self.light.buffers)?;
-            self.groups.light_volumes = self
-                .pipelines
-                .light_volumes
-                .as_ref()
-                .map(|v| {
-                    v.groups(
-                        &self.device,
-                        &self.targets,
-                        &self.frame,
-                        &self.light.local,
-                        &self.light.buffers.lights,
-                        &self.light.buffers.volumes,
-                    )
-                })
-                .transpose()?;
             self.refresh_water_groups()?;
         }
         let b = &self.light.buffers;

@@ -36,7 +36,10 @@ pub use water_api::{WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView};
 
 mod bench;
 mod config;
+mod device;
+mod frame;
 mod inspect;
+mod laydown;
 mod lights;
 mod shadows;
 mod statics;
@@ -44,6 +47,7 @@ mod statics;
 pub use bench::WARM_UP;
 pub use config::*;
 pub use inspect::{ConditionalLight, Hooks, Inspect, LightTiles};
+pub use laydown::{AUTO_LAYDOWN_FRAMES, LaydownChoice, LaydownReason};
 pub use lights::LightPathCounts;
 
 /// What one rendered frame reports.
@@ -60,6 +64,10 @@ pub struct FrameOutput {
     /// grows for the next frame, so only a frame with more passes than any before it loses
     /// some (0 for a frame not waited for, which reads no timings).
     pub untimed_passes: u32,
+    /// The laydown this frame ran (`None` for a path without one: the baseline, pixel
+    /// pull). A frame with a static query runs the hardware laydown whatever
+    /// [`RendererConfig::laydown`] asks.
+    pub laydown: Option<Laydown>,
 }
 
 /// Every renderer gets its own id; prepared scenes carry it, so a scene is never drawn
@@ -101,72 +109,11 @@ pub struct Renderer {
     statics: statics::StaticState,
     /// FC5's water ([`Renderer::set_water`]).
     water: Option<passes::water::WaterState>,
+    /// [`Laydown::Auto`]'s trial and verdict.
+    auto: laydown::AutoLaydown,
 }
 
 impl Renderer {
-    /// The device features the renderer cannot run without: none (each optional one
-    /// selects a faster path; see [`Renderer::optional_features`]).
-    pub fn required_features() -> wgpu::Features {
-        wgpu::Features::empty()
-    }
-
-    /// The features the renderer uses when the device has them (request them all; see
-    /// [`ActivePaths`] for what each selects).
-    pub fn optional_features() -> wgpu::Features {
-        OPTIONAL_FEATURES
-    }
-
-    /// The device limits a renderer with `config` needs, as `wgpu::Limits::default()`
-    /// raised where its passes need more (counted from every pass's bindings: classify
-    /// output binds 17 storage buffers in one stage, past WebGPU's default 8 and some GL
-    /// drivers' 16; four bind groups, the image size, buffers of `width * height`
-    /// words). Request these, or the adapter's own limits, when you create the device.
-    pub fn required_limits(config: &RendererConfig) -> wgpu::Limits {
-        let c = passes::stage_counts();
-        let d = wgpu::Limits::default();
-        let pixels = u64::from(config.width) * u64::from(config.height);
-        // The largest buffers: the vis words (4 bytes a pixel) and the wave commands (16
-        // bytes per command, at most a pixel's worth each for wave width 1; 8 lanes on
-        // lavapipe make it 2 bytes a pixel plus one per counter).
-        // The compute laydown's 64-bit target: 8 bytes a pixel.
-        let per_pixel = if config.laydown == Laydown::Compute {
-            8
-        } else {
-            4
-        };
-        let largest = (pixels * per_pixel).max(64 << 20);
-        wgpu::Limits {
-            max_storage_buffers_per_shader_stage: d
-                .max_storage_buffers_per_shader_stage
-                .max(c.storage_buffers),
-            max_storage_textures_per_shader_stage: d
-                .max_storage_textures_per_shader_stage
-                .max(c.storage_textures),
-            max_sampled_textures_per_shader_stage: d
-                .max_sampled_textures_per_shader_stage
-                .max(c.sampled_textures),
-            max_samplers_per_shader_stage: d.max_samplers_per_shader_stage.max(c.samplers),
-            max_uniform_buffers_per_shader_stage: d
-                .max_uniform_buffers_per_shader_stage
-                .max(c.uniform_buffers),
-            max_dynamic_uniform_buffers_per_pipeline_layout: d
-                .max_dynamic_uniform_buffers_per_pipeline_layout
-                .max(c.dynamic_uniform_buffers),
-            max_bind_groups: d.max_bind_groups.max(c.bind_groups),
-            max_bindings_per_bind_group: d.max_bindings_per_bind_group.max(c.bindings_per_group),
-            max_compute_invocations_per_workgroup: d
-                .max_compute_invocations_per_workgroup
-                .max(c.invocations_per_workgroup),
-            max_texture_dimension_2d: d
-                .max_texture_dimension_2d
-                .max(config.width)
-                .max(config.height),
-            max_storage_buffer_binding_size: d.max_storage_buffer_binding_size.max(largest),
-            max_buffer_size: d.max_buffer_size.max(largest),
-            ..d
-        }
-    }
-
     /// Creates the renderer's targets and pipelines on `device` (made by the caller, with
     /// any features of [`Renderer::optional_features`] and at least
     /// [`Renderer::required_limits`]). Optional features the device lacks select fallback
@@ -178,7 +125,7 @@ impl Renderer {
     /// a forced primitive-ID path whose feature the device lacks.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, config: RendererConfig) -> Result<Self> {
         config.validate()?;
-        check_limits(&Self::required_limits(&config), &device.limits())?;
+        device::check_limits(&Self::required_limits(&config), &device.limits())?;
         let mut paths = ActivePaths::for_device(device.features(), &device.adapter_info());
         if let Some(p) = config.primitive_id {
             if !device.features().contains(p.required_features()) {
@@ -254,7 +201,7 @@ impl Renderer {
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
             // The compute laydown where asked for and the device has 64-bit atomics.
-            let compute_laydown = (config.laydown == Laydown::Compute && paths.int64_atomics)
+            let compute_laydown = (config.laydown.wants_compute() && paths.int64_atomics)
                 .then_some(laydown_target)
                 .flatten();
             let pipelines = Pipelines::new(
@@ -291,36 +238,7 @@ impl Renderer {
                     config.height,
                 )
             });
-            let groups = TargetGroups {
-                vis_copy: pipelines.vis_copy.group(device, &targets)?,
-                laydown_target: match (&pipelines.compute_laydown, &targets.vis64) {
-                    (Some(c), Some(t)) => {
-                        Some(c.target_groups(device, &targets, t, &lights.tile_depths)?)
-                    }
-                    _ => None,
-                },
-                gbuffer_store: pipelines
-                    .resolve
-                    .gbuffer_group(device, &targets.gbuffer_views)?,
-                lighting: pipelines
-                    .lighting
-                    .groups(device, &targets, &frame, &local, &lights)?,
-                lights: pipelines.lights.groups(device, &targets, &lights)?,
-                light_volumes: pipelines
-                    .light_volumes
-                    .as_ref()
-                    .map(|v| {
-                        v.groups(
-                            device,
-                            &targets,
-                            &frame,
-                            &local,
-                            &lights.lights,
-                            &lights.volumes,
-                        )
-                    })
-                    .transpose()?,
-            };
+            let groups = TargetGroups::new(device, &pipelines, &targets, &frame, &local, &lights)?;
             // The frame's passes, and up to 8 slices' static shadow query and placement.
             let timer = GpuTimer::new(device, queue, 256);
             let uploads = Uploads::new(device, config.upload_pool)?;
@@ -347,6 +265,7 @@ impl Renderer {
                 light: lights::LightState::new(local, lights, conditional),
                 shadow: Default::default(),
                 statics: Default::default(),
+                auto: Default::default(),
                 water: None,
             })
         })
@@ -357,15 +276,10 @@ impl Renderer {
         &self.paths
     }
 
-    /// The laydown the deferred paths use in frames without a static query:
-    /// [`Laydown::Compute`] where asked for and the device has its features, else
-    /// [`Laydown::Hardware`].
+    /// The laydown the next deferred frame without a static query takes
+    /// ([`Renderer::laydown_choice`] says why).
     pub fn laydown(&self) -> Laydown {
-        if self.pipelines.compute_laydown.is_some() {
-            Laydown::Compute
-        } else {
-            Laydown::Hardware
-        }
+        self.laydown_choice().laydown
     }
 
     /// The compute laydown's 64-bit target (`None` without the compute laydown).
@@ -426,64 +340,6 @@ impl Renderer {
         }
     }
 
-    /// Uploads the frame constants of `frame` for `scene`, and its point lights when they
-    /// differ from the last upload.
-    fn upload_frame(
-        &mut self,
-        scene: &PreparedScene,
-        frame: &FrameInput,
-        statics: Option<&mut StaticView<'_>>,
-    ) -> Result<()> {
-        let static_frame = statics.is_some();
-        frame.validate()?;
-        self.check_scene(scene)?;
-        let previous = self
-            .previous
-            .filter(|(id, _)| *id == scene.id)
-            .map(|(_, p)| p);
-        let origin = scene.summary.origin;
-        let mut uniforms = frame_uniforms(
-            frame,
-            scene.wind.as_ref(),
-            origin,
-            (self.config.width, self.config.height),
-            self.config.mip_bias,
-            self.frame_index,
-            previous,
-        );
-        uniforms.vrs = self.config.vrs.map_or([0.0; 4], |v| v.uniform());
-        self.bake_sun(scene, frame, &mut uniforms, statics)?;
-        uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
-        // Swaying foliage moves its shadows: a cached slice is stale once time moved.
-        let animated = scene.wind.is_some() && uniforms.prev_time != uniforms.time;
-        self.upload_shadows(scene.id, static_frame || animated, frame, &uniforms)?;
-        self.uploads
-            .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
-        if let Some(w) = &self.water {
-            let aspect = self.config.width as f32 / self.config.height as f32;
-            let u = w.data.frame_constants(frame, aspect);
-            self.uploads.write(&w.data.frame, 0, bytemuck::bytes_of(&u));
-            if !w.data.decals_cpu.is_empty() {
-                self.uploads
-                    .write(&w.data.decals, 0, bytemuck::cast_slice(&w.data.decals_cpu));
-            }
-        }
-        self.view_rotation = frame.camera.view_rotation();
-        self.origin_offset = glam::Vec4::from(uniforms.origin_offset).truncate();
-        self.plan_conditional(scene)?;
-        let aspect = self.config.width as f32 / self.config.height as f32;
-        self.previous = Some((
-            scene.id,
-            PreviousCamera {
-                view_proj: frame.camera.relative_view_projection(aspect),
-                position: frame.camera.position,
-                time: frame.time,
-            },
-        ));
-        self.frame_index = self.frame_index.wrapping_add(1);
-        Ok(())
-    }
-
     /// Records `what` after uploading `frame` (and, with `statics`, the static query and
     /// the placement of its output first), submits, waits, and reads the timings and the
     /// static statistics.
@@ -504,6 +360,9 @@ impl Renderer {
                  the single-sample depth)",
             );
         }
+        // Laydown::Auto's trial frames are waited for and timed.
+        let trial = self.auto_trial_frame(what, statics.is_some());
+        let wait = wait || trial;
         let device = self.device.clone();
         let t0 = Instant::now();
         let view = scoped(&device, || {
@@ -520,6 +379,7 @@ impl Renderer {
                 None => None,
             };
             let static_query = view.is_some();
+            let compute_laydown = self.compute_laydown_for(what, static_query);
             // Field by field, so the timer can be borrowed beside it.
             macro_rules! context {
                 () => {
@@ -534,7 +394,7 @@ impl Renderer {
                         conditional: self.light.conditional.as_ref(),
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
-                        compute_laydown: !static_query,
+                        compute_laydown,
                         water: if what.lights()
                             && !(what == Recording::Baseline && self.targets.msaa.is_some())
                         {
@@ -561,30 +421,22 @@ impl Renderer {
             }
             self.pipelines
                 .record_after_geometry(what, &mut encoder, &context!(), &mut self.timer);
+            let laydown = what.lays_down().then(|| {
+                if self.pipelines.laid_down_in_compute(&context!()) {
+                    Laydown::Compute
+                } else {
+                    Laydown::Hardware
+                }
+            });
             self.timer.resolve(&mut encoder);
             let uploads = self.uploads.commit(&device, &self.queue)?;
             let index = self.queue.submit([uploads, encoder.finish()]);
             self.uploads.submitted(&self.queue);
-            if wait {
-                wait_idle(&device)?;
-                self.in_flight.clear();
-            } else {
-                // Frame pacing: at most `frames_in_flight` frames ahead of the GPU.
-                self.in_flight.push_back(index);
-                while self.in_flight.len() > self.config.frames_in_flight as usize {
-                    let oldest = self.in_flight.pop_front();
-                    device
-                        .poll(wgpu::PollType::Wait {
-                            submission_index: oldest,
-                            timeout: None,
-                        })
-                        .map_err(|e| Error::Poll(e.to_string()))?;
-                }
-            }
+            self.pace(index, wait)?;
             if what.lights() {
                 self.targets.shadows.rendered(static_frame);
             }
-            Ok(view)
+            Ok((view, laydown, compute_laydown))
         });
         if view.is_err() {
             // The maps' contents are unknown after a failed frame, and its queued uploads
@@ -594,10 +446,10 @@ impl Renderer {
         }
         // The depth target now holds this frame (or, after an error, nothing known).
         self.statics.depth_camera = match (&view, statics.as_deref()) {
-            (Ok(Some(_)), Some(v)) => Some((scene.id, v.view.camera)),
+            (Ok((Some(_), ..)), Some(v)) => Some((scene.id, v.view.camera)),
             _ => None,
         };
-        let view = view?;
+        let (view, laydown, asked_compute) = view?;
         let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         if !wait {
             // Not waited for: no timings or statistics to read.
@@ -607,9 +459,21 @@ impl Renderer {
                 wall_ms,
                 statics: None,
                 untimed_passes: 0,
+                laydown,
             });
         }
         let gpu = self.timer.read(&self.device, &self.queue)?;
+        if trial {
+            let asked = if asked_compute {
+                Laydown::Compute
+            } else {
+                Laydown::Hardware
+            };
+            let gpu_ms: f64 = gpu.iter().map(|t| t.ms).sum();
+            let timed = !gpu.is_empty();
+            self.auto
+                .record(asked, if timed { gpu_ms } else { wall_ms }, timed);
+        }
         let statics = match (view, statics) {
             (Some(view), Some(v)) => Some(self.read_static_stats(scene, v, view)?),
             _ => None,
@@ -619,7 +483,28 @@ impl Renderer {
             wall_ms,
             statics,
             untimed_passes: self.timer.untimed(),
+            laydown,
         })
+    }
+
+    /// After a frame's submission `index`: waits for it (`wait`), or keeps at most
+    /// [`RendererConfig::frames_in_flight`] frames ahead of the GPU.
+    fn pace(&mut self, index: wgpu::SubmissionIndex, wait: bool) -> Result<()> {
+        if wait {
+            self.in_flight.clear();
+            return wait_idle(&self.device);
+        }
+        self.in_flight.push_back(index);
+        while self.in_flight.len() > self.config.frames_in_flight as usize {
+            let oldest = self.in_flight.pop_front();
+            self.device
+                .poll(wgpu::PollType::Wait {
+                    submission_index: oldest,
+                    timeout: None,
+                })
+                .map_err(|e| Error::Poll(e.to_string()))?;
+        }
+        Ok(())
     }
 
     /// Renders one frame of `scene` as `frame` describes by `path` into the output image,
@@ -669,33 +554,6 @@ impl Renderer {
         wait_idle(&self.device)
     }
 
-    /// Renders one frame as [`Renderer::render`] does, with HZD's static query in front:
-    /// the CPU pre-culls `statics.view` on `statics.scene`, then one command buffer runs
-    /// the query, places its batches into the scene's reserved instance slots and indirect
-    /// draw lists (no CPU round trip), and draws them with the scene's batches in the
-    /// laydown (or the baseline's passes). Reads the query's and the placement's counters
-    /// back after the frame ([`FrameOutput::statics`]).
-    ///
-    /// # Errors
-    /// As [`Renderer::render`]; a scene without static setups ([`Error::Config`]); a view
-    /// the query rejects ([`Error::StaticScene`]).
-    pub fn render_static(
-        &mut self,
-        scene: &PreparedScene,
-        frame: &FrameInput,
-        path: RenderPath,
-        statics: &mut StaticView<'_>,
-    ) -> Result<FrameOutput> {
-        let what = Recording::of(path);
-        self.run(scene, frame, path.name(), what, Some(statics), true)
-    }
-
-    /// What the last frame's uploads took from the upload pool: bytes, blocks, the CPU
-    /// time spent in `framealloc`, the pool's free blocks and the frames in flight.
-    pub fn upload_stats(&self) -> &UploadStats {
-        self.uploads.stats()
-    }
-
     /// The output image's texture, for showing a frame without reading it back (a window's
     /// blit): `config.width` x `config.height`, format `Rgba8Unorm` holding **sRGB-encoded**
     /// values (the lighting pass writes them through a storage binding, which cannot be an
@@ -730,45 +588,5 @@ impl Renderer {
             height: self.config.height,
             pixels: bytemuck::pod_collect_to_vec(&bytes),
         })
-    }
-}
-
-/// The first limit of `needed` that `available` falls short of (wgpu's own comparison of
-/// every limit), as an error naming it.
-fn check_limits(needed: &wgpu::Limits, available: &wgpu::Limits) -> Result<()> {
-    let mut first = None;
-    needed.check_limits_with_fail_fn(available, true, |limit, needed, available| {
-        first = Some(Error::DeviceLimit {
-            limit,
-            needed,
-            available,
-        });
-    });
-    first.map_or(Ok(()), Err)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn default_limits_fall_short_by_name_and_the_required_ones_pass() {
-        let config = RendererConfig::default();
-        let needed = Renderer::required_limits(&config);
-        assert!(check_limits(&needed, &needed).is_ok());
-        match check_limits(&needed, &wgpu::Limits::default()) {
-            Err(Error::DeviceLimit { limit, needed, .. }) => {
-                assert_eq!(limit, "max_storage_buffers_per_shader_stage");
-                assert!(needed >= 17, "{needed}");
-            }
-            other => panic!("{other:?}"),
-        }
-        // A 16K image needs a larger texture dimension than the defaults.
-        let big = Renderer::required_limits(&RendererConfig {
-            width: 16_384,
-            height: 16,
-            ..RendererConfig::default()
-        });
-        assert_eq!(big.max_texture_dimension_2d, 16_384);
     }
 }

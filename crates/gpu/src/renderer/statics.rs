@@ -32,6 +32,27 @@ const STATIC_SHADOW_QUERY: &str = "static shadow query";
 const STATIC_SHADOW_PLACEMENT: &str = "static shadow placement";
 
 impl Renderer {
+    /// Renders one frame as [`Renderer::render`] does, with HZD's static query in front:
+    /// the CPU pre-culls `statics.view` on `statics.scene`, then one command buffer runs
+    /// the query, places its batches into the scene's reserved instance slots and indirect
+    /// draw lists (no CPU round trip), and draws them with the scene's batches in the
+    /// laydown (or the baseline's passes). Reads the query's and the placement's counters
+    /// back after the frame ([`FrameOutput::statics`]).
+    ///
+    /// # Errors
+    /// As [`Renderer::render`]; a scene without static setups ([`Error::Config`]); a view
+    /// the query rejects ([`Error::StaticScene`]).
+    pub fn render_static(
+        &mut self,
+        scene: &PreparedScene,
+        frame: &FrameInput,
+        path: RenderPath,
+        statics: &mut StaticView<'_>,
+    ) -> Result<FrameOutput> {
+        let what = Recording::of(path);
+        self.run(scene, frame, path.name(), what, Some(statics), true)
+    }
+
     /// The scene's static buffers, or the error for a scene without static setups.
     pub(super) fn static_buffers(scene: &PreparedScene) -> Result<&StaticBuffers> {
         scene.statics.as_ref().ok_or_else(|| {
