@@ -275,7 +275,7 @@ fn main() -> anyhow::Result<()> {
     let view_proj = frame
         .camera
         .view_projection(args.width as f32 / args.height as f32);
-    let depth = renderer.read_water_depth()?.unwrap_or_default();
+    let depth = renderer.inspect().read_water_depth()?.unwrap_or_default();
     let inv = view_proj.inverse();
     let (mut compared, mut worst) = (0, 0.0f32);
     for c in rendered.iter().filter(|c| c.afloat) {

@@ -72,8 +72,8 @@ fn subgroup_settings() -> Vec<bool> {
 /// The mini G-buffer's tiles, counts and list from the GPU, against `water::tiles::classify`
 /// over the same data words read back.
 fn check_tiles(r: &Renderer, what: &str) -> u32 {
-    let g = r.read_water_gbuffer().unwrap().unwrap();
-    let t = r.read_water_tiles().unwrap().unwrap();
+    let g = r.inspect().read_water_gbuffer().unwrap().unwrap();
+    let t = r.inspect().read_water_tiles().unwrap().unwrap();
     let grid = TileGrid::new(g.size[0], g.size[1], TILE_SIZE).unwrap();
     let mesh = GridMesh::new(16).unwrap();
     let cpu = classify(&grid, &g.data, &mesh).unwrap();
@@ -97,12 +97,18 @@ fn gpu_tiles_equal_the_cpu_twin() {
         r.render(&p, &d.frame, RenderPath::Deferred).unwrap();
         let what = format!("river, subgroups {subgroups}");
         let tiles = check_tiles(&r, &what);
-        let total = r.read_water_tiles().unwrap().unwrap().counts.len() as u32;
+        let total = r
+            .inspect()
+            .read_water_tiles()
+            .unwrap()
+            .unwrap()
+            .counts
+            .len() as u32;
         assert!(
             tiles > 2 && tiles <= total,
             "{what}: {tiles} of {total} tiles"
         );
-        let stats = r.water_stats().unwrap().unwrap();
+        let stats = r.inspect().water_stats().unwrap().unwrap();
         assert_eq!(stats.tiles, tiles);
         assert_eq!(stats.triangles, u64::from(tiles) * 512);
         assert!(stats.near_bodies >= 2 && stats.far_sectors > 0, "{stats:?}");
@@ -120,12 +126,13 @@ fn gpu_tiles_equal_the_cpu_twin() {
                 }
             })
             .collect();
-        r.set_water_gbuffer(Some((
-            &data,
-            &vec![5.0; n],
-            &vec![[0, 0x3c00, 0, 0x3c00]; n],
-        )))
-        .unwrap();
+        r.hooks()
+            .set_water_gbuffer(Some((
+                &data,
+                &vec![5.0; n],
+                &vec![[0, 0x3c00, 0, 0x3c00]; n],
+            )))
+            .unwrap();
         r.render(&p, &d.frame, RenderPath::Deferred).unwrap();
         check_tiles(&r, &format!("random words, subgroups {subgroups}"));
     }
@@ -189,8 +196,8 @@ fn displacement_equals_the_cpu_fbm_and_decals() {
     r.set_water(Some(&water)).unwrap();
     r.set_water_decals(&decals).unwrap();
     r.render(&p, &frame, RenderPath::Deferred).unwrap();
-    let g = r.read_water_gbuffer().unwrap().unwrap();
-    let disp = r.read_water_displacement().unwrap().unwrap();
+    let g = r.inspect().read_water_gbuffer().unwrap().unwrap();
+    let disp = r.inspect().read_water_displacement().unwrap().unwrap();
     let view = r.water_view(&frame.camera).unwrap();
     let fbm = Fbm::new(&water.noise, water.fbm).unwrap();
     let amplitude = water.materials[0].displacement_amplitude;
@@ -269,7 +276,7 @@ fn water_on_and_off_leave_the_opaque_image_alone() {
         let (mut on, p_on) = river_renderer(256, 144, true, WaterOptions::default());
         on.render(&p_on, &d.frame, path).unwrap();
         let wet = on.read_output().unwrap();
-        let surface = on.read_water_surface().unwrap().unwrap();
+        let surface = on.inspect().read_water_surface().unwrap().unwrap();
         let (mut water, mut changed) = (0, 0);
         for (i, s) in surface.iter().enumerate() {
             if s[0] > 0.0 {
@@ -289,7 +296,7 @@ fn water_on_and_off_leave_the_opaque_image_alone() {
         // The opaque depth is untouched; the depth with water is nearer where water is.
         let depth = on.inspect().read_depth().unwrap();
         assert_eq!(depth, off.inspect().read_depth().unwrap(), "{path:?}");
-        let with = on.read_water_depth().unwrap().unwrap();
+        let with = on.inspect().read_water_depth().unwrap().unwrap();
         for (i, s) in surface.iter().enumerate() {
             assert!(with[i] >= depth[i]);
             if s[0] == 0.0 {
@@ -424,27 +431,29 @@ fn a_garbage_mini_gbuffer_reads_and_writes_nothing_out_of_bounds() {
                     ]
                 })
                 .collect();
-            r.set_water_gbuffer(Some((&data, &depth, &normal))).unwrap();
+            r.hooks()
+                .set_water_gbuffer(Some((&data, &depth, &normal)))
+                .unwrap();
             r.render(&p, &d.frame, RenderPath::Deferred)
                 .unwrap_or_else(|e| panic!("half {half}, round {round}: {e}"));
-            let t = r.read_water_tiles().unwrap().unwrap();
+            let t = r.inspect().read_water_tiles().unwrap().unwrap();
             let total = t.counts.len() as u32;
             assert!(t.instance_count <= total);
             assert!(t.list.iter().all(|&tile| tile < total));
             assert!(t.counts.iter().sum::<u32>() <= w * h);
             let limit = 10.0;
-            for v in r.read_water_displacement().unwrap().unwrap() {
+            for v in r.inspect().read_water_displacement().unwrap().unwrap() {
                 assert!(v.iter().all(|c| c.is_finite() && c.abs() <= limit), "{v:?}");
             }
-            for s in r.read_water_surface().unwrap().unwrap() {
+            for s in r.inspect().read_water_surface().unwrap().unwrap() {
                 assert!(s.iter().all(|c| !c.is_nan()), "{s:?}");
             }
             let _ = r.read_output().unwrap();
         }
         // And back to the position pass.
-        r.set_water_gbuffer(None).unwrap();
+        r.hooks().set_water_gbuffer(None).unwrap();
         r.render(&p, &d.frame, RenderPath::Deferred).unwrap();
-        assert!(r.water_stats().unwrap().unwrap().tiles > 0);
+        assert!(r.inspect().water_stats().unwrap().unwrap().tiles > 0);
     }
 }
 
@@ -467,7 +476,7 @@ fn the_f16_and_f32_composites_agree() {
             },
         );
         r.render(&p, &demo().frame, RenderPath::Deferred).unwrap();
-        let used = r.water_stats().unwrap().unwrap().half_precision;
+        let used = r.inspect().water_stats().unwrap().unwrap().half_precision;
         (r.read_output().unwrap(), used)
     };
     let (full, used_full) = image(false);
@@ -503,6 +512,7 @@ fn the_water_over_the_compute_laydown_matches_the_hardware_laydown() {
         r.set_water_decals(&d.decals).unwrap();
         r.render(&p, &d.frame, RenderPath::Deferred).unwrap();
         let water = r
+            .inspect()
             .read_water_surface()
             .unwrap()
             .unwrap()

@@ -1323,7 +1323,7 @@ fn render_scene(
             if let Some(s) = renderer.inspect().read_laydown_stats(&prepared)? {
                 report.laydown_stats(&s);
             }
-            if let Some(s) = renderer.water_stats()? {
+            if let Some(s) = renderer.inspect().water_stats()? {
                 report.water_stats(&s);
             }
             report_lighting(args, &mut report, renderer, frame, name)?;

@@ -4,6 +4,7 @@
 //! [`Renderer::hooks`] (hooks that record or overwrite).
 
 use super::*;
+use crate::water_scene::WaterStats;
 
 /// The last frame's light tiles ([`Inspect::read_light_tiles`]), in the layout of
 /// `deferred::lights::cull_tiles`: tiles of 16x16 pixels, row-major from the top-left.
@@ -74,6 +75,113 @@ impl Renderer {
 }
 
 impl<'r> Inspect<'r> {
+    /// What the last frame's water passes did: bodies and sectors drawn, water pixels,
+    /// tiles and triangles (read back; `None` without water).
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn water_stats(&self) -> Result<Option<WaterStats>> {
+        self.r
+            .water
+            .as_ref()
+            .map(|w| w.stats(&self.r.device, &self.r.queue))
+            .transpose()
+    }
+
+    /// Reads the last frame's mini G-buffer back: data words and view depths.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_gbuffer(&self) -> Result<Option<WaterGBuffer>> {
+        let Some(w) = &self.r.water else {
+            return Ok(None);
+        };
+        let t = &w.targets;
+        let read = |tex: &wgpu::Texture| {
+            read_texture(
+                &self.r.device,
+                &self.r.queue,
+                tex,
+                wgpu::TextureAspect::All,
+                4,
+            )
+        };
+        Ok(Some(WaterGBuffer {
+            size: t.size,
+            data: bytemuck::pod_collect_to_vec(&read(&t.data.0)?),
+            depth: bytemuck::pod_collect_to_vec(&read(&t.linear.0)?),
+        }))
+    }
+
+    /// Reads the last frame's displacement texture back (mini G-buffer pixels, row-major:
+    /// xyz metres +Y up, w the decals' foam).
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_displacement(&self) -> Result<Option<Vec<[f32; 4]>>> {
+        let Some(w) = &self.r.water else {
+            return Ok(None);
+        };
+        Ok(Some(self.r.texels(
+            &w.targets.displacement.0,
+            wgpu::TextureAspect::All,
+        )?))
+    }
+
+    /// Reads the last frame's tiles back: counts, list and the draw's arguments.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_tiles(&self) -> Result<Option<WaterTiles>> {
+        let Some(w) = &self.r.water else {
+            return Ok(None);
+        };
+        let t = &w.targets;
+        let n = u64::from(t.tile_count());
+        let words = |b: &wgpu::Buffer, bytes: u64| self.r.words::<u32>(b, 0, bytes);
+        let args = words(&t.tile_args, 20)?;
+        let counts = words(&t.tile_counts, n * 4)?;
+        let mut list = words(&t.tile_list, n * 4)?;
+        list.truncate((args[1] as usize).min(n as usize));
+        Ok(Some(WaterTiles {
+            tiles: t.tiles,
+            counts,
+            list,
+            index_count: args[0],
+            instance_count: args[1],
+        }))
+    }
+
+    /// Reads the last frame's tessellated surface back at full resolution: per pixel the
+    /// view depth of the water drawn there (0: none) and its mini G-buffer UV.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_surface(&self) -> Result<Option<Vec<[f32; 4]>>> {
+        let Some(w) = &self.r.water else {
+            return Ok(None);
+        };
+        Ok(Some(
+            self.r
+                .texels(&w.targets.surface.0, wgpu::TextureAspect::All)?,
+        ))
+    }
+
+    /// Reads the last frame's depth with water back (row-major, reversed Z): the opaque
+    /// depth with the tessellated water drawn into it. See [`crate::water_scene`] for which
+    /// passes read which depth.
+    ///
+    /// # Errors
+    /// A device or mapping error.
+    pub fn read_water_depth(&self) -> Result<Option<Vec<f32>>> {
+        let Some(w) = &self.r.water else {
+            return Ok(None);
+        };
+        Ok(Some(self.r.texels(
+            &w.targets.depth_water.0,
+            wgpu::TextureAspect::DepthOnly,
+        )?))
+    }
     /// What the last frame's uploads took from the upload pool: bytes, blocks, the CPU
     /// time spent in `framealloc`, the pool's free blocks and the frames in flight.
     pub fn upload_stats(&self) -> &'r UploadStats {
@@ -136,14 +244,8 @@ impl<'r> Inspect<'r> {
     /// # Errors
     /// A device or mapping error.
     pub fn read_depth(&self) -> Result<Vec<f32>> {
-        let depth = read_texture(
-            &self.r.device,
-            &self.r.queue,
-            &self.r.targets.depth_float,
-            wgpu::TextureAspect::All,
-            4,
-        )?;
-        Ok(bytemuck::pod_collect_to_vec(&depth))
+        self.r
+            .texels(&self.r.targets.depth_float, wgpu::TextureAspect::All)
     }
 
     /// What the last compute laydown of `scene` drew: its triangles and those the hardware
@@ -156,10 +258,8 @@ impl<'r> Inspect<'r> {
         let Some(g) = &scene.compute_laydown else {
             return Ok(None);
         };
-        let words = read_buffer(&self.r.device, &self.r.queue, &g.list, 0, 4)?;
-        let vertex_count = u32::from_le_bytes([words[0], words[1], words[2], words[3]]);
-        let words = read_buffer(&self.r.device, &self.r.queue, &g.large, 12, 4)?;
-        let large = u32::from_le_bytes([words[0], words[1], words[2], words[3]]);
+        let vertex_count = self.r.words::<u32>(&g.list, 0, 4)?[0];
+        let large = self.r.words::<u32>(&g.large, 12, 4)?[0];
         Ok(Some(passes::compute_laydown::stats(
             g.items,
             vertex_count,
@@ -177,13 +277,7 @@ impl<'r> Inspect<'r> {
     pub fn read_static_debug(&self, scene: &PreparedScene) -> Result<crate::StaticDebug> {
         self.r.check_scene(scene)?;
         let b = Renderer::static_buffers(scene)?;
-        let words = bytemuck::pod_collect_to_vec(&read_buffer(
-            &self.r.device,
-            &self.r.queue,
-            &b.debug,
-            0,
-            b.debug.size(),
-        )?);
+        let words = self.r.words(&b.debug, 0, b.debug.size())?;
         let mut ranges: Vec<_> = scene
             .static_table
             .iter()
@@ -244,10 +338,7 @@ impl<'r> Inspect<'r> {
         if n == 0 {
             return Ok(Vec::new());
         }
-        let words = |buffer: &wgpu::Buffer, bytes: u64| -> Result<Vec<u32>> {
-            let b = read_buffer(&self.r.device, &self.r.queue, buffer, 0, bytes)?;
-            Ok(bytemuck::pod_collect_to_vec(&b))
-        };
+        let words = |buffer: &wgpu::Buffer, bytes: u64| self.r.words::<u32>(buffer, 0, bytes);
         let samples = words(&c.resolved, n * 8)?;
         let volumes = words(&c.volume_args, n * 4 * u64::from(DRAW_WORDS))?;
         let counts = words(&c.counts, n * 4 * u64::from(COUNT_WORDS))?;
@@ -302,27 +393,22 @@ impl<'r> Inspect<'r> {
     pub fn read_light_tiles(&self) -> Result<LightTiles> {
         let b = &self.r.light.buffers;
         let n = u64::from(b.tiles[0]) * u64::from(b.tiles[1]);
-        let read = |buffer: &wgpu::Buffer, bytes: u64| {
-            read_buffer(&self.r.device, &self.r.queue, buffer, 0, bytes)
-        };
-        let depths = read(&b.tile_depths, n * 8)?;
-        let counts = read(&b.counts, n * 4)?;
-        let indices = read(
-            &b.indices,
-            n * u64::from(deferred::lights::MAX_LIGHTS_PER_TILE) * 4,
-        )?;
-        let counters = read(
+        let counters: Vec<deferred::pass::LightCullCounters> = self.r.words(
             &b.counters,
+            0,
             size_of::<deferred::pass::LightCullCounters>() as u64,
         )?;
-        let counters: deferred::pass::LightCullCounters = bytemuck::pod_read_unaligned(&counters);
         Ok(LightTiles {
             tiles: b.tiles,
-            depths: bytemuck::pod_collect_to_vec(&depths),
-            counts: bytemuck::pod_collect_to_vec(&counts),
-            indices: bytemuck::pod_collect_to_vec(&indices),
+            depths: self.r.words(&b.tile_depths, 0, n * 8)?,
+            counts: self.r.words(&b.counts, 0, n * 4)?,
+            indices: self.r.words(
+                &b.indices,
+                0,
+                n * u64::from(deferred::lights::MAX_LIGHTS_PER_TILE) * 4,
+            )?,
             lights: self.r.light.tiled.clone(),
-            stats: counters.stats(),
+            stats: counters[0].stats(),
         })
     }
 
@@ -338,20 +424,15 @@ impl<'r> Inspect<'r> {
             return Ok(Vec::new());
         };
         let header_bytes = crate::resources::targets::MSAA_EDGES_HEADER;
-        let header = read_buffer(&self.r.device, &self.r.queue, &t.edges, 0, header_bytes)?;
+        let header: Vec<u32> = self.r.words(&t.edges, 0, header_bytes)?;
         let pixels = u64::from(self.r.targets.width) * u64::from(self.r.targets.height);
-        let count = u64::from(bytemuck::pod_read_unaligned::<[u32; 4]>(&header)[3]).min(pixels);
+        let count = u64::from(header[3]).min(pixels);
         if count == 0 {
             return Ok(Vec::new());
         }
-        let words = read_buffer(
-            &self.r.device,
-            &self.r.queue,
-            &t.edges,
-            header_bytes,
-            count * 4,
-        )?;
-        let mut edges: Vec<u32> = bytemuck::pod_collect_to_vec::<u8, u32>(&words)
+        let mut edges: Vec<u32> = self
+            .r
+            .words::<u32>(&t.edges, header_bytes, count * 4)?
             .into_iter()
             .map(|w| (w >> 16) * self.r.targets.width + (w & 0xffff))
             .collect();
@@ -365,14 +446,7 @@ impl<'r> Inspect<'r> {
     /// # Errors
     /// A device or mapping error.
     pub fn read_vis(&self) -> Result<Vec<u32>> {
-        let vis = read_texture(
-            &self.r.device,
-            &self.r.queue,
-            &self.r.targets.vis,
-            wgpu::TextureAspect::All,
-            4,
-        )?;
-        Ok(bytemuck::pod_collect_to_vec(&vis))
+        self.r.texels(&self.r.targets.vis, wgpu::TextureAspect::All)
     }
 
     /// Reads back what the last deferred frame's classification wrote.
@@ -469,6 +543,59 @@ impl<'r> Inspect<'r> {
 }
 
 impl Hooks<'_> {
+    /// Replaces the position pass's mini G-buffer with `given` (data words, view depths,
+    /// mesh normals as half-float bit patterns: any values) for the next frames, which skip
+    /// the visibility and position passes; `None` goes back to drawing it. How tests feed
+    /// a corrupt mini G-buffer to the passes after it.
+    ///
+    /// # Errors
+    /// Slices of the wrong length, or no water.
+    #[doc(hidden)]
+    pub fn set_water_gbuffer(&mut self, given: Option<WaterGBufferInput<'_>>) -> Result<()> {
+        let Some(w) = &mut self.r.water else {
+            return Err(Error::Length {
+                what: "a mini G-buffer for a renderer without water",
+                got: 0,
+                expected: 0,
+            });
+        };
+        let Some((data, depth, normal)) = given else {
+            w.gbuffer_given = false;
+            return Ok(());
+        };
+        let [sw, sh] = w.targets.size;
+        let n = (sw * sh) as usize;
+        for (what, len) in [
+            ("mini G-buffer data words", data.len()),
+            ("mini G-buffer depths", depth.len()),
+            ("mini G-buffer normals", normal.len()),
+        ] {
+            if len != n {
+                return Err(Error::Length {
+                    what,
+                    got: len,
+                    expected: n,
+                });
+            }
+        }
+        let write = |t: &wgpu::Texture, bytes: &[u8], texel: u32| {
+            self.r.queue.write_texture(
+                t.as_image_copy(),
+                bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(sw * texel),
+                    rows_per_image: Some(sh),
+                },
+                t.size(),
+            );
+        };
+        write(&w.targets.data.0, bytemuck::cast_slice(data), 4);
+        write(&w.targets.linear.0, bytemuck::cast_slice(depth), 4);
+        write(&w.targets.normal.0, bytemuck::cast_slice(normal), 8);
+        w.gbuffer_given = true;
+        Ok(())
+    }
     /// Renders the laydown alone and returns the vis buffer (row-major words) and the depth
     /// buffer: what the classification passes and their CPU twins read.
     ///
@@ -481,13 +608,11 @@ impl Hooks<'_> {
     ) -> Result<(Vec<u32>, Vec<f32>)> {
         self.r
             .run(scene, frame, "laydown", Recording::Laydown, None, true)?;
-        let read =
-            |t: &wgpu::Texture, aspect| read_texture(&self.r.device, &self.r.queue, t, aspect, 4);
-        let vis = read(&self.r.targets.vis, wgpu::TextureAspect::All)?;
-        let depth = read(&self.r.targets.depth, wgpu::TextureAspect::DepthOnly)?;
         Ok((
-            bytemuck::pod_collect_to_vec(&vis),
-            bytemuck::pod_collect_to_vec(&depth),
+            self.r
+                .texels(&self.r.targets.vis, wgpu::TextureAspect::All)?,
+            self.r
+                .texels(&self.r.targets.depth, wgpu::TextureAspect::DepthOnly)?,
         ))
     }
 

@@ -576,17 +576,37 @@ impl Renderer {
     /// # Errors
     /// A device or mapping error.
     pub fn read_output(&self) -> Result<Rgba8Image> {
-        let bytes = read_texture(
-            &self.device,
-            &self.queue,
-            &self.targets.output,
-            wgpu::TextureAspect::All,
-            4,
-        )?;
         Ok(Rgba8Image {
             width: self.config.width,
             height: self.config.height,
-            pixels: bytemuck::pod_collect_to_vec(&bytes),
+            pixels: self.texels(&self.targets.output, wgpu::TextureAspect::All)?,
         })
+    }
+
+    /// Mip 0, layer 0 of `texture` read back as `T`s, one a texel (row-major).
+    fn texels<T: bytemuck::Pod>(
+        &self,
+        texture: &wgpu::Texture,
+        aspect: wgpu::TextureAspect,
+    ) -> Result<Vec<T>> {
+        let bytes = read_texture(
+            &self.device,
+            &self.queue,
+            texture,
+            aspect,
+            size_of::<T>() as u32,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// `bytes` of `buffer` from `offset` read back as `T`s.
+    fn words<T: bytemuck::Pod>(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        bytes: u64,
+    ) -> Result<Vec<T>> {
+        let data = read_buffer(&self.device, &self.queue, buffer, offset, bytes)?;
+        Ok(bytemuck::pod_collect_to_vec(&data))
     }
 }

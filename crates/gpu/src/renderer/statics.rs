@@ -358,13 +358,11 @@ impl Renderer {
 
     /// The static placement's counters (placed per setup after the fixed ones).
     pub(super) fn read_static_counters(&self, b: &StaticBuffers) -> Result<Vec<u32>> {
-        Ok(bytemuck::pod_collect_to_vec(&read_buffer(
-            &self.device,
-            &self.queue,
+        self.words(
             &b.counters,
             0,
             4 * u64::from(STATIC_COUNTER_PLACED + b.setup_count),
-        )?))
+        )
     }
 
     /// Reads what a static shadow view's query and placement did (after its submission).
