@@ -12,13 +12,16 @@
 //!
 //! `cargo bench -p tiling --bench classify --features parallel`
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use tiling::{
     Batch, ClassifyConfig, Geometry, Plan, PlanConfig, VisBuffer, build_plan, classify,
     vertex_wave_commands,
 };
-use visbuf::{ShadingRate, VIS_NONE, VisFields, VisId, VisLayout};
+use visbuf::{ShadingRate, VIS_NONE, VisId, VisLayout};
 use wave::WaveWidth;
 
 const W: u32 = 3840;
@@ -130,7 +133,6 @@ fn foliage_frame(layout: VisLayout) -> Frame {
     while covered < 9 * u64::from(W * H) / 10 {
         let mb = &plan.micro_batches[rng.below(plan.micro_batches.len() as u64) as usize];
         let inst = rng.below(u64::from(mb.instance_count)) as u32;
-        let (id, field) = mb.instance_id(inst);
         let rate = ShadingRate::from_bits(rng.below(4) as u32);
         // Plants of a batch grow in one patch of the screen (a placement cell).
         let (bx, by) = centers[mb.batch as usize];
@@ -153,18 +155,7 @@ fn foliage_frame(layout: VisLayout) -> Frame {
                 tx += dx + (rng.f32() - 0.5);
                 ty += dy + (rng.f32() - 0.5);
             }
-            let word = VisId::pack(
-                layout,
-                mb.bits(),
-                VisFields {
-                    micro_batch: id,
-                    instance: field,
-                    primitive: prim,
-                    rate,
-                },
-            )
-            .unwrap()
-            .0;
+            let word = common::word(layout, mb, inst, prim, rate);
             let r = 1.0 + rng.f32() * 3.0;
             let p = [
                 (
@@ -221,14 +212,7 @@ fn bench(c: &mut Criterion) {
         let config = ClassifyConfig::for_plan(&frame.plan, WaveWidth::W32);
         let table = &frame.plan.table;
         let result = classify(&vis, table, &frame.indices, &config).unwrap();
-        let v = vertex_wave_commands(
-            &result.mid.vertex_cull,
-            frame.plan.chunk_count,
-            table,
-            &frame.plan.order,
-            &frame.plan.passes,
-        )
-        .unwrap();
+        let v = common::plan_vertex_waves(&frame.plan, &result.mid.vertex_cull);
         let m = tiling::measure(&vis, table, &config, &result, &v).unwrap();
         let pixels = u64::from(W * H);
         let tiles = vis.tile_count() as f64;

@@ -91,6 +91,22 @@ pub enum Error {
     },
 }
 
+impl Error {
+    /// `Ok` when buffer `what` holds `got` elements, the `expected` length; else
+    /// [`Error::BufferSize`].
+    pub(crate) fn check_len(what: &'static str, expected: u64, got: usize) -> Result<(), Self> {
+        if got as u64 == expected {
+            Ok(())
+        } else {
+            Err(Self::BufferSize {
+                what,
+                expected,
+                got: got as u64,
+            })
+        }
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {

@@ -86,7 +86,7 @@ compile_error!("tiling needs visbuf's float math: enable the `std` (default) or 
 pub mod classify;
 mod decode;
 mod error;
-mod fused;
+mod layout;
 pub mod measure;
 #[cfg(feature = "parallel")]
 pub mod parallel;

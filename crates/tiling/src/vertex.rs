@@ -27,7 +27,7 @@ use alloc::vec;
 use alloc::vec::Vec;
 
 use crate::Error;
-use crate::classify::PassDispatch;
+use crate::layout::PassDispatch;
 use crate::plan::{MicroBatchInfo, PassInfo, VERTEX_CHUNK_SIZE};
 
 /// Chunks per uber chunk (the bits of its mask).

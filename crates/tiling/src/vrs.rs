@@ -31,7 +31,7 @@ use visbuf::VisId;
 use wave::{PerLane, Wave, WaveWidth};
 
 use crate::Error;
-use crate::classify::{QUAD_COORD_MASK, QUAD_PIXELS_SHIFT, QUAD_Y_SHIFT, VisBuffer};
+use crate::layout::{QUAD_COORD_MASK, QUAD_PIXELS_SHIFT, QUAD_Y_SHIFT, VisBuffer};
 
 /// Bit of a broadcast entry holding the x offset within the quad (the lane is in the bits
 /// below).

@@ -19,7 +19,6 @@ use tiling::{
     Classification, ClassifyConfig, PassDispatch, PixelStats, Plan, PlanConfig, TilingParams,
     Totals, UberChunk, VertexWaveCommand, VisBuffer, WaveCommand, canonical_sort, classify_output,
     classify_phases, laydown_finalize, mid_classify, pixel_command, unpack_pixel_command,
-    vertex_wave_commands,
 };
 use visbuf::VisLayout;
 use wave::WaveWidth;
@@ -333,14 +332,7 @@ fn classification_case(
 /// `tiling::wgsl::VERTEX_WAVES` over the cull buffer `cull` of `plan` against the CPU twin,
 /// every output; returns the vertex waves (visible chunks).
 fn vertex_waves_case(what: &str, params: &TilingParams, plan: &Plan, cull: &[u8]) -> usize {
-    let v = vertex_wave_commands(
-        cull,
-        plan.chunk_count,
-        &plan.table,
-        &plan.order,
-        &plan.passes,
-    )
-    .unwrap();
+    let v = common::plan_vertex_waves(plan, cull);
     let chunks = plan.chunk_count as usize;
     let ubers = chunks.div_ceil(64);
     let p4 = run_pass(

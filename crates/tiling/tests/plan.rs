@@ -19,6 +19,16 @@ fn geometry(prims: u32, verts: u32) -> Geometry {
     }
 }
 
+/// A batch of shader 0 with `instances` at the given positions.
+fn batch(batch_data: u64, geometry: Geometry, instances: &[[f32; 3]]) -> Batch<'_> {
+    Batch {
+        shader: 0,
+        batch_data,
+        geometry,
+        instances,
+    }
+}
+
 /// Checks a plan against the batches with plain loops.
 fn check_plan(batches: &[Batch<'_>], config: &PlanConfig, plan: &Plan) {
     let vertex_limit = u64::from(config.max_micro_batch_vertices)
@@ -227,12 +237,7 @@ fn instance_overflow_takes_consecutive_ids() {
     // 1000 triangles: 10 primitive bits, 64 instances per ID; 65 * 1000 triangles fit one
     // micro batch, so it spans two IDs; the 66th instance starts the next micro batch.
     let pos = vec![[0.0f32; 3]; 66];
-    let b = [Batch {
-        shader: 0,
-        batch_data: 0,
-        geometry: geometry(1000, 500),
-        instances: &pos,
-    }];
+    let b = [batch(0, geometry(1000, 500), &pos)];
     let plan = build_plan(&b, &PlanConfig::default()).unwrap();
     assert_eq!(plan.micro_batches.len(), 2);
     let (m0, m1) = (plan.micro_batches[0], plan.micro_batches[1]);
@@ -259,12 +264,7 @@ fn instance_overflow_takes_consecutive_ids() {
 #[test]
 fn full_16_bit_geometry_takes_one_instance_per_micro_batch() {
     let pos = vec![[0.0f32; 3]; 3];
-    let b = [Batch {
-        shader: 0,
-        batch_data: 0,
-        geometry: geometry(65_536, 70_000),
-        instances: &pos,
-    }];
+    let b = [batch(0, geometry(65_536, 70_000), &pos)];
     let plan = build_plan(&b, &PlanConfig::default()).unwrap();
     assert_eq!(plan.micro_batches.len(), 3);
     assert!(
@@ -290,12 +290,7 @@ fn a_batch_splits_over_passes_to_fill_them() {
     // 100 instances of 3000 vertices = 300 000 vertices; PS4 passes hold 196 608, micro
     // batches 192k = 196 608 too: the first pass takes 65 instances (195 000), the second 35.
     let pos = vec![[0.0f32; 3]; 100];
-    let b = [Batch {
-        shader: 0,
-        batch_data: 0,
-        geometry: geometry(100, 3000),
-        instances: &pos,
-    }];
+    let b = [batch(0, geometry(100, 3000), &pos)];
     let plan = build_plan(&b, &PlanConfig::ps4()).unwrap();
     let per_pass: Vec<u32> = plan.passes.iter().map(|p| p.vertex_count / 3000).collect();
     assert_eq!(per_pass, [65, 35]);
@@ -305,14 +300,7 @@ fn a_batch_splits_over_passes_to_fill_them() {
 #[test]
 fn batch_groups_are_limited_to_32_per_pass() {
     let pos = vec![[0.0f32; 3]; 1];
-    let b: Vec<Batch<'_>> = (0..70u64)
-        .map(|d| Batch {
-            shader: 0,
-            batch_data: d,
-            geometry: geometry(2, 4),
-            instances: &pos,
-        })
-        .collect();
+    let b: Vec<Batch<'_>> = (0..70u64).map(|d| batch(d, geometry(2, 4), &pos)).collect();
     let plan = build_plan(&b, &PlanConfig::default()).unwrap();
     let groups: Vec<u32> = plan.passes.iter().map(|p| p.batch_group_count).collect();
     assert_eq!(groups, [32, 32, 6]);
@@ -322,12 +310,7 @@ fn batch_groups_are_limited_to_32_per_pass() {
 #[test]
 fn limits_are_errors_that_name_the_limit_and_the_batch() {
     let pos = vec![[0.0f32; 3]; 2];
-    let ok = Batch {
-        shader: 0,
-        batch_data: 0,
-        geometry: geometry(10, 10),
-        instances: &pos,
-    };
+    let ok = batch(0, geometry(10, 10), &pos);
     let too_many_prims = Batch {
         geometry: geometry(65_537, 10),
         ..ok
@@ -401,12 +384,7 @@ fn limits_are_errors_that_name_the_limit_and_the_batch() {
 
     // The VRS layout has 16 383 micro-batch IDs.
     let one = vec![[0.0f32; 3]; 1];
-    let tiny = Batch {
-        shader: 0,
-        batch_data: 0,
-        geometry: geometry(1, 3),
-        instances: &one,
-    };
+    let tiny = batch(0, geometry(1, 3), &one);
     let lots = vec![tiny; 16_384];
     let vrs = PlanConfig {
         layout: VisLayout::Vrs,
@@ -459,12 +437,7 @@ fn empty_batches_produce_nothing_and_are_counted() {
             geometry: geometry(10, 10),
             instances: &[],
         },
-        Batch {
-            shader: 0,
-            batch_data: 0,
-            geometry: geometry(10, 10),
-            instances: &pos,
-        },
+        batch(0, geometry(10, 10), &pos),
     ];
     let plan = build_plan(&b, &PlanConfig::default()).unwrap();
     assert_eq!((plan.empty_batches, plan.micro_batches.len()), (1, 1));
@@ -520,12 +493,7 @@ fn batches_sort_by_shader_data_then_position() {
 fn reservations_map_every_rank_to_its_own_slot() {
     use tiling::Reservation;
     let positions = vec![[0.0f32; 3]; 300];
-    let batches = [Batch {
-        shader: 0,
-        batch_data: 1,
-        geometry: geometry(30, 40),
-        instances: &positions,
-    }];
+    let batches = [batch(1, geometry(30, 40), &positions)];
     let config = PlanConfig::default();
     let planned = build_plan(&batches, &config).unwrap();
     let mut plan = planned.clone();

@@ -3,11 +3,13 @@
 //! expansion, and the talk's measurements on the same tile. Expected values are written
 //! out by hand from the pictures below.
 
+mod common;
+
 use tiling::{
     Batch, ClassifyConfig, Geometry, PassDispatch, PlanConfig, VisBuffer, WaveCommand, build_plan,
-    classify, depth_equal_waves, expand_wave, quad_command, vertex_wave_commands,
+    classify, depth_equal_waves, expand_wave, quad_command,
 };
-use visbuf::{ShadingRate, VIS_NONE, VisFields, VisId, VisLayout};
+use visbuf::{ShadingRate, VIS_NONE, VisLayout};
 use wave::WaveWidth;
 
 /// The tile: A, B, C, D are four batch groups of one shader; `.` has no vis-buffer
@@ -153,14 +155,7 @@ fn loose_tiling_example_16x16_wave_8() {
     );
 
     // Vertex wave commands: one per micro batch, chunk 0.
-    let v = vertex_wave_commands(
-        &c.mid.vertex_cull,
-        plan.chunk_count,
-        &plan.table,
-        &plan.order,
-        &plan.passes,
-    )
-    .unwrap();
+    let v = common::plan_vertex_waves(&plan, &c.mid.vertex_cull);
     let ids: Vec<(u32, u32)> = v
         .commands
         .iter()
@@ -211,21 +206,8 @@ fn vrs_quads_and_their_expansion() {
     )
     .unwrap();
     let mb = plan.micro_batches[0];
-    let word = |instance: u32, rate: ShadingRate| {
-        let (id, field) = mb.instance_id(instance);
-        VisId::pack(
-            VisLayout::Vrs,
-            mb.bits(),
-            VisFields {
-                micro_batch: id,
-                instance: field,
-                primitive: 0,
-                rate,
-            },
-        )
-        .unwrap()
-        .0
-    };
+    let word =
+        |instance: u32, rate: ShadingRate| common::word(VisLayout::Vrs, &mb, instance, 0, rate);
     let q = word(0, ShadingRate::Rate2x2);
     let h = word(1, ShadingRate::Rate2x1);
     let v = word(2, ShadingRate::Rate1x2);

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Rng, random_scene, random_vis};
+use common::{Rng, plan_vertex_waves, random_scene, random_vis};
 use proptest::prelude::*;
 use tiling::vertex::{HistogramPyramid, UberChunk, nth_set_bit, pyramid_levels, uber_chunks};
 use tiling::{
@@ -89,14 +89,7 @@ fn vertex_waves_equal_a_naive_walk_of_the_cull_buffer() {
         let cull: Vec<u8> = (0..plan.chunk_count)
             .map(|_| u8::from(rng.chance(density)))
             .collect();
-        let v = vertex_wave_commands(
-            &cull,
-            plan.chunk_count,
-            &plan.table,
-            &plan.order,
-            &plan.passes,
-        )
-        .unwrap();
+        let v = plan_vertex_waves(plan, &cull);
         let got: Vec<(u32, u32)> = v
             .commands
             .iter()
@@ -192,14 +185,7 @@ fn measurements_match_plain_counts() {
         let vis = VisBuffer::new(&words, w, h, layout).unwrap();
         let config = ClassifyConfig::for_plan(plan, WaveWidth::W32);
         let c = classify(&vis, &plan.table, &scene.indices, &config).unwrap();
-        let v = vertex_wave_commands(
-            &c.mid.vertex_cull,
-            plan.chunk_count,
-            &plan.table,
-            &plan.order,
-            &plan.passes,
-        )
-        .unwrap();
+        let v = plan_vertex_waves(plan, &c.mid.vertex_cull);
         let m = measure(&vis, &plan.table, &config, &c, &v).unwrap();
         // Deferred side: the wave commands and their lanes.
         assert_eq!(m.deferred_waves, c.output.waves.len() as u64);

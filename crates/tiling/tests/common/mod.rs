@@ -8,7 +8,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use tiling::{
     Batch, Classification, ClassifyOutput, Geometry, MicroBatchInfo, MidClassify, PassDispatch,
-    PixelStats, Plan, PlanConfig, WaveCommand, build_plan,
+    PixelStats, Plan, PlanConfig, VertexWaves, WaveCommand, build_plan, vertex_wave_commands,
 };
 use visbuf::{ShadingRate, VIS_NONE, VisFields, VisId, VisLayout};
 
@@ -82,25 +82,51 @@ pub fn random_scene(rng: &mut Rng, batches: usize, config: &PlanConfig) -> Scene
     }
 }
 
-/// A valid word for a random instance and primitive of a random micro batch.
-pub fn random_valid_word(rng: &mut Rng, plan: &Plan, layout: VisLayout) -> u32 {
-    let mb = &plan.micro_batches[rng.below(plan.micro_batches.len() as u64) as usize];
-    let i = rng.below(u64::from(mb.instance_count)) as u32;
-    let (id, field) = mb.instance_id(i);
-    let prim = rng.below(u64::from(mb.primitive_count)) as u32;
-    let rate = ShadingRate::from_bits(rng.below(4) as u32);
+/// The vis word of primitive `primitive` of instance `instance` (within the micro batch)
+/// of `mb`, shaded at `rate`, through visbuf's packing and the micro batch's instance
+/// mapping. Panics when the fields do not fit (a test's own mistake).
+pub fn word(
+    layout: VisLayout,
+    mb: &MicroBatchInfo,
+    instance: u32,
+    primitive: u32,
+    rate: ShadingRate,
+) -> u32 {
+    let (id, field) = mb.instance_id(instance);
     VisId::pack(
         layout,
         mb.bits(),
         VisFields {
             micro_batch: id,
             instance: field,
-            primitive: prim,
+            primitive,
             rate,
         },
     )
     .expect("fields fit")
     .0
+}
+
+/// A valid word for a random instance and primitive of a random micro batch.
+pub fn random_valid_word(rng: &mut Rng, plan: &Plan, layout: VisLayout) -> u32 {
+    let mb = &plan.micro_batches[rng.below(plan.micro_batches.len() as u64) as usize];
+    let i = rng.below(u64::from(mb.instance_count)) as u32;
+    let prim = rng.below(u64::from(mb.primitive_count)) as u32;
+    let rate = ShadingRate::from_bits(rng.below(4) as u32);
+    word(layout, mb, i, prim, rate)
+}
+
+/// The vertex wave commands of `plan` over the cull buffer `cull` (its table, order
+/// buffer and passes); panics on the errors the plan's own buffers never cause.
+pub fn plan_vertex_waves(plan: &Plan, cull: &[u8]) -> VertexWaves {
+    vertex_wave_commands(
+        cull,
+        plan.chunk_count,
+        &plan.table,
+        &plan.order,
+        &plan.passes,
+    )
+    .expect("the plan's buffers agree")
 }
 
 /// A word of a real micro batch whose primitive (or instance) lies past its counts, or a

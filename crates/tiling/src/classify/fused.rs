@@ -1,4 +1,4 @@
-//! [`classify`](crate::classify) as one pass per tile: the three phases' outputs computed
+//! [`classify`](crate::classify()) as one pass per tile: the three phases' outputs computed
 //! from a single scan of each tile (its words stay in cache), then the prefix sums and the
 //! wave commands. The outputs are those of running [`laydown_finalize`],
 //! [`mid_classify`] and [`classify_output`] in turn with one validity (the tests check it);
@@ -18,20 +18,21 @@
 
 use alloc::vec;
 use alloc::vec::Vec;
-use core::sync::atomic::{AtomicU8, Ordering};
 
 use visbuf::VisLayout;
 
-use crate::classify::{
-    Classification, ClassifyConfig, ClassifyOutput, Frame, MidClassify, PixelStats, TILE_SIZE,
-    TileMarks, pixel_command, write_waves,
-};
+use super::frame::{Frame, Schedule, exclusive_scan, split_at_starts};
+use super::marks::{CullBuffer, TileMarks};
+use super::output::write_waves;
+use super::types::{Classification, ClassifyConfig, ClassifyOutput, MidClassify, PixelStats};
+use crate::Error;
 use crate::decode::{KIND_VALID, PG_SLOTS};
+use crate::layout::{TILE_SIZE, VisBuffer, pixel_command};
 use crate::plan::MicroBatchInfo;
 use crate::vrs;
 
 /// Per-thread scratch, reused from tile to tile.
-pub(crate) struct Scratch {
+struct Scratch {
     /// Per `pass * 32 + group` (and the trash slot): commands counted in this tile (reset
     /// after each tile; a tile has at most 16 384).
     pg_count: Vec<u16>,
@@ -46,7 +47,7 @@ pub(crate) struct Scratch {
 }
 
 impl Scratch {
-    pub fn new() -> Self {
+    fn new() -> Self {
         let pixels = (TILE_SIZE * TILE_SIZE) as usize;
         Self {
             pg_count: vec![0; PG_SLOTS],
@@ -59,25 +60,18 @@ impl Scratch {
 }
 
 /// One tile's share of the frame's outputs.
-pub(crate) struct TileOut {
+struct TileOut {
     counts: Vec<u32>,
-    pub commands: Vec<u16>,
+    commands: Vec<u16>,
     stats: PixelStats,
 }
 
 /// Scans tile `t`: fills its mask row `masks_t`, marks `cull`, returns its counters'
 /// counts and its commands in final order.
-#[expect(
-    clippy::too_many_arguments,
-    reason = "pass-shaped CPU twin: one tile of the fused classification, taking the passes' per-tile bindings in the shaders' order"
-)]
-pub(crate) fn tile(
+fn tile(
     f: &Frame<'_>,
     t: usize,
-    table: &[MicroBatchInfo],
-    indices: &[u32],
-    cull: &[AtomicU8],
-    chunk_count: u32,
+    cull: &CullBuffer<'_>,
     masks_t: &mut [u32],
     s: &mut Scratch,
 ) -> TileOut {
@@ -176,7 +170,7 @@ pub(crate) fn tile(
         *slot += 1;
     }
     stats.commands = n as u32;
-    stats.bad_indices = s.marks.finish(f, t, table, indices, cull, chunk_count);
+    stats.bad_indices = s.marks.finish(f, t, cull);
     TileOut {
         counts,
         commands,
@@ -184,33 +178,18 @@ pub(crate) fn tile(
     }
 }
 
-/// The frame's outputs from the tiles' (in tile order) and the mask rows.
-pub(crate) fn assemble(
+/// The frame's outputs from the tiles' (in tile order) and the mask rows, the tiles'
+/// commands copied into their places by `schedule`.
+fn assemble(
+    schedule: Schedule,
     f: &Frame<'_>,
     config: &ClassifyConfig,
     masks: Vec<u32>,
     tiles: Vec<TileOut>,
-    cull: Vec<AtomicU8>,
-) -> Classification {
-    assemble_with(f, config, masks, tiles, cull, |tiles, commands| {
-        for (t, out) in tiles.iter().zip(commands) {
-            out.copy_from_slice(&t.commands);
-        }
-    })
-}
-
-/// [`assemble`] with the tiles' commands copied into their places (one slice per tile, in
-/// order) by `copy`.
-pub(crate) fn assemble_with(
-    f: &Frame<'_>,
-    config: &ClassifyConfig,
-    masks: Vec<u32>,
-    tiles: Vec<TileOut>,
-    cull: Vec<AtomicU8>,
-    copy: impl FnOnce(&[TileOut], Vec<&mut [u16]>),
+    cull: CullBuffer<'_>,
 ) -> Classification {
     let mut mid = MidClassify::default();
-    mid.counter_count = crate::classify::exclusive_scan(
+    mid.counter_count = exclusive_scan(
         masks.iter().map(|m| m.count_ones()),
         &mut mid.counter_offsets,
     );
@@ -226,17 +205,18 @@ pub(crate) fn assemble_with(
         at += t.commands.len();
     }
     let mut commands = vec![0u16; at];
-    copy(
-        &tiles,
-        crate::classify::split_at_starts(&mut commands, &ranges),
+    let pieces = split_at_starts(&mut commands, &ranges)
+        .into_iter()
+        .zip(&tiles)
+        .collect();
+    schedule.map(
+        pieces,
+        || (),
+        |(), _, (out, t)| out.copy_from_slice(&t.commands),
     );
     drop(tiles);
-    mid.command_count =
-        crate::classify::exclusive_scan(counts.iter().copied(), &mut mid.pixel_offsets);
-    mid.vertex_cull = cull
-        .into_iter()
-        .map(|c| c.load(Ordering::Relaxed))
-        .collect();
+    mid.command_count = exclusive_scan(counts.iter().copied(), &mut mid.pixel_offsets);
+    mid.vertex_cull = cull.into_bytes();
     mid.stats = stats;
     let mut output = ClassifyOutput {
         commands,
@@ -248,13 +228,22 @@ pub(crate) fn assemble_with(
         ..ClassifyOutput::default()
     };
     mid.counts = counts;
-    write_waves(
-        f,
-        &masks,
-        &mid.counter_offsets,
-        &mid.pixel_offsets,
-        config.wave_width,
-        &mut output,
-    );
+    write_waves(f, &masks, &mid, config.wave_width, &mut output);
     Classification { masks, mid, output }
+}
+
+/// [`classify`](crate::classify()) with its tiles run by `schedule`.
+pub(crate) fn classify_on(
+    schedule: Schedule,
+    vis: &VisBuffer<'_>,
+    table: &[MicroBatchInfo],
+    indices: &[u32],
+    config: &ClassifyConfig,
+) -> Result<Classification, Error> {
+    let f = Frame::new(vis, table, config)?;
+    let mut masks = vec![0u32; vis.tile_count() as usize * f.passes];
+    let cull = CullBuffer::new(table, indices, config.chunk_count);
+    let rows = masks.chunks_mut(f.passes).collect();
+    let tiles = schedule.map(rows, Scratch::new, |s, t, m| tile(&f, t, &cull, m, s));
+    Ok(assemble(schedule, &f, config, masks, tiles, cull))
 }
