@@ -13,8 +13,8 @@
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
-use crate::frame::{Camera, FrameInput, Lighting, PointLight, SpotLight};
 use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
+use scene::{Camera, FrameInput, Lighting, PointLight, SpotLight};
 
 pub mod city;
 mod hillside;

@@ -24,9 +24,9 @@ use super::{
     MeshBuilder, Rng, bark_layer, bush_mesh, canopy_mesh, count, fern_layer, grass_layer,
     ground_layer, leaf_layer, material, rock_layer, rock_mesh, trunk_mesh, tuft_mesh,
 };
-use crate::frame::{Camera, FrameInput, Lighting, PointLight};
 use crate::scene::{Batch, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 use crate::water_scene::{ShoreField, WaterDecal, WaterScene};
+use scene::{Camera, FrameInput, Lighting, PointLight};
 
 /// Half the side of the square the scene covers, metres.
 pub const HALF_EXTENT: f32 = 192.0;
