@@ -84,7 +84,6 @@
 
 mod context;
 pub mod debug;
-pub mod demo;
 mod error;
 mod frame;
 mod gbuffer;
@@ -142,7 +141,7 @@ pub use shadows::ShadowConfig;
 pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
 pub use statics::{
     StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticShadowStats, StaticView,
-    scene_from_query, static_view_desc,
+    scene_from_query, static_view_desc, stream_static_world,
 };
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;
