@@ -2,11 +2,11 @@
 //! (seeded with the importer's test files, `fuzz/seeds/gltf_import/`). Nothing may panic;
 //! an import that succeeds must give a scene the renderer accepts.
 
-use gltf_scene::gpu::{MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH};
+use gltf_scene::scene::{MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH};
 use gltf_scene::{LoadOptions, load_slice};
 
 /// Imports `data` (no base directory: external files are errors, never read) with small
-/// image limits, and checks what comes back: a valid `gpu::Scene` within the 64k limits,
+/// image limits, and checks what comes back: a valid `scene::Scene` within the 64k limits,
 /// and a summary that counts it.
 pub fn gltf_import(data: &[u8]) {
     let options = LoadOptions {

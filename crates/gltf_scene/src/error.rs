@@ -115,7 +115,7 @@ pub enum Error {
         /// What is wrong.
         problem: String,
     },
-    /// The scene as a whole breaks a limit of the renderer (`gpu::Scene::validate`), e.g.
+    /// The scene as a whole breaks a limit of the renderer (`scene::Scene::validate`), e.g.
     /// transforms whose products overflow to infinity.
     Scene {
         /// The file.

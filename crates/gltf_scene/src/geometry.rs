@@ -5,8 +5,8 @@
 
 use std::collections::HashMap;
 
-use gpu::glam::{Vec2, Vec3, Vec4};
-use gpu::{MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Mesh};
+use scene::glam::{Vec2, Vec3, Vec4};
+use scene::{MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Mesh};
 
 /// Triangle geometry with 32-bit indices, before splitting.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -3,9 +3,9 @@
 
 use std::io::Cursor;
 
-use gpu::glam::{Mat3, Vec2, Vec3};
-use gpu::{AlbedoLayer, Material, ShaderKind};
 use image::{ImageFormat, RgbaImage};
+use scene::glam::{Mat3, Vec2, Vec3};
+use scene::{AlbedoLayer, Material, ShaderKind};
 
 use crate::{Error, LoadOptions};
 

@@ -5,7 +5,7 @@ mod common;
 
 use common::{Doc, scene, temp_dir, triangle_mesh};
 use gltf_scene::glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
-use gltf_scene::gpu::{self, ShaderKind};
+use gltf_scene::scene::{self, ShaderKind};
 use gltf_scene::{Error, LoadOptions, load, load_slice};
 use serde_json::json;
 
@@ -190,7 +190,7 @@ fn grid(w: u32, h: u32) -> (Vec<[f32; 3]>, Vec<u32>) {
     (pos, idx)
 }
 
-fn world_triangles(sc: &gpu::Scene) -> Vec<[Vec3; 3]> {
+fn world_triangles(sc: &scene::Scene) -> Vec<[Vec3; 3]> {
     sc.batches
         .iter()
         .flat_map(|b| {
@@ -237,8 +237,8 @@ fn meshes_over_the_64k_limits_are_split_with_identical_geometry() {
     let imp = import(&doc.glb());
     let sc = &imp.scene;
     for m in &sc.meshes {
-        assert!(m.positions.len() <= gpu::MAX_VERTICES_PER_MESH);
-        assert!(m.primitive_count() <= gpu::MAX_PRIMITIVES_PER_MESH);
+        assert!(m.positions.len() <= scene::MAX_VERTICES_PER_MESH);
+        assert!(m.primitive_count() <= scene::MAX_PRIMITIVES_PER_MESH);
     }
     assert_eq!(sc.meshes.len(), 4, "two pieces each");
     assert_eq!(imp.summary.split_primitives, 2);

@@ -8,7 +8,7 @@ mod common;
 
 use common::{Doc, scene};
 use gltf_scene::glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
-use gltf_scene::gpu::{
+use gpu::{
     self, AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath,
     Renderer, RendererConfig, ShaderKind,
 };

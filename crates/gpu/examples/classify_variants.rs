@@ -8,7 +8,7 @@
 //! ```
 
 use clap::{Parser, ValueEnum};
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::{ClassificationVariant, HeadlessOptions, RenderPath, Renderer, RendererConfig};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]

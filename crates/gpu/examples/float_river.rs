@@ -15,7 +15,7 @@
 use std::path::PathBuf;
 
 use clap::Parser;
-use gpu::demo::river::{RiverDemo, river};
+use demo::river::{RiverDemo, river};
 use gpu::glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 use gpu::water;
 use gpu::water::world::WaterWorld;

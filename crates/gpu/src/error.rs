@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+pub use scene::{FrameError, SceneError, WaterError};
+
 /// Everything the renderer can fail with. Device loss and out-of-memory are errors here,
 /// never panics; so are scene limits from the talks (each names the limit and the item).
 #[derive(Debug, Clone, PartialEq)]
@@ -103,153 +105,6 @@ pub enum Error {
     },
 }
 
-/// A scene that cannot be rendered as given.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum SceneError {
-    /// A static tile cannot be activated on the GPU.
-    StaticTile {
-        /// The tile's id.
-        tile: u32,
-        /// Why.
-        problem: &'static str,
-    },
-    /// A static setup refers to a missing mesh or material, or its capacity is out of
-    /// range.
-    StaticSetup {
-        /// Index in `Scene::static_setups` (the setup handle).
-        setup: usize,
-        /// What is wrong.
-        problem: String,
-    },
-    /// A mesh has more primitives than 16-bit indices and the vis-buffer ID allow.
-    TooManyPrimitives {
-        /// The mesh's name.
-        mesh: String,
-        /// Its primitive count.
-        primitives: usize,
-        /// The limit (65 536).
-        limit: usize,
-    },
-    /// A mesh has more vertices than 16-bit indices can address.
-    TooManyVertices {
-        /// The mesh's name.
-        mesh: String,
-        /// Its vertex count.
-        vertices: usize,
-        /// The limit (65 536).
-        limit: usize,
-    },
-    /// A mesh's index count is not a multiple of three.
-    IndexCountNotTriangles {
-        /// The mesh's name.
-        mesh: String,
-        /// Its index count.
-        indices: usize,
-    },
-    /// An index refers past the mesh's vertices.
-    IndexOutOfRange {
-        /// The mesh's name.
-        mesh: String,
-        /// Position in the index array.
-        at: usize,
-        /// The index found.
-        index: u32,
-        /// The mesh's vertex count.
-        vertices: usize,
-    },
-    /// Attribute arrays of a mesh differ in length.
-    AttributeLength {
-        /// The mesh's name.
-        mesh: String,
-        /// Which attribute.
-        attribute: &'static str,
-        /// Its length.
-        len: usize,
-        /// The position count.
-        expected: usize,
-    },
-    /// A float in the scene is NaN or infinite.
-    NonFinite {
-        /// Where it was found.
-        what: String,
-    },
-    /// A batch refers to a mesh or material that does not exist.
-    UnknownReference {
-        /// The batch's index.
-        batch: usize,
-        /// "mesh" or "material".
-        kind: &'static str,
-        /// The id it used.
-        id: usize,
-    },
-    /// A material uses a texture layer that does not exist.
-    UnknownTextureLayer {
-        /// The material's name.
-        material: String,
-        /// The layer it used.
-        layer: u32,
-        /// How many layers the scene has.
-        layers: usize,
-    },
-    /// Texture layers differ in size, or a layer's pixel count does not match its size.
-    TextureSize {
-        /// The layer.
-        layer: usize,
-        /// What is wrong.
-        detail: String,
-    },
-    /// The micro-batch / pass builder refused the scene (a limit from the talk).
-    Tiling(String),
-    /// A primitive-ID encoder refused a mesh.
-    Encoding(String),
-    /// A material drawn by the mixed frame's regular geometry pass
-    /// ([`Material::regular`](crate::Material::regular)) that is not
-    /// [`ShaderKind::Opaque`](crate::ShaderKind::Opaque): that pass tests depth before its
-    /// fragment shader runs (it clears the validity bit as a side effect), so it cannot
-    /// discard.
-    RegularNotOpaque {
-        /// The material's name.
-        material: String,
-    },
-    /// A value outside its allowed range (NaN and infinities included).
-    OutOfRange {
-        /// Which value (`material \`bark\`: roughness`).
-        field: String,
-        /// What it was.
-        value: f32,
-        /// What is allowed.
-        allowed: &'static str,
-    },
-}
-
-/// A frame input that cannot be rendered as given.
-#[derive(Debug, Clone, PartialEq)]
-#[non_exhaustive]
-pub enum FrameError {
-    /// A value outside its allowed range (NaN and infinities included).
-    OutOfRange {
-        /// Which value (`camera.fov_y`, `lighting.point_lights[3].radius`).
-        field: String,
-        /// What it was.
-        value: f32,
-        /// What is allowed.
-        allowed: &'static str,
-    },
-    /// The camera has no well-defined orientation.
-    CameraBasis {
-        /// What is wrong.
-        detail: &'static str,
-    },
-    /// More local lights (point and spot together) than the light culling takes.
-    TooManyLocalLights {
-        /// How many were given.
-        count: usize,
-        /// [`MAX_LOCAL_LIGHTS`](crate::MAX_LOCAL_LIGHTS).
-        limit: usize,
-    },
-}
-
 impl Error {
     /// `Err(Error::Config { .. })`: a configuration value outside what it allows.
     pub(crate) fn config<T>(field: &'static str, value: f64, allowed: &'static str) -> Result<T> {
@@ -334,110 +189,7 @@ impl fmt::Display for Error {
     }
 }
 
-impl fmt::Display for SceneError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SceneError::StaticTile { tile, problem } => {
-                write!(f, "static tile {tile} not activated: {problem}")
-            }
-            SceneError::StaticSetup { setup, problem } => {
-                write!(f, "static setup {setup}: {problem}")
-            }
-            SceneError::TooManyPrimitives {
-                mesh,
-                primitives,
-                limit,
-            } => write!(
-                f,
-                "mesh `{mesh}` has {primitives} primitives, over the limit of {limit} per geometry \
-                 (16-bit indices; the vis-buffer primitive field); split it"
-            ),
-            SceneError::TooManyVertices {
-                mesh,
-                vertices,
-                limit,
-            } => write!(
-                f,
-                "mesh `{mesh}` has {vertices} vertices, over the {limit} that 16-bit indices address; split it"
-            ),
-            SceneError::IndexCountNotTriangles { mesh, indices } => {
-                write!(
-                    f,
-                    "mesh `{mesh}` has {indices} indices, not a multiple of 3"
-                )
-            }
-            SceneError::RegularNotOpaque { material } => write!(
-                f,
-                "material `{material}`: `regular` needs ShaderKind::Opaque (the regular \
-                 geometry pass tests depth before shading and cannot discard)"
-            ),
-            SceneError::IndexOutOfRange {
-                mesh,
-                at,
-                index,
-                vertices,
-            } => write!(
-                f,
-                "mesh `{mesh}`: index {index} at position {at} is out of range ({vertices} vertices)"
-            ),
-            SceneError::AttributeLength {
-                mesh,
-                attribute,
-                len,
-                expected,
-            } => write!(
-                f,
-                "mesh `{mesh}`: {attribute} has {len} entries, expected {expected} (one per position)"
-            ),
-            SceneError::NonFinite { what } => write!(f, "{what} is NaN or infinite"),
-            SceneError::UnknownReference { batch, kind, id } => {
-                write!(
-                    f,
-                    "batch {batch} refers to {kind} {id}, which does not exist"
-                )
-            }
-            SceneError::UnknownTextureLayer {
-                material,
-                layer,
-                layers,
-            } => write!(
-                f,
-                "material `{material}` uses albedo layer {layer}, but the scene has {layers} layers"
-            ),
-            SceneError::TextureSize { layer, detail } => {
-                write!(f, "albedo layer {layer}: {detail}")
-            }
-            SceneError::Tiling(s) => write!(f, "micro batches and passes: {s}"),
-            SceneError::Encoding(s) => write!(f, "primitive-ID encoding: {s}"),
-            SceneError::OutOfRange {
-                field,
-                value,
-                allowed,
-            } => write!(f, "{field} is {value}, allowed: {allowed}"),
-        }
-    }
-}
-
-impl fmt::Display for FrameError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            FrameError::OutOfRange {
-                field,
-                value,
-                allowed,
-            } => write!(f, "{field} is {value}, allowed: {allowed}"),
-            FrameError::CameraBasis { detail } => write!(f, "{detail}"),
-            FrameError::TooManyLocalLights { count, limit } => write!(
-                f,
-                "{count} point and spot lights, over the limit of {limit}"
-            ),
-        }
-    }
-}
-
 impl std::error::Error for Error {}
-impl std::error::Error for SceneError {}
-impl std::error::Error for FrameError {}
 
 impl From<FrameError> for Error {
     fn from(e: FrameError) -> Self {
@@ -460,6 +212,27 @@ impl From<shader::Error> for Error {
 impl From<water::Error> for Error {
     fn from(e: water::Error) -> Self {
         Error::Water(e)
+    }
+}
+
+impl From<WaterError> for Error {
+    /// The water crate's refusals stay [`Error::Water`], the renderer's limits
+    /// [`Error::WaterLimit`] (the variants `set_water` always returned).
+    fn from(e: WaterError) -> Self {
+        match e {
+            WaterError::Water(e) => Error::Water(e),
+            WaterError::Limit {
+                what,
+                value,
+                limit,
+                limit_name,
+            } => Error::WaterLimit {
+                what,
+                value,
+                limit,
+                limit_name,
+            },
+        }
     }
 }
 

@@ -84,7 +84,6 @@
 
 mod context;
 pub mod debug;
-pub mod demo;
 mod error;
 mod frame;
 mod gbuffer;
@@ -92,7 +91,6 @@ mod image;
 mod passes;
 mod renderer;
 mod resources;
-mod scene;
 mod shadows;
 mod spot_shadows;
 mod statics;
@@ -106,10 +104,8 @@ pub use context::{
 };
 /// The `deferred` version this crate's API uses (G-buffer layouts, lights, cascades).
 pub use deferred;
-pub use error::{Error, FrameError, Result, SceneError};
-pub use frame::{
-    Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight, local_light_rows,
-};
+pub use error::{Error, FrameError, Result, SceneError, WaterError};
+pub use frame::local_light_rows;
 /// The `framealloc` version this crate's API uses (the upload pool's layout).
 pub use framealloc;
 pub use glam;
@@ -133,15 +129,19 @@ pub use renderer::{
 };
 pub use resources::uploads::UploadStats;
 pub use resources::{PreparedScene, SceneSummary};
+/// The scene, frame input and water scene descriptions this crate's API takes (every name
+/// below is re-exported from it).
+pub use scene;
 pub use scene::{
-    AlbedoLayer, Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh,
-    MeshId, Scene, ShaderKind, StaticSetup, Wind,
+    AlbedoLayer, Batch, Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, MAX_PRIMITIVES_PER_MESH,
+    MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh, MeshId, PointLight, Scene, ShaderKind,
+    SpotLight, StaticSetup, Wind,
 };
 pub use shadows::ShadowConfig;
 pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
 pub use statics::{
     StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticShadowStats, StaticView,
-    scene_from_query, static_view_desc,
+    scene_from_query, static_view_desc, stream_static_world,
 };
 /// The static-scene crate whose tiles and views [`StaticQuery`] takes.
 pub use staticscene;

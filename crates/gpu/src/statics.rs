@@ -5,7 +5,10 @@
 //! [`Renderer::render_static`]: crate::Renderer::render_static
 
 use glam::{Affine3A, Vec3};
-use staticscene::{QueryOptions, QueryParams, QueryStats, TileId, ViewDesc};
+use staticscene::{
+    BuildConfig, MeshNode, QueryOptions, QueryParams, QueryStats, ResourceLibrary, StreamingGroup,
+    TileId, TileStreamer, ViewDesc,
+};
 
 use crate::error::SceneError;
 use crate::frame::Camera;
@@ -241,4 +244,30 @@ impl StaticDebug {
             late: w & STATIC_DEBUG_LATE != 0,
         })
     }
+}
+
+/// Builds a static world's tiles (one streaming group after another, with `staticscene`'s
+/// default build configuration), activates each on `query` and returns the CPU scene
+/// that holds them. `resources` and `groups` are a world's (`demo::city`'s
+/// `world.resources` and `world.groups`).
+///
+/// # Errors
+/// A tile the static scene or the GPU pool refuses.
+pub fn stream_static_world(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    query: &mut StaticQuery,
+    resources: &[MeshNode],
+    groups: &[StreamingGroup],
+) -> crate::Result<staticscene::Scene> {
+    let mut streamer = TileStreamer::new(ResourceLibrary::new(resources), BuildConfig::default());
+    let mut scene = staticscene::Scene::new();
+    for g in groups {
+        let u = streamer.add_group(g)?;
+        for tile in &u.add {
+            query.activate(device, queue, tile.tile())?;
+        }
+        scene.apply(u);
+    }
+    Ok(scene)
 }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::glam::{Affine3A, Vec3};
 use gpu::{
     Camera, Error, FrameError, FrameInput, PointLight, RenderPath, Renderer, RendererConfig, Scene,

@@ -54,7 +54,7 @@ fn validation_errors_are_errors_not_panics() {
 /// draw lists) are valid by construction, so the injected pass only ever costs time.
 #[test]
 fn frames_without_indirect_validation_are_the_same() {
-    use gpu::demo::{self, DemoOptions, DemoScene};
+    use demo::{DemoOptions, DemoScene};
     use gpu::{RenderPath, Renderer, RendererConfig};
     let (scene, frame) = demo::build(&DemoOptions {
         scene: DemoScene::Grass,

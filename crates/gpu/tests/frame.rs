@@ -13,7 +13,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::framealloc::PoolConfig;
 use gpu::{FrameInput, RenderPath, Rgba8Image, Scene, diff_metrics};
 use testkit::device::{GoldenBounds, check_golden, ctx};

@@ -17,7 +17,7 @@ const W: u32 = 160;
 const H: u32 = 96;
 
 fn test_scene() -> (Scene, FrameInput) {
-    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
+    let (demo, _) = demo::build(&demo::DemoOptions {
         density: 0.01,
         ..Default::default()
     });
@@ -362,7 +362,7 @@ fn compute_laydown_matches_the_f64_rasteriser() {
 
 /// `mesh` with an opaque material (the demo's first albedo layer), one batch of `instances`.
 fn plain_scene(mesh: Mesh, instances: Vec<Affine3A>) -> Scene {
-    let (demo, _) = gpu::demo::build(&gpu::demo::DemoOptions {
+    let (demo, _) = demo::build(&demo::DemoOptions {
         density: 0.01,
         ..Default::default()
     });

@@ -8,7 +8,7 @@ mod common;
 
 use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles, tile_depth_ranges};
 use deferred::{DepthMode, Perspective};
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::{
     FrameInput, LightPaths, PointLight, RenderPath, Renderer, RendererConfig, Scene,
     local_light_rows,

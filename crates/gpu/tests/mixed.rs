@@ -13,7 +13,7 @@ mod common;
 
 use std::collections::BTreeSet;
 
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::{Laydown, RenderPath, RendererConfig, Scene, SceneError, ShaderKind, diff_metrics};
 use testkit::device::ctx;
 

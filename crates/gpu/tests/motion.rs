@@ -6,8 +6,8 @@
 
 mod common;
 
+use demo::{DemoOptions, DemoScene};
 use glam::{Affine3A, DMat4, DVec2, DVec3, DVec4, Vec2, Vec3, Vec4};
-use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{
     AlbedoLayer, Batch, Camera, FrameInput, MaterialId, Mesh, MeshId, RenderPath, Scene,
     ShaderKind, Wind,

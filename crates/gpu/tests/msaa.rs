@@ -5,8 +5,8 @@
 
 mod common;
 
+use demo::{DemoOptions, DemoScene};
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
-use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{
     AlbedoLayer, Batch, Camera, FrameInput, LightPaths, Material, MaterialId, Mesh, MeshId,
     MsaaLighting, RenderPath, RendererConfig, Rgba8Image, Scene, ShaderKind,

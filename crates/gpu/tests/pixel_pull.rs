@@ -8,7 +8,7 @@
 
 mod common;
 
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::{PrimitiveIdPath, RenderPath, RendererConfig, Scene, diff_metrics};
 use testkit::device::ctx;
 

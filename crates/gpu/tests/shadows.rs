@@ -6,8 +6,8 @@
 
 mod common;
 
+use demo::{DemoOptions, DemoScene};
 use glam::{DVec3, DVec4, Quat, Vec3};
-use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, ShadowConfig};
 
 const RES: u32 = 512;

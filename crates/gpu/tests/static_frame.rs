@@ -8,7 +8,7 @@
 
 mod common;
 
-use gpu::demo::city::{City, city};
+use demo::city::{City, city};
 use gpu::glam::{self, Affine3A, Vec3};
 use gpu::staticscene;
 use gpu::staticscene::ViewDesc;
@@ -80,7 +80,14 @@ impl Rig {
         let c = ctx();
         let city = small_city();
         let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
-        let cpu = city.stream(&c.device, &c.queue, &mut query).unwrap();
+        let cpu = gpu::stream_static_world(
+            &c.device,
+            &c.queue,
+            &mut query,
+            &city.world.resources,
+            &city.world.groups,
+        )
+        .unwrap();
         let r = renderer_sized(width, height);
         let prepared = r.prepare(&city.scene).unwrap();
         Rig {
@@ -652,7 +659,7 @@ fn tiles_streamed_between_frames_keep_the_frame_equal_to_the_twin() {
     let mut config = staticscene::demo::CityConfig::with_instances(30_000);
     // Small sectors: many streaming groups.
     config.sector_lots = 2;
-    let city = gpu::demo::city::city_with(config);
+    let city = demo::city::city_with(config);
     let mut r = renderer();
     let prepared = r.prepare(&city.scene).unwrap();
     let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();

@@ -8,8 +8,8 @@
 
 mod common;
 
+use demo::{DemoOptions, DemoScene};
 use glam::{DMat4, DVec3, Vec3};
-use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{Camera, PrimitiveIdPath, RenderPath, RendererConfig, Wind};
 use visbuf::{Vertex, VertexCore, VisbufVertex};
 

@@ -11,8 +11,8 @@
 
 mod common;
 
+use demo::{DemoOptions, DemoScene};
 use glam::Vec3;
-use gpu::demo::{self, DemoOptions, DemoScene};
 use gpu::{RenderPath, RendererConfig, VrsConfig, Wind};
 
 const W: u32 = 200;

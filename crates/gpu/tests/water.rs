@@ -13,7 +13,7 @@ mod common;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use gpu::demo::river::{RiverDemo, river};
+use demo::river::{RiverDemo, river};
 use gpu::glam::{Affine3A, Quat, UVec2, Vec2, Vec3};
 use gpu::water;
 use gpu::water::decal::{DecalTexture, DisplacementDecal, combined_displacement};

@@ -23,7 +23,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
-use gpu::demo::{self, DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::{HeadlessOptions, PrimitiveIdPath, RenderPath, Renderer, RendererConfig};
 
 pub mod report;
@@ -998,7 +998,13 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     let t0 = std::time::Instant::now();
     let city = demo::city::city(args.instances as usize);
     let mut query = gpu::StaticQuery::new(&ctx.device, &ctx.queue)?;
-    let mut cpu = city.stream(&ctx.device, &ctx.queue, &mut query)?;
+    let mut cpu = gpu::stream_static_world(
+        &ctx.device,
+        &ctx.queue,
+        &mut query,
+        &city.world.resources,
+        &city.world.groups,
+    )?;
     let build_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t1 = std::time::Instant::now();
     let prepared = renderer.prepare(&city.scene)?;

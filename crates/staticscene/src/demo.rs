@@ -19,16 +19,22 @@ use crate::resource::{Aabb, LodLevel, MeshNode, MeshPart, StaticMesh};
 use crate::tile::{PlacedObject, StreamingGroup};
 use crate::{FILTER_LOCAL_SHADOW, FILTER_SUN_SHADOW, FILTER_VISUAL};
 
-/// SplitMix64: a small deterministic generator.
-#[derive(Clone, Debug)]
+/// The workspace's one deterministic generator, SplitMix64 (Steele, Lea and Flood, "Fast
+/// splittable pseudorandom number generators", 2014): small, fast, every seed good, and
+/// the same sequence on every platform. The demo city and the renderer's demo scenes draw
+/// from it, and `testkit` re-exports it as the generator of every test, bench and example.
+/// It lives here, the lowest crate its users share: `demo` depends on this crate (the
+/// city), and this crate's library cannot depend on `demo` or `testkit`.
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Rng(u64);
 
 impl Rng {
-    /// A generator from a seed.
+    /// A generator from `seed` (any value, 0 included).
     #[must_use]
     pub fn new(seed: u64) -> Rng {
         Rng(seed)
     }
+
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
@@ -37,17 +43,43 @@ impl Rng {
         z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
         z ^ (z >> 31)
     }
-    /// Uniform in `[0, 1)`.
+
+    /// The next 32 random bits (the high half of [`Rng::next_u64`]).
+    pub fn next_u32(&mut self) -> u32 {
+        (self.next_u64() >> 32) as u32
+    }
+
+    /// Uniform in `[0, 1)`, 24 bits of precision.
     pub fn f32(&mut self) -> f32 {
         (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
     }
+
     /// Uniform in `[lo, hi)`.
     pub fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.f32()
     }
-    /// Uniform in `0..n` (`n > 0`).
-    pub fn below(&mut self, n: u32) -> u32 {
-        (((self.next_u64() >> 32) * u64::from(n)) >> 32) as u32
+
+    /// Uniform in `[0, n)` by the remainder of 64 bits (0 when `n` is 0; modulo bias below
+    /// 2^-32 for the sizes tests use).
+    pub fn below(&mut self, n: u64) -> u64 {
+        if n == 0 { 0 } else { self.next_u64() % n }
+    }
+
+    /// Uniform in `[0, n)` by multiplying the high 32 bits by `n` (Lemire's multiply-shift;
+    /// 0 when `n` is 0): the city's draws. A different sequence from [`Rng::below`]'s, kept
+    /// so the city stays the same for a seed.
+    pub fn pick(&mut self, n: u32) -> u32 {
+        ((u64::from(self.next_u32()) * u64::from(n)) >> 32) as u32
+    }
+
+    /// True with probability `percent` / 100.
+    pub fn chance(&mut self, percent: u64) -> bool {
+        self.below(100) < percent
+    }
+
+    /// `n` random words.
+    pub fn words(&mut self, n: usize) -> Vec<u32> {
+        (0..n).map(|_| self.next_u32()).collect()
     }
 }
 
@@ -329,8 +361,8 @@ pub fn city(config: &CityConfig) -> City {
                     0.0,
                     f64::from(config.lot_size) * 0.5,
                 );
-            let t = rng.below(types.len() as u32) as usize;
-            let k = rng.below(4);
+            let t = rng.pick(types.len() as u32) as usize;
+            let k = rng.pick(4);
             let mut o = PlacedObject::new(types[t], centre);
             o.linear = rot90(k);
             g.objects.push(o);
@@ -344,20 +376,20 @@ pub fn city(config: &CityConfig) -> City {
             for _ in 0..config.props_per_lot {
                 // Along the lot's street edges.
                 let along = f64::from(rng.range(0.0, config.lot_size));
-                let pos = if rng.below(2) == 0 {
+                let pos = if rng.pick(2) == 0 {
                     lot + DVec3::new(along, 0.0, 0.8)
                 } else {
                     lot + DVec3::new(0.8, 0.0, along)
                 };
-                let mut o = PlacedObject::new(props[rng.below(4) as usize], pos);
-                o.linear = rot90(rng.below(4));
+                let mut o = PlacedObject::new(props[rng.pick(4) as usize], pos);
+                o.linear = rot90(rng.pick(4));
                 o.lod_scale = rng.range(0.8, 1.25);
                 g.objects.push(o);
             }
             // One misfit at the corner lot of each sector, a few more at random.
-            if rng.below(400) == 0 || (lx % sl == 0 && lz % sl == 0) {
+            if rng.pick(400) == 0 || (lx % sl == 0 && lz % sl == 0) {
                 g.objects.push(PlacedObject::new(
-                    misfit_resources[rng.below(2) as usize],
+                    misfit_resources[rng.pick(2) as usize],
                     centre + DVec3::new(0.0, 0.0, f64::from(config.lot_size) * 0.45),
                 ));
             }
@@ -373,14 +405,14 @@ pub fn city(config: &CityConfig) -> City {
                 0.0,
                 f64::from(rng.range(0.0, nz as f32 * config.lot_size)),
             );
-        let objects = (0..5 + rng.below(20))
+        let objects = (0..5 + rng.pick(20))
             .map(|_| {
                 let p = c + DVec3::new(
                     f64::from(rng.range(-6.0, 6.0)),
                     0.0,
                     f64::from(rng.range(-6.0, 6.0)),
                 );
-                PlacedObject::new(props[rng.below(4) as usize], p)
+                PlacedObject::new(props[rng.pick(4) as usize], p)
             })
             .collect();
         groups.push(StreamingGroup {
@@ -521,5 +553,40 @@ pub fn aerial_camera(config: &CityConfig) -> crate::Camera {
         rotation: glam::DQuat::from_euler(glam::EulerRot::YXZ, -2.35, -0.45, 0.0),
         projection: Mat4::perspective_rh(1.2, 16.0 / 9.0, 0.1, 5000.0),
         reversed_depth: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Rng;
+
+    #[test]
+    fn matches_the_reference_splitmix64() {
+        // First outputs of SplitMix64 seeded with 1234567 (the reference implementation's
+        // published test vector).
+        let mut r = Rng::new(1_234_567);
+        assert_eq!(r.next_u64(), 6_457_827_717_110_365_317);
+        assert_eq!(r.next_u64(), 3_203_168_211_198_807_973);
+        assert_eq!(r.next_u64(), 9_817_491_932_198_370_423);
+    }
+
+    #[test]
+    fn ranges_hold() {
+        let mut r = Rng::new(3);
+        for _ in 0..10_000 {
+            let x = r.range(2.0, 3.0);
+            assert!((2.0..3.0).contains(&x));
+            assert!(r.below(7) < 7);
+            assert!(r.pick(7) < 7);
+        }
+        assert_eq!((r.below(0), r.pick(0)), (0, 0));
+        let heads = (0..10_000).filter(|_| r.chance(30)).count();
+        assert!((2_700..3_300).contains(&heads), "{heads}");
+        // The multiply-shift draw is the high 32 bits scaled by n.
+        let (mut a, mut b) = (Rng::new(9), Rng::new(9));
+        for n in [1u32, 2, 3, 1000, u32::MAX] {
+            let want = ((u128::from(b.next_u64() >> 32) * u128::from(n)) >> 32) as u32;
+            assert_eq!(a.pick(n), want);
+        }
     }
 }

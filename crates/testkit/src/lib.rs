@@ -1,7 +1,8 @@
 //! Test support for the whole workspace, so no test file sets up its own device, kernel
 //! runner or random generator:
 //!
-//! - [`Rng`]: the deterministic generator every test, bench and example draws from.
+//! - [`Rng`]: the deterministic generator every test, bench and example draws from (the
+//!   demo scenes' one, `staticscene::demo::Rng`).
 //! - [`device`] (feature `device`): the one headless device of a test binary (a machine
 //!   without a Vulkan driver fails with the command that installs lavapipe), a runner for
 //!   described passes ([`device::run_pass`]: buffers by binding name, the description's
@@ -23,9 +24,8 @@
 
 #[cfg(feature = "device")]
 pub mod device;
-mod rng;
-
-pub use rng::Rng;
+/// The workspace's one deterministic generator (SplitMix64), shared with the demo scenes.
+pub use staticscene::demo::Rng;
 
 use std::path::PathBuf;
 use std::process::Command;

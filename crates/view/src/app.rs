@@ -336,7 +336,13 @@ impl State {
         let statics = match &loaded.city {
             Some(city) => Some(gpu::scoped(&device, || {
                 let mut query = gpu::StaticQuery::new(&device, &queue)?;
-                let scene = city.stream(&device, &queue, &mut query)?;
+                let scene = gpu::stream_static_world(
+                    &device,
+                    &queue,
+                    &mut query,
+                    &city.world.resources,
+                    &city.world.groups,
+                )?;
                 Ok(Statics {
                     query,
                     scene,

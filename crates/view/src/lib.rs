@@ -48,7 +48,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context as _, Result, bail};
 use clap::{Parser, ValueEnum};
-use gpu::demo::{DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::glam::Vec3;
 use gpu::{Camera, Lighting, RenderPath, RendererConfig, Scene};
 
@@ -240,7 +240,7 @@ pub fn parse_camera(s: &str) -> Result<Camera, String> {
 pub enum SceneSource {
     /// A procedural demo scene.
     Demo(DemoOptions),
-    /// The static city of about this many instances (`gpu::demo::city`).
+    /// The static city of about this many instances (`demo::city`).
     City(usize),
     /// A `.gltf` or `.glb` file, imported by `gltf_scene`.
     Gltf(PathBuf),
@@ -274,7 +274,7 @@ pub struct LoadedScene {
     /// Sun, sky and local lights.
     pub lighting: Lighting,
     /// The static city, for a scene with static content.
-    pub city: Option<std::sync::Arc<gpu::demo::city::City>>,
+    pub city: Option<std::sync::Arc<demo::city::City>>,
 }
 
 impl std::fmt::Debug for LoadedScene {
@@ -310,7 +310,7 @@ pub fn load_scene(source: &SceneSource) -> Result<LoadedScene> {
             })
         }
         SceneSource::City(instances) => {
-            let city = gpu::demo::city::city(*instances);
+            let city = demo::city::city(*instances);
             Ok(LoadedScene {
                 name: source.name(),
                 scene: city.scene.clone(),
@@ -320,9 +320,9 @@ pub fn load_scene(source: &SceneSource) -> Result<LoadedScene> {
             })
         }
         SceneSource::Demo(options) => {
-            gpu::demo::check_density(options)
+            demo::check_density(options)
                 .with_context(|| format!("--density for the {} scene", options.scene.name()))?;
-            let (scene, frame) = gpu::demo::build(options);
+            let (scene, frame) = demo::build(options);
             Ok(LoadedScene {
                 name: source.name(),
                 scene,
@@ -395,7 +395,7 @@ impl Args {
         if self.lights > 0 {
             lighting.sun_color *= 0.12;
             lighting.ambient *= 0.35;
-            gpu::demo::scatter_lights(&mut lighting, target, 25.0, self.lights as usize, self.seed);
+            demo::scatter_lights(&mut lighting, target, 25.0, self.lights as usize, self.seed);
         }
         lighting
     }

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use gpu::demo::{DemoOptions, DemoScene};
+use demo::{DemoOptions, DemoScene};
 use gpu::glam::Vec3;
 use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, diff_metrics};
 use testkit::device::ctx;
@@ -161,7 +161,7 @@ fn read(path: &Path) -> Rgba8Image {
 /// The same scene, camera and configuration on the headless device.
 fn headless(path: RenderPath) -> (Renderer, gpu::PreparedScene, FrameInput) {
     let c = ctx();
-    let (scene, demo_frame) = gpu::demo::build(&DemoOptions {
+    let (scene, demo_frame) = demo::build(&DemoOptions {
         scene: DemoScene::Forest,
         ..DemoOptions::default()
     });
@@ -269,9 +269,16 @@ fn the_city_through_the_window_is_the_headless_city() {
         &["--scene", "city", "--instances", "5000"],
     );
     let c = ctx();
-    let city = gpu::demo::city::city(5000);
+    let city = demo::city::city(5000);
     let mut query = gpu::StaticQuery::new(&c.device, &c.queue).unwrap();
-    let mut scene = city.stream(&c.device, &c.queue, &mut query).unwrap();
+    let mut scene = gpu::stream_static_world(
+        &c.device,
+        &c.queue,
+        &mut query,
+        &city.world.resources,
+        &city.world.groups,
+    )
+    .unwrap();
     let mut r = Renderer::new(
         &c.device,
         &c.queue,

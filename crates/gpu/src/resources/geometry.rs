@@ -114,7 +114,6 @@ impl Geometry {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::demo;
 
     #[test]
     fn every_path_decodes_every_triangle_and_keeps_its_corners() {

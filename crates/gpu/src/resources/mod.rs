@@ -132,7 +132,7 @@ pub struct PreparedScene {
     pub(crate) id: u64,
     pub(crate) summary: SceneSummary,
     /// The scene's wind (`Scene::wind`), uploaded with every frame's constants.
-    pub(crate) wind: Option<crate::scene::Wind>,
+    pub(crate) wind: Option<scene::Wind>,
     pub(crate) geometry: Geometry,
     pub(crate) tiling: tiling::Plan,
     pub(crate) draws: Vec<Draw>,
@@ -769,9 +769,9 @@ mod tests {
     fn the_origin_is_the_snapped_bounds_centre() {
         let mut scene = Scene::default();
         assert_eq!(origin(&scene), Vec3::ZERO);
-        scene.batches.push(crate::scene::Batch {
-            mesh: crate::scene::MeshId(0),
-            material: crate::scene::MaterialId(0),
+        scene.batches.push(scene::Batch {
+            mesh: scene::MeshId(0),
+            material: scene::MaterialId(0),
             instances: vec![
                 Affine3A::from_translation(Vec3::new(10.2, -3.0, 100.0)),
                 Affine3A::from_translation(Vec3::new(20.9, 5.0, 300.6)),

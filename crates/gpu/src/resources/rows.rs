@@ -274,7 +274,7 @@ mod tests {
         );
         assert_eq!(
             shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
-            Some(crate::scene::ShaderKind::AlphaTested.id())
+            Some(scene::ShaderKind::AlphaTested.id())
         );
     }
 

@@ -8,13 +8,27 @@
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
 //! The terrain's and the rocks' materials are [`Material::regular`]: HFW's mixed frame
-//! ([`RendererConfig::mixed_frame`](crate::RendererConfig)) draws them in its regular
-//! geometry pass instead of the vis buffer.
+//! (`gpu::RendererConfig::mixed_frame`) draws them in its regular geometry pass instead of
+//! the vis buffer.
+//!
+//! Nothing here needs a device: the scenes are `scene` descriptions, which `gpu` prepares.
+//! The city's tiles are activated on a GPU static query by `gpu::stream_static_world`.
+//!
+//! ```
+//! let (scene, frame) = demo::build(&demo::DemoOptions { density: 0.05, ..Default::default() });
+//! scene.validate()?;
+//! frame.validate()?;
+//! assert!(scene.instance_count() > 0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
 
-use crate::frame::{Camera, FrameInput, Lighting, PointLight, SpotLight};
-use crate::scene::{AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
+use scene::{
+    AlbedoLayer, Batch, Camera, FrameInput, Lighting, Material, MaterialId, Mesh, MeshId,
+    PointLight, Scene, ShaderKind, SpotLight,
+};
+use staticscene::demo::Rng;
 
 pub mod city;
 mod hillside;
@@ -301,7 +315,7 @@ pub fn scatter_lights(
     count: usize,
     seed: u64,
 ) {
-    let mut rng = Rng(seed ^ 0x9e37_79b9_7f4a_7c15);
+    let mut rng = Rng::new(seed ^ 0x9e37_79b9_7f4a_7c15);
     for i in 0..count {
         let position = center
             + Vec3::new(
@@ -335,27 +349,6 @@ pub fn scatter_lights(
                 specular: true,
             });
         }
-    }
-}
-
-/// SplitMix64.
-#[derive(Clone, Debug)]
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
     }
 }
 
@@ -880,7 +873,7 @@ fn count(n: f32, density: f32) -> usize {
 }
 
 fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let tseed = seed as u32;
     let size = 160.0;
     let meshes = vec![
@@ -1013,7 +1006,7 @@ fn grass_side(density: f32) -> i32 {
 }
 
 fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
-    let mut rng = Rng(seed ^ 0x0067_7261_7373);
+    let mut rng = Rng::new(seed ^ 0x0067_7261_7373);
     let tseed = seed as u32;
     let size = 120.0;
     let patch = 2.0;
@@ -1129,7 +1122,7 @@ mod tests {
     #[test]
     fn a_blade_patch_lays_its_blades_out_side_by_side() {
         let (segments, half) = (3, 1.0);
-        let mesh = blade_patch_mesh(&mut Rng(5), 512, segments, half, 1.1);
+        let mesh = blade_patch_mesh(&mut Rng::new(5), 512, segments, half, 1.1);
         let per_blade = 2 * (segments as usize + 1);
         assert_eq!(mesh.positions.len(), per_blade * 512);
         let mean = mean_blade_step(&mesh, per_blade);
@@ -1221,6 +1214,28 @@ mod tests {
                 ShaderKind::AlphaTested => assert!(holes > layer.texels.len() / 10, "{}", m.name),
                 ShaderKind::Opaque => assert_eq!(holes, 0, "{}", m.name),
             }
+        }
+    }
+
+    /// The forest's leaf layer (alpha-tested, a third of it holes) keeps its coverage
+    /// through the mip chain `scene` filters for the renderer.
+    #[test]
+    fn mips_keep_alpha_coverage() {
+        let (scene, _) = build(&DemoOptions {
+            density: 0.01,
+            ..Default::default()
+        });
+        let layer = scene.albedo_layers[2].clone();
+        let chain = layer.mip_chain();
+        assert_eq!(chain.len() as u32, layer.size.ilog2() + 1);
+        let cov = |t: &[[u8; 4]]| t.iter().filter(|p| p[3] >= 128).count() as f32 / t.len() as f32;
+        let top = cov(&chain[0]);
+        for (i, level) in chain.iter().enumerate().take(6) {
+            assert!(
+                (cov(level) - top).abs() < 0.08,
+                "mip {i}: coverage {} vs {top}",
+                cov(level)
+            );
         }
     }
 }

@@ -24,9 +24,10 @@ use super::{
     MeshBuilder, Rng, bark_layer, bush_mesh, canopy_mesh, count, fern_layer, grass_layer,
     ground_layer, leaf_layer, material, rock_layer, rock_mesh, trunk_mesh, tuft_mesh,
 };
-use crate::frame::{Camera, FrameInput, Lighting, PointLight};
-use crate::scene::{Batch, MaterialId, Mesh, MeshId, Scene, ShaderKind};
-use crate::water_scene::{ShoreField, WaterDecal, WaterScene};
+use scene::{
+    Batch, MaterialId, Mesh, MeshId, Scene, ShaderKind, ShoreField, WaterDecal, WaterScene,
+};
+use scene::{Camera, FrameInput, Lighting, PointLight};
 
 /// Half the side of the square the scene covers, metres.
 pub const HALF_EXTENT: f32 = 192.0;
@@ -234,7 +235,7 @@ pub fn river(
     } else {
         0.0
     };
-    let mut rng = Rng(seed ^ 0x0072_6976_6572);
+    let mut rng = Rng::new(seed ^ 0x0072_6976_6572);
     let tseed = seed as u32;
     let mut builder = WaterWorldBuilder::new();
     builder.ocean = Some(Ocean {
@@ -417,7 +418,7 @@ fn opaque(
     stream: &[(Vec2, f32)],
     world: &water::world::WaterWorld,
 ) -> Scene {
-    let mut rng = Rng(seed ^ 0x6261_6e6b);
+    let mut rng = Rng::new(seed ^ 0x6261_6e6b);
     let tseed = seed as u32;
     let mut meshes = vec![
         trunk_mesh(),

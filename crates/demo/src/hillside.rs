@@ -17,8 +17,7 @@ use super::{
     MeshBuilder, Rng, bark_layer, blade_layer, count, fbm, ground_layer, lattice, leaf_layer,
     material, morton_order, rock_layer, rock_mesh, terrain_mesh_with, trunk_mesh,
 };
-use crate::frame::{Camera, FrameInput};
-use crate::scene::{Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
+use scene::{Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind};
 
 /// The camera the hillside is built for (its grass rings are centred on it; the terrain,
 /// trees and rocks are the same for both).
@@ -489,9 +488,9 @@ pub(super) fn vertices_but_grass(density: f32, meshes: &[Mesh]) -> u64 {
 /// The hillside built for `view` at `density` (instance counts; not checked), with its
 /// albedo layers painted if `paint`, and its frame (camera, the sun behind it).
 pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Scene, FrameInput) {
-    let mut rng = Rng(seed ^ 0x6869_6c6c);
+    let mut rng = Rng::new(seed ^ 0x6869_6c6c);
     // Trees and rocks from their own stream: the same in both views.
-    let mut world = Rng(seed ^ 0x0077_6f72_6c64);
+    let mut world = Rng::new(seed ^ 0x0077_6f72_6c64);
     let tseed = seed as u32;
     let s = setup(view, tseed);
     let meshes = meshes(&mut rng, &mut world, &s, tseed);
@@ -628,7 +627,7 @@ mod tests {
     fn a_patch_lays_its_blades_out_side_by_side() {
         let s = setup(View::Rise, 7);
         let lod = s.grass.lod(0);
-        let mesh = grass_patch_mesh(&mut Rng(11), &lod, 0.0, 0);
+        let mesh = grass_patch_mesh(&mut Rng::new(11), &lod, 0.0, 0);
         // Each blade: two vertices per segment, then the tip; the first two straddle the base.
         let per_blade = 2 * lod.segments as usize + 1;
         assert_eq!(mesh.positions.len(), per_blade * lod.blades as usize);

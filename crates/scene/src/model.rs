@@ -1,12 +1,15 @@
 //! The scene a renderer prepares once: meshes, materials, albedo layers and batches of
 //! instances. What changes per frame (camera, time, lights) is the
-//! [`FrameInput`](crate::FrameInput).
+//! [`FrameInput`].
 //!
 //! Conventions: right-handed world space, +Y up, metres. Texture coordinates have (0, 0)
 //! at the top-left of an albedo layer, v down.
 
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 
+use crate::AlbedoLayer;
+#[cfg(doc)]
+use crate::FrameInput;
 use crate::error::SceneError;
 
 /// The most primitives one geometry may have: 16-bit indices, and the vis-buffer ID's
@@ -156,12 +159,12 @@ pub struct Material {
     pub roughness: f32,
     /// Specular intensity in [0, 1].
     pub specular: f32,
-    /// HFW's mixed frame ([`RendererConfig::mixed_frame`](crate::RendererConfig)): batches
+    /// HFW's mixed frame (`gpu::RendererConfig::mixed_frame`): batches
     /// of this material skip the vis buffer and are drawn by the regular geometry pass
     /// after the laydown, which writes the G-buffer from a fragment shader and clears the
     /// pixels' validity bits (the talk's stencil bit), so the classification leaves those
     /// pixels to it. Terrain and rocks in the demo scenes. Opaque materials only
-    /// ([`SceneError::RegularNotOpaque`](crate::SceneError)). Every other path, and the
+    /// ([`SceneError::RegularNotOpaque`]). Every other path, and the
     /// static query's draws, ignore it.
     pub regular: bool,
 }
@@ -181,27 +184,6 @@ pub(crate) fn check_range(
     }
 }
 
-/// One albedo layer: RGBA8, sRGB colour with linear alpha, `size` × `size` texels, row
-/// major from the top-left. All layers of a scene share one size (a power of two).
-#[derive(Clone, Debug, PartialEq)]
-pub struct AlbedoLayer {
-    /// Width and height in texels.
-    pub size: u32,
-    /// `size * size` texels.
-    pub texels: Vec<[u8; 4]>,
-}
-
-impl AlbedoLayer {
-    /// The mip chain the renderer uploads for this layer, level 0 (these texels) first,
-    /// down to 1x1: colour box-filtered in linear space, alpha filtered and rescaled so the
-    /// fraction of texels passing a cutoff of 0.5 stays level 0's (alpha-tested foliage
-    /// does not thin out with distance). Sampled trilinearly, with repeat addressing.
-    #[must_use]
-    pub fn mip_chain(&self) -> Vec<Vec<[u8; 4]>> {
-        crate::resources::albedo::mip_chain(self)
-    }
-}
-
 /// A batch: one mesh with one material, drawn for many instances (what the scene query
 /// hands to the renderer; `tiling` splits it into micro batches).
 #[derive(Clone, Debug, PartialEq)]
@@ -218,7 +200,7 @@ pub struct Batch {
 /// DrawableSetup). The GPU places each frame's visible instances of the setup into
 /// `capacity` reserved instance slots and draws them with one indirect draw; instances
 /// past the capacity in one frame are dropped and counted
-/// ([`StaticFrameStats::over_capacity`](crate::StaticFrameStats)).
+/// (`gpu::StaticFrameStats::over_capacity`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StaticSetup {
     /// The geometry.
@@ -244,7 +226,7 @@ pub struct Scene {
     pub batches: Vec<Batch>,
     /// What the static query's setup handles draw (index = handle); empty for a scene
     /// without static content. Frames with a static query
-    /// ([`Renderer::render_static`](crate::Renderer::render_static)) draw its output.
+    /// (`gpu::Renderer::render_static`) draw its output.
     pub static_setups: Vec<StaticSetup>,
     /// HFW's animated foliage ("All our foliage is animated"): the wind that sways every
     /// [`ShaderKind::AlphaTested`] instance, `None` for a still scene (the default).
@@ -338,9 +320,10 @@ impl Wind {
         })
     }
 
-    /// The four constants the shaders read (`FrameUniforms::wind`): direction times
-    /// amplitude (x, z), angular frequency (rad/s), 1 / height.
-    pub(crate) fn uniform(&self) -> [f32; 4] {
+    /// The four constants the shaders read (`gpu`'s `FrameUniforms::wind`): direction
+    /// times amplitude (x, z), angular frequency (rad/s), 1 / height.
+    #[must_use]
+    pub fn uniform(&self) -> [f32; 4] {
         let d = self.direction.normalize_or_zero() * self.amplitude;
         [
             d.x,
@@ -361,7 +344,7 @@ impl Wind {
 }
 
 /// `Wind::displacement` from the uploaded constants (all zero: none).
-pub(crate) fn wind_displacement(w: [f32; 4], t: Vec3, p: Vec3, time: f32) -> Vec3 {
+fn wind_displacement(w: [f32; 4], t: Vec3, p: Vec3, time: f32) -> Vec3 {
     let bend = (p.y * w[3]).clamp(0.0, 1.0);
     let weight = bend * bend;
     let phase = std::f32::consts::TAU * {
@@ -511,7 +494,8 @@ impl Scene {
     }
 
     /// Every batch's instance positions (world, metres): what `tiling` sorts batches by.
-    pub(crate) fn instance_positions(&self) -> Vec<Vec<[f32; 3]>> {
+    #[must_use]
+    pub fn instance_positions(&self) -> Vec<Vec<[f32; 3]>> {
         self.batches
             .iter()
             .map(|b| {
@@ -525,8 +509,9 @@ impl Scene {
 
     /// The batches as `tiling` plans them: shader and material as the sort keys, the
     /// geometry of mesh `m` from `geometry(m)`, `positions` from
-    /// [`Scene::instance_positions`].
-    pub(crate) fn tiling_batches<'a>(
+    /// [`Scene::instance_positions`]. A batch whose material does not exist (a scene that
+    /// fails [`Scene::validate`]) sorts as [`ShaderKind::Opaque`].
+    pub fn tiling_batches<'a>(
         &self,
         positions: &'a [Vec<[f32; 3]>],
         geometry: impl Fn(usize) -> tiling::Geometry,
@@ -535,7 +520,11 @@ impl Scene {
             .iter()
             .zip(positions)
             .map(|(b, pos)| tiling::Batch {
-                shader: self.materials[b.material.0].shader.id(),
+                shader: self
+                    .materials
+                    .get(b.material.0)
+                    .map_or(ShaderKind::Opaque, |m| m.shader)
+                    .id(),
                 batch_data: b.material.0 as u64,
                 geometry: geometry(b.mesh.0),
                 instances: pos,

@@ -11,19 +11,19 @@
 use std::collections::BTreeMap;
 
 use glam::{Affine3A, DVec3, Quat, Vec2, Vec3};
+use staticscene::MeshNode;
 use staticscene::demo::{CityConfig, street_camera};
-use staticscene::{BuildConfig, MeshNode, ResourceLibrary, TileStreamer};
 
 use super::{
     MeshBuilder, Rng, bark_layer, bush_mesh, grass_layer, leaf_layer, material, rock_layer,
     tuft_mesh,
 };
-use crate::error::Result;
-use crate::frame::{Camera, FrameInput};
-use crate::passes::query::StaticQuery;
-use crate::scene::{Batch, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind, StaticSetup};
+use scene::{
+    Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, Scene, ShaderKind, StaticSetup,
+};
 
 /// The city demo: the renderer's scene, the static world it queries, and a street view.
+/// `gpu::stream_static_world` activates the world's tiles on a GPU static query.
 pub struct City {
     /// Meshes, materials, layers, the ground and foliage batches, the static setups.
     pub scene: Scene,
@@ -189,7 +189,7 @@ pub fn city_with(config: CityConfig) -> City {
         }
     }
 
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     let tint = |m: Material, t: Vec3| Material { tint: t, ..m };
     let materials = vec![
         tint(
@@ -320,33 +320,5 @@ pub fn city_with(config: CityConfig) -> City {
         world,
         config,
         frame: FrameInput::new(camera),
-    }
-}
-
-impl City {
-    /// Builds the city's static tiles (one streaming group after another), activates each
-    /// on `query` and returns the CPU scene that holds them.
-    ///
-    /// # Errors
-    /// A tile the static scene or the GPU pool refuses.
-    pub fn stream(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        query: &mut StaticQuery,
-    ) -> Result<staticscene::Scene> {
-        let mut streamer = TileStreamer::new(
-            ResourceLibrary::new(&self.world.resources),
-            BuildConfig::default(),
-        );
-        let mut scene = staticscene::Scene::new();
-        for g in &self.world.groups {
-            let u = streamer.add_group(g)?;
-            for tile in &u.add {
-                query.activate(device, queue, tile.tile())?;
-            }
-            scene.apply(u);
-        }
-        Ok(scene)
     }
 }
