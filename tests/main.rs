@@ -3,3 +3,4 @@
 //! test, in its `tests/device.rs`; see `testkit`.)
 
 mod fuzz_regressions;
+mod gltf_render;

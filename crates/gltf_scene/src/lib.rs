@@ -14,11 +14,10 @@
 //! let camera = imported
 //!     .camera
 //!     .unwrap_or_else(|| gltf_scene::framing_camera(&imported.scene, 16.0 / 9.0));
-//! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
-//! let mut renderer = gpu::Renderer::new(&ctx.device, &ctx.queue, gpu::RendererConfig::default())?;
-//! let prepared = renderer.prepare(&imported.scene)?;
-//! renderer.render(&prepared, &gpu::FrameInput::new(camera), gpu::RenderPath::Deferred)?;
-//! renderer.read_output()?.write_png(Path::new("forest.png"))?;
+//! // What the renderer takes: `gpu::Renderer::prepare(&imported.scene)`, then frames of
+//! // `scene::FrameInput::new(camera)` (the workspace's tests/gltf_render.rs does so).
+//! let frame = scene::FrameInput::new(camera);
+//! assert!(frame.validate().is_ok());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

@@ -1,9 +1,11 @@
-//! A generated medium scene, thousands of instances of a foliage card over a ground quad,
+//! The glTF importer into the renderer. A generated medium scene, thousands of instances of a foliage card over a ground quad,
 //! written to `.glb`, imported and rendered by `gpu::Renderer` on the test device
 //! (lavapipe in CI), against the same scene built directly as a `gpu::Scene` from the
 //! generating parameters: the scenes are equal, and both paths give identical images and
 //! classification statistics (tolerance: none).
 
+// The test glTF writer lives once, beside the importer's own tests.
+#[path = "../crates/gltf_scene/tests/common/mod.rs"]
 mod common;
 
 use common::{Doc, scene};
