@@ -29,6 +29,13 @@ fn batch(batch_data: u64, geometry: Geometry, instances: &[[f32; 3]]) -> Batch<'
     }
 }
 
+/// The plan of `batches`, checked by [`check_plan`].
+fn checked_plan(batches: &[Batch<'_>], config: &PlanConfig) -> Plan {
+    let plan = build_plan(batches, config).expect("the batches fit the limits");
+    check_plan(batches, config, &plan);
+    plan
+}
+
 /// Checks a plan against the batches with plain loops.
 fn check_plan(batches: &[Batch<'_>], config: &PlanConfig, plan: &Plan) {
     let vertex_limit = u64::from(config.max_micro_batch_vertices)
@@ -238,7 +245,7 @@ fn instance_overflow_takes_consecutive_ids() {
     // micro batch, so it spans two IDs; the 66th instance starts the next micro batch.
     let pos = vec![[0.0f32; 3]; 66];
     let b = [batch(0, geometry(1000, 500), &pos)];
-    let plan = build_plan(&b, &PlanConfig::default()).unwrap();
+    let plan = checked_plan(&b, &PlanConfig::default());
     assert_eq!(plan.micro_batches.len(), 2);
     let (m0, m1) = (plan.micro_batches[0], plan.micro_batches[1]);
     assert_eq!((m0.first_id, m0.id_count, m0.instance_count), (0, 2, 65));
@@ -258,7 +265,6 @@ fn instance_overflow_takes_consecutive_ids() {
     assert_eq!((refs[63].micro_batch_id, refs[63].instance_field), (0, 63));
     assert_eq!((refs[64].micro_batch_id, refs[64].instance_field), (1, 0));
     assert_eq!((refs[65].micro_batch_id, refs[65].instance_field), (2, 0));
-    check_plan(&b, &PlanConfig::default(), &plan);
 }
 
 #[test]
@@ -291,20 +297,18 @@ fn a_batch_splits_over_passes_to_fill_them() {
     // batches 192k = 196 608 too: the first pass takes 65 instances (195 000), the second 35.
     let pos = vec![[0.0f32; 3]; 100];
     let b = [batch(0, geometry(100, 3000), &pos)];
-    let plan = build_plan(&b, &PlanConfig::ps4()).unwrap();
+    let plan = checked_plan(&b, &PlanConfig::ps4());
     let per_pass: Vec<u32> = plan.passes.iter().map(|p| p.vertex_count / 3000).collect();
     assert_eq!(per_pass, [65, 35]);
-    check_plan(&b, &PlanConfig::ps4(), &plan);
 }
 
 #[test]
 fn batch_groups_are_limited_to_32_per_pass() {
     let pos = vec![[0.0f32; 3]; 1];
     let b: Vec<Batch<'_>> = (0..70u64).map(|d| batch(d, geometry(2, 4), &pos)).collect();
-    let plan = build_plan(&b, &PlanConfig::default()).unwrap();
+    let plan = checked_plan(&b, &PlanConfig::default());
     let groups: Vec<u32> = plan.passes.iter().map(|p| p.batch_group_count).collect();
     assert_eq!(groups, [32, 32, 6]);
-    check_plan(&b, &PlanConfig::default(), &plan);
 }
 
 #[test]
@@ -402,29 +406,24 @@ fn limits_are_errors_that_name_the_limit_and_the_batch() {
         }
     );
 
-    // Bad configurations.
-    let bad = PlanConfig {
+    // Bad configurations name the setting.
+    let too_many_passes = PlanConfig {
         max_passes: 300,
         ..PlanConfig::default()
     };
-    assert!(matches!(
-        build_plan(&[ok], &bad),
-        Err(Error::InvalidConfig {
-            what: "max_passes",
-            ..
-        })
-    ));
-    let bad = PlanConfig {
+    let tiny_ring = PlanConfig {
         ring_bytes: 10,
         ..PlanConfig::default()
     };
-    assert!(matches!(
-        build_plan(&[ok], &bad),
-        Err(Error::InvalidConfig {
-            what: "ring_bytes",
-            ..
-        })
-    ));
+    for (bad, setting) in [(too_many_passes, "max_passes"), (tiny_ring, "ring_bytes")] {
+        assert!(
+            matches!(
+                build_plan(&[ok], &bad),
+                Err(Error::InvalidConfig { what, .. }) if what == setting
+            ),
+            "{setting}"
+        );
+    }
 }
 
 #[test]
@@ -454,31 +453,15 @@ fn batches_sort_by_shader_data_then_position() {
     let near = vec![[0.0f32, 0.0, 0.0]; 1];
     let mid = vec![[50.0f32, 0.0, 0.0]; 1];
     let g = geometry(10, 10);
+    let shader_1 = |instances| Batch {
+        shader: 1,
+        ..batch(0, g, instances)
+    };
     let b = [
-        Batch {
-            shader: 1,
-            batch_data: 0,
-            geometry: g,
-            instances: &far,
-        },
-        Batch {
-            shader: 1,
-            batch_data: 0,
-            geometry: g,
-            instances: &near,
-        },
-        Batch {
-            shader: 0,
-            batch_data: 9,
-            geometry: g,
-            instances: &far,
-        },
-        Batch {
-            shader: 1,
-            batch_data: 0,
-            geometry: g,
-            instances: &mid,
-        },
+        shader_1(&far),
+        shader_1(&near),
+        batch(9, g, &far),
+        shader_1(&mid),
     ];
     let plan = build_plan(&b, &PlanConfig::default()).unwrap();
     let order: Vec<u32> = plan.micro_batches.iter().map(|m| m.batch).collect();

@@ -42,13 +42,13 @@
 //!
 //! # Commands and their canonical order
 //!
-//! With [`VisLayout::Standard`] every valid pixel is one 16-bit **pixel command**:
+//! With [`VisLayout::Standard`](visbuf::VisLayout::Standard) every valid pixel is one 16-bit **pixel command**:
 //!
 //! | bits | 15..14 | 13..7 | 6..0 |
 //! | --- | --- | --- | --- |
 //! | field | 0 | y within the tile | x within the tile |
 //!
-//! With [`VisLayout::Vrs`] the commands are **quad commands** (see [`crate::vrs`]): one per
+//! With [`VisLayout::Vrs`](visbuf::VisLayout::Vrs) the commands are **quad commands** (see [`crate::vrs`]): one per
 //! shading sample,
 //!
 //! | bits | 15..12 | 11..6 | 5..0 |
