@@ -1,32 +1,62 @@
-//! The complete wgpu renderer of the workspace: visibility-buffer laydown, GPU
-//! classification into loose-tile wave commands, compute material resolve into a G-buffer,
-//! deferred lighting (KZ2's sun slices as stable cascaded shadow maps with a baked sun
-//! term; point and spot lights through 16x16 tiles or stencil light volumes
-//! ([`LightPaths`]) with KZ2's light-shader permutations (with or without specular,
-//! [`PointLight::specular`], and spot shadow code), shadow-casting spots
-//! ([`SpotShadowConfig`]) whose maps and shading the GPU skips when their volume covers
-//! no pixel (KZ2's conditional rendering emulated with indirect draws,
-//! [`RendererConfig::conditional_volumes`]); the octahedral or KZ2's G-buffer), and HZD's
-//! depth-equal baseline that it replaces (single-sample, or 4x MSAA lit with KZ2's
-//! tricks: [`MsaaLighting`]; the visibility-buffer path stays single-sample, one triangle
-//! a pixel). Every per-frame upload is
-//! sub-allocated from `framealloc`'s pool, so frames can be submitted without waiting
-//! ([`Renderer::submit`]). Every format and algorithm comes from the small crates; this
-//! crate owns devices, buffers, pipelines and passes.
+//! The complete wgpu renderer of the workspace: HFW's visibility-buffer laydown (hardware
+//! or in compute), GPU classification into loose-tile wave commands and compute material
+//! resolve into a G-buffer; KZ2's deferred lighting, shadows and render-memory allocator;
+//! HZD's static-scene query and depth-equal baseline; FC5's water. Every format and
+//! algorithm comes from the small crates; this crate owns devices, buffers, pipelines and
+//! passes.
+//!
+//! # On your device
+//!
+//! Start from the recommended configuration for your adapter, create the device with the
+//! renderer's optional features and required limits, prepare a [`Scene`] once (the
+//! [`scene`] crate's description: meshes, materials, batches of instances) and render a
+//! [`FrameInput`] (camera, time, sun and local lights) each frame. Read-backs and the
+//! talks' statistics are apart, behind [`Renderer::inspect`].
+//!
+//! ```no_run
+//! use gpu::glam::Vec3;
+//! use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, Scene};
+//!
+//! let instance = wgpu::Instance::default();
+//! let adapter =
+//!     pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))?;
+//! // Laydown::Auto (the compute laydown where it measures faster), HFW's vertex ring, the
+//! // tiled light lists, the sun's cascades and spot maps.
+//! let config = RendererConfig::recommended(&adapter, 1920, 1080);
+//! let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+//!     required_features: adapter.features() & Renderer::optional_features(),
+//!     required_limits: Renderer::required_limits(&config),
+//!     ..Default::default()
+//! }))?;
+//! let mut renderer = Renderer::new(&device, &queue, config)?;
+//! let prepared = renderer.prepare(&Scene::default())?; // your scene
+//! let frame = FrameInput::new(Camera::look_at(Vec3::new(0.0, 2.0, 10.0), Vec3::ZERO));
+//! let out = renderer.render(&prepared, &frame, RenderPath::Deferred)?;
+//! // `renderer.output_view()` now holds the image (sRGB-encoded `Rgba8Unorm`) for your own
+//! // passes; `out.gpu` the passes' GPU times; `out.laydown` the laydown this frame ran.
+//! println!("{:?} {:?}", out.laydown, renderer.laydown_choice().reason);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! # What it draws
+//!
+//! Lighting: KZ2's sun slices as stable cascaded shadow maps with a baked sun term; point
+//! and spot lights through 16x16 tiles or stencil light volumes ([`LightPaths`]) with KZ2's
+//! light-shader permutations; shadow-casting spots ([`SpotShadowConfig`]) whose maps and
+//! shading the GPU skips when their volume covers no pixel
+//! ([`RendererConfig::conditional_volumes`]); the octahedral or KZ2's G-buffer; HZD's
+//! depth-equal baseline (single-sample, or 4x MSAA lit with KZ2's tricks:
+//! [`MsaaLighting`]). Every per-frame upload is sub-allocated from `framealloc`'s pool, so
+//! frames can be submitted without waiting ([`Renderer::submit`]).
 //!
 //! Beside the scene the renderer draws Far Cry 5's water ([`Renderer::set_water`] with a
 //! [`WaterScene`]: a baked `water::world::WaterWorld`, its materials, the flow atlas and
-//! shore field for foam, decal textures): after lighting, a HiZ-culled visibility pass, a
-//! reduced-resolution mini G-buffer at a wider field of view, FBM and decal displacement,
-//! 32x32 tiles, screen-space tessellation by indirect draws, normals from depth, foam and
-//! a scattering composite over the lit image; the water writes a second depth buffer
-//! ([`water_scene`]'s docs say which passes read which).
+//! shore field for foam, decal textures) after lighting; the water writes a second depth
+//! buffer ([`water_scene`]'s docs say which passes read which).
 //!
-//! A [`Scene`] (meshes, materials, albedo layers, batches of instances) is prepared once
-//! ([`Renderer::prepare`]); each frame takes a [`FrameInput`] (camera, time, sun, point
-//! and spot lights) and uploads its constants. The renderer runs on your device: ask for
-//! [`Renderer::required_limits`] and any of [`Renderer::optional_features`] when you create
-//! it, or let [`headless`] make one.
+//! # A complete example
+//!
+//! Headless ([`headless`] makes the device), writing a PNG:
 //!
 //! ```no_run
 //! use gpu::glam::{Affine3A, Vec2, Vec3, Vec4};
