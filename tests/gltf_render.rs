@@ -235,7 +235,10 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
         r.render(&p, &frame, RenderPath::Deferred).unwrap();
         let deferred = r.read_output().unwrap();
         let gpu_classes = r.inspect().read_classification(&p).unwrap();
-        let (stats, mismatch) = r.inspect().classification_statistics(&p, &gpu_classes).unwrap();
+        let (stats, mismatch) = r
+            .inspect()
+            .classification_statistics(&p, &gpu_classes)
+            .unwrap();
         assert!(mismatch.is_none(), "{mismatch:?}");
         r.render(&p, &frame, RenderPath::Baseline).unwrap();
         let baseline = r.read_output().unwrap();
