@@ -15,7 +15,10 @@
 
 use std::hint::black_box;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{
+    BenchmarkGroup, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main,
+};
 use deferred::cascades::{CascadeCamera, CascadeParams, StableCascades};
 use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles, tile_counts, tile_depth_ranges};
 use deferred::msaa::{SampleCount, classify_edges};
@@ -55,94 +58,61 @@ fn surfaces() -> Vec<Surface> {
         .collect()
 }
 
+type Group<'a> = BenchmarkGroup<'a, WallTime>;
+
+/// Times `out[i] = f(&input[i])` over the whole input as `name` (`out` made once, outside
+/// the timing).
+fn map<A, B: Clone + Default>(g: &mut Group, name: &str, input: &[A], f: impl Fn(&A) -> B) {
+    g.bench_function(name, |b| {
+        let mut out = vec![B::default(); input.len()];
+        b.iter(|| {
+            for (o, x) in out.iter_mut().zip(black_box(input)) {
+                *o = f(x);
+            }
+            black_box(&out);
+        })
+    });
+}
+
+/// Times copying the surfaces as they are: the floor of any packing or unpacking.
+fn copy_baseline(g: &mut Group, s: &[Surface]) {
+    g.bench_function("baseline_copy_surface", |b| {
+        let mut out = vec![Surface::default(); s.len()];
+        b.iter(|| {
+            out.copy_from_slice(black_box(s));
+            black_box(&out);
+        })
+    });
+}
+
 fn gbuffer(c: &mut Criterion) {
     let s = surfaces();
     let mut g = c.benchmark_group("gbuffer_pack");
     g.throughput(Throughput::Elements(N as u64));
-    g.bench_function("baseline_copy_surface", |b| {
-        let mut out = vec![Surface::default(); N];
-        b.iter(|| {
-            out.copy_from_slice(black_box(&s));
-            black_box(&out);
-        })
-    });
-    g.bench_function("kz2", |b| {
-        let mut out = vec![Kz2Texels::default(); N];
-        b.iter(|| {
-            for (o, s) in out.iter_mut().zip(black_box(&s)) {
-                *o = Kz2Texels::pack(s);
-            }
-            black_box(&out);
-        })
-    });
-    g.bench_function("octahedral", |b| {
-        let mut out = vec![OctTexels::default(); N];
-        b.iter(|| {
-            for (o, s) in out.iter_mut().zip(black_box(&s)) {
-                *o = OctTexels::pack(s);
-            }
-            black_box(&out);
-        })
-    });
+    copy_baseline(&mut g, &s);
+    map(&mut g, "kz2", &s, Kz2Texels::pack);
+    map(&mut g, "octahedral", &s, OctTexels::pack);
     g.finish();
 
     let kz2: Vec<_> = s.iter().map(Kz2Texels::pack).collect();
     let oct: Vec<_> = s.iter().map(OctTexels::pack).collect();
     let mut g = c.benchmark_group("gbuffer_unpack");
     g.throughput(Throughput::Elements(N as u64));
-    g.bench_function("baseline_copy_surface", |b| {
-        let mut out = vec![Surface::default(); N];
-        b.iter(|| {
-            out.copy_from_slice(black_box(&s));
-            black_box(&out);
-        })
-    });
-    g.bench_function("kz2", |b| {
-        let mut out = vec![Surface::default(); N];
-        b.iter(|| {
-            for (o, t) in out.iter_mut().zip(black_box(&kz2)) {
-                *o = t.unpack();
-            }
-            black_box(&out);
-        })
-    });
-    g.bench_function("octahedral", |b| {
-        let mut out = vec![Surface::default(); N];
-        b.iter(|| {
-            for (o, t) in out.iter_mut().zip(black_box(&oct)) {
-                *o = t.unpack();
-            }
-            black_box(&out);
-        })
-    });
+    copy_baseline(&mut g, &s);
+    map(&mut g, "kz2", &kz2, Kz2Texels::unpack);
+    map(&mut g, "octahedral", &oct, OctTexels::unpack);
     g.finish();
 
     let normals: Vec<Vec3> = s.iter().map(|s| s.normal * 1.3).collect();
     let mut g = c.benchmark_group("normal_encode");
     g.throughput(Throughput::Elements(N as u64));
-    let mut out = vec![0u32; N];
-    g.bench_function("baseline_normalize", |b| {
-        let mut v = vec![Vec3::ZERO; N];
-        b.iter(|| {
-            for (o, n) in v.iter_mut().zip(black_box(&normals)) {
-                *o = n.normalize();
-            }
-            black_box(&v);
-        })
-    });
+    map(&mut g, "baseline_normalize", &normals, |n| n.normalize());
     for (name, f) in [
         ("oct_nearest", oct_encode_fast as fn(Vec3) -> u32),
         ("oct_precise", oct_encode_precise),
         ("kz2_view_xy_f16", kz2_encode_view_normal),
     ] {
-        g.bench_function(name, |b| {
-            b.iter(|| {
-                for (o, n) in out.iter_mut().zip(black_box(&normals)) {
-                    *o = f(*n);
-                }
-                black_box(&out);
-            })
-        });
+        map(&mut g, name, &normals, |n| f(*n));
     }
     g.finish();
 }

@@ -2,24 +2,10 @@
 //! roundtrips, every width, every batch path, the Hilbert curve, the quantiser and the sort.
 
 use glam::Vec3;
+use morton::naive::{low, naive_encode};
 use morton::{Error, Path, Quantizer3, batch, hilbert};
 
 use crate::Input;
-
-/// The naive reference: bit `i` of coordinate `axis` at bit `D * i + axis`.
-fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
-    let mut key = 0u64;
-    for i in 0..bits {
-        for (axis, &v) in c.iter().enumerate() {
-            key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
-        }
-    }
-    key
-}
-
-fn low(v: u32, bits: u32) -> u32 {
-    if bits >= 32 { v } else { v & ((1 << bits) - 1) }
-}
 
 /// Decodes arbitrary words with every width, scalar and batch on every path, checks that
 /// re-encoding gives back the word's used bits, and the same for Hilbert keys.

@@ -25,45 +25,7 @@
 
 use crate::{Error, Path, magic};
 
-#[inline(always)]
-fn check(what: &'static str, expected: usize, got: usize) -> Result<(), Error> {
-    if expected == got {
-        Ok(())
-    } else {
-        Err(Error::LengthMismatch {
-            what,
-            expected,
-            got,
-        })
-    }
-}
-
-#[inline(always)]
-fn available(path: Path) -> Result<(), Error> {
-    if path.is_available() {
-        Ok(())
-    } else {
-        Err(Error::PathUnavailable { path })
-    }
-}
-
 // The loop shapes, expanded into each path's `#[target_feature]` function.
-
-macro_rules! map2 {
-    ($xs:expr, $ys:expr, $out:expr, $f:expr) => {
-        for ((o, &x), &y) in $out.iter_mut().zip($xs).zip($ys) {
-            *o = ($f)(x, y);
-        }
-    };
-}
-
-macro_rules! map3 {
-    ($xs:expr, $ys:expr, $zs:expr, $out:expr, $f:expr) => {
-        for (((o, &x), &y), &z) in $out.iter_mut().zip($xs).zip($ys).zip($zs) {
-            *o = ($f)(x, y, z);
-        }
-    };
-}
 
 macro_rules! unmap2 {
     ($codes:expr, $xs:expr, $ys:expr, $f:expr) => {
@@ -145,58 +107,6 @@ kernels!(dec3_32_aos, unmap_aos, (codes: &[u32], points: &mut [[u32; 3]]),
     magic: magic::decode3_u32, bmi2: |c| pd::decode3_u32(c));
 kernels!(dec3_64_aos, unmap_aos, (codes: &[u64], points: &mut [[u32; 3]]),
     magic: magic::decode3_u64, bmi2: |c| pd::decode3_u64(c));
-
-/// Generates the public `name` (best path) and `name_with` (given path) pair; with
-/// `gfni: kernel`, [`Path::Gfni`] runs that kernel of [`crate::gfni`].
-macro_rules! public {
-    (
-        $(#[$doc:meta])*
-        $name:ident, $with:ident, $kernel:ident, gfni: $gfni:ident,
-        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
-    ) => {
-        $(#[$doc])*
-        #[inline]
-        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
-            $with(Path::best(), $first $(, $arg)*)
-        }
-
-        #[doc = concat!("[`", stringify!($name), "`] on a given [`Path`]; ",
-            "[`Error::PathUnavailable`] if this CPU or build lacks it.")]
-        pub fn $with(path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
-            available(path)?;
-            $( check(stringify!($arg), $first.len(), $arg.len())?; )*
-            #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
-            if path == Path::Gfni {
-                // SAFETY: `available` checked that the CPU has what the GFNI kernels need;
-                // the lengths are equal.
-                unsafe { crate::gfni::$gfni($first $(, $arg)*) };
-                return Ok(());
-            }
-            $kernel::run(path, $first $(, $arg)*);
-            Ok(())
-        }
-    };
-    (
-        $(#[$doc:meta])*
-        $name:ident, $with:ident, $kernel:ident,
-        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
-    ) => {
-        $(#[$doc])*
-        #[inline]
-        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
-            $with(Path::best(), $first $(, $arg)*)
-        }
-
-        #[doc = concat!("[`", stringify!($name), "`] on a given [`Path`]; ",
-            "[`Error::PathUnavailable`] if this CPU or build lacks it.")]
-        pub fn $with(path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
-            available(path)?;
-            $( check(stringify!($arg), $first.len(), $arg.len())?; )*
-            $kernel::run(path, $first $(, $arg)*);
-            Ok(())
-        }
-    };
-}
 
 public!(
     /// 2D Morton codes into u32 (16 bits per axis) from struct-of-arrays lanes.

@@ -529,22 +529,6 @@ fn check_generic<const N: usize>(bits: u32) -> Result<(), Error> {
 
 // Batch forms over struct-of-arrays lanes, vectorised like the Morton batches.
 
-macro_rules! map3 {
-    ($xs:expr, $ys:expr, $zs:expr, $out:expr, $f:expr) => {
-        for (((o, &x), &y), &z) in $out.iter_mut().zip($xs).zip($ys).zip($zs) {
-            *o = ($f)(x, y, z);
-        }
-    };
-}
-
-macro_rules! map2 {
-    ($xs:expr, $ys:expr, $out:expr, $f:expr) => {
-        for ((o, &x), &y) in $out.iter_mut().zip($xs).zip($ys) {
-            *o = ($f)(x, y);
-        }
-    };
-}
-
 // Scalar and BMI2 paths walk the tables; the SIMD paths run Skilling's bit operations, which
 // the compiler vectorises across lanes.
 kernels!(h3_32, map3, (xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u32]),
@@ -556,96 +540,18 @@ kernels!(h2_32, map2, (xs: &[u32], ys: &[u32], out: &mut [u32]),
 kernels!(h2_64, map2, (xs: &[u32], ys: &[u32], out: &mut [u64]),
     scalar: encode2_u64, bmi2: encode2_u64, simd: skilling::encode2_u64);
 
-fn prepare(path: Path, n: usize, lens: &[(&'static str, usize)]) -> Result<(), Error> {
-    if !path.is_available() {
-        return Err(Error::PathUnavailable { path });
-    }
-    for &(what, got) in lens {
-        if got != n {
-            return Err(Error::LengthMismatch {
-                what,
-                expected: n,
-                got,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// 3D Hilbert keys into u32 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode3_u32_soa(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u32]) -> Result<(), Error> {
-    encode3_u32_soa_with(Path::best(), xs, ys, zs, out)
-}
-
-/// [`encode3_u32_soa`] on a given [`Path`] (BMI2 runs the scalar code).
-pub fn encode3_u32_soa_with(
-    path: Path,
-    xs: &[u32],
-    ys: &[u32],
-    zs: &[u32],
-    out: &mut [u32],
-) -> Result<(), Error> {
-    prepare(
-        path,
-        xs.len(),
-        &[("ys", ys.len()), ("zs", zs.len()), ("out", out.len())],
-    )?;
-    h3_32::run(path, xs, ys, zs, out);
-    Ok(())
-}
-
-/// 3D Hilbert keys into u64 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode3_u64_soa(xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u64]) -> Result<(), Error> {
-    encode3_u64_soa_with(Path::best(), xs, ys, zs, out)
-}
-
-/// [`encode3_u64_soa`] on a given [`Path`].
-pub fn encode3_u64_soa_with(
-    path: Path,
-    xs: &[u32],
-    ys: &[u32],
-    zs: &[u32],
-    out: &mut [u64],
-) -> Result<(), Error> {
-    prepare(
-        path,
-        xs.len(),
-        &[("ys", ys.len()), ("zs", zs.len()), ("out", out.len())],
-    )?;
-    h3_64::run(path, xs, ys, zs, out);
-    Ok(())
-}
-
-/// 2D Hilbert keys into u32 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode2_u32_soa(xs: &[u32], ys: &[u32], out: &mut [u32]) -> Result<(), Error> {
-    encode2_u32_soa_with(Path::best(), xs, ys, out)
-}
-
-/// [`encode2_u32_soa`] on a given [`Path`].
-pub fn encode2_u32_soa_with(
-    path: Path,
-    xs: &[u32],
-    ys: &[u32],
-    out: &mut [u32],
-) -> Result<(), Error> {
-    prepare(path, xs.len(), &[("ys", ys.len()), ("out", out.len())])?;
-    h2_32::run(path, xs, ys, out);
-    Ok(())
-}
-
-/// 2D Hilbert keys into u64 from struct-of-arrays lanes, on [`Path::best`].
-pub fn encode2_u64_soa(xs: &[u32], ys: &[u32], out: &mut [u64]) -> Result<(), Error> {
-    encode2_u64_soa_with(Path::best(), xs, ys, out)
-}
-
-/// [`encode2_u64_soa`] on a given [`Path`].
-pub fn encode2_u64_soa_with(
-    path: Path,
-    xs: &[u32],
-    ys: &[u32],
-    out: &mut [u64],
-) -> Result<(), Error> {
-    prepare(path, xs.len(), &[("ys", ys.len()), ("out", out.len())])?;
-    h2_64::run(path, xs, ys, out);
-    Ok(())
-}
+public!(
+    /// 3D Hilbert keys into u32 (10 bits per axis) from struct-of-arrays lanes (BMI2 runs
+    /// the scalar code).
+    encode3_u32_soa, encode3_u32_soa_with, h3_32,
+    (xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u32]));
+public!(
+    /// 3D Hilbert keys into u64 (21 bits per axis) from struct-of-arrays lanes.
+    encode3_u64_soa, encode3_u64_soa_with, h3_64,
+    (xs: &[u32], ys: &[u32], zs: &[u32], out: &mut [u64]));
+public!(
+    /// 2D Hilbert keys into u32 (16 bits per axis) from struct-of-arrays lanes.
+    encode2_u32_soa, encode2_u32_soa_with, h2_32, (xs: &[u32], ys: &[u32], out: &mut [u32]));
+public!(
+    /// 2D Hilbert keys into u64 (32 bits per axis) from struct-of-arrays lanes.
+    encode2_u64_soa, encode2_u64_soa_with, h2_64, (xs: &[u32], ys: &[u32], out: &mut [u64]));

@@ -1,4 +1,8 @@
-//! The kernel generator shared by [`crate::batch`] and [`crate::quantize`].
+//! The kernel generator shared by [`crate::batch`], [`crate::hilbert`] and
+//! [`crate::quantize`], the loop shapes of the slice encoders, and the generator of their
+//! public `name` / `name_with` pairs with the checks every one of them makes.
+
+use crate::{Error, Path};
 
 /// Generates, in module `$modname`, one kernel per [`crate::Path`] for a loop shape
 /// (`$shape`, a macro taking the arguments and then a per-key function, so that the
@@ -77,6 +81,103 @@ macro_rules! kernels {
                     _ => scalar($($arg),*),
                 }
             }
+        }
+    };
+}
+
+/// `Ok` if slice `what` has the `expected` length (the first slice's), else
+/// [`Error::LengthMismatch`].
+#[inline(always)]
+pub(crate) fn check(what: &'static str, expected: usize, got: usize) -> Result<(), Error> {
+    if expected == got {
+        Ok(())
+    } else {
+        Err(Error::LengthMismatch {
+            what,
+            expected,
+            got,
+        })
+    }
+}
+
+/// `Ok` if this CPU and build can run `path`, else [`Error::PathUnavailable`].
+#[inline(always)]
+pub(crate) fn available(path: Path) -> Result<(), Error> {
+    if path.is_available() {
+        Ok(())
+    } else {
+        Err(Error::PathUnavailable { path })
+    }
+}
+
+// The loop shapes of the struct-of-arrays encoders, expanded into each path's
+// `#[target_feature]` function.
+
+macro_rules! map2 {
+    ($xs:expr, $ys:expr, $out:expr, $f:expr) => {
+        for ((o, &x), &y) in $out.iter_mut().zip($xs).zip($ys) {
+            *o = ($f)(x, y);
+        }
+    };
+}
+
+macro_rules! map3 {
+    ($xs:expr, $ys:expr, $zs:expr, $out:expr, $f:expr) => {
+        for (((o, &x), &y), &z) in $out.iter_mut().zip($xs).zip($ys).zip($zs) {
+            *o = ($f)(x, y, z);
+        }
+    };
+}
+
+/// Generates the public `name` (best path) and `name_with` (given path) pair over the
+/// kernels `$kernel` made by [`kernels!`]: the path's availability first, then every slice's
+/// length against the first, in order; nothing is written on an error. With
+/// `gfni: kernel`, [`Path::Gfni`] runs that kernel of [`crate::gfni`].
+macro_rules! public {
+    (
+        $(#[$doc:meta])*
+        $name:ident, $with:ident, $kernel:ident, gfni: $gfni:ident,
+        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
+    ) => {
+        public!(@pair path, [
+            #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+            if path == Path::Gfni {
+                // SAFETY: `available` checked that the CPU has what the GFNI kernels need;
+                // the lengths are equal.
+                unsafe { crate::gfni::$gfni($first $(, $arg)*) };
+                return Ok(());
+            }
+        ], $(#[$doc])* $name, $with, $kernel, ($first : $fty $(, $arg : $ty)*));
+    };
+    (
+        $(#[$doc:meta])*
+        $name:ident, $with:ident, $kernel:ident,
+        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
+    ) => {
+        public!(@pair path, [], $(#[$doc])* $name, $with, $kernel,
+            ($first : $fty $(, $arg : $ty)*));
+    };
+    // `$path` names the path argument for the statements `$pre` (run after the checks).
+    (
+        @pair $path:ident, [ $($pre:tt)* ],
+        $(#[$doc:meta])*
+        $name:ident, $with:ident, $kernel:ident,
+        ( $first:ident : $fty:ty $(, $arg:ident : $ty:ty)* )
+    ) => {
+        $(#[$doc])*
+        #[inline]
+        pub fn $name($first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
+            $with(Path::best(), $first $(, $arg)*)
+        }
+
+        #[doc = concat!("[`", stringify!($name), "`] on a given [`Path`]; ",
+            "[`Error::PathUnavailable`] if this CPU or build lacks it.")]
+        pub fn $with($path: Path, $first: $fty $(, $arg: $ty)*) -> Result<(), Error> {
+            $crate::kernels::available($path)?;
+            $( $crate::kernels::check(stringify!($arg), $first.len(), $arg.len())?; )*
+            $($pre)*
+            $kernel::run($path, $first $(, $arg)*);
+            Ok(())
         }
     };
 }

@@ -101,8 +101,8 @@ pub mod batch;
 #[cfg(target_arch = "x86_64")]
 mod bmi2;
 mod error;
-#[cfg(test)]
-mod naive;
+#[doc(hidden)]
+pub mod naive;
 // Not on soft-float targets (x86_64-unknown-none), where LLVM cannot lower 512-bit vectors.
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 mod gfni;

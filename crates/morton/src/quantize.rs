@@ -42,6 +42,7 @@
 
 use glam::{UVec2, UVec3, Vec2, Vec3};
 
+use crate::kernels::available;
 use crate::{BITS2_U32, BITS2_U64, BITS3_U32, BITS3_U64, Error, Path, magic};
 
 /// One axis's scale: cells per world unit, `2^bits / (max - min)`, computed in f64 and
@@ -231,7 +232,7 @@ impl Quantizer3 {
         out: &mut [u32],
     ) -> Result<(), Error> {
         check_bits(self.bits, BITS3_U32)?;
-        path_available(path)?;
+        available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q3_32::run(path, self, points, out);
         nan_result(nan, points)
@@ -250,7 +251,7 @@ impl Quantizer3 {
         points: &[Vec3],
         out: &mut [u64],
     ) -> Result<(), Error> {
-        path_available(path)?;
+        available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q3_64::run(path, self, points, out);
         nan_result(nan, points)
@@ -266,14 +267,6 @@ fn same_len(expected: usize, got: usize) -> Result<(), Error> {
             expected,
             got,
         })
-    }
-}
-
-fn path_available(path: Path) -> Result<(), Error> {
-    if path.is_available() {
-        Ok(())
-    } else {
-        Err(Error::PathUnavailable { path })
     }
 }
 
@@ -464,7 +457,7 @@ impl Quantizer2 {
         out: &mut [u32],
     ) -> Result<(), Error> {
         check_bits(self.bits, BITS2_U32)?;
-        path_available(path)?;
+        available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q2_32::run(path, self, points, out);
         nan_result(nan, points)
@@ -482,7 +475,7 @@ impl Quantizer2 {
         points: &[Vec2],
         out: &mut [u64],
     ) -> Result<(), Error> {
-        path_available(path)?;
+        available(path)?;
         same_len(points.len(), out.len())?;
         let nan = q2_64::run(path, self, points, out);
         nan_result(nan, points)

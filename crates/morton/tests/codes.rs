@@ -1,33 +1,9 @@
 //! Morton encode/decode: fixed vectors, every function and every batch path against a
 //! naive bit-by-bit loop, roundtrips for every width.
 
+use morton::naive::{low, naive_decode, naive_encode};
 use morton::{Path, batch, magic};
 use proptest::prelude::*;
-
-/// The reference: bit `i` of coordinate `axis` goes to bit `D * i + axis`.
-fn naive_encode<const D: usize>(c: [u32; D], bits: u32) -> u64 {
-    let mut key = 0u64;
-    for i in 0..bits {
-        for (axis, &v) in c.iter().enumerate() {
-            key |= (((v >> i) & 1) as u64) << (D as u32 * i + axis as u32);
-        }
-    }
-    key
-}
-
-fn naive_decode<const D: usize>(key: u64, bits: u32) -> [u32; D] {
-    let mut c = [0u32; D];
-    for i in 0..bits {
-        for (axis, v) in c.iter_mut().enumerate() {
-            *v |= (((key >> (D as u32 * i + axis as u32)) & 1) as u32) << i;
-        }
-    }
-    c
-}
-
-fn low(v: u32, bits: u32) -> u32 {
-    if bits >= 32 { v } else { v & ((1 << bits) - 1) }
-}
 
 #[test]
 fn fixed_vectors_3d() {

@@ -12,7 +12,6 @@ use alloc::vec::Vec;
 
 use rayon::prelude::*;
 
-use crate::query::Consts;
 use crate::scene::{append, run_into, set_live};
 use crate::{
     DrawableSetupBatch, Error, HiZ, OutputInstance, QueryOptions, QueryOutput, QueryParams,
@@ -35,11 +34,7 @@ impl Scene {
         options: &QueryOptions,
         out: &mut QueryOutput<I>,
     ) -> Result<(), Error> {
-        let c = Consts::new(params);
-        out.instances.clear();
-        out.batches.clear();
-        out.stats = QueryStats::default();
-        let jobs = self.plan(params, options, c.fade, true, &mut out.stats);
+        let (c, jobs) = self.begin_query(params, options, out);
         let (tiles, parts) = self.parts_mut();
 
         // Each job's fade states: disjoint sub-slices, jobs being in tile and cluster order.

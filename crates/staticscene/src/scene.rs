@@ -479,6 +479,23 @@ impl Scene {
         jobs
     }
 
+    /// The start both query runners ([`Scene::query`] and the parallel `par_query`) share:
+    /// `out` emptied, its stats zeroed, the view's constants and its planned jobs (pre-cull
+    /// counted into `out.stats`, live flags resolved).
+    pub(crate) fn begin_query<I>(
+        &mut self,
+        params: &QueryParams,
+        options: &QueryOptions,
+        out: &mut QueryOutput<I>,
+    ) -> (Consts, Vec<PlannedJob>) {
+        let c = Consts::new(params);
+        out.instances.clear();
+        out.batches.clear();
+        out.stats = QueryStats::default();
+        let jobs = self.plan(params, options, c.fade, true, &mut out.stats);
+        (c, jobs)
+    }
+
     /// Runs a view's query, sequentially: the pre-cull, then [`query_cluster`](crate::query_cluster)
     /// for each job in order, appending to `out` (cleared first). Camera views (with
     /// [`QUERY_FLAG_FADE`](crate::QUERY_FLAG_FADE)) read and update the fade states.
@@ -496,11 +513,7 @@ impl Scene {
         options: &QueryOptions,
         out: &mut QueryOutput<I>,
     ) -> Result<(), Error> {
-        let c = Consts::new(params);
-        out.instances.clear();
-        out.batches.clear();
-        out.stats = QueryStats::default();
-        let jobs = self.plan(params, options, c.fade, true, &mut out.stats);
+        let (c, jobs) = self.begin_query(params, options, out);
         for pj in &jobs {
             let tile = &self.tiles[pj.slot];
             let states = &mut self.fades[pj.slot];

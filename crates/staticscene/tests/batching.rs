@@ -97,23 +97,7 @@ fn check<I: OutputInstance>(
             let tile = scene.tiles().iter().find(|t| t.id().0 == s.tile).unwrap();
             let setup = tile.setups()[tile.instances()[s.instance as usize].setup() as usize];
             let m = inst.local_to_floating();
-            let world = |p: DVec3| {
-                let r = &m.rows;
-                DVec3::new(
-                    f64::from(r[0][0]) * p.x
-                        + f64::from(r[0][1]) * p.y
-                        + f64::from(r[0][2]) * p.z
-                        + f64::from(r[0][3]),
-                    f64::from(r[1][0]) * p.x
-                        + f64::from(r[1][1]) * p.y
-                        + f64::from(r[1][2]) * p.z
-                        + f64::from(r[1][3]),
-                    f64::from(r[2][0]) * p.x
-                        + f64::from(r[2][1]) * p.y
-                        + f64::from(r[2][2]) * p.z
-                        + f64::from(r[2][3]),
-                )
-            };
+            let world = |p: DVec3| rows_f64(&m.rows, p);
             for p in corners(setup.min(), setup.max(), world) {
                 assert!(
                     p.distance(c) <= r * (1.0 + 1e-5) + 1e-3,
@@ -271,23 +255,7 @@ fn packed_query_draws_what_the_flat_loop_draws() {
             let f = &flat[k as usize];
             let s = f64::from(f.lod_scale * params.lod_point[3]);
             let near = |(lo, hi, a, b): (glam::Vec3, glam::Vec3, f32, f32)| {
-                let c = corners(lo, hi, |p| {
-                    let r = &f.object_to_world.rows;
-                    DVec3::new(
-                        f64::from(r[0][0]) * p.x
-                            + f64::from(r[0][1]) * p.y
-                            + f64::from(r[0][2]) * p.z
-                            + f64::from(r[0][3]),
-                        f64::from(r[1][0]) * p.x
-                            + f64::from(r[1][1]) * p.y
-                            + f64::from(r[1][2]) * p.z
-                            + f64::from(r[1][3]),
-                        f64::from(r[2][0]) * p.x
-                            + f64::from(r[2][1]) * p.y
-                            + f64::from(r[2][2]) * p.z
-                            + f64::from(r[2][3]),
-                    )
-                });
+                let c = corners(lo, hi, |p| rows_f64(&f.object_to_world.rows, p));
                 let mn = c.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
                 let mx = c.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
                 let d = (mn - lod_point)

@@ -121,28 +121,9 @@ fn fbm(c: &mut Criterion) {
     g.finish();
 }
 
-/// A 2048^2 shoreline-and-rocks mask: FBM thresholded (about 40% solid).
-pub fn shore_mask(size: u32) -> Vec<u8> {
-    let tex = NoiseTexture::generate(256, 16, 11).unwrap();
-    let f = Fbm::new(
-        &tex,
-        FbmParams {
-            frequency: 1.0 / 1024.0,
-            amplitude: 1.0,
-            gain: 0.5,
-            octaves_near: 6,
-            octaves_far: 1,
-            lod_distance: 1.0,
-        },
-    )
-    .unwrap();
-    (0..size * size)
-        .map(|i| {
-            let p = Vec2::new((i % size) as f32, (i / size) as f32);
-            u8::from(f.height(p) > 0.15)
-        })
-        .collect()
-}
+// The synthetic masks come from the examples' `common` module, through `bake_example`
+// below (a file can be loaded as a module only once).
+use bake_example::common::shore_mask;
 
 fn edt(c: &mut Criterion) {
     let n = 2048u32;

@@ -15,8 +15,10 @@ use water::Progress;
 use water::atlas::{FlowAtlas, FlowAtlasSettings};
 use water::flowbake::{FlowBakeInput, FlowBakeSettings};
 use water::glam::{Vec2, Vec3};
-use water::noise::{Fbm, FbmParams, NoiseTexture};
 use water::world::{River, RiverPoint};
+
+/// Public for `benches/water.rs`, which includes this file and reaches the masks through it.
+pub mod common;
 
 const TEXEL: f32 = 2.0;
 
@@ -71,25 +73,7 @@ pub fn rivers(size: u32) -> Vec<River> {
 
 /// Solid land (1) and water (0): FBM lakes plus the river channels.
 pub fn landscape(size: u32, rivers: &[River]) -> Vec<u8> {
-    let tex = NoiseTexture::generate(256, 16, 7).unwrap();
-    let f = Fbm::new(
-        &tex,
-        FbmParams {
-            frequency: 1.0 / 3000.0,
-            amplitude: 1.0,
-            gain: 0.5,
-            octaves_near: 6,
-            octaves_far: 1,
-            lod_distance: 1.0,
-        },
-    )
-    .unwrap();
-    let mut mask: Vec<u8> = (0..size * size)
-        .map(|i| {
-            let p = (Vec2::new((i % size) as f32, (i / size) as f32) + 0.5) * TEXEL;
-            u8::from(f.height(p) > -0.25)
-        })
-        .collect();
+    let mut mask = common::fbm_mask(size, 7, 1.0 / 3000.0, -0.25, |p| (p + 0.5) * TEXEL);
     for r in rivers {
         for w in r.points.windows(2) {
             let (a, b) = (w[0].position.truncate(), w[1].position.truncate());

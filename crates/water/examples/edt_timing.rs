@@ -7,27 +7,9 @@
 use std::time::Instant;
 
 use clap::{Parser, ValueEnum};
-use water::glam::Vec2;
-use water::noise::{Fbm, FbmParams, NoiseTexture};
 
-fn shore_mask(size: u32) -> Vec<u8> {
-    let tex = NoiseTexture::generate(256, 16, 11).unwrap();
-    let f = Fbm::new(
-        &tex,
-        FbmParams {
-            frequency: 1.0 / 1024.0,
-            amplitude: 1.0,
-            gain: 0.5,
-            octaves_near: 6,
-            octaves_far: 1,
-            lod_distance: 1.0,
-        },
-    )
-    .unwrap();
-    (0..size * size)
-        .map(|i| u8::from(f.height(Vec2::new((i % size) as f32, (i / size) as f32)) > 0.15))
-        .collect()
-}
+mod common;
+use common::shore_mask;
 
 fn time(name: &str, runs: usize, mut f: impl FnMut()) -> f64 {
     let mut t: Vec<f64> = (0..runs)

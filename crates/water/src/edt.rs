@@ -355,6 +355,47 @@ pub(crate) fn finish_row(row: &mut [f32]) {
 /// Rows per progress report.
 pub(crate) const ROWS_PER_REPORT: usize = 256;
 
+/// Row `y` of the signed distance field into `out` (one row, `out.len()` texels wide), from
+/// the mask and the column pass's `g`.
+pub(crate) fn distance_row(s: &mut RowScratch, mask: &[u8], g: &[u16], y: usize, out: &mut [f32]) {
+    let w = out.len();
+    let r = y * w..(y + 1) * w;
+    row_pass(s, &mask[r.clone()], &g[r], |x, d| out[x] = d as f32);
+    finish_row(out);
+}
+
+/// The distance transform with its two passes given, shared by the sequential
+/// [`signed_edt`] and the parallel [`crate::parallel::signed_edt`]: `column_pass(mask, w, g)`
+/// fills `g` like [`column_pass`]; `rows(y0, chunk, g)` fills `chunk`, the whole rows from
+/// row `y0` (at most [`ROWS_PER_REPORT`] of them), each like [`distance_row`]. Progress is
+/// reported from this thread after the columns and after every chunk of rows.
+pub(crate) fn signed_edt_with(
+    mask: &[u8],
+    width: u32,
+    height: u32,
+    progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
+    column_pass: impl FnOnce(&[u8], usize, &mut [u16]),
+    mut rows: impl FnMut(usize, &mut [f32], &[u16]),
+) -> Result<DistanceField, Error> {
+    check_dims(width, height, mask.len())?;
+    let (w, h) = (width as usize, height as usize);
+    let mut g = vec![0u16; w * h];
+    column_pass(mask, w, &mut g);
+    report(progress, Stage::DistanceColumns, 1, 1)?;
+    let mut values = vec![0.0f32; w * h];
+    for (b, chunk) in values.chunks_mut(ROWS_PER_REPORT * w).enumerate() {
+        let y0 = b * ROWS_PER_REPORT;
+        rows(y0, chunk, &g);
+        let done = (y0 + chunk.len() / w) as u64;
+        report(progress, Stage::DistanceRows, done, h as u64)?;
+    }
+    Ok(DistanceField {
+        width,
+        height,
+        values,
+    })
+}
+
 /// The exact signed distance transform of `mask` (non-zero = solid), single-threaded. See
 /// the module docs for conventions; [`crate::parallel::signed_edt`] is the rayon version
 /// (same result, bit for bit).
@@ -364,27 +405,21 @@ pub fn signed_edt(
     height: u32,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<DistanceField, Error> {
-    check_dims(width, height, mask.len())?;
-    let (w, h) = (width as usize, height as usize);
-    let mut g = vec![0u16; w * h];
-    column_pass(mask, w, &mut g);
-    report(progress, Stage::DistanceColumns, 1, 1)?;
-    let mut values = vec![0.0f32; w * h];
-    let mut s = RowScratch::new(w);
-    for y in 0..h {
-        let r = y * w..(y + 1) * w;
-        let out = &mut values[r.clone()];
-        row_pass(&mut s, &mask[r.clone()], &g[r], |x, d| out[x] = d as f32);
-        finish_row(out);
-        if (y + 1) % ROWS_PER_REPORT == 0 || y + 1 == h {
-            report(progress, Stage::DistanceRows, (y + 1) as u64, h as u64)?;
-        }
-    }
-    Ok(DistanceField {
+    // Made on the first row, once the dimensions are known to be valid.
+    let mut scratch = None;
+    signed_edt_with(
+        mask,
         width,
         height,
-        values,
-    })
+        progress,
+        column_pass,
+        |y0, chunk, g| {
+            let s = scratch.get_or_insert_with(|| RowScratch::new(width as usize));
+            for (i, out) in chunk.chunks_mut(width as usize).enumerate() {
+                distance_row(s, mask, g, y0 + i, out);
+            }
+        },
+    )
 }
 
 /// Exact signed squared distances (`+d^2` water, `-d^2` solid, `i32::MAX` / `-i32::MAX`
@@ -404,35 +439,42 @@ pub fn signed_squared_edt(mask: &[u8], width: u32, height: u32) -> Result<Vec<i3
     Ok(out)
 }
 
+/// The test-support reference for [`signed_squared_edt`]: every texel against every texel of
+/// the other class, `O((w h)^2)`, independent of the separable algorithm. `mask` is row-major
+/// `w x h` (non-zero = solid); the result follows [`signed_squared_edt`]'s conventions. The
+/// unit tests, `tests/edt.rs` and the `fuzzing` crate share this one copy; public only for
+/// them (hidden from the docs), far too slow for real masks.
+#[doc(hidden)]
+#[must_use]
+pub fn brute_signed_squared_edt(mask: &[u8], w: usize, h: usize) -> Vec<i32> {
+    let mut out = vec![0; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let solid = mask[y * w + x] != 0;
+            let mut best = i64::MAX;
+            for yy in 0..h {
+                for xx in 0..w {
+                    if (mask[yy * w + xx] != 0) != solid {
+                        let d = (x as i64 - xx as i64).pow(2) + (y as i64 - yy as i64).pow(2);
+                        best = best.min(d);
+                    }
+                }
+            }
+            let d = if best == i64::MAX {
+                i32::MAX
+            } else {
+                best as i32
+            };
+            out[y * w + x] = if solid { -d } else { d };
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::progress::no_progress;
-
-    fn brute(mask: &[u8], w: usize, h: usize) -> Vec<i32> {
-        let mut out = vec![0; w * h];
-        for y in 0..h {
-            for x in 0..w {
-                let solid = mask[y * w + x] != 0;
-                let mut best = i64::MAX;
-                for yy in 0..h {
-                    for xx in 0..w {
-                        if (mask[yy * w + xx] != 0) != solid {
-                            let d = (x as i64 - xx as i64).pow(2) + (y as i64 - yy as i64).pow(2);
-                            best = best.min(d);
-                        }
-                    }
-                }
-                let d = if best == i64::MAX {
-                    i32::MAX
-                } else {
-                    best as i32
-                };
-                out[y * w + x] = if solid { -d } else { d };
-            }
-        }
-        out
-    }
 
     #[test]
     fn matches_brute_force_on_small_masks() {
@@ -447,7 +489,11 @@ mod tests {
                 })
                 .collect();
             let got = signed_squared_edt(&mask, w as u32, h as u32).unwrap();
-            assert_eq!(got, brute(&mask, w, h), "case {case} {w}x{h}");
+            assert_eq!(
+                got,
+                brute_signed_squared_edt(&mask, w, h),
+                "case {case} {w}x{h}"
+            );
         }
     }
 

@@ -537,7 +537,7 @@ fn flood(
 
 /// One Jacobi smoothing row: `out` is row `y` of the new field. Texels the flood did not
 /// reach (water cut off from every seed) keep zero flow.
-pub(crate) fn smooth_row(
+fn smooth_row(
     g: &Grid<'_>,
     flow: &[Vec2],
     fixed: &[bool],
@@ -571,20 +571,17 @@ pub(crate) fn smooth_row(
     }
 }
 
-/// The flooded state the smoothing starts from.
-pub(crate) struct Prepared<'a> {
-    pub(crate) g: Grid<'a>,
-    pub(crate) flow: Vec<Vec2>,
-    pub(crate) fixed: Vec<bool>,
-    pub(crate) reached: Vec<bool>,
-}
-
-/// The flood fill and seeds, shared by the sequential and parallel bakers.
-pub(crate) fn prepare<'a>(
-    input: &FlowBakeInput<'a>,
+/// The bake with its smoothing sweep given, shared by the sequential [`bake_flow`] and the
+/// parallel [`crate::parallel::bake_flow`] (the seeds and the flood are sequential by
+/// nature: a priority order). Each iteration calls `sweep(w, next, smooth_row)`, which must
+/// call `smooth_row(y, row)` once for every row `y` of `next` (rows of `w` texels), in any
+/// order and on any thread: every row reads the previous iteration only.
+pub(crate) fn bake_flow_with(
+    input: &FlowBakeInput<'_>,
     s: &FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
-) -> Result<Prepared<'a>, Error> {
+    mut sweep: impl FnMut(usize, &mut [Vec2], &(dyn Fn(usize, &mut [Vec2]) + Sync)),
+) -> Result<FlowField, Error> {
     check(input, s)?;
     let g = grid(input.sdf, input.texel_size, s);
     let n = g.w * g.h;
@@ -593,31 +590,11 @@ pub(crate) fn prepare<'a>(
     seed(input, &g, &mut flow, &mut fixed)?;
     report(progress, Stage::FlowSeeds, 1, 1)?;
     let reached = flood(&g, s, &mut flow, &fixed, progress)?;
-    Ok(Prepared {
-        g,
-        flow,
-        fixed,
-        reached,
-    })
-}
-
-/// Bakes flow over the grid of `input.sdf` (see the module docs), single-threaded.
-pub fn bake_flow(
-    input: &FlowBakeInput<'_>,
-    s: &FlowBakeSettings,
-    progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
-) -> Result<FlowField, Error> {
-    let Prepared {
-        g,
-        mut flow,
-        fixed,
-        reached,
-    } = prepare(input, s, progress)?;
     let mut next = flow.clone();
     for it in 0..s.smoothing_iterations {
-        for (y, row) in next.chunks_mut(g.w).enumerate() {
+        sweep(g.w, &mut next, &|y, row| {
             smooth_row(&g, &flow, &fixed, &reached, y, row);
-        }
+        });
         core::mem::swap(&mut flow, &mut next);
         report(
             progress,
@@ -635,14 +612,15 @@ pub fn bake_flow(
     })
 }
 
-/// Assembles a field (for the parallel baker).
-#[cfg_attr(not(feature = "parallel"), allow(dead_code))]
-pub(crate) fn field(input: &FlowBakeInput<'_>, w: usize, h: usize, flow: Vec<Vec2>) -> FlowField {
-    FlowField {
-        width: w as u32,
-        height: h as u32,
-        texel_size: input.texel_size,
-        origin: input.origin,
-        flow,
-    }
+/// Bakes flow over the grid of `input.sdf` (see the module docs), single-threaded.
+pub fn bake_flow(
+    input: &FlowBakeInput<'_>,
+    s: &FlowBakeSettings,
+    progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
+) -> Result<FlowField, Error> {
+    bake_flow_with(input, s, progress, |w, next, smooth_row| {
+        for (y, row) in next.chunks_mut(w).enumerate() {
+            smooth_row(y, row);
+        }
+    })
 }

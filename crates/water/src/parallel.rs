@@ -5,7 +5,6 @@
 //! Progress is reported from the calling thread between batches of rows, so the callback
 //! need not be `Sync`.
 
-use alloc::vec;
 use alloc::vec::Vec;
 use core::ops::ControlFlow;
 
@@ -13,10 +12,9 @@ use rayon::prelude::*;
 
 use crate::Error;
 use crate::edt::{
-    DistanceField, INF, ROWS_PER_REPORT, RowScratch, check_dims, column_down, column_up,
-    finish_row, row_pass,
+    DistanceField, INF, RowScratch, column_down, column_up, distance_row, signed_edt_with,
 };
-use crate::progress::{Progress, Stage, report};
+use crate::progress::Progress;
 
 /// Columns per strip of the parallel column pass.
 const STRIP: usize = 256;
@@ -63,27 +61,20 @@ pub fn signed_edt(
     height: u32,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<DistanceField, Error> {
-    check_dims(width, height, mask.len())?;
-    let (w, h) = (width as usize, height as usize);
-    let mut g = vec![0u16; w * h];
-    column_pass_par(mask, w, &mut g);
-    report(progress, Stage::DistanceColumns, 1, 1)?;
-    let mut values = vec![0.0f32; w * h];
-    let batch = ROWS_PER_REPORT * w;
-    for (b, chunk) in values.chunks_mut(batch).enumerate() {
-        let y0 = b * ROWS_PER_REPORT;
-        chunk.par_chunks_mut(w).enumerate().for_each_init(
-            || RowScratch::new(w),
-            |s, (i, out)| {
-                let r = (y0 + i) * w..(y0 + i + 1) * w;
-                row_pass(s, &mask[r.clone()], &g[r], |x, d| out[x] = d as f32);
-                finish_row(out);
-            },
-        );
-        let done = (y0 + chunk.len() / w) as u64;
-        report(progress, Stage::DistanceRows, done, h as u64)?;
-    }
-    DistanceField::from_values(width, height, values)
+    let w = width as usize;
+    signed_edt_with(
+        mask,
+        width,
+        height,
+        progress,
+        column_pass_par,
+        |y0, chunk, g| {
+            chunk.par_chunks_mut(w).enumerate().for_each_init(
+                || RowScratch::new(w),
+                |s, (i, out)| distance_row(s, mask, g, y0 + i, out),
+            );
+        },
+    )
 }
 
 /// [`crate::flowbake::bake_flow`] with the smoothing iterations on all rayon threads (the
@@ -93,25 +84,9 @@ pub fn bake_flow(
     s: &crate::flowbake::FlowBakeSettings,
     progress: &mut impl FnMut(Progress) -> ControlFlow<()>,
 ) -> Result<crate::flowbake::FlowField, Error> {
-    use crate::flowbake::{Prepared, field, prepare, smooth_row};
-    let Prepared {
-        g,
-        mut flow,
-        fixed,
-        reached,
-    } = prepare(input, s, progress)?;
-    let mut next = flow.clone();
-    for it in 0..s.smoothing_iterations {
-        next.par_chunks_mut(g.w)
+    crate::flowbake::bake_flow_with(input, s, progress, |w, next, smooth_row| {
+        next.par_chunks_mut(w)
             .enumerate()
-            .for_each(|(y, row)| smooth_row(&g, &flow, &fixed, &reached, y, row));
-        core::mem::swap(&mut flow, &mut next);
-        report(
-            progress,
-            Stage::FlowSmooth,
-            u64::from(it + 1),
-            u64::from(s.smoothing_iterations),
-        )?;
-    }
-    Ok(field(input, g.w, g.h, flow))
+            .for_each(|(y, row)| smooth_row(y, row));
+    })
 }

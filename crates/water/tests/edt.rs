@@ -4,32 +4,7 @@
 use std::ops::ControlFlow;
 
 use proptest::prelude::*;
-use water::edt::{signed_edt, signed_squared_edt};
-
-fn brute(mask: &[u8], w: usize, h: usize) -> Vec<i32> {
-    let mut out = vec![0; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            let solid = mask[y * w + x] != 0;
-            let mut best = i64::MAX;
-            for yy in 0..h {
-                for xx in 0..w {
-                    if (mask[yy * w + xx] != 0) != solid {
-                        best =
-                            best.min((x as i64 - xx as i64).pow(2) + (y as i64 - yy as i64).pow(2));
-                    }
-                }
-            }
-            let d = if best == i64::MAX {
-                i32::MAX
-            } else {
-                best as i32
-            };
-            out[y * w + x] = if solid { -d } else { d };
-        }
-    }
-    out
-}
+use water::edt::{brute_signed_squared_edt, signed_edt, signed_squared_edt};
 
 /// Masks with structure: random blobs (runs of both classes) plus noise.
 fn mask(w: usize, h: usize, seed: u32, blobs: u32, noise: u32) -> Vec<u8> {
@@ -58,7 +33,7 @@ proptest! {
     fn exact_against_brute_force(w in 1usize..48, h in 1usize..40, seed in any::<u32>(), blobs in 0u32..6, noise in 0u32..20) {
         let m = mask(w, h, seed, blobs, noise);
         let got = signed_squared_edt(&m, w as u32, h as u32).unwrap();
-        prop_assert_eq!(&got, &brute(&m, w, h));
+        prop_assert_eq!(&got, &brute_signed_squared_edt(&m, w, h));
         let f = signed_edt(&m, w as u32, h as u32, &mut water::no_progress).unwrap();
         for (v, d) in f.values().iter().zip(&got) {
             let want = if d.unsigned_abs() == i32::MAX as u32 { f32::INFINITY } else { (d.unsigned_abs() as f32).sqrt() };

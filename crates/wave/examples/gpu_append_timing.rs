@@ -33,6 +33,13 @@ struct Variant {
     needs_subgroups: bool,
 }
 
+/// The workgroup-aggregated append's body, the same at every workgroup size.
+const WORKGROUP_AGGREGATED: &str = "let a = wave_wg_append_begin(keep, li);
+    var old = 0u;
+    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
+    let s = wave_wg_append_end(a, old);
+    if (s != WAVE_NO_SLOT) { items[s] = x; }";
+
 const VARIANTS: &[Variant] = &[
     Variant {
         name: "per_thread_atomic",
@@ -70,11 +77,7 @@ const VARIANTS: &[Variant] = &[
         module: "#import wave::workgroup",
         workgroup: 64,
         builtins: "",
-        body: "let a = wave_wg_append_begin(keep, li);
-    var old = 0u;
-    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
-    let s = wave_wg_append_end(a, old);
-    if (s != WAVE_NO_SLOT) { items[s] = x; }",
+        body: WORKGROUP_AGGREGATED,
         needs_subgroups: false,
     },
     Variant {
@@ -82,11 +85,7 @@ const VARIANTS: &[Variant] = &[
         module: "#import wave::workgroup",
         workgroup: 256,
         builtins: "",
-        body: "let a = wave_wg_append_begin(keep, li);
-    var old = 0u;
-    if (a.total != 0u) { old = atomicAdd(&counters[0], a.total); if (COUNT) { atomicAdd(&counters[1], 1u); } }
-    let s = wave_wg_append_end(a, old);
-    if (s != WAVE_NO_SLOT) { items[s] = x; }",
+        body: WORKGROUP_AGGREGATED,
         needs_subgroups: false,
     },
     Variant {

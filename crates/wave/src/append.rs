@@ -285,32 +285,44 @@ impl Compaction {
 pub fn compact<T: Copy, C: Counter + ?Sized>(
     width: WaveWidth,
     items: &[T],
-    mut keep: impl FnMut(&T) -> bool,
+    keep: impl FnMut(&T) -> bool,
     counter: &C,
     out: &mut [T],
 ) -> Compaction {
-    let mut c = Compaction::default();
-    for chunk in items.chunks(width.len()) {
-        let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &mut keep));
+    waves(width, items, keep, |wave, chunk| {
         let a = wave.aggregated_append(counter, out, |lane| chunk[lane as usize]);
-        c.add_wave(&a, usize::from(a.count > 0));
-    }
-    c
+        (a, usize::from(a.count > 0))
+    })
 }
 
 /// [`compact`]'s baseline: the same waves, but each kept item does its own atomic.
 pub fn compact_per_item<T: Copy, C: Counter + ?Sized>(
     width: WaveWidth,
     items: &[T],
-    mut keep: impl FnMut(&T) -> bool,
+    keep: impl FnMut(&T) -> bool,
     counter: &C,
     out: &mut [T],
+) -> Compaction {
+    waves(width, items, keep, |wave, chunk| {
+        let a = wave.per_lane_append(counter, out, |lane| chunk[lane as usize]);
+        (a, a.count as usize)
+    })
+}
+
+/// The frame both compactions share: cuts `items` into waves of `width` lanes (the last one
+/// partial), keeps the lanes passing `keep`, and lets `append(wave, chunk)` append the
+/// wave's kept items, returning its [`Append`] and its atomic operations; sums the waves.
+fn waves<T>(
+    width: WaveWidth,
+    items: &[T],
+    mut keep: impl FnMut(&T) -> bool,
+    mut append: impl FnMut(Wave, &[T]) -> (Append, usize),
 ) -> Compaction {
     let mut c = Compaction::default();
     for chunk in items.chunks(width.len()) {
         let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &mut keep));
-        let a = wave.per_lane_append(counter, out, |lane| chunk[lane as usize]);
-        c.add_wave(&a, a.count as usize);
+        let (a, atomic_ops) = append(wave, chunk);
+        c.add_wave(&a, atomic_ops);
     }
     c
 }

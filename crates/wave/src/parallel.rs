@@ -22,7 +22,7 @@ use core::sync::atomic::{AtomicU32, Ordering};
 use rayon::prelude::*;
 
 use crate::append::{Sink, chunk_ballot, launched};
-use crate::{BatchCompaction, Compaction, Error, WaveBatch, WaveWidth};
+use crate::{BatchCompaction, Compaction, Error, Wave, WaveBatch, WaveWidth};
 
 /// An output buffer that threads holding disjoint slots write into.
 struct SharedOut<'a, T> {
@@ -98,22 +98,18 @@ where
     T: Copy + Send + Sync,
     F: Fn(&T) -> bool + Sync,
 {
-    check_room(counter, items.len())?;
-    let counter: &AtomicU32 = counter;
-    let shared = SharedOut::new(out);
-    let shared = &shared;
-    Ok(items
-        .par_chunks(width.len())
-        .map(|chunk| {
-            let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &keep));
+    par_waves(
+        width,
+        items,
+        keep,
+        counter,
+        out,
+        |wave, chunk, counter, mut sink| {
             let r = wave.reserve(counter);
-            let mut sink = shared;
             let a = crate::append::write_reserved(&r, &mut sink, |lane| chunk[lane as usize]);
-            let mut c = Compaction::default();
-            c.add_wave(&a, usize::from(a.count > 0));
-            c
-        })
-        .reduce(Compaction::default, Compaction::merge))
+            (a, usize::from(a.count > 0))
+        },
+    )
 }
 
 /// [`compact_per_item`](crate::compact_per_item) on rayon's threads: the baseline, one
@@ -129,15 +125,13 @@ where
     T: Copy + Send + Sync,
     F: Fn(&T) -> bool + Sync,
 {
-    check_room(counter, items.len())?;
-    let counter: &AtomicU32 = counter;
-    let shared = SharedOut::new(out);
-    let shared = &shared;
-    Ok(items
-        .par_chunks(width.len())
-        .map(|chunk| {
-            let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &keep));
-            let mut sink = shared;
+    par_waves(
+        width,
+        items,
+        keep,
+        counter,
+        out,
+        |wave, chunk, counter, mut sink| {
             let mut a = crate::Append::default();
             for lane in wave.active() {
                 let slot = counter.fetch_add(1, Ordering::Relaxed);
@@ -149,8 +143,39 @@ where
                     a.stored += 1;
                 }
             }
+            (a, a.count as usize)
+        },
+    )
+}
+
+/// The frame both compactions share: refuses a run that could overflow `counter`, cuts
+/// `items` into waves of `width` lanes (the last one partial) on rayon's threads, keeps the
+/// lanes passing `keep`, and lets `append(wave, chunk, counter, sink)` append the wave's
+/// kept items, returning the wave's [`crate::Append`] and its atomic operations; the
+/// waves' counts are summed.
+fn par_waves<T, F>(
+    width: WaveWidth,
+    items: &[T],
+    keep: F,
+    counter: &mut AtomicU32,
+    out: &mut [T],
+    append: impl Fn(Wave, &[T], &AtomicU32, &SharedOut<'_, T>) -> (crate::Append, usize) + Sync,
+) -> Result<Compaction, Error>
+where
+    T: Copy + Send + Sync,
+    F: Fn(&T) -> bool + Sync,
+{
+    check_room(counter, items.len())?;
+    let counter: &AtomicU32 = counter;
+    let shared = SharedOut::new(out);
+    let shared = &shared;
+    Ok(items
+        .par_chunks(width.len())
+        .map(|chunk| {
+            let wave = launched(width, chunk.len()).restrict(chunk_ballot(chunk, &keep));
+            let (a, atomic_ops) = append(wave, chunk, counter, shared);
             let mut c = Compaction::default();
-            c.add_wave(&a, a.count as usize);
+            c.add_wave(&a, atomic_ops);
             c
         })
         .reduce(Compaction::default, Compaction::merge))

@@ -90,6 +90,17 @@ pub fn clip_from_world(cam: &Camera) -> DMat4 {
     cam.projection.as_dmat4() * cam.view_from_world()
 }
 
+/// `p` through a row-major 3x4 affine transform (an instance's `rows`), in f64.
+pub fn rows_f64(r: &[[f32; 4]; 3], p: DVec3) -> DVec3 {
+    let row = |i: usize| {
+        f64::from(r[i][0]) * p.x
+            + f64::from(r[i][1]) * p.y
+            + f64::from(r[i][2]) * p.z
+            + f64::from(r[i][3])
+    };
+    DVec3::new(row(0), row(1), row(2))
+}
+
 /// The 8 corners of a world-space oriented box: `world(p)` for the corners of `[min, max]`.
 pub fn corners(min: Vec3, max: Vec3, world: impl Fn(DVec3) -> DVec3) -> [DVec3; 8] {
     std::array::from_fn(|i| {
