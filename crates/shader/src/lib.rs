@@ -12,9 +12,12 @@
 //! **Descriptions.** A [`Pass`] is declared once, next to its WGSL, by the crate that owns
 //! the algorithm: its root module and features, its bind groups and bindings by name and
 //! kind, its entry points in order with workgroup sizes and dispatch geometry, and the
-//! buffers it expects zeroed. With the `wgpu` feature, [`pipeline`] builds layouts,
-//! pipelines, bind groups (by binding name) and dispatches from it; `shadercheck::check_pass`
-//! proves a description matches its composed module with naga.
+//! buffers it expects zeroed. A render pass's pipelines are [`Raster`] consts beside it
+//! (entry points, colour targets with blend and write mask, depth and stencil, culling,
+//! samples). With the `wgpu` feature, [`pipeline`] builds layouts, compute and render
+//! pipelines, bind groups (by binding name) and dispatches from them;
+//! `shadercheck::check_pass` and `shadercheck::check_raster` prove a description matches
+//! its composed module with naga.
 //!
 //! ```
 //! use shader::{Binding, Dispatch, Entry, Group, Kind, Module, Pass, Stage};
@@ -84,9 +87,15 @@ mod compose;
 mod pass;
 #[cfg(feature = "wgpu")]
 pub mod pipeline;
+mod raster;
 
 pub use compose::{Error, Module, compose, compose_source};
 pub use pass::{
     Binding, Dim, Dispatch, Entry, Format, Group, Kind, MAX_WORKGROUPS_X, Pass, Sample, Size,
     Stage, StageCounts, join,
+};
+pub use raster::{
+    Attribute, Bias, Blend, BlendComponent, BlendFactor, BlendOp, Compare, Depth, DepthFormat,
+    Face, FrontFace, Primitive, Raster, Stencil, StencilFace, StencilOp, Target, Topology,
+    VertexBuffer, VertexFormat, integer_target,
 };

@@ -196,7 +196,8 @@ pub enum Dim {
     D2Multisampled,
 }
 
-/// Storage texel formats the workspace's passes use (WGSL names in the docs).
+/// Texel formats the workspace's passes use for storage textures and colour targets (WGSL
+/// storage-format names in the docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Format {

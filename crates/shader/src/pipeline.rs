@@ -1,12 +1,18 @@
-//! The wgpu side of a [`Pass`]: layouts from its groups, pipelines from its composed
-//! module, bind groups by binding name, and dispatches from its geometry. The renderer and
-//! the device tests both go through here, so a pass is bound and run one way.
+//! The wgpu side of a [`Pass`]: layouts from its groups, compute pipelines from its
+//! composed module ([`ComputePass`]) and render pipelines from its [`Raster`] descriptions
+//! ([`RasterPass`]), bind groups by binding name, and dispatches from its geometry. The
+//! renderer and the device tests both go through here, so a pass is bound and run one way.
 
 use std::format;
+use std::string::String;
 use std::vec::Vec;
 
 use crate::compose::Error;
 use crate::pass::{Dim, Entry, Format, Group, Kind, Pass, Sample, Size, Stage};
+use crate::raster::{
+    Blend, BlendComponent, BlendFactor, BlendOp, Compare, Depth, DepthFormat, Face, FrontFace,
+    Raster, Stencil, StencilFace, StencilOp, Topology, VertexFormat,
+};
 
 /// wgpu's texture format for a storage texel format.
 #[must_use]
@@ -107,8 +113,9 @@ pub fn layout_entries(
         .collect()
 }
 
-/// A pass's bind-group layouts and pipeline layout.
-#[derive(Debug)]
+/// A pass's bind-group layouts and pipeline layout (cloning shares them: bind groups made
+/// from one serve the pipelines of every clone).
+#[derive(Clone, Debug)]
 pub struct Layouts {
     pass: &'static str,
     groups: Vec<(&'static Group, wgpu::BindGroupLayout)>,
@@ -360,5 +367,401 @@ impl<P> ComputePass<P> {
                 pass.dispatch_workgroups(x, y, z);
             }
         }
+    }
+}
+
+/// A render pass built from its description: its layouts and its module composed once
+/// with one feature combination; [`RasterPass::pipeline`] builds a [`Raster`] description
+/// of it.
+#[derive(Debug)]
+pub struct RasterPass<P: 'static = ()> {
+    /// The description.
+    pub pass: &'static Pass<P>,
+    /// Its layouts.
+    pub layouts: Layouts,
+    module: wgpu::ShaderModule,
+    constants: Vec<(String, f64)>,
+}
+
+impl<P> RasterPass<P> {
+    /// Composes `pass` with `features` and creates its module and layouts; pipelines take
+    /// the `override` values `constants`. Device errors (validation) are wgpu's; run inside
+    /// an error scope to catch them.
+    ///
+    /// # Errors
+    /// A composition error or an undeclared feature.
+    pub fn new(
+        device: &wgpu::Device,
+        pass: &'static Pass<P>,
+        features: &[&str],
+        constants: &[(&str, f64)],
+    ) -> Result<Self, Error> {
+        let layouts = Layouts::new(device, pass);
+        Self::with_layouts(device, pass, layouts, features, constants)
+    }
+
+    /// The same pass composed with other `features`, sharing these layouts (a bind group
+    /// serves the pipelines of both): a pass's permutations.
+    ///
+    /// # Errors
+    /// A composition error or an undeclared feature.
+    pub fn variant(&self, device: &wgpu::Device, features: &[&str]) -> Result<Self, Error> {
+        let constants: Vec<(&str, f64)> = self
+            .constants
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect();
+        Self::with_layouts(
+            device,
+            self.pass,
+            self.layouts.clone(),
+            features,
+            &constants,
+        )
+    }
+
+    fn with_layouts(
+        device: &wgpu::Device,
+        pass: &'static Pass<P>,
+        layouts: Layouts,
+        features: &[&str],
+        constants: &[(&str, f64)],
+    ) -> Result<Self, Error> {
+        let source = pass.source(features)?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(pass.name),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        Ok(Self {
+            pass,
+            layouts,
+            module,
+            constants: constants.iter().map(|&(k, v)| (k.into(), v)).collect(),
+        })
+    }
+
+    /// The pipeline `raster` describes, over this pass's module and layouts.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] when `raster`'s vertex or fragment entry point is not one of
+    /// the pass's entry points of that stage.
+    pub fn pipeline(
+        &self,
+        device: &wgpu::Device,
+        raster: &Raster<'_>,
+    ) -> Result<wgpu::RenderPipeline, Error> {
+        let stage_entry = |name: &str, stage: Stage, what: &'static str| match self.pass.entry(name)
+        {
+            Ok(e) if e.stage == stage => Ok(()),
+            _ => Err(Error::UnknownName {
+                pass: self.pass.name,
+                what,
+                name: name.into(),
+            }),
+        };
+        stage_entry(raster.vertex, Stage::Vertex, "vertex entry point")?;
+        if let Some(f) = raster.fragment {
+            stage_entry(f, Stage::Fragment, "fragment entry point")?;
+        }
+        let constants: Vec<(&str, f64)> = self
+            .constants
+            .iter()
+            .map(|(k, v)| (k.as_str(), *v))
+            .collect();
+        let options = || wgpu::PipelineCompilationOptions {
+            constants: &constants,
+            ..Default::default()
+        };
+        let attributes: Vec<Vec<wgpu::VertexAttribute>> = raster
+            .buffers
+            .iter()
+            .map(|b| {
+                b.attributes
+                    .iter()
+                    .map(|a| wgpu::VertexAttribute {
+                        format: vertex_format(a.format),
+                        offset: a.offset,
+                        shader_location: a.location,
+                    })
+                    .collect()
+            })
+            .collect();
+        let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = raster
+            .buffers
+            .iter()
+            .zip(&attributes)
+            .map(|(b, attributes)| {
+                Some(wgpu::VertexBufferLayout {
+                    array_stride: b.stride,
+                    step_mode: if b.per_instance {
+                        wgpu::VertexStepMode::Instance
+                    } else {
+                        wgpu::VertexStepMode::Vertex
+                    },
+                    attributes,
+                })
+            })
+            .collect();
+        let targets: Vec<Option<wgpu::ColorTargetState>> = raster
+            .targets
+            .iter()
+            .map(|t| {
+                Some(wgpu::ColorTargetState {
+                    format: texture_format(t.format),
+                    blend: t.blend.map(blend),
+                    write_mask: wgpu::ColorWrites::from_bits_truncate(u32::from(t.write_mask)),
+                })
+            })
+            .collect();
+        Ok(
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(raster.name),
+                layout: Some(self.layouts.pipeline_layout()),
+                vertex: wgpu::VertexState {
+                    module: &self.module,
+                    entry_point: Some(raster.vertex),
+                    compilation_options: options(),
+                    buffers: &buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: match raster.primitive.topology {
+                        Topology::TriangleList => wgpu::PrimitiveTopology::TriangleList,
+                        Topology::TriangleStrip => wgpu::PrimitiveTopology::TriangleStrip,
+                        Topology::LineList => wgpu::PrimitiveTopology::LineList,
+                        Topology::LineStrip => wgpu::PrimitiveTopology::LineStrip,
+                        Topology::PointList => wgpu::PrimitiveTopology::PointList,
+                    },
+                    strip_index_format: None,
+                    front_face: match raster.primitive.front_face {
+                        FrontFace::Ccw => wgpu::FrontFace::Ccw,
+                        FrontFace::Cw => wgpu::FrontFace::Cw,
+                    },
+                    cull_mode: raster.primitive.cull.map(|f| match f {
+                        Face::Front => wgpu::Face::Front,
+                        Face::Back => wgpu::Face::Back,
+                    }),
+                    unclipped_depth: false,
+                    polygon_mode: wgpu::PolygonMode::Fill,
+                    conservative: false,
+                },
+                depth_stencil: raster.depth.map(depth_stencil),
+                multisample: wgpu::MultisampleState {
+                    count: raster.samples,
+                    ..Default::default()
+                },
+                fragment: raster.fragment.map(|entry| wgpu::FragmentState {
+                    module: &self.module,
+                    entry_point: Some(entry),
+                    compilation_options: options(),
+                    targets: &targets,
+                }),
+                multiview_mask: None,
+                cache: None,
+            }),
+        )
+    }
+
+    /// A bind group of the group named `group` (see [`Layouts::bind_group`]).
+    ///
+    /// # Errors
+    /// An unknown group or resource name, or a binding given no resource.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        group: &str,
+        resources: &[(&str, wgpu::BindingResource<'_>)],
+    ) -> Result<wgpu::BindGroup, Error> {
+        self.layouts.bind_group(device, group, resources)
+    }
+}
+
+/// wgpu's texture format for a depth(-stencil) format.
+#[must_use]
+pub fn depth_format(f: DepthFormat) -> wgpu::TextureFormat {
+    match f {
+        DepthFormat::Depth32Float => wgpu::TextureFormat::Depth32Float,
+        DepthFormat::Depth32FloatStencil8 => wgpu::TextureFormat::Depth32FloatStencil8,
+        DepthFormat::Depth24PlusStencil8 => wgpu::TextureFormat::Depth24PlusStencil8,
+    }
+}
+
+/// wgpu's comparison function for `c`.
+#[must_use]
+pub fn compare(c: Compare) -> wgpu::CompareFunction {
+    match c {
+        Compare::Never => wgpu::CompareFunction::Never,
+        Compare::Less => wgpu::CompareFunction::Less,
+        Compare::Equal => wgpu::CompareFunction::Equal,
+        Compare::LessEqual => wgpu::CompareFunction::LessEqual,
+        Compare::Greater => wgpu::CompareFunction::Greater,
+        Compare::NotEqual => wgpu::CompareFunction::NotEqual,
+        Compare::GreaterEqual => wgpu::CompareFunction::GreaterEqual,
+        Compare::Always => wgpu::CompareFunction::Always,
+    }
+}
+
+/// wgpu's depth-stencil state for `d`.
+#[must_use]
+pub fn depth_stencil(d: Depth) -> wgpu::DepthStencilState {
+    let face = |f: StencilFace| wgpu::StencilFaceState {
+        compare: compare(f.compare),
+        fail_op: stencil_op(f.fail),
+        depth_fail_op: stencil_op(f.depth_fail),
+        pass_op: stencil_op(f.pass),
+    };
+    let Stencil {
+        front,
+        back,
+        read_mask,
+        write_mask,
+    } = d.stencil;
+    wgpu::DepthStencilState {
+        format: depth_format(d.format),
+        depth_write_enabled: Some(d.write),
+        depth_compare: Some(compare(d.compare)),
+        stencil: wgpu::StencilState {
+            front: face(front),
+            back: face(back),
+            read_mask,
+            write_mask,
+        },
+        bias: wgpu::DepthBiasState {
+            constant: d.bias.constant,
+            slope_scale: d.bias.slope_scale,
+            clamp: d.bias.clamp,
+        },
+    }
+}
+
+fn stencil_op(op: StencilOp) -> wgpu::StencilOperation {
+    match op {
+        StencilOp::Keep => wgpu::StencilOperation::Keep,
+        StencilOp::Zero => wgpu::StencilOperation::Zero,
+        StencilOp::Replace => wgpu::StencilOperation::Replace,
+        StencilOp::Invert => wgpu::StencilOperation::Invert,
+        StencilOp::IncrementClamp => wgpu::StencilOperation::IncrementClamp,
+        StencilOp::DecrementClamp => wgpu::StencilOperation::DecrementClamp,
+        StencilOp::IncrementWrap => wgpu::StencilOperation::IncrementWrap,
+        StencilOp::DecrementWrap => wgpu::StencilOperation::DecrementWrap,
+    }
+}
+
+fn blend(b: Blend) -> wgpu::BlendState {
+    let factor = |f: BlendFactor| match f {
+        BlendFactor::Zero => wgpu::BlendFactor::Zero,
+        BlendFactor::One => wgpu::BlendFactor::One,
+        BlendFactor::Src => wgpu::BlendFactor::Src,
+        BlendFactor::OneMinusSrc => wgpu::BlendFactor::OneMinusSrc,
+        BlendFactor::SrcAlpha => wgpu::BlendFactor::SrcAlpha,
+        BlendFactor::OneMinusSrcAlpha => wgpu::BlendFactor::OneMinusSrcAlpha,
+        BlendFactor::Dst => wgpu::BlendFactor::Dst,
+        BlendFactor::OneMinusDst => wgpu::BlendFactor::OneMinusDst,
+        BlendFactor::DstAlpha => wgpu::BlendFactor::DstAlpha,
+        BlendFactor::OneMinusDstAlpha => wgpu::BlendFactor::OneMinusDstAlpha,
+    };
+    let component = |c: BlendComponent| wgpu::BlendComponent {
+        src_factor: factor(c.src),
+        dst_factor: factor(c.dst),
+        operation: match c.op {
+            BlendOp::Add => wgpu::BlendOperation::Add,
+            BlendOp::Subtract => wgpu::BlendOperation::Subtract,
+            BlendOp::ReverseSubtract => wgpu::BlendOperation::ReverseSubtract,
+            BlendOp::Min => wgpu::BlendOperation::Min,
+            BlendOp::Max => wgpu::BlendOperation::Max,
+        },
+    };
+    wgpu::BlendState {
+        color: component(b.color),
+        alpha: component(b.alpha),
+    }
+}
+
+fn vertex_format(f: VertexFormat) -> wgpu::VertexFormat {
+    match f {
+        VertexFormat::Float32 => wgpu::VertexFormat::Float32,
+        VertexFormat::Float32x2 => wgpu::VertexFormat::Float32x2,
+        VertexFormat::Float32x3 => wgpu::VertexFormat::Float32x3,
+        VertexFormat::Float32x4 => wgpu::VertexFormat::Float32x4,
+        VertexFormat::Uint32 => wgpu::VertexFormat::Uint32,
+        VertexFormat::Uint32x2 => wgpu::VertexFormat::Uint32x2,
+        VertexFormat::Uint32x4 => wgpu::VertexFormat::Uint32x4,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::raster::{Bias, Target};
+
+    /// The conversions keep every field: the light volumes' shading state and a shadow
+    /// bias, spelled in wgpu by hand.
+    #[test]
+    fn depth_and_blend_convert_field_by_field() {
+        let shade = Depth::test(
+            DepthFormat::Depth24PlusStencil8,
+            Compare::GreaterEqual,
+            false,
+        )
+        .stencil(Stencil::both(StencilFace::new(
+            Compare::Equal,
+            StencilOp::Zero,
+            StencilOp::Zero,
+        )));
+        let face = wgpu::StencilFaceState {
+            compare: wgpu::CompareFunction::Equal,
+            fail_op: wgpu::StencilOperation::Keep,
+            depth_fail_op: wgpu::StencilOperation::Zero,
+            pass_op: wgpu::StencilOperation::Zero,
+        };
+        assert_eq!(
+            depth_stencil(shade),
+            wgpu::DepthStencilState {
+                format: wgpu::TextureFormat::Depth24PlusStencil8,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+                stencil: wgpu::StencilState {
+                    front: face,
+                    back: face,
+                    read_mask: 0xff,
+                    write_mask: 0xff,
+                },
+                bias: wgpu::DepthBiasState::default(),
+            }
+        );
+        let bias = Bias {
+            constant: 2,
+            slope_scale: 2.0,
+            clamp: 0.0,
+        };
+        let shadow = depth_stencil(Depth::shadow(DepthFormat::Depth32Float, bias));
+        assert_eq!(shadow.stencil, wgpu::StencilState::default());
+        assert_eq!(shadow.depth_compare, Some(wgpu::CompareFunction::Less));
+        assert_eq!(
+            shadow.bias,
+            wgpu::DepthBiasState {
+                constant: 2,
+                slope_scale: 2.0,
+                clamp: 0.0,
+            }
+        );
+        assert_eq!(
+            blend(Blend::ADDITIVE),
+            wgpu::BlendState {
+                color: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                },
+                alpha: wgpu::BlendComponent {
+                    src_factor: wgpu::BlendFactor::One,
+                    dst_factor: wgpu::BlendFactor::One,
+                    operation: wgpu::BlendOperation::Add,
+                },
+            }
+        );
+        assert_eq!(
+            wgpu::ColorWrites::from_bits_truncate(u32::from(Target::WRITE_ALL)),
+            wgpu::ColorWrites::ALL
+        );
     }
 }
