@@ -92,20 +92,6 @@ pub(crate) fn features(layout: GBufferLayout) -> &'static [&'static str] {
     }
 }
 
-/// The colour-target states of the baseline's geometry pass.
-pub(crate) fn color_targets(layout: GBufferLayout) -> Vec<Option<wgpu::ColorTargetState>> {
-    color_formats(layout)
-        .into_iter()
-        .map(|format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        })
-        .collect()
-}
-
 /// The G-buffer's texture views RT0..RT3 as bind-group resources of `bindings`, by name.
 pub(crate) fn resources<'a>(
     bindings: &'a [Binding; 4],

@@ -77,6 +77,18 @@ impl<'a> Raster<'a> {
             ..self
         }
     }
+    /// With its depth attachment's format `format` (a pass whose format the device picks;
+    /// no depth state: unchanged).
+    #[must_use]
+    pub const fn depth_format(self, format: DepthFormat) -> Self {
+        Self {
+            depth: match self.depth {
+                Some(d) => Some(Depth { format, ..d }),
+                None => None,
+            },
+            ..self
+        }
+    }
     /// With primitive state `primitive`.
     #[must_use]
     pub const fn primitive(self, primitive: Primitive) -> Self {
@@ -582,6 +594,12 @@ mod tests {
         assert_eq!(d.bias, Bias::NONE);
         assert_eq!(d.stencil.front, d.stencil.back);
         assert_eq!(d.stencil.front.fail, StencilOp::Keep);
+        let d32 = SHADE
+            .depth_format(DepthFormat::Depth32FloatStencil8)
+            .depth
+            .unwrap();
+        assert_eq!(d32.format, DepthFormat::Depth32FloatStencil8);
+        assert_eq!(d32.stencil, d.stencil);
         let four = SHADE.samples(4).named("shade msaa");
         assert_eq!((four.samples, four.name), (4, "shade msaa"));
         assert_eq!(four.targets, SHADE.targets);

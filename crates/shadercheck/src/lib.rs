@@ -14,7 +14,7 @@
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
 mod pass;
-pub use pass::{assert_composed, check_pass, check_pass_with};
+pub use pass::{assert_composed, check_pass, check_pass_with, check_raster};
 
 /// Which optional capabilities the validator allows: a shader written for the fallback
 /// path is validated with [`Caps::CORE`] to prove that it needs none of them.

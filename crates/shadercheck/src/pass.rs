@@ -6,7 +6,7 @@
 use naga::proc::Layouter;
 use naga::{AddressSpace, ArraySize, Expression, ImageClass, ImageDimension, ScalarKind};
 use naga::{Handle, Module, ShaderStage, StorageAccess, StorageFormat, Type, TypeInner};
-use shader::{Dim, Format, Kind, Pass, Sample, Size, Stage};
+use shader::{Dim, Format, Kind, Pass, Raster, Sample, Size, Stage};
 
 use crate::{Caps, validate};
 
@@ -483,5 +483,243 @@ fn count(@builtin(global_invocation_id) id: vec3<u32>) {
         static MISSING: &[Binding] = &[Binding::new("params", Kind::uniform(8))];
         static P4: Pass = pass!(MISSING, Size::Override("T_WIDTH"));
         assert!(problems(&P4).iter().any(|p| p.contains("not described")));
+    }
+}
+
+/// Checks a raster pipeline `raster` of `pass` against the pass's module composed with
+/// `features` (validated with `caps`): its vertex and fragment entry points exist with those
+/// stages and are described so, every `@location` output of the fragment has a colour
+/// target of its kind (integer outputs for integer formats) and every target it writes
+/// (a non-empty write mask) an output, a depth-only pipeline has no targets, and every vertex attribute feeds a vertex input. Panics with a report naming
+/// the pass, the pipeline and what differs.
+#[track_caller]
+pub fn check_raster<P>(pass: &Pass<P>, raster: &Raster<'_>, features: &[&str], caps: Caps) {
+    let src = pass
+        .source(features)
+        .unwrap_or_else(|e| panic!("pass `{}` with {features:?}: {e}", pass.name));
+    let module = validate(&src, caps).unwrap_or_else(|report| {
+        panic!(
+            "pass `{}` with {features:?} failed naga validation:\n{report}",
+            pass.name
+        )
+    });
+    if let Err(problems) = compare_raster(pass, raster, &module) {
+        panic!(
+            "pipeline `{}` of pass `{}` with {features:?} does not match its module:\n  {}",
+            raster.name,
+            pass.name,
+            problems.join("\n  ")
+        );
+    }
+}
+
+/// The `@location` bindings of an entry point's arguments (`inputs`) or result, each with
+/// whether its scalar is an integer.
+fn locations(m: &Module, ep: &naga::EntryPoint, inputs: bool) -> Vec<(u32, bool)> {
+    let mut out = Vec::new();
+    let mut visit = |ty: Handle<Type>, binding: Option<&naga::Binding>| {
+        let mut one = |ty: Handle<Type>, b: Option<&naga::Binding>| {
+            if let Some(naga::Binding::Location { location, .. }) = b {
+                let int = m.types[ty]
+                    .inner
+                    .scalar()
+                    .is_some_and(|s| matches!(s.kind, ScalarKind::Uint | ScalarKind::Sint));
+                out.push((*location, int));
+            }
+        };
+        match &m.types[ty].inner {
+            TypeInner::Struct { members, .. } if binding.is_none() => {
+                for mem in members {
+                    one(mem.ty, mem.binding.as_ref());
+                }
+            }
+            _ => one(ty, binding),
+        }
+    };
+    if inputs {
+        for a in &ep.function.arguments {
+            visit(a.ty, a.binding.as_ref());
+        }
+    } else if let Some(r) = &ep.function.result {
+        visit(r.ty, r.binding.as_ref());
+    }
+    out.sort_unstable();
+    out
+}
+
+/// Everything in which `raster` differs from `module` and `pass`.
+fn compare_raster<P>(pass: &Pass<P>, raster: &Raster<'_>, m: &Module) -> Result<(), Vec<String>> {
+    let mut problems = Vec::new();
+    let mut entry = |name: &str, stage: Stage, naga_stage: ShaderStage| {
+        if !pass
+            .entries
+            .iter()
+            .any(|e| e.name == name && e.stage == stage)
+        {
+            problems.push(format!("`{name}` is not a described {stage:?} entry point"));
+        }
+        let ep = m
+            .entry_points
+            .iter()
+            .find(|ep| ep.name == name && ep.stage == naga_stage);
+        if ep.is_none() {
+            problems.push(format!(
+                "`{name}` is not a {naga_stage:?} entry point of the module"
+            ));
+        }
+        ep
+    };
+    let vertex = entry(raster.vertex, Stage::Vertex, ShaderStage::Vertex);
+    let fragment = raster
+        .fragment
+        .map(|f| entry(f, Stage::Fragment, ShaderStage::Fragment));
+    if let Some(vs) = vertex {
+        let inputs = locations(m, vs, true);
+        for (slot, b) in raster.buffers.iter().enumerate() {
+            for a in b.attributes {
+                if !inputs.iter().any(|(l, _)| *l == a.location) {
+                    problems.push(format!(
+                        "vertex buffer {slot}'s attribute at location {} feeds no input of `{}`",
+                        a.location, raster.vertex
+                    ));
+                }
+                if a.offset + a.format.size() > b.stride {
+                    problems.push(format!(
+                        "vertex buffer {slot}'s attribute at location {} ends past its stride",
+                        a.location
+                    ));
+                }
+            }
+        }
+    }
+    match fragment {
+        None if !raster.targets.is_empty() => problems.push(format!(
+            "{} colour targets without a fragment stage",
+            raster.targets.len()
+        )),
+        Some(Some(fs)) => {
+            let outputs = locations(m, fs, false);
+            for &(location, int) in &outputs {
+                match raster.targets.get(location as usize) {
+                    None => problems.push(format!(
+                        "`{}` writes @location({location}), which has no colour target",
+                        fs.name
+                    )),
+                    Some(t) if shader::integer_target(t.format) != int => problems.push(format!(
+                        "`{}` writes @location({location}) as {}, its target is {:?}",
+                        fs.name,
+                        if int { "an integer" } else { "a float" },
+                        t.format
+                    )),
+                    Some(_) => {}
+                }
+            }
+            for (i, t) in raster.targets.iter().enumerate() {
+                if t.write_mask != 0 && !outputs.iter().any(|(l, _)| *l as usize == i) {
+                    problems.push(format!(
+                        "colour target {i} is written but `{}` has no @location({i}) output",
+                        fs.name
+                    ));
+                }
+            }
+        }
+        _ => {}
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems)
+    }
+}
+
+#[cfg(test)]
+mod raster_tests {
+    use super::*;
+    use shader::{Depth, DepthFormat, Entry, Target};
+
+    const LIB: &[shader::Module] = &[shader::Module::new(
+        "t::raster",
+        "struct TOut { @location(0) id: u32, @location(1) colour: vec4<f32> }
+@vertex
+fn vs(@location(0) p: vec3<f32>) -> @builtin(position) vec4<f32> { return vec4<f32>(p, 1.0); }
+@fragment
+fn fs() -> TOut { return TOut(1u, vec4<f32>(1.0)); }
+",
+    )];
+
+    static P: Pass = Pass {
+        name: "t",
+        module: "t::raster",
+        library: &[LIB],
+        features: &[],
+        groups: &[],
+        entries: &[
+            Entry::draw("vs", Stage::Vertex),
+            Entry::draw("fs", Stage::Fragment),
+        ],
+        zeroed: &[],
+    };
+
+    const BUFFERS: &[shader::VertexBuffer<'static>] = &[shader::VertexBuffer {
+        stride: 12,
+        per_instance: false,
+        attributes: &[shader::Attribute {
+            format: shader::VertexFormat::Float32x3,
+            offset: 0,
+            location: 0,
+        }],
+    }];
+
+    const GOOD: Raster<'static> = Raster::new("good", "vs")
+        .fragment("fs")
+        .buffers(BUFFERS)
+        .targets(&[
+            Target::replace(Format::R32Uint),
+            Target::replace(Format::Rgba16Float),
+        ])
+        .depth(Depth::reversed_z(DepthFormat::Depth32Float));
+
+    fn problems(r: &Raster<'_>) -> Vec<String> {
+        let m = validate(&P.source(&[]).unwrap(), Caps::CORE).unwrap();
+        compare_raster(&P, r, &m).err().unwrap_or_default()
+    }
+
+    #[test]
+    fn a_matching_pipeline_passes() {
+        check_raster(&P, &GOOD, &[], Caps::CORE);
+        // Depth only: no fragment, no targets.
+        assert!(problems(&Raster::new("depth", "vs").buffers(BUFFERS)).is_empty());
+    }
+
+    #[test]
+    fn mismatches_are_named() {
+        let one = [Target::replace(Format::R32Uint)];
+        assert!(problems(&GOOD.targets(&one))[0].contains("no colour target"));
+        let three = [
+            Target::replace(Format::R32Uint),
+            Target::replace(Format::Rgba16Float),
+            Target::replace(Format::Rgba16Float),
+        ];
+        assert!(problems(&GOOD.targets(&three))[0].contains("target 2 is written"));
+        // An attached target the pipeline leaves untouched needs no output.
+        let untouched = [three[0], three[1], Target::untouched(Format::Rgba16Float)];
+        assert!(problems(&GOOD.targets(&untouched)).is_empty());
+        let swapped = [
+            Target::replace(Format::Rgba16Float),
+            Target::replace(Format::R32Uint),
+        ];
+        assert_eq!(problems(&GOOD.targets(&swapped)).len(), 2);
+        let stages = problems(&Raster::new("x", "fs").fragment("vs"));
+        assert_eq!(stages.len(), 4, "{stages:?}");
+        assert!(problems(&Raster::new("x", "vs").targets(&one))[0].contains("without"));
+        let far = [shader::VertexBuffer {
+            attributes: &[shader::Attribute {
+                format: shader::VertexFormat::Float32x3,
+                offset: 4,
+                location: 1,
+            }],
+            ..BUFFERS[0]
+        }];
+        assert_eq!(problems(&GOOD.buffers(&far)).len(), 2);
     }
 }

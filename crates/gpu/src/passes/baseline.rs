@@ -2,10 +2,13 @@
 //! alpha test, in [`laydown`](super::laydown)), every batch is drawn again with depth test
 //! `Equal` and no alpha test, writing the G-buffer from a fragment shader (`gpu::baseline`).
 
-use shader::pipeline::Layouts;
-use shader::{Entry, Pass, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Entry, Pass, Raster, Stage};
 
-use super::laydown::{SCENE_GROUP, depth_write_state, primitive_state, record_draws};
+use super::laydown::record_draws;
+use super::raster::{
+    DEPTH_EQUAL, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
+};
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer;
@@ -26,6 +29,18 @@ pub(crate) const BASELINE: Pass = Pass {
     zeroed: &[],
 };
 
+/// The depth-equal pass's planned instances over the prepass's depth, into the G-buffer
+/// (the targets are the layout's: [`gbuffer_targets`]). MSAA: the fragment shader runs
+/// once a pixel per triangle and its output goes to every covered sample, so a pixel
+/// inside one triangle has equal samples (what lighting's edge test relies on).
+pub(crate) const BASELINE_PIPELINE: Raster<'static> = Raster::new(BASELINE.name, "vs_baseline")
+    .fragment("fs_baseline")
+    .primitive(GEOMETRY)
+    .depth(DEPTH_EQUAL);
+
+/// Its static instances (which may fade).
+pub(crate) const BASELINE_FADE: Raster<'static> = BASELINE_PIPELINE.fragment("fs_baseline_fade");
+
 /// The baseline's geometry pipelines: planned instances, and static ones (which may fade:
 /// the laydown's dither first).
 pub(crate) struct Baseline {
@@ -44,55 +59,23 @@ impl Baseline {
         layout: deferred::GBufferLayout,
         msaa: bool,
     ) -> Result<Self> {
-        let layouts = Layouts::new(device, &BASELINE);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(BASELINE.name),
-            source: wgpu::ShaderSource::Wgsl(BASELINE.source(gbuffer::features(layout))?.into()),
-        });
-        let targets = gbuffer::color_targets(layout);
-        let make = |fragment: &str, count: u32| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(BASELINE.name),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_baseline"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: primitive_state(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Equal),
-                    ..depth_write_state()
-                }),
-                // MSAA: the fragment shader runs once a pixel per triangle and its output
-                // goes to every covered sample, so a pixel inside one triangle has equal
-                // samples (what lighting's edge test relies on).
-                multisample: wgpu::MultisampleState {
-                    count,
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fragment),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+        let raster = RasterPass::new(device, &BASELINE, gbuffer::features(layout), &[])?;
+        let targets = gbuffer_targets(layout);
+        let make = |r: Raster<'static>, samples: u32| {
+            raster.pipeline(device, &r.targets(targets).samples(samples))
         };
-        let pipeline = make("fs_baseline", 1);
-        let fade_pipeline = make("fs_baseline_fade", 1);
-        let msaa = msaa.then(|| {
-            (
-                make("fs_baseline", crate::MSAA_SAMPLES),
-                make("fs_baseline_fade", crate::MSAA_SAMPLES),
-            )
-        });
+        let pipeline = make(BASELINE_PIPELINE, 1)?;
+        let fade_pipeline = make(BASELINE_FADE, 1)?;
+        let msaa = if msaa {
+            Some((
+                make(BASELINE_PIPELINE, crate::MSAA_SAMPLES)?,
+                make(BASELINE_FADE, crate::MSAA_SAMPLES)?,
+            ))
+        } else {
+            None
+        };
         Ok(Self {
-            layouts,
+            layouts: raster.layouts,
             pipeline,
             fade_pipeline,
             msaa,
@@ -125,31 +108,11 @@ impl Baseline {
                 &self.fade_pipeline,
             ),
         };
-        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = views
-            .iter()
-            .map(|v| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view: v,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
-            .collect();
+        let colors = loaded_colors(views);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("baseline depth-equal geometry pass"),
             color_attachments: &colors,
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(depth_attachment(depth, true)),
             timestamp_writes: timer.render("depth-equal geometry pass"),
             occlusion_query_set: None,
             multiview_mask: None,
@@ -165,5 +128,19 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&super::BASELINE, |_| shadercheck::Caps::CORE);
+    }
+
+    #[test]
+    fn pipelines_match_their_module_for_every_layout() {
+        for layout in deferred::GBufferLayout::ALL {
+            for r in [super::BASELINE_PIPELINE, super::BASELINE_FADE] {
+                shadercheck::check_raster(
+                    &super::BASELINE,
+                    &r.targets(super::gbuffer_targets(layout)),
+                    crate::gbuffer::features(layout),
+                    shadercheck::Caps::CORE,
+                );
+            }
+        }
     }
 }

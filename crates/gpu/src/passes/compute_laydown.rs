@@ -23,14 +23,14 @@
 //! laydown (its draw lists are indirect).
 
 use bytemuck::{Pod, Zeroable};
-use shader::pipeline::{ComputePass, Layouts};
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample, Stage};
+use shader::pipeline::{ComputePass, Layouts, RasterPass};
+use shader::{Binding, Compare, Depth, Entry, Format, Group, Kind, Pass, Raster, Sample, Stage};
 
-use super::laydown::{SCENE_GROUP, primitive_state};
+use super::raster::{DEPTH, GEOMETRY, SCENE_GROUP, depth_attachment};
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::resources::plan::Draw;
-use crate::resources::targets::{DEPTH_FORMAT, Targets};
+use crate::resources::targets::Targets;
 use crate::timing::GpuTimer;
 
 /// The device features the compute laydown needs: 64-bit integers and their atomic
@@ -400,6 +400,23 @@ pub(crate) const LAYDOWN_TARGET: Pass = Pass {
     zeroed: &[],
 };
 
+/// The hardware part's pipeline: the hardware laydown's culling and clipping, a fragment
+/// atomic into the target, no colour target; the depth attachment is there because a
+/// render pass needs one: neither tested nor written. Only triangles the hardware must clip
+/// come here: a fragment atomic with no early depth test cost 10.7 ms on the H200's forest
+/// when the large triangles came too.
+pub(crate) const HYBRID_PIPELINE: Raster<'static> =
+    Raster::new(COMPUTE_LAYDOWN_HYBRID.name, "vs_hybrid")
+        .fragment("fs_hybrid")
+        .primitive(GEOMETRY)
+        .depth(Depth::test(DEPTH, Compare::Always, false));
+
+/// The float depth into the depth target: every pixel written, both faces of the
+/// full-screen triangle.
+pub(crate) const TARGET_PIPELINE: Raster<'static> = Raster::new(LAYDOWN_TARGET.name, "vs_full")
+    .fragment("fs_target")
+    .depth(Depth::test(DEPTH, Compare::Always, true));
+
 /// What the last compute laydown drew (read back by
 /// [`Inspect::read_laydown_stats`](crate::Inspect::read_laydown_stats)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -485,73 +502,12 @@ impl ComputeLaydown {
             &features,
             &[("GPU_COMPUTE_LAYDOWN_MAX_EXTENT", extent)],
         )?;
-        let render = |pass: &'static Pass,
-                      features: &[&str],
-                      vs: &str,
-                      fs: &str,
-                      targets: &[Option<wgpu::ColorTargetState>],
-                      depth_write: bool,
-                      depth_compare: wgpu::CompareFunction,
-                      primitive: wgpu::PrimitiveState| {
-            let layouts = Layouts::new(device, pass);
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(pass.name),
-                source: wgpu::ShaderSource::Wgsl(pass.source(features)?.into()),
-            });
-            let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(pass.name),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive,
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(depth_compare),
-                    stencil: wgpu::StencilState::default(),
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
-            Ok::<_, crate::error::Error>((layouts, pipeline))
-        };
-        // The hardware part: the hardware laydown's culling and clipping, a fragment
-        // atomic into the target (the depth attachment is there because a render pass
-        // needs one: neither tested nor written). Only triangles the hardware must clip
-        // come here: a fragment atomic with no early depth test cost 10.7 ms on the H200's
-        // forest when the large triangles came too.
-        let (hybrid_layouts, hybrid) = render(
-            hybrid_pass,
-            target_feature,
-            "vs_hybrid",
-            "fs_hybrid",
-            &[],
-            false,
-            wgpu::CompareFunction::Always,
-            primitive_state(),
-        )?;
-        let (target_layouts, target) = render(
-            &LAYDOWN_TARGET,
-            &[],
-            "vs_full",
-            "fs_target",
-            &[],
-            true,
-            wgpu::CompareFunction::Always,
-            wgpu::PrimitiveState::default(),
-        )?;
+        let hybrid_pass = RasterPass::new(device, hybrid_pass, target_feature, &[])?;
+        let hybrid = hybrid_pass.pipeline(device, &HYBRID_PIPELINE)?;
+        let hybrid_layouts = hybrid_pass.layouts;
+        let target_pass = RasterPass::new(device, &LAYDOWN_TARGET, &[], &[])?;
+        let target = target_pass.pipeline(device, &TARGET_PIPELINE)?;
+        let target_layouts = target_pass.layouts;
         Ok(Self {
             raster,
             hybrid_layouts,
@@ -759,10 +715,7 @@ impl ComputeLaydown {
                 let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(label),
                     color_attachments: &[],
-                    depth_stencil_attachment: Some(super::laydown::depth_attachment(
-                        &f.targets.depth_view,
-                        true,
-                    )),
+                    depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, true)),
                     timestamp_writes: timer.render(label),
                     occlusion_query_set: None,
                     multiview_mask: None,
@@ -840,6 +793,14 @@ mod tests {
         shadercheck::check_pass_with(&LAYDOWN_UNPACK_TEXTURE, &["texture_target"], |_| {
             Caps::TEXTURE_INT64
         });
+        shadercheck::check_raster(&COMPUTE_LAYDOWN_HYBRID, &HYBRID_PIPELINE, &[], Caps::INT64);
+        shadercheck::check_raster(
+            &COMPUTE_LAYDOWN_HYBRID_TEXTURE,
+            &HYBRID_PIPELINE,
+            &["texture_target"],
+            Caps::TEXTURE_INT64,
+        );
+        shadercheck::check_raster(&LAYDOWN_TARGET, &TARGET_PIPELINE, &[], Caps::CORE);
         let src = COMPUTE_LAYDOWN_TEXTURE.source(&["texture_target"]).unwrap();
         assert!(shadercheck::validate(&src, Caps::INT64).is_err());
 

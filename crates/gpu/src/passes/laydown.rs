@@ -2,37 +2,16 @@
 //! pass each, one indexed draw per micro batch, vertices pulled from storage, the primitive
 //! ID from the adapter's best path (`gpu::laydown_builtin`, `_xor`, `_provoking`).
 
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Stage, Target};
 
+use super::raster::{DEPTH_WRITE, GEOMETRY, SCENE_GROUP, SHADOW_DEPTH, depth_attachment};
 use super::static_place::StaticBuffers;
 use super::{FrameContext, LIBRARY};
 use crate::context::PrimitiveIdPath;
 use crate::error::Result;
 use crate::resources::plan::Draw;
-use crate::resources::rows::{FrameUniforms, GpuInstance, GpuMaterial, GpuVertex};
-use crate::resources::targets::{DEPTH_FORMAT, VIS_FORMAT};
 use crate::timing::GpuTimer;
-
-/// Group 0 of every pass that draws or resolves the scene (`gpu::scene_bindings`).
-pub(crate) const SCENE_GROUP: Group = Group {
-    name: "scene",
-    bindings: &[
-        Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-        Binding::new("vertices", Kind::read(size_of::<GpuVertex>())),
-        Binding::new("instances", Kind::read(size_of::<GpuInstance>())),
-        Binding::new("materials", Kind::read(size_of::<GpuMaterial>())),
-        Binding::new(
-            "albedo",
-            Kind::Texture {
-                sample: Sample::Float { filterable: true },
-                dim: shader::Dim::D2Array,
-            },
-        ),
-        Binding::new("albedo_sampler", Kind::Sampler),
-        Binding::new("baked_sun_map", Kind::texture_2d(Sample::Depth)),
-    ],
-};
 
 const GROUPS: &[Group] = &[
     SCENE_GROUP,
@@ -84,46 +63,41 @@ pub(crate) fn pass(path: PrimitiveIdPath) -> &'static Pass {
     }
 }
 
-/// Primitive state shared by every geometry pipeline: triangle lists, counter-clockwise
-/// front faces, back faces culled (foliage cards carry both faces as geometry).
-pub(crate) fn primitive_state() -> wgpu::PrimitiveState {
-    wgpu::PrimitiveState {
-        topology: wgpu::PrimitiveTopology::TriangleList,
-        strip_index_format: None,
-        front_face: wgpu::FrontFace::Ccw,
-        cull_mode: Some(wgpu::Face::Back),
-        unclipped_depth: false,
-        polygon_mode: wgpu::PolygonMode::Fill,
-        conservative: false,
-    }
-}
+/// The vis buffer as a colour target ([`VIS_FORMAT`](crate::resources::targets::VIS_FORMAT)).
+const VIS_TARGETS: &[Target] = &[Target::replace(Format::R32Uint)];
 
-/// Reversed-Z depth state: `Greater`, writing.
-pub(crate) fn depth_write_state() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: DEPTH_FORMAT,
-        depth_write_enabled: Some(true),
-        depth_compare: Some(wgpu::CompareFunction::Greater),
-        stencil: wgpu::StencilState::default(),
-        bias: wgpu::DepthBiasState::default(),
-    }
-}
+/// The sun and spot shadows' opaque casters: depth only.
+pub(crate) const SHADOW_OPAQUE: Raster<'static> = Raster::new("sun shadow opaque", "vs_main")
+    .primitive(GEOMETRY)
+    .depth(SHADOW_DEPTH);
 
-/// The sun-shadow passes' depth state: depth 0 nearest the sun, `Less`, writing, with a
-/// slope-scaled bias against acne.
-fn shadow_depth_state() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: crate::shadows::SHADOW_FORMAT,
-        depth_write_enabled: Some(true),
-        depth_compare: Some(wgpu::CompareFunction::Less),
-        stencil: wgpu::StencilState::default(),
-        bias: wgpu::DepthBiasState {
-            constant: 2,
-            slope_scale: 2.0,
-            clamp: 0.0,
-        },
-    }
-}
+/// The shadows' alpha-tested casters.
+pub(crate) const SHADOW_ALPHA: Raster<'static> = SHADOW_OPAQUE
+    .named("sun shadow alpha")
+    .fragment("fs_depth_alpha");
+
+/// The laydown's opaque draws into depth and the vis buffer (the payload vertex stage;
+/// the `primitive_index` path takes `vs_main`).
+pub(crate) const VIS_OPAQUE: Raster<'static> = Raster::new("laydown vis opaque", "vs_payload")
+    .fragment("fs_vis")
+    .targets(VIS_TARGETS)
+    .primitive(GEOMETRY)
+    .depth(DEPTH_WRITE);
+
+/// The laydown's alpha-tested draws.
+pub(crate) const VIS_ALPHA: Raster<'static> = VIS_OPAQUE
+    .named("laydown vis alpha")
+    .fragment("fs_vis_alpha");
+
+/// The depth prepass's opaque draws: depth only.
+pub(crate) const DEPTH_OPAQUE: Raster<'static> = Raster::new("prepass depth opaque", "vs_main")
+    .primitive(GEOMETRY)
+    .depth(DEPTH_WRITE);
+
+/// The depth prepass's alpha-tested draws.
+pub(crate) const DEPTH_ALPHA: Raster<'static> = DEPTH_OPAQUE
+    .named("prepass depth alpha")
+    .fragment("fs_depth_alpha");
 
 /// Timing labels of the sun-shadow passes, one per cascade.
 const SHADOW_LABELS: [&str; deferred::cascades::MAX_CASCADES] = [
@@ -161,102 +135,38 @@ pub(crate) struct Groups {
 impl Laydown {
     /// The pipelines of `path`; with `msaa`, the multisampled depth prepass's too.
     pub(crate) fn new(device: &wgpu::Device, path: PrimitiveIdPath, msaa: bool) -> Result<Self> {
-        let pass = pass(path);
-        let layouts = Layouts::new(device, pass);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(pass.name),
-            source: wgpu::ShaderSource::Wgsl(pass.source(&[])?.into()),
-        });
+        let raster = RasterPass::new(device, pass(path), &[], &[])?;
+        let make = |r: &Raster<'_>| raster.pipeline(device, r);
         // The builtin path needs no payload: its vertex stage passes none.
         let vs = if path == PrimitiveIdPath::Builtin {
             "vs_main"
         } else {
             "vs_payload"
         };
-        let make_samples = |label: &str,
-                            vs: &str,
-                            fs: Option<&str>,
-                            vis: bool,
-                            depth: wgpu::DepthStencilState,
-                            count: u32| {
-            let targets = [Some(wgpu::ColorTargetState {
-                format: VIS_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: primitive_state(),
-                depth_stencil: Some(depth),
-                multisample: wgpu::MultisampleState {
-                    count,
-                    ..Default::default()
-                },
-                fragment: fs.map(|entry| wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: if vis { &targets } else { &[] },
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let make_with =
-            |label: &str, vs: &str, fs: Option<&str>, vis: bool, depth: wgpu::DepthStencilState| {
-                make_samples(label, vs, fs, vis, depth, 1)
-            };
-        let make = |label: &str, vs: &str, fs: Option<&str>, vis: bool| {
-            make_with(label, vs, fs, vis, depth_write_state())
+        let depth_msaa = if msaa {
+            let ms = |r: Raster<'static>, name| make(&r.samples(crate::MSAA_SAMPLES).named(name));
+            Some((
+                ms(DEPTH_OPAQUE, "prepass depth opaque msaa")?,
+                ms(DEPTH_ALPHA, "prepass depth alpha msaa")?,
+            ))
+        } else {
+            None
         };
         Ok(Self {
-            shadow_opaque: make_with(
-                "sun shadow opaque",
-                "vs_main",
-                None,
-                false,
-                shadow_depth_state(),
-            ),
-            shadow_alpha: make_with(
-                "sun shadow alpha",
-                "vs_main",
-                Some("fs_depth_alpha"),
-                false,
-                shadow_depth_state(),
-            ),
-            vis_opaque: make("laydown vis opaque", vs, Some("fs_vis"), true),
-            vis_alpha: make("laydown vis alpha", vs, Some("fs_vis_alpha"), true),
-            depth_opaque: make("prepass depth opaque", "vs_main", None, false),
-            depth_alpha: make(
-                "prepass depth alpha",
-                "vs_main",
-                Some("fs_depth_alpha"),
-                false,
-            ),
-            depth_msaa: msaa.then(|| {
-                let ms = |label: &str, fs| {
-                    make_samples(
-                        label,
-                        "vs_main",
-                        fs,
-                        false,
-                        depth_write_state(),
-                        crate::MSAA_SAMPLES,
-                    )
-                };
-                (
-                    ms("prepass depth opaque msaa", None),
-                    ms("prepass depth alpha msaa", Some("fs_depth_alpha")),
-                )
-            }),
-            layouts,
+            shadow_opaque: make(&SHADOW_OPAQUE)?,
+            shadow_alpha: make(&SHADOW_ALPHA)?,
+            vis_opaque: make(&Raster {
+                vertex: vs,
+                ..VIS_OPAQUE
+            })?,
+            vis_alpha: make(&Raster {
+                vertex: vs,
+                ..VIS_ALPHA
+            })?,
+            depth_opaque: make(&DEPTH_OPAQUE)?,
+            depth_alpha: make(&DEPTH_ALPHA)?,
+            depth_msaa,
+            layouts: raster.layouts,
         })
     }
 
@@ -596,25 +506,6 @@ impl Laydown {
     }
 }
 
-/// The depth target cleared to the far plane (reversed Z: 0), or loaded (`load`).
-pub(crate) fn depth_attachment(
-    view: &wgpu::TextureView,
-    load: bool,
-) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: if load {
-                wgpu::LoadOp::Load
-            } else {
-                wgpu::LoadOp::Clear(0.0)
-            },
-            store: wgpu::StoreOp::Store,
-        }),
-        stencil_ops: None,
-    }
-}
-
 /// Records the scene's planned draws with the opaque or alpha-tested pipeline as each
 /// needs, opaque draws first (they fill depth that early-Z then uses against the
 /// foliage), then, in a frame with a static query, the static draw lists (opaque, then
@@ -792,5 +683,27 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn pipelines_match_their_modules() {
+        for path in PrimitiveIdPath::ALL {
+            let vs = if path == PrimitiveIdPath::Builtin {
+                "vs_main"
+            } else {
+                "vs_payload"
+            };
+            for r in [SHADOW_OPAQUE, SHADOW_ALPHA, DEPTH_OPAQUE, DEPTH_ALPHA] {
+                shadercheck::check_raster(pass(path), &r, &[], caps(path));
+            }
+            for r in [VIS_OPAQUE, VIS_ALPHA] {
+                let r = Raster { vertex: vs, ..r };
+                shadercheck::check_raster(pass(path), &r, &[], caps(path));
+            }
+        }
+        assert_eq!(
+            shader::pipeline::texture_format(VIS_TARGETS[0].format),
+            crate::resources::targets::VIS_FORMAT
+        );
     }
 }

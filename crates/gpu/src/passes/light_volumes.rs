@@ -16,11 +16,15 @@
 use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
 use glam::Vec3;
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{
+    Attribute, Binding, Compare, Depth, DepthFormat, Entry, Face, Format, Group, Kind, Pass,
+    Raster, Sample, Stage, Stencil, StencilFace, StencilOp, Target, VertexBuffer, VertexFormat,
+};
 
 use super::conditional::{DRAW_BYTES, MAX_TESTS};
 use super::lighting::GpuLocalLights;
+use super::raster::GEOMETRY;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer::{KZ2_LOAD_BINDINGS, LOAD_BINDINGS};
@@ -204,27 +208,129 @@ pub(crate) struct VolumeTargets {
 /// The accumulation's format: 32-bit float where the device blends it (the sum then
 /// rounds as the compute lighting's own does), else 16-bit.
 pub(crate) fn accumulation_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    shader::pipeline::texture_format(accumulation(device))
+}
+
+/// [`accumulation_format`] in the descriptions' terms.
+fn accumulation(device: &wgpu::Device) -> Format {
     if device
         .features()
         .contains(wgpu::Features::FLOAT32_BLENDABLE)
     {
-        wgpu::TextureFormat::Rgba32Float
+        Format::Rgba32Float
     } else {
-        wgpu::TextureFormat::Rgba16Float
+        Format::Rgba16Float
     }
 }
 
 /// The depth-stencil copy's format: the depth target's 32-bit float with stencil where
 /// the device has it, else 24-bit depth.
 pub(crate) fn depth_stencil_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    shader::pipeline::depth_format(depth_stencil(device))
+}
+
+/// [`depth_stencil_format`] in the descriptions' terms.
+fn depth_stencil(device: &wgpu::Device) -> DepthFormat {
     if device
         .features()
         .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8)
     {
-        wgpu::TextureFormat::Depth32FloatStencil8
+        DepthFormat::Depth32FloatStencil8
     } else {
-        wgpu::TextureFormat::Depth24PlusStencil8
+        DepthFormat::Depth24PlusStencil8
     }
+}
+
+/// The pipelines' depth-stencil format as declared; [`depth_stencil`] replaces it with
+/// the device's when they are built.
+const DS: DepthFormat = DepthFormat::Depth24PlusStencil8;
+
+/// Stencil untouched (both faces keep, always pass).
+const KEEP: Stencil = Stencil::both(StencilFace::KEEP);
+
+/// The unit mesh's positions (`vs_volume`'s `@location(0)`).
+const VOLUME_BUFFERS: &[VertexBuffer<'static>] = &[VertexBuffer {
+    stride: 12,
+    per_instance: false,
+    attributes: &[Attribute {
+        format: VertexFormat::Float32x3,
+        offset: 0,
+        location: 0,
+    }],
+}];
+
+/// The frame's depth copied into the depth-stencil target (full-screen triangle). Its
+/// colour target, where attached, is the accumulation, untouched.
+pub(crate) const COPY_DEPTH: Raster<'static> =
+    Raster::new("light volumes: depth copy", "vs_full_screen")
+        .fragment("fs_copy_depth")
+        .primitive(GEOMETRY)
+        .cull(None)
+        .depth(Depth::test(DS, Compare::Always, true).stencil(KEEP));
+
+/// Back faces behind the scene mark stencil (reversed Z: "behind the scene" is `Less`).
+/// Its colour target, where attached, is the accumulation, untouched.
+pub(crate) const MARK: Raster<'static> = Raster::new("light volumes: stencil mark", "vs_volume")
+    .fragment("fs_mark")
+    .buffers(VOLUME_BUFFERS)
+    .primitive(GEOMETRY)
+    .cull(Some(Face::Front))
+    .depth(
+        Depth::test(DS, Compare::Less, false).stencil(Stencil::both(StencilFace::new(
+            Compare::Always,
+            StencilOp::Replace,
+            StencilOp::Keep,
+        ))),
+    );
+
+/// Front faces in front of or at the scene (`GreaterEqual`) where stencil is set shade,
+/// added into the accumulation, and clear it.
+pub(crate) const SHADE: Raster<'static> = MARK
+    .named("light volumes: shade")
+    .fragment("fs_shade")
+    .cull(Some(Face::Back))
+    .depth(
+        Depth::test(DS, Compare::GreaterEqual, false).stencil(Stencil::both(StencilFace::new(
+            Compare::Equal,
+            StencilOp::Zero,
+            StencilOp::Zero,
+        ))),
+    );
+
+/// The eye inside the mesh: back faces behind the scene shade alone, no stencil.
+pub(crate) const INSIDE: Raster<'static> = MARK
+    .named("light volumes: shade from inside")
+    .fragment("fs_shade")
+    .depth(Depth::test(DS, Compare::Less, false).stencil(KEEP));
+
+/// KZ2's conditional rendering emulated: the same draws with the same tests, depth and
+/// stencil only (no colour target), so that an occlusion query counts exactly the pixels
+/// the shading would run on.
+pub(crate) const TEST_COPY: Raster<'static> = COPY_DEPTH.named("light volume tests: depth copy");
+
+/// The test pass's stencil mark.
+pub(crate) const TEST_MARK: Raster<'static> = MARK.named("light volume tests: stencil mark");
+
+/// The test pass's counted front faces (the shade's tests, stencil reset as it does).
+pub(crate) const TEST_COUNT: Raster<'static> =
+    SHADE.named("light volume tests: count").fragment("fs_mark");
+
+/// The test pass's counted inside draw.
+pub(crate) const TEST_INSIDE: Raster<'static> = INSIDE
+    .named("light volume tests: count from inside")
+    .fragment("fs_mark");
+
+/// The composer features of KZ2's light-shader permutation over the G-buffer of `layout`:
+/// without the specular term unless `specular`, with the spot shadow code if `shadowed`.
+fn permutation(layout: GBufferLayout, specular: bool, shadowed: bool) -> Vec<&'static str> {
+    let mut features = crate::gbuffer::features(layout).to_vec();
+    if shadowed {
+        features.push("spot_shadows");
+    }
+    if !specular {
+        features.push("no_specular");
+    }
+    features
 }
 
 impl VolumeTargets {
@@ -290,217 +396,40 @@ impl LightVolumes {
             GBufferLayout::Kz2 => (&LIGHT_VOLUMES_KZ2, &KZ2_LOAD_BINDINGS),
             GBufferLayout::Octahedral => (&LIGHT_VOLUMES, &LOAD_BINDINGS),
         };
-        let layouts = Layouts::new(device, description);
-        // KZ2's light-shader permutations: the shading without and with a spot's shadow
-        // map, without and with the specular term.
-        let compile = |specular: bool, shadowed: bool| -> Result<wgpu::ShaderModule> {
-            let mut features = crate::gbuffer::features(layout).to_vec();
-            if shadowed {
-                features.push("spot_shadows");
-            }
-            if !specular {
-                features.push("no_specular");
-            }
-            Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(LIGHT_VOLUMES.name),
-                source: wgpu::ShaderSource::Wgsl(description.source(&features)?.into()),
-            }))
-        };
-        // [specular][shadowed]; the mark and the depth copy shade nothing: the first.
-        let modules = [
-            [compile(false, false)?, compile(false, true)?],
-            [compile(true, false)?, compile(true, true)?],
+        // KZ2's light-shader permutations, [specular][shadowed], sharing one set of
+        // layouts; the mark and the depth copy shade nothing: the plain one.
+        let plain = RasterPass::new(device, description, &permutation(layout, true, false), &[])?;
+        let variant =
+            |specular, shadowed| plain.variant(device, &permutation(layout, specular, shadowed));
+        let others = [
+            variant(false, false)?,
+            variant(false, true)?,
+            variant(true, true)?,
         ];
-        let plain_module = &modules[1][0];
-        let accumulation = accumulation_format(device);
-        let depth_format = depth_stencil_format(device);
-        let additive = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
+        let passes = [[&others[0], &others[1]], [&plain, &others[2]]];
+        let ds = depth_stencil(device);
+        let accumulation = accumulation(device);
+        let untouched = [Target::untouched(accumulation)];
+        let add = [Target::additive(accumulation)];
+        let make = |pass: &RasterPass, r: Raster<'static>, targets: &[Target]| {
+            pass.pipeline(device, &r.targets(targets).depth_format(ds))
         };
-        let no_colour = [Some(wgpu::ColorTargetState {
-            format: accumulation,
-            blend: None,
-            write_mask: wgpu::ColorWrites::empty(),
-        })];
-        let add_colour = [Some(wgpu::ColorTargetState {
-            format: accumulation,
-            blend: Some(wgpu::BlendState {
-                color: additive,
-                alpha: additive,
-            }),
-            write_mask: wgpu::ColorWrites::ALL,
-        })];
-        let stencil_face = |compare, pass_op, depth_fail_op| wgpu::StencilFaceState {
-            compare,
-            fail_op: wgpu::StencilOperation::Keep,
-            depth_fail_op,
-            pass_op,
+        let permutations = |r: Raster<'static>| -> Result<[[wgpu::RenderPipeline; 2]; 2]> {
+            let [[a, b], [c, d]] = passes;
+            Ok([
+                [make(a, r, &add)?, make(b, r, &add)?],
+                [make(c, r, &add)?, make(d, r, &add)?],
+            ])
         };
-        let stencil = |face: wgpu::StencilFaceState| wgpu::StencilState {
-            front: face,
-            back: face,
-            read_mask: 0xff,
-            write_mask: 0xff,
-        };
-        let keep = stencil(stencil_face(
-            wgpu::CompareFunction::Always,
-            wgpu::StencilOperation::Keep,
-            wgpu::StencilOperation::Keep,
-        ));
-        let volume_buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: 12,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-        })];
-        let make = |module: &wgpu::ShaderModule,
-                    label: &str,
-                    vertex: &str,
-                    fragment: &str,
-                    cull: Option<wgpu::Face>,
-                    depth_write: bool,
-                    depth_compare: wgpu::CompareFunction,
-                    stencil: wgpu::StencilState,
-                    targets: &[Option<wgpu::ColorTargetState>]| {
-            let buffers: &[Option<wgpu::VertexBufferLayout<'_>>] = if vertex == "vs_volume" {
-                &volume_buffers
-            } else {
-                &[]
-            };
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(vertex),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    ..super::laydown::primitive_state()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: depth_format,
-                    depth_write_enabled: Some(depth_write),
-                    depth_compare: Some(depth_compare),
-                    stencil,
-                    bias: wgpu::DepthBiasState::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(fragment),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        use wgpu::CompareFunction as C;
-        use wgpu::StencilOperation as S;
-        let copy_depth = make(
-            plain_module,
-            "light volumes: depth copy",
-            "vs_full_screen",
-            "fs_copy_depth",
-            None,
-            true,
-            C::Always,
-            keep.clone(),
-            &no_colour,
-        );
-        // Reversed Z: "behind the scene" is Less, "in front of or at it" GreaterEqual.
-        let mark = make(
-            plain_module,
-            "light volumes: stencil mark",
-            "vs_volume",
-            "fs_mark",
-            Some(wgpu::Face::Front),
-            false,
-            C::Less,
-            stencil(stencil_face(C::Always, S::Replace, S::Keep)),
-            &no_colour,
-        );
-        let shade = modules.each_ref().map(|m| {
-            m.each_ref().map(|m| {
-                make(
-                    m,
-                    "light volumes: shade",
-                    "vs_volume",
-                    "fs_shade",
-                    Some(wgpu::Face::Back),
-                    false,
-                    C::GreaterEqual,
-                    stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
-                    &add_colour,
-                )
-            })
-        });
-        let inside = modules.each_ref().map(|m| {
-            m.each_ref().map(|m| {
-                make(
-                    m,
-                    "light volumes: shade from inside",
-                    "vs_volume",
-                    "fs_shade",
-                    Some(wgpu::Face::Front),
-                    false,
-                    C::Less,
-                    keep.clone(),
-                    &add_colour,
-                )
-            })
-        });
-        // KZ2's conditional rendering emulated: the same draws with the same tests, depth
-        // and stencil only, so that an occlusion query counts exactly the pixels the
-        // shading would run on.
-        let test_copy = make(
-            plain_module,
-            "light volume tests: depth copy",
-            "vs_full_screen",
-            "fs_copy_depth",
-            None,
-            true,
-            C::Always,
-            keep.clone(),
-            &[],
-        );
-        let test_mark = make(
-            plain_module,
-            "light volume tests: stencil mark",
-            "vs_volume",
-            "fs_mark",
-            Some(wgpu::Face::Front),
-            false,
-            C::Less,
-            stencil(stencil_face(C::Always, S::Replace, S::Keep)),
-            &[],
-        );
-        let test_count = make(
-            plain_module,
-            "light volume tests: count",
-            "vs_volume",
-            "fs_mark",
-            Some(wgpu::Face::Back),
-            false,
-            C::GreaterEqual,
-            stencil(stencil_face(C::Equal, S::Zero, S::Zero)),
-            &[],
-        );
-        let test_inside = make(
-            plain_module,
-            "light volume tests: count from inside",
-            "vs_volume",
-            "fs_mark",
-            Some(wgpu::Face::Front),
-            false,
-            C::Less,
-            keep.clone(),
-            &[],
-        );
+        let copy_depth = make(&plain, COPY_DEPTH, &untouched)?;
+        let mark = make(&plain, MARK, &untouched)?;
+        let shade = permutations(SHADE)?;
+        let inside = permutations(INSIDE)?;
+        let test_copy = make(&plain, TEST_COPY, &[])?;
+        let test_mark = make(&plain, TEST_MARK, &[])?;
+        let test_count = make(&plain, TEST_COUNT, &[])?;
+        let test_inside = make(&plain, TEST_INSIDE, &[])?;
+        let layouts = plain.layouts.clone();
         let (positions, indices) = unit_volume_mesh();
         let reach = unit_volume_reach(&positions);
         let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -751,6 +680,37 @@ mod tests {
             size_of::<GpuLightVolume>(),
             &members!(GpuLightVolume { sphere, light, pad }),
         );
+    }
+
+    /// Every pipeline against every permutation of both G-buffer layouts: the shading ones
+    /// with their accumulation target, the copy and mark with theirs or none, the tests
+    /// with none.
+    #[test]
+    fn pipelines_match_their_modules() {
+        let add = [Target::additive(Format::Rgba16Float)];
+        let untouched = [Target::untouched(Format::Rgba16Float)];
+        for layout in GBufferLayout::ALL {
+            let pass = match layout {
+                GBufferLayout::Kz2 => &LIGHT_VOLUMES_KZ2,
+                GBufferLayout::Octahedral => &LIGHT_VOLUMES,
+            };
+            for (specular, shadowed) in [(false, false), (false, true), (true, false), (true, true)]
+            {
+                let f = permutation(layout, specular, shadowed);
+                for r in [SHADE, INSIDE] {
+                    let r = r.targets(&add);
+                    shadercheck::check_raster(pass, &r, &f, Caps::CORE);
+                }
+            }
+            let f = permutation(layout, true, false);
+            for r in [COPY_DEPTH, MARK] {
+                let r = r.targets(&untouched);
+                shadercheck::check_raster(pass, &r, &f, Caps::CORE);
+            }
+            for r in [TEST_COPY, TEST_MARK, TEST_COUNT, TEST_INSIDE] {
+                shadercheck::check_raster(pass, &r, &f, Caps::CORE);
+            }
+        }
     }
 
     /// The mesh is closed (every edge in exactly two faces, once each way), wound outwards,

@@ -402,11 +402,10 @@ impl Lighting {
         Ok(())
     }
 
-    /// The water variants' group 2 layout (after [`Lighting::enable_water`]).
-    pub(crate) fn water_layout(&self) -> Option<&wgpu::BindGroupLayout> {
-        self.water
-            .as_ref()
-            .and_then(|(p, _)| p.layouts.group("water").ok())
+    /// The water variants' layouts, whose group `water` (2) holds the HDR target (after
+    /// [`Lighting::enable_water`]).
+    pub(crate) fn water_layout(&self) -> Option<&shader::pipeline::Layouts> {
+        self.water.as_ref().map(|(p, _)| &p.layouts)
     }
 
     /// The groups over the renderer's targets, frame uniforms and light buffers.

@@ -45,6 +45,7 @@ pub(crate) mod lighting;
 pub(crate) mod lights;
 pub(crate) mod pixel_pull;
 pub(crate) mod query;
+pub(crate) mod raster;
 pub(crate) mod regular;
 pub(crate) mod resolve;
 pub(crate) mod static_place;

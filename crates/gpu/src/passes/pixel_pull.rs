@@ -6,10 +6,13 @@
 //! `SHADER_BARYCENTRICS`, else the pixel's camera ray against the triangle
 //! (`visbuf::ray`). The primitive ID comes the laydown's way (`PrimitiveIdPath`).
 
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Binding, Entry, Group, Kind, Pass, Raster, Stage};
 
-use super::laydown::{SCENE_GROUP, depth_write_state, primitive_state, record_draws};
+use super::laydown::record_draws;
+use super::raster::{
+    DEPTH_EQUAL, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
+};
 use super::{FrameContext, LIBRARY};
 use crate::context::PrimitiveIdPath;
 use crate::error::Result;
@@ -49,6 +52,16 @@ pub(crate) const PIXEL_PULL: Pass = Pass {
     ],
     zeroed: &[],
 };
+
+/// The pass's planned instances over the prepass's depth (`Equal`), into the G-buffer (the
+/// targets are the layout's: [`gbuffer_targets`]).
+pub(crate) const PULL_PIPELINE: Raster<'static> = Raster::new(PIXEL_PULL.name, "vs_pull")
+    .fragment("fs_pull")
+    .primitive(GEOMETRY)
+    .depth(DEPTH_EQUAL);
+
+/// Its static instances (which may fade).
+pub(crate) const PULL_FADE: Raster<'static> = PULL_PIPELINE.fragment("fs_pull_fade");
 
 /// The composer features of the pass for a G-buffer layout, a primitive-ID path and
 /// whether hardware barycentrics are used.
@@ -91,44 +104,14 @@ impl PixelPull {
         path: PrimitiveIdPath,
         barycentrics: bool,
     ) -> Result<Self> {
-        let layouts = Layouts::new(device, &PIXEL_PULL);
         let features = features(layout, path, barycentrics);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(PIXEL_PULL.name),
-            source: wgpu::ShaderSource::Wgsl(PIXEL_PULL.source(&features)?.into()),
-        });
-        let targets = gbuffer::color_targets(layout);
-        let make = |fragment: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(PIXEL_PULL.name),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_pull"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: primitive_state(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Equal),
-                    ..depth_write_state()
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fragment),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let raster = RasterPass::new(device, &PIXEL_PULL, &features, &[])?;
+        let make =
+            |r: Raster<'static>| raster.pipeline(device, &r.targets(gbuffer_targets(layout)));
         Ok(Self {
-            pipeline: make("fs_pull"),
-            fade_pipeline: make("fs_pull_fade"),
-            layouts,
+            pipeline: make(PULL_PIPELINE)?,
+            fade_pipeline: make(PULL_FADE)?,
+            layouts: raster.layouts,
         })
     }
 
@@ -162,29 +145,11 @@ impl PixelPull {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = f
-            .targets
-            .gbuffer_views
-            .iter()
-            .map(|v| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view: v,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
-            .collect();
+        let colors = loaded_colors(&f.targets.gbuffer_views);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(PIXEL_PULL.name),
             color_attachments: &colors,
-            depth_stencil_attachment: Some(super::laydown::depth_attachment(
-                &f.targets.depth_view,
-                true,
-            )),
+            depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, true)),
             timestamp_writes: timer.render("pixel-pull depth-equal pass"),
             occlusion_query_set: None,
             multiview_mask: None,
@@ -221,6 +186,17 @@ mod tests {
     fn description_matches_its_module_on_every_path() {
         let modules = shadercheck::check_pass(&PIXEL_PULL, caps);
         assert_eq!(modules.len(), 16);
+    }
+
+    #[test]
+    fn pipelines_match_their_module_for_every_layout() {
+        for layout in deferred::GBufferLayout::ALL {
+            let f = features(layout, PrimitiveIdPath::ProvokingVertex, false);
+            for r in [PULL_PIPELINE, PULL_FADE] {
+                let r = r.targets(gbuffer_targets(layout));
+                shadercheck::check_raster(&PIXEL_PULL, &r, &f, caps(&f));
+            }
+        }
     }
 
     #[test]

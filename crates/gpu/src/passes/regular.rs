@@ -10,10 +10,12 @@
 //! shader (`@early_depth_test(force)`, `Features::SHADER_EARLY_DEPTH_TEST`), so a fragment
 //! hidden by foliage clears nothing.
 
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Binding, Entry, Group, Kind, Pass, Raster, Stage};
 
-use super::laydown::{SCENE_GROUP, depth_write_state, primitive_state};
+use super::raster::{
+    DEPTH_WRITE, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
+};
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer;
@@ -42,6 +44,13 @@ pub(crate) const REGULAR: Pass = Pass {
     zeroed: &[],
 };
 
+/// The regular draws over the laydown's depth (`Greater`, writing), into the G-buffer (the
+/// targets are the layout's: [`gbuffer_targets`]).
+pub(crate) const REGULAR_PIPELINE: Raster<'static> = Raster::new(REGULAR.name, "vs_baseline")
+    .fragment("fs_regular")
+    .primitive(GEOMETRY)
+    .depth(DEPTH_WRITE);
+
 /// The device feature the pass needs (the forced early depth test).
 pub(crate) const REGULAR_FEATURES: wgpu::Features = wgpu::Features::SHADER_EARLY_DEPTH_TEST;
 
@@ -60,36 +69,15 @@ pub(crate) struct Groups {
 impl Regular {
     /// The pipeline writing the G-buffer of `layout`.
     pub(crate) fn new(device: &wgpu::Device, layout: deferred::GBufferLayout) -> Result<Self> {
-        let layouts = Layouts::new(device, &REGULAR);
         let mut features = gbuffer::features(layout).to_vec();
         features.push("regular");
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(REGULAR.name),
-            source: wgpu::ShaderSource::Wgsl(REGULAR.source(&features)?.into()),
-        });
-        let targets = gbuffer::color_targets(layout);
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(REGULAR.name),
-            layout: Some(layouts.pipeline_layout()),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_baseline"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: primitive_state(),
-            depth_stencil: Some(depth_write_state()),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_regular"),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Ok(Self { layouts, pipeline })
+        let raster = RasterPass::new(device, &REGULAR, &features, &[])?;
+        let pipeline =
+            raster.pipeline(device, &REGULAR_PIPELINE.targets(gbuffer_targets(layout)))?;
+        Ok(Self {
+            layouts: raster.layouts,
+            pipeline,
+        })
     }
 
     /// A prepared scene's groups: its `scene` resources by binding name and the
@@ -121,29 +109,11 @@ impl Regular {
         let Some(groups) = &f.scene.regular else {
             return;
         };
-        let colors: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = f
-            .targets
-            .gbuffer_views
-            .iter()
-            .map(|v| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view: v,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
-            .collect();
+        let colors = loaded_colors(&f.targets.gbuffer_views);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(REGULAR.name),
             color_attachments: &colors,
-            depth_stencil_attachment: Some(super::laydown::depth_attachment(
-                &f.targets.depth_view,
-                true,
-            )),
+            depth_stencil_attachment: Some(depth_attachment(&f.targets.depth_view, true)),
             timestamp_writes: timer.render(REGULAR.name),
             occlusion_query_set: None,
             multiview_mask: None,
@@ -179,5 +149,15 @@ mod tests {
         // The pass needs its capability.
         let src = super::REGULAR.source(&["regular"]).unwrap();
         assert!(shadercheck::validate(&src, Caps::CORE).is_err());
+        for layout in deferred::GBufferLayout::ALL {
+            let mut features = crate::gbuffer::features(layout).to_vec();
+            features.push("regular");
+            shadercheck::check_raster(
+                &super::REGULAR,
+                &super::REGULAR_PIPELINE.targets(super::gbuffer_targets(layout)),
+                &features,
+                Caps::CORE.union(Caps::EARLY_DEPTH_TEST),
+            );
+        }
     }
 }

@@ -8,7 +8,7 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Size, Stage};
 use tiling::{PassDispatch, WaveCommand};
 
-use super::laydown::SCENE_GROUP;
+use super::raster::SCENE_GROUP;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer::{KZ2_STORE_BINDINGS, STORE_BINDINGS};

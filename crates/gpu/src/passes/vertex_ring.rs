@@ -17,7 +17,7 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Size, Stage};
 use tiling::{MicroBatchInfo, PassDispatch, PassInfo, TilingParams, UberChunk, VertexWaveCommand};
 
-use super::laydown::SCENE_GROUP;
+use super::raster::SCENE_GROUP;
 use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::resources::buffer_init;

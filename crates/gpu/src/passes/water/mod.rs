@@ -826,7 +826,8 @@ pub(crate) struct Shared<'a> {
     pub output: &'a wgpu::TextureView,
     pub local: &'a wgpu::Buffer,
     pub lights: &'a LightBuffers,
-    pub hdr_layout: &'a wgpu::BindGroupLayout,
+    /// The lighting's water layouts (group `water`: the HDR target).
+    pub hdr_layout: &'a shader::pipeline::Layouts,
 }
 
 /// The water in a renderer: pipelines, targets, the world's data and their groups.
@@ -996,14 +997,9 @@ impl WaterState {
                     ("output", T(s.output)),
                 ],
             )?,
-            hdr: device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("lighting: water hdr"),
-                layout: s.hdr_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: T(&t.hdr.1),
-                }],
-            }),
+            hdr: s
+                .hdr_layout
+                .bind_group(device, "water", &[("scene_hdr", T(&t.hdr.1))])?,
         })
     }
 

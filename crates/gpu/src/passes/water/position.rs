@@ -3,10 +3,11 @@
 //! draw per body, the visibility pass's arguments) and the far sectors (two indirect
 //! draws: flat sectors a quad each, height-map sectors a grid each).
 
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Sample, Stage, Target};
 
 use super::super::LIBRARY;
+use super::super::raster::{DEPTH_WRITE, GEOMETRY};
 use super::{GpuWaterFrame, WaterData, WaterGroups, WaterTargets};
 use crate::error::Result;
 use crate::resources::rows::FrameUniforms;
@@ -43,12 +44,35 @@ pub(crate) const POSITION: Pass = Pass {
     zeroed: &[],
 };
 
-/// The mini G-buffer's formats: data word, mesh normal, view depth.
-pub(crate) const TARGETS: [wgpu::TextureFormat; 3] = [
-    wgpu::TextureFormat::R32Uint,
-    wgpu::TextureFormat::Rgba16Float,
-    wgpu::TextureFormat::R32Float,
+/// The mini G-buffer's targets: data word, mesh normal, view depth.
+pub(crate) const TARGETS: &[Target] = &[
+    Target::replace(Format::R32Uint),
+    Target::replace(Format::Rgba16Float),
+    Target::replace(Format::R32Float),
 ];
+
+/// The near bodies' meshes into the mini G-buffer, reversed-Z depth written. Both faces:
+/// water seen from below keeps its front-face flag clear.
+pub(crate) const NEAR: Raster<'static> = Raster::new("water position near", "vs_near")
+    .fragment("fs_position")
+    .targets(TARGETS)
+    .primitive(GEOMETRY)
+    .cull(None)
+    .depth(DEPTH_WRITE);
+
+/// The far flat sectors (a quad each).
+pub(crate) const FAR_FLAT: Raster<'static> = Raster {
+    name: "water position far flat",
+    vertex: "vs_far_flat",
+    ..NEAR
+};
+
+/// The far height-map sectors (a grid each).
+pub(crate) const FAR_HEIGHT: Raster<'static> = Raster {
+    name: "water position far height map",
+    vertex: "vs_far_height",
+    ..NEAR
+};
 
 /// The pass's pipelines.
 pub(crate) struct Position {
@@ -60,50 +84,12 @@ pub(crate) struct Position {
 
 impl Position {
     pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
-        let layouts = Layouts::new(device, &POSITION);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(POSITION.name),
-            source: wgpu::ShaderSource::Wgsl(POSITION.source(&[])?.into()),
-        });
-        let targets = TARGETS.map(|format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        });
-        let make = |label: &str, vs: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layouts.pipeline_layout()),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                // Both faces: water seen from below keeps its front-face flag clear.
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..super::super::laydown::primitive_state()
-                },
-                depth_stencil: Some(super::super::laydown::depth_write_state()),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_position"),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let raster = RasterPass::new(device, &POSITION, &[], &[])?;
         Ok(Self {
-            near: make("water position near", "vs_near"),
-            far_flat: make("water position far flat", "vs_far_flat"),
-            far_height: make("water position far height map", "vs_far_height"),
-            layouts,
+            near: raster.pipeline(device, &NEAR)?,
+            far_flat: raster.pipeline(device, &FAR_FLAT)?,
+            far_height: raster.pipeline(device, &FAR_HEIGHT)?,
+            layouts: raster.layouts,
         })
     }
 
@@ -162,5 +148,8 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&super::POSITION, |_| shadercheck::Caps::CORE);
+        for r in [super::NEAR, super::FAR_FLAT, super::FAR_HEIGHT] {
+            shadercheck::check_raster(&super::POSITION, &r, &[], shadercheck::Caps::CORE);
+        }
     }
 }

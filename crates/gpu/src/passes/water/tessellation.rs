@@ -2,10 +2,11 @@
 //! the 16x16-quad grid, whose 16-bit vertex words are the index buffer, drawn with one
 //! `draw_indexed_indirect` into the depth with water.
 
-use shader::pipeline::Layouts;
-use shader::{Binding, Entry, Group, Kind, Pass, Stage};
+use shader::pipeline::{Layouts, RasterPass};
+use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Stage, Target};
 
 use super::super::LIBRARY;
+use super::super::raster::{DEPTH_WRITE, GEOMETRY};
 use super::{GpuWaterFrame, WaterGroups, WaterTargets};
 use crate::error::Result;
 use crate::resources::rows::FrameUniforms;
@@ -33,8 +34,14 @@ pub(crate) const TESSELLATION: Pass = Pass {
     zeroed: &[],
 };
 
-/// The surface target's format: view depth, mini G-buffer UV.
-pub(crate) const SURFACE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The grid into the surface target (view depth, mini G-buffer UV) and the depth with
+/// water, reversed-Z depth written. Both faces: displacement may fold a triangle over.
+pub(crate) const GRID: Raster<'static> = Raster::new("water tessellation", "vs_grid")
+    .fragment("fs_grid")
+    .targets(&[Target::replace(Format::Rgba32Float)])
+    .primitive(GEOMETRY)
+    .cull(None)
+    .depth(DEPTH_WRITE);
 
 pub(crate) struct Tessellation {
     pub layouts: Layouts,
@@ -43,41 +50,11 @@ pub(crate) struct Tessellation {
 
 impl Tessellation {
     pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
-        let layouts = Layouts::new(device, &TESSELLATION);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(TESSELLATION.name),
-            source: wgpu::ShaderSource::Wgsl(TESSELLATION.source(&[])?.into()),
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("water tessellation"),
-            layout: Some(layouts.pipeline_layout()),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_grid"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            // Displacement may fold a triangle over: both faces.
-            primitive: wgpu::PrimitiveState {
-                cull_mode: None,
-                ..super::super::laydown::primitive_state()
-            },
-            depth_stencil: Some(super::super::laydown::depth_write_state()),
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_grid"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: SURFACE_FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Ok(Self { layouts, pipeline })
+        let raster = RasterPass::new(device, &TESSELLATION, &[], &[])?;
+        Ok(Self {
+            pipeline: raster.pipeline(device, &GRID)?,
+            layouts: raster.layouts,
+        })
     }
 
     pub(crate) fn record(
@@ -122,5 +99,11 @@ mod tests {
     #[test]
     fn description_matches_its_module() {
         shadercheck::check_pass(&super::TESSELLATION, |_| shadercheck::Caps::CORE);
+        shadercheck::check_raster(
+            &super::TESSELLATION,
+            &super::GRID,
+            &[],
+            shadercheck::Caps::CORE,
+        );
     }
 }
