@@ -10,10 +10,8 @@ mod common;
 
 use common::{Doc, scene};
 use gltf_scene::glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
-use gpu::{
-    self, AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath,
-    Renderer, RendererConfig, ShaderKind,
-};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind};
+use gpu::{self, Batch, Camera, FrameInput, Material, Mesh, RenderPath, Renderer, RendererConfig};
 use serde_json::json;
 
 const LEAF: u32 = 64;
@@ -217,9 +215,9 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
         RendererConfig {
             width: 192,
             height: 108,
-            shadows: Some(gpu::ShadowConfig {
+            shadows: Some(gpu::config::ShadowConfig {
                 resolution: 512,
-                ..gpu::ShadowConfig::default()
+                ..gpu::config::ShadowConfig::default()
             }),
             ..RendererConfig::default()
         },

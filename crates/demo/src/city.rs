@@ -23,7 +23,7 @@ use scene::{
 };
 
 /// The city demo: the renderer's scene, the static world it queries, and a street view.
-/// `gpu::stream_static_world` activates the world's tiles on a GPU static query.
+/// `gpu::statics::stream_static_world` activates the world's tiles on a GPU static query.
 pub struct City {
     /// Meshes, materials, layers, the ground and foliage batches, the static setups.
     pub scene: Scene,

@@ -12,7 +12,7 @@
 //! the vis buffer.
 //!
 //! Nothing here needs a device: the scenes are `scene` descriptions, which `gpu` prepares.
-//! The city's tiles are activated on a GPU static query by `gpu::stream_static_world`.
+//! The city's tiles are activated on a GPU static query by `gpu::statics::stream_static_world`.
 //!
 //! ```
 //! let (scene, frame) = demo::build(&demo::DemoOptions { density: 0.05, ..Default::default() });

@@ -9,7 +9,8 @@
 
 use clap::{Parser, ValueEnum};
 use demo::{DemoOptions, DemoScene};
-use gpu::{ClassificationVariant, HeadlessOptions, RenderPath, Renderer, RendererConfig};
+use gpu::inspect::ClassificationVariant;
+use gpu::{HeadlessOptions, RenderPath, Renderer, RendererConfig};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum SceneArg {

@@ -17,12 +17,11 @@ use std::path::PathBuf;
 use clap::Parser;
 use demo::river::{RiverDemo, river};
 use gpu::glam::{Affine3A, Quat, Vec2, Vec3, Vec4};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind};
 use gpu::water;
 use gpu::water::world::WaterWorld;
-use gpu::{
-    AlbedoLayer, Batch, Material, MaterialId, Mesh, MeshId, RenderPath, Renderer, RendererConfig,
-    Scene, ShaderKind, WaterDecal,
-};
+use gpu::water_scene::WaterDecal;
+use gpu::{Batch, Material, Mesh, RenderPath, Renderer, RendererConfig, Scene};
 
 /// Float crates down the river with the CPU water query; render them on the GPU water.
 #[derive(Debug, Parser)]

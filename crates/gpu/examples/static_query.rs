@@ -11,13 +11,14 @@
 use std::time::{Duration, Instant};
 
 use clap::{Parser, ValueEnum};
+use gpu::HeadlessOptions;
+use gpu::statics::{QueryReadback, StaticQuery};
 use gpu::staticscene::demo::{CityConfig, aerial_camera, city, raster_boxes, street_camera};
 use gpu::staticscene::pass::{HIZ_PASS, HizGrid, HizStep, TileSlots, hiz_header};
 use gpu::staticscene::{
     BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams, QueryStats,
     ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
 };
-use gpu::{HeadlessOptions, QueryReadback, StaticQuery};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum CameraArg {
@@ -371,8 +372,9 @@ fn hiz_build_time(
         }
         encoder.resolve_query_set(&query_set, 0..2, &resolve, 0);
         queue.submit([encoder.finish()]);
-        let ticks: Vec<u64> =
-            bytemuck::pod_collect_to_vec(&gpu::read_buffer(device, queue, &resolve, 0, 16)?);
+        let ticks: Vec<u64> = bytemuck::pod_collect_to_vec(&gpu::inspect::read_buffer(
+            device, queue, &resolve, 0, 16,
+        )?);
         if start.elapsed() > Duration::from_millis(500) {
             times.push(
                 ticks[1].saturating_sub(ticks[0]) as f64 * f64::from(queue.get_timestamp_period())

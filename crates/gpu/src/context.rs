@@ -2,7 +2,7 @@
 //! paths those features select.
 
 use crate::error::{Error, Result};
-pub use crate::resources::readback::read_buffer;
+pub use crate::resources::readback::{read_buffer, wait_idle};
 
 /// Optional features the renderer uses when the adapter has them. None is required: each
 /// missing one selects a fallback path (see [`ActivePaths`]).
@@ -118,7 +118,7 @@ impl ActivePaths {
                 wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
             ),
             f16: features.contains(wgpu::Features::SHADER_F16),
-            int64_atomics: features.contains(crate::COMPUTE_LAYDOWN_FEATURES),
+            int64_atomics: features.contains(crate::config::COMPUTE_LAYDOWN_FEATURES),
             barycentrics: features.contains(wgpu::Features::SHADER_BARYCENTRICS),
         }
     }
@@ -280,12 +280,4 @@ pub fn scoped<T>(device: &wgpu::Device, f: impl FnOnce() -> Result<T>) -> Result
         return Err(Error::Validation(e.to_string()));
     }
     out
-}
-
-/// Blocks until the GPU has finished all submitted work.
-pub fn wait_idle(device: &wgpu::Device) -> Result<()> {
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map(|_| ())
-        .map_err(|e| Error::Poll(e.to_string()))
 }

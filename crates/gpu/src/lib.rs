@@ -112,78 +112,47 @@
 //! # Ok::<(), gpu::Error>(())
 //! ```
 
+pub mod config;
 mod context;
-pub mod debug;
 mod error;
 mod frame;
 mod gbuffer;
 mod image;
+pub mod inspect;
 mod passes;
 mod renderer;
 mod resources;
+mod shaders;
 mod shadows;
 mod spot_shadows;
-mod statics;
+pub mod statics;
 mod stats;
 mod timing;
 pub mod water_scene;
 
-pub use context::{
-    ActivePaths, GpuContext, HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath, adapter_line,
-    headless, read_buffer, scoped, wait_idle,
-};
+// The embedder's names: the device set-up, the renderer and its frame, the scene
+// description's common types and errors. Configuration details live in [`config`], the
+// static query in [`statics`], the water in [`water_scene`], read-backs, statistics and
+// test hooks in [`inspect`].
+pub use context::{GpuContext, HeadlessOptions, OPTIONAL_FEATURES, adapter_line, headless};
 /// The `deferred` version this crate's API uses (G-buffer layouts, lights, cascades).
 pub use deferred;
 pub use error::{Error, FrameError, Result, SceneError, WaterError};
-pub use frame::local_light_rows;
 /// The `framealloc` version this crate's API uses (the upload pool's layout).
 pub use framealloc;
 pub use glam;
-pub use image::{Rgba8Image, diff_image, diff_metrics, heat_color, id_color};
-#[doc(hidden)]
-pub use passes::classify::ClassificationVariant;
-pub use passes::compute_laydown::{
-    COMPUTE_LAYDOWN_EXTENT_LIMIT, COMPUTE_LAYDOWN_FEATURES, COMPUTE_LAYDOWN_MAX_EXTENT,
-    LAYDOWN_TEXTURE_FEATURES, LaydownStats, LaydownTarget,
-};
-pub use passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
-pub use passes::vertex_ring::{
-    RING_UV_FROM_VERTICES, RING_VERTEX_BYTES, VertexRingReadback, ring_slot,
-};
-#[doc(hidden)]
-pub use renderer::ConditionalLight;
-pub use renderer::{
-    AUTO_LAYDOWN_FRAMES, FrameOutput, Hooks, Inspect, Laydown, LaydownChoice, LaydownReason,
-    LightPathCounts, LightPaths, LightTiles, MSAA_SAMPLES, MsaaLighting, RenderPath, Renderer,
-    RendererConfig, VrsConfig, WARM_UP, WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView,
-};
-pub use resources::uploads::UploadStats;
-pub use resources::{PreparedScene, SceneSummary};
-/// The scene, frame input and water scene descriptions this crate's API takes (every name
-/// below is re-exported from it).
+pub use image::Rgba8Image;
+pub use renderer::{FrameOutput, Laydown, RenderPath, Renderer, RendererConfig};
+pub use resources::PreparedScene;
+/// The scene, frame input and water scene descriptions this crate's API takes (the common
+/// names below are re-exported from it).
 pub use scene;
 pub use scene::{
-    AlbedoLayer, Batch, Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, MAX_PRIMITIVES_PER_MESH,
-    MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh, MeshId, PointLight, Scene, ShaderKind,
-    SpotLight, StaticSetup, Wind,
+    Batch, Camera, FrameInput, Lighting, Material, Mesh, PointLight, Scene, SpotLight,
 };
-pub use shadows::ShadowConfig;
-pub use spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
-pub use statics::{
-    StaticDebug, StaticFrameStats, StaticOcclusion, StaticPixel, StaticShadowStats, StaticView,
-    scene_from_query, static_view_desc, stream_static_world,
-};
-/// The static-scene crate whose tiles and views [`StaticQuery`] takes.
+/// The static-scene crate whose tiles and views [`statics::StaticQuery`] takes.
 pub use staticscene;
-pub use stats::{ClassificationStats, GpuClassification};
-/// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::vertex_ring`.
-pub use tiling::{RING_BYTES_PS4, RING_BYTES_PS5};
 pub use timing::Timing;
 /// The `water` version this crate's API uses (worlds, materials, flow atlases, decals).
 pub use water;
-pub use water_scene::{
-    MAX_WATER_BODIES, MAX_WATER_BODY_CELLS, MAX_WATER_DECAL_LAYERS, MAX_WATER_DECAL_SIZE,
-    MAX_WATER_DECALS, MAX_WATER_MATERIAL_MAP, MAX_WATER_MATERIALS, MAX_WATER_MESH_VERTICES,
-    MAX_WATER_SECTORS_PER_SIDE, ShoreField, WaterDecal, WaterOptions, WaterScene, WaterStats,
-    WaterSummary,
-};
+pub use water_scene::{WaterOptions, WaterScene};

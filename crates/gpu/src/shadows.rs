@@ -17,7 +17,7 @@ use deferred::cascades::{
 use glam::DVec3;
 
 use crate::error::{Error, Result};
-use crate::frame::Camera;
+use crate::resources::uniforms::Camera;
 
 /// Largest [`ShadowConfig::pcf_radius`].
 pub(crate) const MAX_PCF_RADIUS: u32 = 2;

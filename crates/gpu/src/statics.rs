@@ -4,6 +4,7 @@
 //!
 //! [`Renderer::render_static`]: crate::Renderer::render_static
 
+pub use crate::passes::query::{QueryReadback, StaticQuery, StaticQueryOutput};
 use glam::{Affine3A, Vec3};
 use staticscene::{
     BuildConfig, MeshNode, QueryOptions, QueryParams, QueryStats, ResourceLibrary, StreamingGroup,
@@ -11,8 +12,7 @@ use staticscene::{
 };
 
 use crate::error::SceneError;
-use crate::frame::Camera;
-use crate::passes::query::{StaticQuery, StaticQueryOutput};
+use crate::resources::uniforms::Camera;
 use crate::scene::{Batch, Scene};
 
 /// Where the static query's occlusion test gets its HiZ.
@@ -111,7 +111,7 @@ pub struct StaticShadowStats {
     /// Texels per side of the view's map (the size threshold is in these).
     pub texels: u32,
     /// The pre-cull's and the pass's statistics: `rejected_size` counts the casters KZ2's
-    /// size threshold dropped ([`ShadowConfig::static_size_threshold`](crate::ShadowConfig)),
+    /// size threshold dropped ([`ShadowConfig::static_size_threshold`](crate::config::ShadowConfig)),
     /// `rejected_frustum` those outside the view's volume, `visible` the casters sent.
     pub query: QueryStats,
     /// Threads the view's query dispatched.
@@ -133,7 +133,7 @@ pub struct StaticShadowStats {
 
 /// HZD's mode, where the CPU consumes the query: `scene` with its static setups replaced
 /// by planned batches of what `out` (a [`StaticQuery::run`] with
-/// [`QueryReadback::Full`](crate::QueryReadback::Full) of `params`) found visible, one batch
+/// [`QueryReadback::Full`](crate::statics::QueryReadback::Full) of `params`) found visible, one batch
 /// per query batch (its setup's mesh and material, its instances' transforms from the
 /// query's floating space back to world space). [`Renderer::prepare`](crate::Renderer::prepare)
 /// then plans them with `tiling::build_plan` as any batch.
@@ -203,7 +203,7 @@ pub struct StaticPixel {
 }
 
 /// The static instances' debug words of the last frame with a static query, and how vis
-/// words map to them ([`Inspect::read_static_debug`](crate::Inspect::read_static_debug)).
+/// words map to them ([`Inspect::read_static_debug`](crate::inspect::Inspect::read_static_debug)).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StaticDebug {
     /// Per setup handle: first micro-batch ID, IDs, first slot, capacity, primitive bits;
@@ -235,7 +235,7 @@ impl StaticDebug {
         let w = *self
             .words
             .get(usize::try_from(slot - u64::from(self.base)).ok()?)?;
-        use crate::passes::static_place::{STATIC_DEBUG_FLAGS_SHIFT, STATIC_DEBUG_LATE};
+        use crate::resources::static_draws::{STATIC_DEBUG_FLAGS_SHIFT, STATIC_DEBUG_LATE};
         let fade_mask = (1 << STATIC_DEBUG_FLAGS_SHIFT) - 1;
         Some(StaticPixel {
             setup: *setup,

@@ -5,8 +5,8 @@
 use tiling::{Classification, PassDispatch, PixelStats, Totals, WaveCommand, canonical_sort};
 
 use crate::error::{Error, Result, SceneError};
-use crate::passes::classify::Buffers;
 use crate::resources::PreparedScene;
+use crate::resources::groups::ClassifyBuffers;
 use crate::resources::readback::read_buffer;
 
 /// Counters of one frame's classification, as in seed 000's closing tables.
@@ -85,7 +85,7 @@ impl GpuClassification {
     pub(crate) fn read(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        b: &Buffers,
+        b: &ClassifyBuffers,
         vis_words: &wgpu::Buffer,
     ) -> Result<Self> {
         let words = |b: &wgpu::Buffer, n: u32| -> Result<Vec<u32>> {

@@ -29,7 +29,7 @@
 //!
 //! | depth | what it holds | read by |
 //! | --- | --- | --- |
-//! | the depth target ([`Inspect::read_depth`](crate::Inspect::read_depth)) | the opaque scene only | lighting, shadows' light tiles, the static query's HiZ (next frame's occlusion), the water's own HiZ, refraction and the water depth under the surface (foam, light transport), screen-space reflections |
+//! | the depth target ([`Inspect::read_depth`](crate::inspect::Inspect::read_depth)) | the opaque scene only | lighting, shadows' light tiles, the static query's HiZ (next frame's occlusion), the water's own HiZ, refraction and the water depth under the surface (foam, light transport), screen-space reflections |
 //! | the depth with water ([`Renderer::read_water_depth`](crate::Renderer::read_water_depth)) | a copy of the opaque depth with the tessellated water drawn into it (depth-tested, writing) | the water's local light tiles; whatever draws after the water and must be hidden by it (particles, fog, transparent objects): choose this one |
 //!
 //! A pass that looks *through* the water (what lies under it) reads the depth target; a
@@ -42,6 +42,7 @@
 //! Every limit is a named `pub const` (the `scene` crate's, re-exported here); a scene over
 //! one is an [`Error::WaterLimit`], never a panic.
 
+pub use crate::renderer::{WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView};
 use glam::{Mat4, Vec2, Vec3};
 pub use scene::{
     MAX_WATER_BODIES, MAX_WATER_BODY_CELLS, MAX_WATER_DECAL_LAYERS, MAX_WATER_DECAL_SIZE,
@@ -614,7 +615,7 @@ pub(crate) fn material_map(
 pub(crate) fn decal_record(
     d: &WaterDecal,
     textures: &[[u32; 4]],
-) -> Result<crate::passes::water::GpuWaterDecal> {
+) -> Result<crate::passes::water::rows::GpuWaterDecal> {
     let Some(&texture) = textures.get(d.texture as usize) else {
         return Err(limit(
             "a decal's texture index",
@@ -636,7 +637,7 @@ pub(crate) fn decal_record(
             field: "water decal (box, strength, frame or fade; the box must be invertible)",
         }));
     }
-    Ok(crate::passes::water::GpuWaterDecal {
+    Ok(crate::passes::water::rows::GpuWaterDecal {
         world_to_box: m.inverse().to_cols_array_2d(),
         box_to_world: m.to_cols_array_2d(),
         params: [d.strength, d.frame, d.fade, 0.0],

@@ -103,7 +103,7 @@ fn the_output_texture_is_the_read_back_image() {
         t.size(),
     );
     c.queue.submit([encoder.finish()]);
-    let bytes = gpu::read_buffer(&c.device, &c.queue, &buffer, 0, buffer.size()).unwrap();
+    let bytes = gpu::inspect::read_buffer(&c.device, &c.queue, &buffer, 0, buffer.size()).unwrap();
     let image = r.read_output().unwrap();
     for (y, row) in bytes.chunks_exact(padded as usize).enumerate() {
         let row: Vec<[u8; 4]> = row[..(W * 4) as usize]

@@ -1,7 +1,8 @@
 //! Devices: the headless helper finds an adapter (lavapipe in CI) and reports its paths,
 //! disabled features select the fallbacks, and device errors come back as errors.
 
-use gpu::{HeadlessOptions, OPTIONAL_FEATURES, PrimitiveIdPath};
+use gpu::config::PrimitiveIdPath;
+use gpu::{HeadlessOptions, OPTIONAL_FEATURES};
 use testkit::device::ctx;
 
 #[test]
@@ -36,7 +37,7 @@ fn disabling_features_selects_fallbacks() {
 #[test]
 fn validation_errors_are_errors_not_panics() {
     let c = ctx();
-    let err = gpu::scoped(&c.device, || {
+    let err = gpu::inspect::scoped(&c.device, || {
         let _module = c.device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("bad"),
             source: wgpu::ShaderSource::Wgsl(

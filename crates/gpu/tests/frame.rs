@@ -15,7 +15,8 @@ use std::path::PathBuf;
 
 use demo::{DemoOptions, DemoScene};
 use gpu::framealloc::PoolConfig;
-use gpu::{FrameInput, RenderPath, Rgba8Image, Scene, diff_metrics};
+use gpu::inspect::diff_metrics;
+use gpu::{FrameInput, RenderPath, Rgba8Image, Scene};
 use testkit::device::{GoldenBounds, check_golden, ctx};
 use visbuf::{ShadingRate, VisFields, VisId, VisLayout};
 
@@ -454,7 +455,7 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         ctx().adapter_line()
     );
     let (scene, frame) = scene(DemoScene::Forest);
-    for vertex_ring in [None, Some(gpu::RING_BYTES_PS4)] {
+    for vertex_ring in [None, Some(gpu::config::RING_BYTES_PS4)] {
         let mut r = common::renderer_with(gpu::RendererConfig {
             width: 320,
             height: 180,
@@ -556,7 +557,7 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
                 r.inspect().read_depth().unwrap(),
             )
         };
-        let volumes = |laydown| image(laydown, gpu::LightPaths::Volumes).0;
+        let volumes = |laydown| image(laydown, gpu::config::LightPaths::Volumes).0;
         let (hw_volumes, cs_volumes) = (
             volumes(gpu::Laydown::Hardware),
             volumes(gpu::Laydown::Compute),
@@ -568,8 +569,10 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
             "{} with light volumes: compute vs hardware laydown mean {mean:.3}, p99 {p99}",
             kind.name()
         );
-        let (hardware, hw_vis, hw_depth) = image(gpu::Laydown::Hardware, gpu::LightPaths::Tiled);
-        let (compute, cs_vis, cs_depth) = image(gpu::Laydown::Compute, gpu::LightPaths::Tiled);
+        let (hardware, hw_vis, hw_depth) =
+            image(gpu::Laydown::Hardware, gpu::config::LightPaths::Tiled);
+        let (compute, cs_vis, cs_depth) =
+            image(gpu::Laydown::Compute, gpu::config::LightPaths::Tiled);
         // Same triangle, same depth up to the two rasterisers' interpolation (both snap
         // vertices to 1/256 pixel; measured at most 7.4e-6 on lavapipe, on grazing ground).
         let mut worst = 0f32;

@@ -4,11 +4,10 @@
 mod common;
 
 use common::material;
+use gpu::config::{LaydownTarget, PrimitiveIdPath};
 use gpu::glam::{Affine3A, DVec2, DVec3, DVec4, Quat, Vec3};
-use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, Laydown, LaydownTarget, MaterialId, Mesh, MeshId,
-    PrimitiveIdPath, Renderer, RendererConfig, Scene, ShaderKind,
-};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind};
+use gpu::{Batch, Camera, FrameInput, Laydown, Mesh, Renderer, RendererConfig, Scene};
 use testkit::device::ctx;
 use tiling::MicroBatchInfo;
 use visbuf::{PrimitiveBits, ShadingRate, VisFields, VisId, VisLayout};
@@ -216,7 +215,7 @@ fn check_scene_against_f64(
     name: &str,
     scene: &Scene,
     frame: &FrameInput,
-) -> (Renderer, Option<gpu::LaydownStats>) {
+) -> (Renderer, Option<gpu::inspect::LaydownStats>) {
     let probe = ctx();
     let mut renderer = Renderer::new(&probe.device, &probe.queue, config).unwrap();
     let prepared = renderer.prepare(scene).unwrap();
@@ -345,8 +344,11 @@ fn compute_laydown_matches_the_f64_rasteriser() {
         // functions), and a split at 1 pixel that sends part of the scene's (small)
         // triangles there.
         for (extent, name) in [
-            (gpu::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
-            (gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT, "an invocation each"),
+            (gpu::config::COMPUTE_LAYDOWN_MAX_EXTENT, "compute"),
+            (
+                gpu::config::COMPUTE_LAYDOWN_EXTENT_LIMIT,
+                "an invocation each",
+            ),
             (0.0, "a workgroup each"),
             (1.0, "split at 1 pixel"),
         ] {
@@ -445,7 +447,7 @@ fn large_triangles_match_the_f64_rasteriser() {
         }
         // Every triangle through the large-triangle pass, the default split, and a split
         // low enough that only slivers and specks stay with an invocation each.
-        for extent in [0.0, gpu::COMPUTE_LAYDOWN_MAX_EXTENT, 4.0] {
+        for extent in [0.0, gpu::config::COMPUTE_LAYDOWN_MAX_EXTENT, 4.0] {
             let config = compute_config(extent, target);
             let name = format!(
                 "large triangles, split at {extent} px, {} target",
@@ -516,7 +518,7 @@ fn huge_triangles_sharing_edges_leave_no_crack() {
                 continue; // compute_laydown_matches_the_f64_rasteriser says so
             }
             let name = format!("fan at {apex_x} m, {} target", target.name());
-            let config = compute_config(gpu::COMPUTE_LAYDOWN_MAX_EXTENT, target);
+            let config = compute_config(gpu::config::COMPUTE_LAYDOWN_MAX_EXTENT, target);
             let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
             let prepared = r.prepare(&scene).unwrap();
             let (vis, _) = r
@@ -968,13 +970,13 @@ fn auto_times_both_laydowns_then_keeps_the_faster() {
     let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
     let (scene, frame) = test_scene();
     let prepared = r.prepare(&scene).unwrap();
-    let trial = 2 * (1 + gpu::AUTO_LAYDOWN_FRAMES);
+    let trial = 2 * (1 + gpu::config::AUTO_LAYDOWN_FRAMES);
     // Frames without a laydown leave the trial where it is.
     r.render(&prepared, &frame, gpu::RenderPath::Baseline)
         .unwrap();
     assert_eq!(
         r.laydown_choice().reason,
-        gpu::LaydownReason::Trial {
+        gpu::config::LaydownReason::Trial {
             frames_left: trial as u32
         }
     );
@@ -983,7 +985,7 @@ fn auto_times_both_laydowns_then_keeps_the_faster() {
         let asked = r.laydown();
         assert!(matches!(
             r.laydown_choice().reason,
-            gpu::LaydownReason::Trial { .. }
+            gpu::config::LaydownReason::Trial { .. }
         ));
         // `submit` waits during the trial, so every trial frame is timed.
         let out = r
@@ -1007,7 +1009,7 @@ fn auto_times_both_laydowns_then_keeps_the_faster() {
     let (h, c) = (median(times[0].clone()), median(times[1].clone()));
     let choice = r.laydown_choice();
     match choice.reason {
-        gpu::LaydownReason::Measured {
+        gpu::config::LaydownReason::Measured {
             hardware_ms,
             compute_ms,
             ..

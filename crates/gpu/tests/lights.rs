@@ -9,10 +9,9 @@ mod common;
 use deferred::lights::{MAX_LIGHTS_PER_TILE, cull_tiles, tile_depth_ranges};
 use deferred::{DepthMode, Perspective};
 use demo::{DemoOptions, DemoScene};
-use gpu::{
-    FrameInput, LightPaths, PointLight, RenderPath, Renderer, RendererConfig, Scene,
-    local_light_rows,
-};
+use gpu::config::LightPaths;
+use gpu::inspect::local_light_rows;
+use gpu::{FrameInput, PointLight, RenderPath, Renderer, RendererConfig, Scene};
 
 const W: u32 = 333;
 const H: u32 = 190;

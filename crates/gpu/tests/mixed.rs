@@ -14,7 +14,9 @@ mod common;
 use std::collections::BTreeSet;
 
 use demo::{DemoOptions, DemoScene};
-use gpu::{Laydown, RenderPath, RendererConfig, Scene, SceneError, ShaderKind, diff_metrics};
+use gpu::inspect::diff_metrics;
+use gpu::scene::ShaderKind;
+use gpu::{Laydown, RenderPath, RendererConfig, Scene, SceneError};
 use testkit::device::ctx;
 
 const W: u32 = 200;
@@ -41,7 +43,7 @@ fn renderer(mixed: bool, laydown: Laydown) -> gpu::Renderer {
 
 /// The pixels (`y * W + x`) the classification's wave commands name: what the resolve
 /// shades.
-fn classified_pixels(c: &gpu::GpuClassification) -> BTreeSet<usize> {
+fn classified_pixels(c: &gpu::inspect::GpuClassification) -> BTreeSet<usize> {
     let mut out = BTreeSet::new();
     for w in &c.waves {
         let (tx, ty) = w.tile_xy();

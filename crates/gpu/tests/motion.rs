@@ -8,10 +8,8 @@ mod common;
 
 use demo::{DemoOptions, DemoScene};
 use glam::{Affine3A, DMat4, DVec2, DVec3, DVec4, Vec2, Vec3, Vec4};
-use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, MaterialId, Mesh, MeshId, RenderPath, Scene,
-    ShaderKind, Wind,
-};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind, Wind};
+use gpu::{Batch, Camera, FrameInput, Mesh, RenderPath, Scene};
 
 const W: u32 = 240;
 const H: u32 = 136;
@@ -141,7 +139,7 @@ fn sub_pixel_edge_on_blades_move_as_their_depth() {
         seed: 1,
         density: 0.5,
     });
-    for ring in [None, Some(gpu::RING_BYTES_PS5)] {
+    for ring in [None, Some(gpu::config::RING_BYTES_PS5)] {
         let mut r = common::renderer_with(gpu::RendererConfig {
             width: W,
             height: H,

@@ -7,9 +7,10 @@ mod common;
 
 use demo::{DemoOptions, DemoScene};
 use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
+use gpu::config::{LightPaths, MsaaLighting};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind};
 use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, LightPaths, Material, MaterialId, Mesh, MeshId,
-    MsaaLighting, RenderPath, RendererConfig, Rgba8Image, Scene, ShaderKind,
+    Batch, Camera, FrameInput, Material, Mesh, RenderPath, RendererConfig, Rgba8Image, Scene,
 };
 
 const W: u32 = 96;
@@ -242,7 +243,7 @@ fn kz2_tricks_give_the_every_sample_image() {
             width: 320,
             height: 192,
             shadows,
-            spot_shadows: shadows.map(|_| gpu::SpotShadowConfig::default()),
+            spot_shadows: shadows.map(|_| gpu::config::SpotShadowConfig::default()),
             msaa: Some(mode),
             ..RendererConfig::default()
         });

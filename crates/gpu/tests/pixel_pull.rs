@@ -9,7 +9,9 @@
 mod common;
 
 use demo::{DemoOptions, DemoScene};
-use gpu::{PrimitiveIdPath, RenderPath, RendererConfig, Scene, diff_metrics};
+use gpu::config::PrimitiveIdPath;
+use gpu::inspect::diff_metrics;
+use gpu::{RenderPath, RendererConfig, Scene};
 use testkit::device::ctx;
 
 const W: u32 = 256;

@@ -8,7 +8,8 @@ mod common;
 
 use demo::{DemoOptions, DemoScene};
 use glam::{DVec3, DVec4, Quat, Vec3};
-use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, ShadowConfig};
+use gpu::config::ShadowConfig;
+use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig};
 
 const RES: u32 = 512;
 /// KZ2's per-slice resolution in the stability test: slice 1 at half.
@@ -334,7 +335,8 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
 /// is drawn and the image is the unshadowed one exactly.
 #[test]
 fn shadowed_spots_only_darken_and_fade_out() {
-    use gpu::{SpotLight, SpotShadowConfig};
+    use gpu::SpotLight;
+    use gpu::config::SpotShadowConfig;
     let (scene, mut frame) = demo::build(&DemoOptions {
         scene: DemoScene::Forest,
         seed: 7,

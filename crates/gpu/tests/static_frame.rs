@@ -10,14 +10,15 @@ mod common;
 
 use demo::city::{City, city};
 use gpu::glam::{self, Affine3A, Vec3};
+use gpu::inspect::diff_metrics;
+use gpu::statics::{
+    QueryReadback, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, scene_from_query,
+    static_view_desc,
+};
 use gpu::staticscene;
 use gpu::staticscene::ViewDesc;
 use gpu::staticscene::{DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams};
-use gpu::{
-    Batch, Camera, FrameInput, PreparedScene, QueryReadback, RenderPath, Renderer, Rgba8Image,
-    Scene, StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, diff_metrics,
-    scene_from_query, static_view_desc,
-};
+use gpu::{Batch, Camera, FrameInput, PreparedScene, RenderPath, Renderer, Rgba8Image, Scene};
 use testkit::device::ctx;
 
 const W: u32 = 320;
@@ -80,7 +81,7 @@ impl Rig {
         let c = ctx();
         let city = small_city();
         let mut query = StaticQuery::new(&c.device, &c.queue).unwrap();
-        let cpu = gpu::stream_static_world(
+        let cpu = gpu::statics::stream_static_world(
             &c.device,
             &c.queue,
             &mut query,
@@ -316,7 +317,7 @@ fn occlusion_against_the_previous_frames_depth_is_conservative() {
                     &mut unoccluded,
                 )
                 .unwrap();
-            let overlay = gpu::debug::occlusion_overlay(
+            let overlay = gpu::inspect::debug::occlusion_overlay(
                 &on,
                 &rig.cpu,
                 &params,
@@ -505,7 +506,7 @@ fn two_pass_occlusion_is_conservative_while_the_camera_moves() {
                 if frame == 5 {
                     save(
                         "two_pass_split",
-                        &gpu::debug::static_two_pass(W, H, &vis, &debug),
+                        &gpu::inspect::debug::static_two_pass(W, H, &vis, &debug),
                     );
                 }
             }
@@ -641,7 +642,10 @@ fn the_lod_fade_view_shows_instances_fading() {
             }
         }
         if frame == 6 {
-            save("lod_fade", &gpu::debug::static_lod_fade(W, H, &vis, &debug));
+            save(
+                "lod_fade",
+                &gpu::inspect::debug::static_lod_fade(W, H, &vis, &debug),
+            );
         }
     }
     eprintln!("fading pixels: {fading_in} in, {fading_out} out");
@@ -765,7 +769,7 @@ fn render_static_refuses_a_scene_without_static_setups() {
     assert!(e.to_string().contains("static setup"), "{e}");
     // A setup naming a missing mesh is refused at prepare, naming it.
     let mut bad = city.scene.clone();
-    bad.static_setups[3].mesh = gpu::MeshId(10_000);
+    bad.static_setups[3].mesh = scene::MeshId(10_000);
     let e = r.prepare(&bad).err().expect("a missing mesh is refused");
     assert!(e.to_string().contains("static setup 3"), "{e}");
 }
@@ -808,7 +812,7 @@ fn conditional_volumes_keep_the_static_frame() {
             height: H,
             shadows: common::test_shadows(),
             baked_sun: false,
-            light_paths: gpu::LightPaths::Volumes,
+            light_paths: gpu::config::LightPaths::Volumes,
             conditional_volumes,
             ..gpu::RendererConfig::default()
         });

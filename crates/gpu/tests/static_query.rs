@@ -5,6 +5,7 @@
 
 use std::collections::BTreeMap;
 
+use gpu::statics::{QueryReadback, StaticQuery};
 use gpu::staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
 use gpu::staticscene::glam::{DQuat, DVec3, Mat4};
 use gpu::staticscene::{
@@ -12,7 +13,6 @@ use gpu::staticscene::{
     QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, WaveWidth, canonical_batches,
     snap_origin,
 };
-use gpu::{QueryReadback, StaticQuery};
 use testkit::device::ctx;
 
 /// Streaming groups come and go over the frames (and one group comes back, reusing freed

@@ -9,16 +9,15 @@
 
 mod common;
 
+use gpu::config::ShadowConfig;
 use gpu::glam::{Affine3A, DVec3, Vec2, Vec3, Vec4};
+use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind, StaticSetup};
+use gpu::statics::{StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, static_view_desc};
 use gpu::staticscene::{
     self, BuildConfig, MeshNode, PlacedObject, QueryOptions, ResourceLibrary, StaticMesh,
     StreamingGroup, TileStreamer,
 };
-use gpu::{
-    AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath,
-    Renderer, RendererConfig, Scene, ShaderKind, ShadowConfig, StaticFrameStats, StaticOcclusion,
-    StaticQuery, StaticSetup, StaticView, static_view_desc,
-};
+use gpu::{Batch, Camera, FrameInput, Material, Mesh, RenderPath, Renderer, RendererConfig, Scene};
 use testkit::device::ctx;
 
 const W: u32 = 160;
@@ -297,7 +296,7 @@ fn casters_outside_the_view_shadow_it_as_planned_batches_do() {
     eprintln!("texels differing from the planned batches' maps: {differ:?}");
     assert!(differ.iter().all(|&d| d == 0), "{differ:?}");
     let planned_image = reference.read_output().unwrap();
-    let (_, max) = gpu::diff_metrics(&image, &planned_image, 1.0).unwrap();
+    let (_, max) = gpu::inspect::diff_metrics(&image, &planned_image, 1.0).unwrap();
     assert!(max <= 2, "image vs planned batches: max {max}");
 
     // Without the towers beside the view (the camera query's casters alone, as before),

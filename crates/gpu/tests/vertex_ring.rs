@@ -10,7 +10,9 @@ mod common;
 
 use demo::{DemoOptions, DemoScene};
 use glam::{DMat4, DVec3, Vec3};
-use gpu::{Camera, PrimitiveIdPath, RenderPath, RendererConfig, Wind};
+use gpu::config::PrimitiveIdPath;
+use gpu::scene::Wind;
+use gpu::{Camera, RenderPath, RendererConfig};
 use visbuf::{Vertex, VertexCore, VisbufVertex};
 
 const W: u32 = 192;
@@ -35,7 +37,7 @@ fn half_step(x: f32) -> f32 {
 
 #[test]
 fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
-    for (ring_bytes, density) in [(gpu::RING_BYTES_PS4, 0.1), (1 << 21, 0.05)] {
+    for (ring_bytes, density) in [(gpu::config::RING_BYTES_PS4, 0.1), (1 << 21, 0.05)] {
         let (mut scene, frame) = demo::build(&DemoOptions {
             scene: DemoScene::Forest,
             seed: 3,
@@ -143,7 +145,7 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
                     let p_obj = mesh.positions[k];
                     let world = t.transform_point3(p_obj).as_dvec3();
                     let sway = |time: f32| -> DVec3 {
-                        if shader == gpu::ShaderKind::AlphaTested {
+                        if shader == scene::ShaderKind::AlphaTested {
                             let tr = Vec3::from(t.translation) - origin;
                             wind.displacement(tr, p_obj, time).as_dvec3()
                         } else {
@@ -168,7 +170,7 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
                     })
                     .unwrap()
                     .unpack();
-                    let slot = gpu::ring_slot(
+                    let slot = gpu::inspect::ring_slot(
                         ring.ring_vertices,
                         p as u32,
                         row.ring_offset,
@@ -213,7 +215,7 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
                         assert_eq!(got.uv, want.uv);
                         assert_eq!(got.extra, 0);
                     } else {
-                        assert_eq!(got.extra, gpu::RING_UV_FROM_VERTICES);
+                        assert_eq!(got.extra, gpu::inspect::RING_UV_FROM_VERTICES);
                     }
                     checked += 1;
                 }
@@ -240,7 +242,7 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
 /// included. Also the mean error is small everywhere.
 #[test]
 fn resolve_from_the_ring_equals_the_per_pixel_transform() {
-    for ring_bytes in [gpu::RING_BYTES_PS5, 1 << 21] {
+    for ring_bytes in [gpu::config::RING_BYTES_PS5, 1 << 21] {
         let (mut scene, frame) = demo::build(&DemoOptions {
             scene: DemoScene::Forest,
             seed: 5,

@@ -13,7 +13,9 @@ mod common;
 
 use demo::{DemoOptions, DemoScene};
 use glam::Vec3;
-use gpu::{RenderPath, RendererConfig, VrsConfig, Wind};
+use gpu::config::VrsConfig;
+use gpu::scene::Wind;
+use gpu::{RenderPath, RendererConfig};
 
 const W: u32 = 200;
 const H: u32 = 120;
@@ -33,7 +35,7 @@ fn quad_commands_cover_every_pixel_once_and_the_broadcast_equals_the_sample() {
         speed_2x2: 16.0,
     };
     let mut twox2 = Vec::new();
-    for ring in [None, Some(gpu::RING_BYTES_PS4)] {
+    for ring in [None, Some(gpu::config::RING_BYTES_PS4)] {
         for step in [0.0_f32, 0.5] {
             let mut before = frame.clone();
             before.camera.position -= Vec3::new(step, 0.0, 0.0);

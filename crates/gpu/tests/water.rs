@@ -15,6 +15,7 @@ use std::sync::OnceLock;
 
 use demo::river::{RiverDemo, river};
 use gpu::glam::{Affine3A, Quat, UVec2, Vec2, Vec3};
+use gpu::inspect::diff_metrics;
 use gpu::water;
 use gpu::water::decal::{DecalTexture, DisplacementDecal, combined_displacement};
 use gpu::water::material::WaterMaterial;
@@ -22,9 +23,10 @@ use gpu::water::noise::Fbm;
 use gpu::water::optics::WaterType;
 use gpu::water::tiles::{GridMesh, TILE_SIZE, TileGrid, classify};
 use gpu::water::world::{Lake, Ocean, WaterWorldBuilder};
+use gpu::water_scene::WaterDecal;
 use gpu::{
-    Camera, Error, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene, WaterDecal,
-    WaterOptions, WaterScene, diff_metrics,
+    Camera, Error, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, Scene,
+    WaterOptions, WaterScene,
 };
 use testkit::device::{GoldenBounds, check_golden, ctx};
 
@@ -328,7 +330,7 @@ fn a_world_over_the_limits_is_an_error_never_a_panic() {
     );
     // More materials than the data word's 11 bits leave.
     let mut w = d.water.clone();
-    w.materials = vec![w.materials[0]; gpu::MAX_WATER_MATERIALS as usize + 1];
+    w.materials = vec![w.materials[0]; gpu::water_scene::MAX_WATER_MATERIALS as usize + 1];
     assert_eq!(
         named(r.set_water(Some(&w)).unwrap_err()),
         "MAX_WATER_MATERIALS"
@@ -346,7 +348,7 @@ fn a_world_over_the_limits_is_an_error_never_a_panic() {
         level: 0.0,
         material: 0,
     });
-    for k in 0..=gpu::MAX_WATER_BODIES {
+    for k in 0..=gpu::water_scene::MAX_WATER_BODIES {
         let c = Vec2::new((k % 40) as f32 * 6.0, (k / 40) as f32 * 6.0);
         b.lakes.push(Lake {
             polygon: vec![c, c + Vec2::X * 3.0, c + Vec2::ONE * 3.0, c + Vec2::Y * 3.0],
@@ -372,7 +374,7 @@ fn a_world_over_the_limits_is_an_error_never_a_panic() {
     // Decals: too many, a missing texture, a box that is not invertible.
     r.set_water(Some(&d.water)).unwrap();
     let decal = d.decals[0];
-    let too_many = vec![decal; gpu::MAX_WATER_DECALS as usize + 1];
+    let too_many = vec![decal; gpu::water_scene::MAX_WATER_DECALS as usize + 1];
     assert_eq!(
         named(r.set_water_decals(&too_many).unwrap_err()),
         "MAX_WATER_DECALS"

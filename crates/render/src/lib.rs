@@ -24,7 +24,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Parser, ValueEnum};
 use demo::{DemoOptions, DemoScene};
-use gpu::{HeadlessOptions, PrimitiveIdPath, RenderPath, Renderer, RendererConfig};
+use gpu::config::PrimitiveIdPath;
+use gpu::{HeadlessOptions, RenderPath, Renderer, RendererConfig};
 
 pub mod report;
 
@@ -119,12 +120,12 @@ pub enum LightPathsArg {
 
 impl LightPathsArg {
     /// The renderer's setting.
-    pub fn paths(self) -> gpu::LightPaths {
+    pub fn paths(self) -> gpu::config::LightPaths {
         match self {
-            LightPathsArg::Classified => gpu::LightPaths::Classified,
-            LightPathsArg::Tiled => gpu::LightPaths::Tiled,
-            LightPathsArg::Volumes => gpu::LightPaths::Volumes,
-            LightPathsArg::EveryPixel => gpu::LightPaths::EveryPixel,
+            LightPathsArg::Classified => gpu::config::LightPaths::Classified,
+            LightPathsArg::Tiled => gpu::config::LightPaths::Tiled,
+            LightPathsArg::Volumes => gpu::config::LightPaths::Volumes,
+            LightPathsArg::EveryPixel => gpu::config::LightPaths::EveryPixel,
         }
     }
 }
@@ -182,7 +183,7 @@ pub enum LaydownTargetArg {
 pub enum VrsArg {
     /// Every pixel shaded.
     Off,
-    /// HFW's rule (`gpu::VrsConfig::default`): by distance, coarser when moving.
+    /// HFW's rule (`gpu::config::VrsConfig::default`): by distance, coarser when moving.
     On,
     /// Every triangle 2x2 (the rule's result at speed).
     #[value(name = "all-2x2")]
@@ -265,7 +266,7 @@ pub struct Args {
     /// many pixels, or larger than a quarter of its square in area, take its
     /// large-triangle pass (0 to 254; 0: every one). Triangles crossing the near plane go
     /// to its hardware part.
-    #[arg(long, default_value_t = gpu::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
+    #[arg(long, default_value_t = gpu::config::COMPUTE_LAYDOWN_MAX_EXTENT, value_parser = parse_extent)]
     pub laydown_max_extent: f32,
     /// The compute laydown's 64-bit target.
     #[arg(long, value_enum, default_value = "auto")]
@@ -287,12 +288,12 @@ pub struct Args {
     #[arg(long)]
     pub per_pixel_transform: bool,
     /// HFW's software VRS on the deferred path: a shading rate per triangle from distance
-    /// and screen speed (`gpu::VrsConfig::default`), quad commands, one shaded sample per
+    /// and screen speed (`gpu::config::VrsConfig::default`), quad commands, one shaded sample per
     /// quad broadcast to its pixels. `all-2x2` rates everything 2x2, what HFW's rule gives
     /// "when we are moving at pace" (the measured frames hold the camera still).
     #[arg(long, value_enum, default_value = "off")]
     pub vrs: VrsArg,
-    /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::Wind::default`,
+    /// Hold the demo scenes' foliage still (HFW's wind animation, `gpu::scene::Wind::default`,
     /// sways every alpha-tested instance otherwise).
     #[arg(long)]
     pub no_wind: bool,
@@ -354,7 +355,7 @@ pub struct Args {
     /// static casters whose bounding sphere spans fewer are left out of that slice (and,
     /// in the bake's texels, of the baked sun map); 0 keeps every caster (0 to 64). The
     /// report lists each slice's static casters and those dropped.
-    #[arg(long, default_value_t = gpu::ShadowConfig::default().static_size_threshold, value_parser = parse_size_threshold)]
+    #[arg(long, default_value_t = gpu::config::ShadowConfig::default().static_size_threshold, value_parser = parse_size_threshold)]
     pub shadow_size_threshold: f32,
     /// Draw the maps and shading of shadowed volume lights directly, even where their
     /// volume covers no pixel (no emulation of KZ2's conditional rendering: no test pass,
@@ -540,7 +541,7 @@ fn report_lighting(
     }
     report.sun_skip(geometry, baked, away);
     if !args.no_debug_views {
-        let (img, max) = gpu::debug::lights_per_tile(args.width, args.height, &tiles, 0);
+        let (img, max) = gpu::inspect::debug::lights_per_tile(args.width, args.height, &tiles, 0);
         let file = args.out.join(format!("{name}_debug_lights_per_tile.png"));
         img.write_png(&file)?;
         report.image_named(
@@ -548,7 +549,7 @@ fn report_lighting(
             &file,
         );
         let (img, [culled, bounds, volume]) =
-            gpu::debug::light_paths(&renderer.read_output()?, frame);
+            gpu::inspect::debug::light_paths(&renderer.read_output()?, frame);
         let file = args.out.join(format!("{name}_debug_light_paths.png"));
         img.write_png(&file)?;
         report.image_named(
@@ -586,7 +587,7 @@ fn shadow_views(
         .map(|k| config.slice_resolution(k).to_string())
         .collect();
     let file = args.out.join(format!("{name}_debug_shadow_atlas.png"));
-    gpu::debug::shadow_atlas(&maps, resolution, step).write_png(&file)?;
+    gpu::inspect::debug::shadow_atlas(&maps, resolution, step).write_png(&file)?;
     report.image_named(
         &format!(
             "sun shadow maps, nearest slice first ({} texels, each in the corner of a {resolution}-texel layer; 1 in {step} shown; black nearest the sun)",
@@ -597,7 +598,8 @@ fn shadow_views(
     let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
     let depth = renderer.inspect().read_depth()?;
     let file = args.out.join(format!("{name}_debug_cascades.png"));
-    gpu::debug::cascade_index(args.width, args.height, &depth, near, &splits).write_png(&file)?;
+    gpu::inspect::debug::cascade_index(args.width, args.height, &depth, near, &splits)
+        .write_png(&file)?;
     let ends: Vec<String> = splits.iter().map(|d| format!("{d:.1}")).collect();
     report.image_named(
         &format!(
@@ -631,7 +633,7 @@ fn motion_view(
     before.time = frame.time - 1.0 / 30.0;
     renderer.render(prepared, &before, RenderPath::Deferred)?;
     renderer.render(prepared, frame, RenderPath::Deferred)?;
-    let (img, scale) = gpu::debug::motion_vectors(
+    let (img, scale) = gpu::inspect::debug::motion_vectors(
         args.width,
         args.height,
         &renderer.inspect().read_gbuffer()?,
@@ -713,7 +715,7 @@ impl Args {
 
 fn parse_extent(v: &str) -> Result<f32, String> {
     match v.parse::<f32>() {
-        Ok(e) if (0.0..=gpu::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&e) => Ok(e),
+        Ok(e) if (0.0..=gpu::config::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&e) => Ok(e),
         Ok(e) => Err(format!("{e} pixels: 0 to 254")),
         Err(e) => Err(e.to_string()),
     }
@@ -813,22 +815,22 @@ pub fn run(args: &Args) -> Result<()> {
         height: args.height,
         primitive_id,
         light_paths: if args.all_lights {
-            gpu::LightPaths::EveryPixel
+            gpu::config::LightPaths::EveryPixel
         } else {
             args.light_paths.paths()
         },
-        shadows: (!args.no_shadows).then(|| gpu::ShadowConfig {
+        shadows: (!args.no_shadows).then(|| gpu::config::ShadowConfig {
             cache: !args.no_shadow_cache,
             resolution_divisor: if args.uniform_shadow_resolution {
                 [1; 8]
             } else {
-                gpu::ShadowConfig::default().resolution_divisor
+                gpu::config::ShadowConfig::default().resolution_divisor
             },
             static_size_threshold: args.shadow_size_threshold,
-            ..gpu::ShadowConfig::default()
+            ..gpu::config::ShadowConfig::default()
         }),
         baked_sun: !args.no_baked_sun,
-        spot_shadows: (!args.no_spot_shadows).then(gpu::SpotShadowConfig::default),
+        spot_shadows: (!args.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
         cull_shadow_casters: !args.no_caster_culling,
         conditional_volumes: !args.no_conditional_volumes,
         gbuffer: match args.gbuffer {
@@ -837,8 +839,8 @@ pub fn run(args: &Args) -> Result<()> {
         },
         msaa: match args.msaa {
             MsaaArg::Off => None,
-            MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::MsaaLighting::Kz2),
-            MsaaArg::EverySample => Some(gpu::MsaaLighting::EverySample),
+            MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
+            MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
         },
         laydown: match args.laydown {
             LaydownArg::Hardware => gpu::Laydown::Hardware,
@@ -848,23 +850,23 @@ pub fn run(args: &Args) -> Result<()> {
         compute_laydown_max_extent: args.laydown_max_extent,
         compute_laydown_target: match args.laydown_target {
             LaydownTargetArg::Auto => None,
-            LaydownTargetArg::Buffer => Some(gpu::LaydownTarget::Buffer),
-            LaydownTargetArg::Texture => Some(gpu::LaydownTarget::Texture),
+            LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
+            LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
         },
         mixed_frame: args.mixed_frame,
         vertex_ring: match args.vertex_ring {
             VertexRingArg::Off => None,
-            VertexRingArg::Ps4 => Some(gpu::RING_BYTES_PS4),
-            VertexRingArg::Ps5 => Some(gpu::RING_BYTES_PS5),
+            VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
+            VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
         },
         ring_resolve: !args.per_pixel_transform,
         vrs: match args.vrs {
             VrsArg::Off => None,
-            VrsArg::On => Some(gpu::VrsConfig::default()),
-            VrsArg::All2x2 => Some(gpu::VrsConfig {
+            VrsArg::On => Some(gpu::config::VrsConfig::default()),
+            VrsArg::All2x2 => Some(gpu::config::VrsConfig {
                 distance_2x1: 1e-6,
                 distance_2x2: 1e-6,
-                ..gpu::VrsConfig::default()
+                ..gpu::config::VrsConfig::default()
             }),
         },
         ..RendererConfig::default()
@@ -875,7 +877,7 @@ pub fn run(args: &Args) -> Result<()> {
             &ctx.device,
             &ctx.queue,
             RendererConfig {
-                msaa: Some(gpu::MsaaLighting::EverySample),
+                msaa: Some(gpu::config::MsaaLighting::EverySample),
                 ..config.clone()
             },
         )?),
@@ -897,7 +899,7 @@ pub fn run(args: &Args) -> Result<()> {
             seed: args.seed,
             density: args.density,
         });
-        scene.wind = (!args.no_wind).then(gpu::Wind::default);
+        scene.wind = (!args.no_wind).then(gpu::scene::Wind::default);
         let frame = with_lights(args, frame, 25.0);
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let built = Built {
@@ -997,8 +999,8 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     use gpu::staticscene::{HiZ, QueryOptions};
     let t0 = std::time::Instant::now();
     let city = demo::city::city(args.instances as usize);
-    let mut query = gpu::StaticQuery::new(&ctx.device, &ctx.queue)?;
-    let mut cpu = gpu::stream_static_world(
+    let mut query = gpu::statics::StaticQuery::new(&ctx.device, &ctx.queue)?;
+    let mut cpu = gpu::statics::stream_static_world(
         &ctx.device,
         &ctx.queue,
         &mut query,
@@ -1024,11 +1026,11 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         path => path.paths(),
     };
     let (w, h) = (args.width, args.height);
-    let mut desc = gpu::static_view_desc(&frame.camera, w, h);
+    let mut desc = gpu::statics::static_view_desc(&frame.camera, w, h);
     let occlusion = match args.occlusion {
-        OcclusionArg::Off | OcclusionArg::Readback => gpu::StaticOcclusion::Given,
-        OcclusionArg::Previous => gpu::StaticOcclusion::PreviousFrame,
-        OcclusionArg::TwoPass => gpu::StaticOcclusion::TwoPass,
+        OcclusionArg::Off | OcclusionArg::Readback => gpu::statics::StaticOcclusion::Given,
+        OcclusionArg::Previous => gpu::statics::StaticOcclusion::PreviousFrame,
+        OcclusionArg::TwoPass => gpu::statics::StaticOcclusion::TwoPass,
     };
     // A freshly streamed city fades in over `fade_frames` frames: render them first, so
     // the measured frames (whose warm-up is 0.5 s, a few frames on a slow adapter) and the
@@ -1038,7 +1040,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     // still).
     let readback = args.occlusion == OcclusionArg::Readback;
     for _ in 0..desc.fade_frames.max(u32::from(readback)) {
-        let mut view = gpu::StaticView {
+        let mut view = gpu::statics::StaticView {
             query: &mut query,
             scene: &mut cpu,
             view: desc,
@@ -1054,7 +1056,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     }
     let mut images = Vec::new();
     for &path in paths {
-        let mut view = gpu::StaticView {
+        let mut view = gpu::statics::StaticView {
             query: &mut query,
             scene: &mut cpu,
             view: desc,
@@ -1070,7 +1072,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
                 let mut frame = base.clone();
                 frame.camera.position += step;
                 frame.camera.target += step;
-                let mut d = gpu::static_view_desc(&frame.camera, w, h);
+                let mut d = gpu::statics::static_view_desc(&frame.camera, w, h);
                 if occlusion_camera {
                     d.occlusion_camera = Some(d.camera);
                 }
@@ -1100,15 +1102,16 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             report.classification(&stats);
             if !args.no_debug_views {
                 let file = args.out.join("city_debug_vis_ids.png");
-                gpu::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
+                gpu::inspect::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
                 report.image_named("vis IDs", &file);
                 let statics = renderer.inspect().read_static_debug(&prepared)?;
                 let file = args.out.join("city_debug_lod_fade.png");
-                gpu::debug::static_lod_fade(w, h, &classified.vis, &statics).write_png(&file)?;
+                gpu::inspect::debug::static_lod_fade(w, h, &classified.vis, &statics)
+                    .write_png(&file)?;
                 report.image_named("static setups and LOD fade", &file);
                 if args.occlusion == OcclusionArg::TwoPass {
                     let file = args.out.join("city_debug_two_pass.png");
-                    gpu::debug::static_two_pass(w, h, &classified.vis, &statics)
+                    gpu::inspect::debug::static_two_pass(w, h, &classified.vis, &statics)
                         .write_png(&file)?;
                     report.image_named("two-pass: drawn early / found late", &file);
                 }
@@ -1124,7 +1127,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
     if args.occlusion != OcclusionArg::Off && !args.no_debug_views {
         let (texels, size) = query.read_hiz(&ctx.device, &ctx.queue)?;
         let file = args.out.join("city_debug_hiz.png");
-        gpu::debug::hiz_mips(&texels, size).write_png(&file)?;
+        gpu::inspect::debug::hiz_mips(&texels, size).write_png(&file)?;
         report.image_named("HiZ mips the query tested against", &file);
     }
     if args.occlusion != OcclusionArg::Off && !args.no_debug_views && args.walk == 0.0 {
@@ -1146,7 +1149,7 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
             )?;
             outputs.push(out);
         }
-        let overlay = gpu::debug::occlusion_overlay(
+        let overlay = gpu::inspect::debug::occlusion_overlay(
             &images[0],
             &cpu,
             &gpu::staticscene::QueryParams::new(&desc)?,
@@ -1167,11 +1170,11 @@ fn render_city(args: &Args, ctx: &gpu::GpuContext, renderer: &mut Renderer) -> R
         &mut cpu,
         &params,
         &QueryOptions::default(),
-        gpu::QueryReadback::Full,
+        gpu::statics::QueryReadback::Full,
     )?;
     let read_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = std::time::Instant::now();
-    let planned = gpu::scene_from_query(&city.scene, &out, &params)?;
+    let planned = gpu::statics::scene_from_query(&city.scene, &out, &params)?;
     let prepared_hzd = renderer.prepare(&planned)?;
     let plan_ms = t.elapsed().as_secs_f64() * 1e3;
     let frames =
@@ -1198,7 +1201,7 @@ struct Built<'a> {
     /// What building it is called in the report, and its CPU time (ms).
     build: (&'a str, f64),
     /// Its water and this frame's decals, if any.
-    water: Option<(&'a gpu::WaterScene, &'a [gpu::WaterDecal])>,
+    water: Option<(&'a gpu::WaterScene, &'a [gpu::water_scene::WaterDecal])>,
 }
 
 /// A glTF file (`--gltf`) imported (its path, what came of it, the import's CPU time in
@@ -1298,7 +1301,7 @@ fn render_scene(
         let name = built.name;
         if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
             let edges = renderer.inspect().read_msaa_edges()?;
-            if renderer.config().msaa == Some(gpu::MsaaLighting::Kz2) {
+            if renderer.config().msaa == Some(gpu::config::MsaaLighting::Kz2) {
                 report.msaa_edges(edges.len(), (args.width * args.height) as usize);
             }
             if let Some(r) = every_sample.as_deref_mut() {
@@ -1312,7 +1315,7 @@ fn render_scene(
             // blocks of the framealloc pool, no CPU wait between frames.
             // Warmed up as render_frames is: writing the image let the clocks fall.
             let warm = std::time::Instant::now();
-            while warm.elapsed() < gpu::WARM_UP {
+            while warm.elapsed() < gpu::inspect::WARM_UP {
                 renderer.submit(&prepared, frame, path)?;
             }
             let t = std::time::Instant::now();
@@ -1352,14 +1355,14 @@ fn render_scene(
             if !args.no_debug_views {
                 let (w, h) = (args.width, args.height);
                 let file = args.out.join(format!("{name}_debug_vis_ids.png"));
-                gpu::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
+                gpu::inspect::debug::vis_ids(w, h, &classified.vis).write_png(&file)?;
                 report.image_named("vis IDs", &file);
-                let (heat, max) = gpu::debug::wave_heatmap(w, h, &classified);
+                let (heat, max) = gpu::inspect::debug::wave_heatmap(w, h, &classified);
                 let file = args.out.join(format!("{name}_debug_waves_per_tile.png"));
                 heat.write_png(&file)?;
                 report.image_named(&format!("waves per tile (max {max})"), &file);
                 if args.vrs != VrsArg::Off {
-                    let (rates, n) = gpu::debug::shading_rate(w, h, &classified.vis);
+                    let (rates, n) = gpu::inspect::debug::shading_rate(w, h, &classified.vis);
                     let file = args.out.join(format!("{name}_debug_shading_rate.png"));
                     rates.write_png(&file)?;
                     report.image_named(
@@ -1370,7 +1373,7 @@ fn render_scene(
                         &file,
                     );
                 }
-                let (quads, mean) = gpu::debug::quad_overdraw(w, h, &classified.vis);
+                let (quads, mean) = gpu::inspect::debug::quad_overdraw(w, h, &classified.vis);
                 let file = args.out.join(format!("{name}_debug_quad_overdraw.png"));
                 quads.write_png(&file)?;
                 report.image_named(
@@ -1398,7 +1401,7 @@ fn render_scene(
                     .out
                     .join(format!("{}_diff_{}.png", built.name, path.name())),
             };
-            gpu::diff_image(image, &images[b]).write_png(&file)?;
+            gpu::inspect::diff_image(image, &images[b]).write_png(&file)?;
             report.image_named(&format!("diff, {} vs baseline", path.name()), &file);
         }
     }

@@ -4,10 +4,8 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use gpu::{
-    ClassificationStats, FrameOutput, GpuContext, PreparedScene, RenderPath, Renderer, Rgba8Image,
-    diff_metrics,
-};
+use gpu::inspect::{ClassificationStats, diff_metrics};
+use gpu::{FrameOutput, GpuContext, PreparedScene, RenderPath, Renderer, Rgba8Image};
 
 /// Everything printed after a run.
 pub struct Report {
@@ -103,7 +101,7 @@ impl Report {
     }
 
     /// The local lights and what the tiled culling made of them.
-    pub fn light_tiles(&mut self, lights: usize, t: &gpu::LightTiles) {
+    pub fn light_tiles(&mut self, lights: usize, t: &gpu::inspect::LightTiles) {
         let tiles = u64::from(t.tiles[0]) * u64::from(t.tiles[1]);
         let s = &t.stats;
         self.row(
@@ -128,7 +126,7 @@ impl Report {
     }
 
     /// How the lights were drawn: tiles, stencil volumes (and of those, from inside).
-    pub fn light_paths(&mut self, c: gpu::LightPathCounts) {
+    pub fn light_paths(&mut self, c: gpu::inspect::LightPathCounts) {
         self.row(
             "lights by tiles / by stencil volumes (drawn from inside, tested) / spot shadow maps (skipped by the CPU)",
             format!(
@@ -145,7 +143,7 @@ impl Report {
 
     /// What KZ2's emulated conditional rendering decided on the GPU for the tested lights
     /// (nothing when none was tested).
-    pub fn conditional_volumes(&mut self, tested: &[gpu::ConditionalLight]) {
+    pub fn conditional_volumes(&mut self, tested: &[gpu::inspect::ConditionalLight]) {
         if tested.is_empty() {
             return;
         }
@@ -172,7 +170,7 @@ impl Report {
     }
 
     /// The last frame's per-frame uploads through the framealloc pool.
-    pub fn uploads(&mut self, u: &gpu::UploadStats, pool: gpu::framealloc::PoolConfig) {
+    pub fn uploads(&mut self, u: &gpu::inspect::UploadStats, pool: gpu::framealloc::PoolConfig) {
         self.row(
             "per-frame uploads (framealloc pool) / blocks / CPU time in framealloc, whole commit",
             format!(
@@ -204,7 +202,7 @@ impl Report {
     }
 
     /// What `set_water` built: bodies and their meshes, the far sectors, the world.
-    pub fn water_summary(&mut self, s: &gpu::WaterSummary) {
+    pub fn water_summary(&mut self, s: &gpu::water_scene::WaterSummary) {
         self.row(
             "water: bodies drawn per body (mesh triangles) / far sectors (levels, with water) / world words",
             format!(
@@ -225,7 +223,7 @@ impl Report {
     }
 
     /// What the last frame's water passes did.
-    pub fn water_stats(&mut self, s: &gpu::WaterStats) {
+    pub fn water_stats(&mut self, s: &gpu::water_scene::WaterStats) {
         self.row(
             "water: mini G-buffer (precision) / near bodies, far sectors drawn (nodes tested)",
             format!(
@@ -262,7 +260,7 @@ impl Report {
     }
 
     /// The static query's counts (seed 001's funnel) and the placement into the frame.
-    pub fn static_query(&mut self, s: &gpu::StaticFrameStats, scene_instances: u64) {
+    pub fn static_query(&mut self, s: &gpu::statics::StaticFrameStats, scene_instances: u64) {
         let q = &s.query;
         self.row(
             "static instances in the scene",
@@ -349,7 +347,7 @@ impl Report {
     /// What the static query's shadow views sent to the sun's maps: per re-rendered slice
     /// (and the baked map, in a frame that re-baked it), its static casters, those KZ2's
     /// size threshold dropped, and its indirect draws.
-    pub fn static_shadows(&mut self, s: &gpu::StaticFrameStats) {
+    pub fn static_shadows(&mut self, s: &gpu::statics::StaticFrameStats) {
         let rows = s
             .shadow_slices
             .iter()
@@ -385,7 +383,11 @@ impl Report {
 
     /// HFW's vertex side, from the GPU's own counters: vertices transformed into the ring
     /// (the dispatches' items) against the scene's and the read-back measurement.
-    pub fn vertex_ring(&mut self, ring: &gpu::VertexRingReadback, s: &ClassificationStats) {
+    pub fn vertex_ring(
+        &mut self,
+        ring: &gpu::inspect::VertexRingReadback,
+        s: &ClassificationStats,
+    ) {
         let held = ring.half_base.iter().filter(|&&h| h != u32::MAX).count();
         self.row(
             "vertex ring: vertices transformed (GPU counters) / scene",
@@ -396,7 +398,7 @@ impl Report {
                 pct(ring.vertices_transformed(), s.scene_vertices),
                 group_digits(u64::from(ring.visible_chunks)),
                 ring.half_base.len(),
-                (u64::from(ring.ring_vertices) * gpu::RING_VERTEX_BYTES) >> 20,
+                (u64::from(ring.ring_vertices) * gpu::inspect::RING_VERTEX_BYTES) >> 20,
                 if ring.vertices_transformed() == s.vertices_after_chunk_culling {
                     " (= read-back)"
                 } else {
@@ -495,14 +497,14 @@ impl Report {
             _ if t.statics.is_some() && ran == gpu::Laydown::Hardware => {
                 "frames with a static query take the hardware laydown".to_string()
             }
-            gpu::LaydownReason::Asked => "asked for".to_string(),
-            gpu::LaydownReason::NoComputeFeatures => {
+            gpu::config::LaydownReason::Asked => "asked for".to_string(),
+            gpu::config::LaydownReason::NoComputeFeatures => {
                 "the adapter lacks the compute laydown's 64-bit atomics".to_string()
             }
-            gpu::LaydownReason::Trial { frames_left } => {
+            gpu::config::LaydownReason::Trial { frames_left } => {
                 format!("auto: still timing both, {frames_left} frames to go")
             }
-            gpu::LaydownReason::Measured {
+            gpu::config::LaydownReason::Measured {
                 hardware_ms,
                 compute_ms,
                 gpu_timed,
@@ -523,7 +525,7 @@ impl Report {
     }
 
     /// The compute laydown's triangles and its hardware part's share.
-    pub fn laydown_stats(&mut self, s: &gpu::LaydownStats) {
+    pub fn laydown_stats(&mut self, s: &gpu::inspect::LaydownStats) {
         let share = if s.triangles == 0 {
             0.0
         } else {

@@ -155,7 +155,7 @@ pub struct SpotLight {
     /// quarter of its cosine range.
     pub half_angle: f32,
     /// Casts shadows: the renderer gives it a shadow map while it covers enough of the
-    /// screen (`gpu::SpotShadowConfig`: KZ2's fade, a limited number of maps, largest
+    /// screen (`gpu::config::SpotShadowConfig`: KZ2's fade, a limited number of maps, largest
     /// lights first); otherwise it lights unshadowed.
     pub shadow: bool,
     /// Has a specular term, as [`PointLight::specular`].

@@ -200,7 +200,7 @@ pub struct Batch {
 /// DrawableSetup). The GPU places each frame's visible instances of the setup into
 /// `capacity` reserved instance slots and draws them with one indirect draw; instances
 /// past the capacity in one frame are dropped and counted
-/// (`gpu::StaticFrameStats::over_capacity`).
+/// (`gpu::statics::StaticFrameStats::over_capacity`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StaticSetup {
     /// The geometry.

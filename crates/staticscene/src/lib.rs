@@ -3,7 +3,7 @@
 //! GPU compute pass: the same packed buffers in, the same batched draw items out. The
 //! records and per-thread tests have a WGSL twin ([`wgsl::QUERY`]), and the query runs as
 //! a GPU compute pass ([`pass::QUERY_PASS`], with the HiZ reduction [`pass::HIZ_PASS`])
-//! that `gpu::StaticQuery` dispatches; the query does not feed `gpu`'s laydown yet. For
+//! that `gpu::statics::StaticQuery` dispatches; the query does not feed `gpu`'s laydown yet. For
 //! 0.5-1.5M static instances: immutable tiles built on
 //! the streaming thread, clusters pre-culled on the CPU, one compute job per visible
 //! cluster, one thread per 16-byte instance.

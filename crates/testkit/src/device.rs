@@ -4,7 +4,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::OnceLock;
 
-use gpu::{GpuContext, HeadlessOptions, Rgba8Image, diff_image, diff_metrics};
+use gpu::inspect::{diff_image, diff_metrics};
+use gpu::{GpuContext, HeadlessOptions, Rgba8Image};
 use shader::pipeline::ComputePass;
 use shader::{Kind, Pass};
 
@@ -43,8 +44,9 @@ pub fn subgroup_variants() -> Vec<&'static [&'static str]> {
 /// and `what` (a kernel's source, a pass's name).
 fn scoped<T>(what: &str, f: impl FnOnce() -> T) -> T {
     let device = &ctx().device;
-    let out = gpu::scoped(device, || Ok(f())).unwrap_or_else(|e| panic!("{e}\n--- in ---\n{what}"));
-    gpu::wait_idle(device).unwrap_or_else(|e| panic!("{e}"));
+    let out = gpu::inspect::scoped(device, || Ok(f()))
+        .unwrap_or_else(|e| panic!("{e}\n--- in ---\n{what}"));
+    gpu::inspect::wait_idle(device).unwrap_or_else(|e| panic!("{e}"));
     out
 }
 
@@ -68,7 +70,7 @@ fn buffer(bytes: &[u8], min: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
 /// The whole of `b` (which needs `COPY_SRC`), after the GPU finished its work.
 pub fn read_bytes(b: &wgpu::Buffer) -> Vec<u8> {
     let c = ctx();
-    gpu::read_buffer(&c.device, &c.queue, b, 0, b.size()).unwrap_or_else(|e| panic!("{e}"))
+    gpu::inspect::read_buffer(&c.device, &c.queue, b, 0, b.size()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// What a test puts in one buffer binding of a described pass.

@@ -12,10 +12,9 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result, anyhow, bail};
-use gpu::{
-    ClassificationStats, FrameInput, FrameOutput, LightPaths, MsaaLighting, PreparedScene,
-    RenderPath, Renderer, RendererConfig, Timing,
-};
+use gpu::config::{LightPaths, MsaaLighting};
+use gpu::inspect::ClassificationStats;
+use gpu::{FrameInput, FrameOutput, PreparedScene, RenderPath, Renderer, RendererConfig, Timing};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -218,19 +217,19 @@ struct State {
 /// The city's static world: the GPU query with its tiles activated, the CPU side, and
 /// where its occlusion gets its HiZ (`C` switches).
 struct Statics {
-    query: gpu::StaticQuery,
+    query: gpu::statics::StaticQuery,
     scene: gpu::staticscene::Scene,
-    occlusion: gpu::StaticOcclusion,
+    occlusion: gpu::statics::StaticOcclusion,
 }
 
 /// The occlusion modes `C` cycles through, with their overlay names.
-const OCCLUSIONS: [(gpu::StaticOcclusion, &str); 3] = [
-    (gpu::StaticOcclusion::Given, "off (no HiZ given)"),
+const OCCLUSIONS: [(gpu::statics::StaticOcclusion, &str); 3] = [
+    (gpu::statics::StaticOcclusion::Given, "off (no HiZ given)"),
     (
-        gpu::StaticOcclusion::PreviousFrame,
+        gpu::statics::StaticOcclusion::PreviousFrame,
         "previous frame's depth (HZD)",
     ),
-    (gpu::StaticOcclusion::TwoPass, "two-pass"),
+    (gpu::statics::StaticOcclusion::TwoPass, "two-pass"),
 ];
 
 impl State {
@@ -330,13 +329,14 @@ impl State {
         // The first renderer at the asked size (the window may come out another size: the
         // first frame rebuilds it to fit, but for scripted runs).
         let wanted = args.renderer_config(width, height);
-        let renderer = gpu::scoped(&device, || Renderer::new(&device, &queue, wanted.clone()))?;
+        let renderer =
+            gpu::inspect::scoped(&device, || Renderer::new(&device, &queue, wanted.clone()))?;
         let t = Instant::now();
-        let prepared = gpu::scoped(&device, || renderer.prepare(&loaded.scene))?;
+        let prepared = gpu::inspect::scoped(&device, || renderer.prepare(&loaded.scene))?;
         let statics = match &loaded.city {
-            Some(city) => Some(gpu::scoped(&device, || {
-                let mut query = gpu::StaticQuery::new(&device, &queue)?;
-                let scene = gpu::stream_static_world(
+            Some(city) => Some(gpu::inspect::scoped(&device, || {
+                let mut query = gpu::statics::StaticQuery::new(&device, &queue)?;
+                let scene = gpu::statics::stream_static_world(
                     &device,
                     &queue,
                     &mut query,
@@ -346,7 +346,7 @@ impl State {
                 Ok(Statics {
                     query,
                     scene,
-                    occlusion: gpu::StaticOcclusion::PreviousFrame,
+                    occlusion: gpu::statics::StaticOcclusion::PreviousFrame,
                 })
             })?),
             None => None,
@@ -530,7 +530,7 @@ impl State {
             KeyCode::KeyO => {
                 self.wanted.shadows = match self.wanted.shadows {
                     Some(_) => None,
-                    None => Some(gpu::ShadowConfig::default()),
+                    None => Some(gpu::config::ShadowConfig::default()),
                 }
             }
             KeyCode::KeyC => {
@@ -566,7 +566,7 @@ impl State {
     fn rebuild(&mut self) {
         let wanted = self.wanted.clone();
         let t = Instant::now();
-        let made = gpu::scoped(&self.device, || {
+        let made = gpu::inspect::scoped(&self.device, || {
             let r = Renderer::new(&self.device, &self.queue, wanted.clone())?;
             let p = r.prepare(&self.loaded.scene)?;
             Ok((r, p))
@@ -574,7 +574,7 @@ impl State {
         match made {
             Ok((r, p)) => {
                 // Let the old renderer's frames finish before its buffers go.
-                let _ = gpu::wait_idle(&self.device);
+                let _ = gpu::inspect::wait_idle(&self.device);
                 self.renderer = r;
                 self.prepared = p;
                 self.debug = None;
@@ -645,13 +645,13 @@ impl State {
         };
         let path = self.view.frame_path(self.path);
         let (width, height) = (self.renderer.config().width, self.renderer.config().height);
-        let rendered = gpu::scoped(&self.device, || match &mut self.statics {
+        let rendered = gpu::inspect::scoped(&self.device, || match &mut self.statics {
             // The city: HZD's static query in front of the frame, for this camera.
             Some(s) => {
-                let mut view = gpu::StaticView {
+                let mut view = gpu::statics::StaticView {
                     query: &mut s.query,
                     scene: &mut s.scene,
-                    view: gpu::static_view_desc(&frame.camera, width, height),
+                    view: gpu::statics::static_view_desc(&frame.camera, width, height),
                     options: Default::default(),
                     occlusion: s.occlusion,
                 };
@@ -970,11 +970,11 @@ impl State {
                 ui.horizontal(|ui| {
                     let mut sun = self.wanted.shadows.is_some();
                     if ui.checkbox(&mut sun, "sun shadows (O)").changed() {
-                        self.wanted.shadows = sun.then(gpu::ShadowConfig::default);
+                        self.wanted.shadows = sun.then(gpu::config::ShadowConfig::default);
                     }
                     let mut spots = self.wanted.spot_shadows.is_some();
                     if ui.checkbox(&mut spots, "spot shadows").changed() {
-                        self.wanted.spot_shadows = spots.then(gpu::SpotShadowConfig::default);
+                        self.wanted.spot_shadows = spots.then(gpu::config::SpotShadowConfig::default);
                     }
                 });
                 ui.label(format!(

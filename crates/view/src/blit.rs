@@ -217,7 +217,7 @@ impl Blit {
         staging
             .slice(..)
             .map_async(wgpu::MapMode::Read, move |r| drop(tx.send(r)));
-        gpu::wait_idle(device)?;
+        gpu::inspect::wait_idle(device)?;
         rx.recv()
             .context("the screenshot's read-back was dropped")?
             .context("mapping the screenshot")?;

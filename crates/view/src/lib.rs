@@ -3,7 +3,7 @@
 //! drawn every frame through HFW's deferred texturing or HZD's depth-equal baseline; the
 //! renderer's output texture is blitted to a winit window's wgpu surface on the renderer's
 //! own device. A fly camera (WASD, Q/E down and up, mouse look while a button is held,
-//! speed on the wheel), switches for the path, every debug view `gpu::debug` offers (shown
+//! speed on the wheel), switches for the path, every debug view `gpu::inspect::debug` offers (shown
 //! instead of the image, made on the CPU from read-backs), MSAA, the light paths and the
 //! shadows (each of those recreates the renderer and prepares the scene again, as a
 //! resize does), an overlay with the per-pass GPU times of the last frame (timestamp
@@ -106,11 +106,11 @@ pub enum MsaaArg {
 
 impl MsaaArg {
     /// The renderer's setting.
-    pub fn msaa(self) -> Option<gpu::MsaaLighting> {
+    pub fn msaa(self) -> Option<gpu::config::MsaaLighting> {
         match self {
             MsaaArg::Off => None,
-            MsaaArg::Kz2 => Some(gpu::MsaaLighting::Kz2),
-            MsaaArg::EverySample => Some(gpu::MsaaLighting::EverySample),
+            MsaaArg::Kz2 => Some(gpu::config::MsaaLighting::Kz2),
+            MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
         }
     }
 }
@@ -261,7 +261,7 @@ impl SceneSource {
 
 /// What a loader hands the viewer: the scene, its camera if it has one (otherwise the
 /// viewer frames the scene's bounds: `gltf_scene::framing_camera`), its lighting, and
-/// for the city its static world (streamed into a `gpu::StaticQuery` on the viewer's
+/// for the city its static world (streamed into a `gpu::statics::StaticQuery` on the viewer's
 /// device, queried in front of every frame).
 #[derive(Clone)]
 pub struct LoadedScene {
@@ -359,8 +359,8 @@ impl Args {
             height,
             msaa: self.msaa.msaa(),
             light_paths: self.light_paths.paths(),
-            shadows: (!self.no_shadows).then(gpu::ShadowConfig::default),
-            spot_shadows: (!self.no_spot_shadows).then(gpu::SpotShadowConfig::default),
+            shadows: (!self.no_shadows).then(gpu::config::ShadowConfig::default),
+            spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
             ..RendererConfig::default()
         }
     }

@@ -1,4 +1,4 @@
-//! The debug views the viewer can show instead of the image: every view of `gpu::debug`
+//! The debug views the viewer can show instead of the image: every view of `gpu::inspect::debug`
 //! that a demo frame has (the static query's views belong to the city, which the viewer
 //! does not open). Each is made on the CPU from read-backs of the frame just rendered,
 //! which is fine at viewer rates.
@@ -105,19 +105,20 @@ pub fn debug_image(
     let out = match view {
         DebugView::Image => return Ok(None),
         DebugView::VisIds => (
-            gpu::debug::vis_ids(w, h, &renderer.inspect().read_vis()?),
+            gpu::inspect::debug::vis_ids(w, h, &renderer.inspect().read_vis()?),
             "one colour per triangle and instance; sky yellow".to_string(),
         ),
         DebugView::WavesPerTile => {
             let c = renderer.inspect().read_classification(scene)?;
-            let (img, max) = gpu::debug::wave_heatmap(w, h, &c);
+            let (img, max) = gpu::inspect::debug::wave_heatmap(w, h, &c);
             (
                 img,
                 format!("wave commands per 128x128 tile (white: {max})"),
             )
         }
         DebugView::QuadOverdraw => {
-            let (img, mean) = gpu::debug::quad_overdraw(w, h, &renderer.inspect().read_vis()?);
+            let (img, mean) =
+                gpu::inspect::debug::quad_overdraw(w, h, &renderer.inspect().read_vis()?);
             (
                 img,
                 format!("triangles per 2x2 quad, blue 1 .. red 4 (mean {mean:.2})"),
@@ -125,7 +126,7 @@ pub fn debug_image(
         }
         DebugView::LightsPerTile => {
             let tiles = renderer.inspect().read_light_tiles()?;
-            let (img, max) = gpu::debug::lights_per_tile(w, h, &tiles, 0);
+            let (img, max) = gpu::inspect::debug::lights_per_tile(w, h, &tiles, 0);
             (
                 img,
                 format!("lights per 16x16 tile (0 black .. {max} white)"),
@@ -133,7 +134,7 @@ pub fn debug_image(
         }
         DebugView::LightPaths => {
             let (img, [culled, bounds, volume]) =
-                gpu::debug::light_paths(&renderer.read_output()?, frame);
+                gpu::inspect::debug::light_paths(&renderer.read_output()?, frame);
             (
                 img,
                 format!("{bounds} depth-bounds (green), {volume} volume (red), {culled} culled"),
@@ -144,7 +145,7 @@ pub fn debug_image(
                 bail!("the cascades view needs the sun's shadows (O switches them on)");
             };
             let splits: Vec<f64> = cascades.cascades().iter().map(|c| c.split[1]).collect();
-            let img = gpu::debug::cascade_index(
+            let img = gpu::inspect::debug::cascade_index(
                 w,
                 h,
                 &renderer.inspect().read_depth()?,
@@ -162,7 +163,7 @@ pub fn debug_image(
         }
         DebugView::Motion => {
             let (img, scale) =
-                gpu::debug::motion_vectors(w, h, &renderer.inspect().read_gbuffer()?, 0.0);
+                gpu::inspect::debug::motion_vectors(w, h, &renderer.inspect().read_gbuffer()?, 0.0);
             (
                 img,
                 format!("hue: direction; full brightness at {scale:.1} px"),
@@ -175,7 +176,7 @@ pub fn debug_image(
             let maps = renderer.inspect().read_shadow_maps()?;
             let step = shadows.resolution.div_ceil(512);
             (
-                gpu::debug::shadow_atlas(&maps, shadows.resolution, step),
+                gpu::inspect::debug::shadow_atlas(&maps, shadows.resolution, step),
                 format!("sun shadow maps, nearest slice first (1 in {step} texels)"),
             )
         }

@@ -14,7 +14,8 @@ use std::time::{Duration, Instant};
 
 use demo::{DemoOptions, DemoScene};
 use gpu::glam::Vec3;
-use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image, diff_metrics};
+use gpu::inspect::diff_metrics;
+use gpu::{Camera, FrameInput, RenderPath, Renderer, RendererConfig, Rgba8Image};
 use testkit::device::ctx;
 
 /// The frame tests' thresholds (`gpu/tests/frame.rs`), for the viewer and the headless
@@ -236,7 +237,7 @@ fn the_viewer_under_xvfb_shows_what_the_headless_renderer_renders() {
     // A debug view is shown instead of the image: the vis IDs, exact up to rasterisation.
     let window = run_viewer(&x.display, "forest_vis_ids", &["--debug-view", "vis-ids"]);
     let (r, _, _) = headless(RenderPath::Deferred);
-    let ids = gpu::debug::vis_ids(WIDTH, HEIGHT, &r.inspect().read_vis().unwrap());
+    let ids = gpu::inspect::debug::vis_ids(WIDTH, HEIGHT, &r.inspect().read_vis().unwrap());
     if window.1 {
         assert_close("vis IDs", &window, &ids);
     } else {
@@ -270,8 +271,8 @@ fn the_city_through_the_window_is_the_headless_city() {
     );
     let c = ctx();
     let city = demo::city::city(5000);
-    let mut query = gpu::StaticQuery::new(&c.device, &c.queue).unwrap();
-    let mut scene = gpu::stream_static_world(
+    let mut query = gpu::statics::StaticQuery::new(&c.device, &c.queue).unwrap();
+    let mut scene = gpu::statics::stream_static_world(
         &c.device,
         &c.queue,
         &mut query,
@@ -296,12 +297,12 @@ fn the_city_through_the_window_is_the_headless_city() {
         lighting: city.frame.lighting.clone(),
     };
     for _ in 0..FRAMES {
-        let mut view = gpu::StaticView {
+        let mut view = gpu::statics::StaticView {
             query: &mut query,
             scene: &mut scene,
-            view: gpu::static_view_desc(&frame.camera, WIDTH, HEIGHT),
+            view: gpu::statics::static_view_desc(&frame.camera, WIDTH, HEIGHT),
             options: Default::default(),
-            occlusion: gpu::StaticOcclusion::PreviousFrame,
+            occlusion: gpu::statics::StaticOcclusion::PreviousFrame,
         };
         r.render_static(&prepared, &frame, RenderPath::Deferred, &mut view)
             .unwrap_or_else(|e| panic!("{e}"));

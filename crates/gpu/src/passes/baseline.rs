@@ -5,13 +5,14 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Entry, Pass, Raster, Stage};
 
-use super::laydown::record_draws;
+use super::context::FrameContext;
+use super::raster::record_draws;
 use super::raster::{
     DEPTH_EQUAL, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
 };
-use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The depth-equal geometry pass.
@@ -47,7 +48,7 @@ pub(crate) struct Baseline {
     layouts: Layouts,
     pipeline: wgpu::RenderPipeline,
     fade_pipeline: wgpu::RenderPipeline,
-    /// Both at [`crate::MSAA_SAMPLES`] samples, with MSAA on.
+    /// Both at [`crate::config::MSAA_SAMPLES`] samples, with MSAA on.
     msaa: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
 }
 
@@ -68,8 +69,8 @@ impl Baseline {
         let fade_pipeline = make(BASELINE_FADE, 1)?;
         let msaa = if msaa {
             Some((
-                make(BASELINE_PIPELINE, crate::MSAA_SAMPLES)?,
-                make(BASELINE_FADE, crate::MSAA_SAMPLES)?,
+                make(BASELINE_PIPELINE, crate::config::MSAA_SAMPLES)?,
+                make(BASELINE_FADE, crate::config::MSAA_SAMPLES)?,
             ))
         } else {
             None

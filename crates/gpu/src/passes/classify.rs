@@ -15,9 +15,12 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Group, Kind, Pass};
 use tiling::{ClassifyConfig, PassDispatch, PixelStats, TilingParams, Totals, WaveCommand};
 
-use super::{FrameContext, LIBRARY};
+use super::context::FrameContext;
 use crate::error::{Error, Result};
-use crate::resources::{buffer_init, storage_buffer};
+use crate::resources::buffers::{buffer_init, storage_buffer};
+pub(crate) use crate::resources::groups::ClassifyBuffers as Buffers;
+use crate::resources::groups::{Sizes, words_of};
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// Zeroes one buffer, one word per invocation (`gpu::zero`), over its word count; with the
@@ -261,79 +264,6 @@ impl Classify {
             }
         }
     }
-}
-
-/// Worst-case sizes of a frame's classification buffers (elements, see the module docs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Sizes {
-    pub width: u32,
-    pub height: u32,
-    pub tiles: u32,
-    pub passes: u32,
-    pub max_counters: u32,
-    pub max_commands: u32,
-    pub max_waves: u32,
-    pub chunk_count: u32,
-}
-
-impl Sizes {
-    /// The sizes for a plan whose passes hold `batch_groups` groups in all.
-    pub(crate) fn new(width: u32, height: u32, config: &ClassifyConfig, batch_groups: u32) -> Self {
-        let tiles = width.div_ceil(tiling::TILE_SIZE) * height.div_ceil(tiling::TILE_SIZE);
-        let pixels = width * height;
-        let max_counters = tiles * batch_groups.max(1);
-        Self {
-            width,
-            height,
-            tiles,
-            passes: config.pass_count.max(1),
-            max_counters,
-            max_commands: pixels,
-            max_waves: max_counters + pixels.div_ceil(config.wave_width.lanes()),
-            chunk_count: config.chunk_count,
-        }
-    }
-}
-
-/// Words (`u32`) that `n` elements of `T` take.
-pub(crate) fn words_of<T>(n: u32) -> u32 {
-    const { assert!(size_of::<T>().is_multiple_of(4)) };
-    n * (size_of::<T>() / 4) as u32
-}
-
-/// A frame's classification buffers and bind groups.
-pub(crate) struct Buffers {
-    pub sizes: Sizes,
-    pub config: ClassifyConfig,
-    pub params: TilingParams,
-    pub masks: wgpu::Buffer,
-    pub counter_offsets: wgpu::Buffer,
-    pub counts: wgpu::Buffer,
-    pub pixel_offsets: wgpu::Buffer,
-    pub vertex_cull: wgpu::Buffer,
-    pub totals: wgpu::Buffer,
-    pub stats_mid: wgpu::Buffer,
-    pub final_counts: wgpu::Buffer,
-    pub commands: wgpu::Buffer,
-    pub wave_offsets: wgpu::Buffer,
-    pub waves: wgpu::Buffer,
-    pub pass_dispatch: wgpu::Buffer,
-    pub stats_out: wgpu::Buffer,
-    /// Classify output's per-entry, per-block and per-pass wave sums.
-    pub wave_scratch: wgpu::Buffer,
-    /// Mid classify's record of each pixel (its command's slot), for classify output.
-    pub slots: wgpu::Buffer,
-    /// Mid classify's per-entry and per-block counter sums.
-    pub offset_scratch: wgpu::Buffer,
-    _kept: [wgpu::Buffer; 3],
-    /// Every zeroed buffer in one [`ZERO_MANY`] group, and their words in all.
-    zero_group: Option<(wgpu::BindGroup, u32)>,
-    /// One-word buffers for [`ZERO_MANY`]'s bindings past the zeroed buffers (each its own:
-    /// writable bindings must not alias).
-    _spare: Vec<wgpu::Buffer>,
-    /// The validity bitmask's fill with ones and its word count (the mixed frame only).
-    fill_group: Option<(wgpu::BindGroup, u32)>,
-    groups: Vec<wgpu::BindGroup>,
 }
 
 impl Buffers {

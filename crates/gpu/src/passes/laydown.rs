@@ -5,12 +5,15 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Stage, Target};
 
+use super::context::FrameContext;
 use super::raster::{DEPTH_WRITE, GEOMETRY, SCENE_GROUP, SHADOW_DEPTH, depth_attachment};
-use super::static_place::StaticBuffers;
-use super::{FrameContext, LIBRARY};
+use super::raster::{draw_planned, record_draws};
 use crate::context::PrimitiveIdPath;
 use crate::error::Result;
+pub(crate) use crate::resources::groups::LaydownGroups as Groups;
 use crate::resources::plan::Draw;
+use crate::resources::static_draws::StaticBuffers;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 const GROUPS: &[Group] = &[
@@ -119,17 +122,11 @@ pub(crate) struct Laydown {
     vis_alpha: wgpu::RenderPipeline,
     depth_opaque: wgpu::RenderPipeline,
     depth_alpha: wgpu::RenderPipeline,
-    /// The depth prepass at [`crate::MSAA_SAMPLES`] samples (opaque, alpha-tested), with
+    /// The depth prepass at [`crate::config::MSAA_SAMPLES`] samples (opaque, alpha-tested), with
     /// MSAA on.
     depth_msaa: Option<(wgpu::RenderPipeline, wgpu::RenderPipeline)>,
     shadow_opaque: wgpu::RenderPipeline,
     shadow_alpha: wgpu::RenderPipeline,
-}
-
-/// A prepared scene's bind groups for the laydown.
-pub(crate) struct Groups {
-    pub scene: wgpu::BindGroup,
-    pub payloads: wgpu::BindGroup,
 }
 
 impl Laydown {
@@ -144,7 +141,9 @@ impl Laydown {
             "vs_payload"
         };
         let depth_msaa = if msaa {
-            let ms = |r: Raster<'static>, name| make(&r.samples(crate::MSAA_SAMPLES).named(name));
+            let ms = |r: Raster<'static>, name| {
+                make(&r.samples(crate::config::MSAA_SAMPLES).named(name))
+            };
             Some((
                 ms(DEPTH_OPAQUE, "prepass depth opaque msaa")?,
                 ms(DEPTH_ALPHA, "prepass depth alpha msaa")?,
@@ -266,13 +265,13 @@ impl Laydown {
             Some((b, own)) => {
                 pass.set_bind_group(0, own, &[]);
                 pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-                super::static_place::record_static_draws(pass, b, alpha, alpha, false);
+                super::raster::record_static_draws(pass, b, alpha, alpha, false);
             }
             None => {
                 if f.static_query
                     && let Some(b) = &f.scene.statics
                 {
-                    super::static_place::record_static_draws(pass, b, alpha, alpha, false);
+                    super::raster::record_static_draws(pass, b, alpha, alpha, false);
                 }
             }
         }
@@ -290,7 +289,7 @@ impl Laydown {
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
     ) {
-        use super::conditional::{COUNT_WORDS, DRAW_BYTES, MapDraw, draw_rows};
+        use crate::resources::conditional::{COUNT_WORDS, DRAW_BYTES, MapDraw, draw_rows};
         let maps = &f.targets.spot_shadows;
         for (k, (view, group)) in maps
             .layer_views
@@ -346,7 +345,7 @@ impl Laydown {
                                 }
                             }
                         } else {
-                            super::static_place::record_static_draws(
+                            super::raster::record_static_draws(
                                 &mut pass,
                                 b,
                                 &self.shadow_alpha,
@@ -398,7 +397,7 @@ impl Laydown {
             pass.set_bind_group(0, group, &[]);
             pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
             let alpha = &self.shadow_alpha;
-            super::static_place::record_static_draws(&mut pass, b, alpha, alpha, false);
+            super::raster::record_static_draws(&mut pass, b, alpha, alpha, false);
         }
     }
 
@@ -497,34 +496,12 @@ impl Laydown {
             if let Some(b) = &f.scene.statics {
                 pass.set_index_buffer(f.scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
                 // Static instances may fade: the alpha-tested pipeline dithers them.
-                super::static_place::record_static_draws(pass, b, alpha, alpha, true);
+                super::raster::record_static_draws(pass, b, alpha, alpha, true);
             }
         } else {
             // Static instances may fade: the alpha-tested pipeline dithers them.
             record_draws(pass, f, opaque, alpha, alpha, skip_regular);
         }
-    }
-}
-
-/// Records the scene's planned draws with the opaque or alpha-tested pipeline as each
-/// needs, opaque draws first (they fill depth that early-Z then uses against the
-/// foliage), then, in a frame with a static query, the static draw lists (opaque, then
-/// alpha-tested) with `statics`, a pipeline that applies the LOD fade dither (static
-/// instances may fade). `skip_regular`: leave out the draws of regular materials (the
-/// mixed frame's laydown). Bind groups are the caller's.
-pub(crate) fn record_draws(
-    pass: &mut wgpu::RenderPass<'_>,
-    f: &FrameContext<'_>,
-    opaque: &wgpu::RenderPipeline,
-    alpha: &wgpu::RenderPipeline,
-    statics: &wgpu::RenderPipeline,
-    skip_regular: bool,
-) {
-    draw_planned(pass, f.scene, opaque, alpha, skip_regular);
-    if f.static_query
-        && let Some(b) = &f.scene.statics
-    {
-        super::static_place::record_static_draws(pass, b, statics, statics, false);
     }
 }
 
@@ -551,31 +528,6 @@ fn shadow_pass<'e>(
         occlusion_query_set: None,
         multiview_mask: None,
     })
-}
-
-/// The scene's planned draws (its batches), opaque first, then alpha-tested; without the
-/// regular materials' with `skip_regular`.
-fn draw_planned(
-    pass: &mut wgpu::RenderPass<'_>,
-    scene: &crate::resources::PreparedScene,
-    opaque: &wgpu::RenderPipeline,
-    alpha: &wgpu::RenderPipeline,
-    skip_regular: bool,
-) {
-    let draws: &[Draw] = &scene.draws;
-    pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-    for alpha_pass in [false, true] {
-        pass.set_pipeline(if alpha_pass { alpha } else { opaque });
-        for d in draws.iter().filter(|d| {
-            d.alpha_tested == alpha_pass && d.instance_count > 0 && !(skip_regular && d.regular)
-        }) {
-            pass.draw_indexed(
-                d.first_index..d.first_index + d.index_count,
-                d.base_vertex as i32,
-                d.first_instance..d.first_instance + d.instance_count,
-            );
-        }
-    }
 }
 
 /// The scene's planned draws as [`draw_planned`], each reduced to its chunks whose

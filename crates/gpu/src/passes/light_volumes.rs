@@ -10,54 +10,30 @@
 //! pipeline is compiled without the spot shadow code unless the light has a map this frame,
 //! and without the specular term for lights that have none ([`PointLight::specular`]).
 //!
-//! [`LightPaths`]: crate::LightPaths
+//! [`LightPaths`]: crate::config::LightPaths
 //! [`PointLight::specular`]: crate::PointLight::specular
 
-use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
 use glam::Vec3;
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{
-    Attribute, Binding, Compare, Depth, DepthFormat, Entry, Face, Format, Group, Kind, Pass,
-    Raster, Sample, Stage, Stencil, StencilFace, StencilOp, Target, VertexBuffer, VertexFormat,
+    Attribute, Binding, Compare, Depth, DepthFormat, Entry, Face, Group, Kind, Pass, Raster,
+    Sample, Stage, Stencil, StencilFace, StencilOp, Target, VertexBuffer, VertexFormat,
 };
 
-use super::conditional::{DRAW_BYTES, MAX_TESTS};
-use super::lighting::GpuLocalLights;
+use super::context::FrameContext;
 use super::raster::GEOMETRY;
-use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer::{KZ2_LOAD_BINDINGS, LOAD_BINDINGS};
+use crate::resources::conditional::{DRAW_BYTES, MAX_TESTS};
+pub(crate) use crate::resources::groups::LightVolumeGroups as Groups;
+use crate::resources::lights::GpuLightVolume;
+use crate::resources::lights::GpuLocalLights;
 use crate::resources::rows::FrameUniforms;
+use crate::resources::targets::{accumulation, depth_stencil};
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 use deferred::GBufferLayout;
-
-/// One light drawn as a volume (WGSL `GpuLightVolume`), 32 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub(crate) struct GpuLightVolume {
-    /// View-space centre of the light's bounding sphere and its radius (metres): the unit
-    /// mesh is scaled by it.
-    pub sphere: [f32; 4],
-    /// The light's index in the light buffer.
-    pub light: u32,
-    /// Zero.
-    pub pad: [u32; 3],
-}
-
-/// One light's draw: its volume row and whether the eye may be inside its mesh.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct VolumeDraw {
-    /// Index of its [`GpuLightVolume`] (the draw's instance).
-    pub volume: u32,
-    /// Back faces alone, no stencil (the front faces may be clipped by the near plane).
-    pub inside: bool,
-    /// The light's spot shadow map this frame (its slot), if it has one: the shading
-    /// permutation that reads it.
-    pub map: Option<u32>,
-    /// The light has a specular term: else the permutation compiled without it.
-    pub specular: bool,
-}
 
 /// The pass: the depth copy and the volumes (group `volume`), over the G-buffer.
 pub(crate) const LIGHT_VOLUMES: Pass = Pass {
@@ -197,50 +173,6 @@ pub(crate) fn unit_volume_reach(positions: &[[f32; 3]]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// The volume pass's own targets: the light accumulation (read by lighting) and the
-/// depth-stencil copy of the frame's depth. 1x1 when no light may take the path.
-/// (Views keep their textures alive.)
-pub(crate) struct VolumeTargets {
-    pub accumulation_view: wgpu::TextureView,
-    pub depth_stencil_view: wgpu::TextureView,
-}
-
-/// The accumulation's format: 32-bit float where the device blends it (the sum then
-/// rounds as the compute lighting's own does), else 16-bit.
-pub(crate) fn accumulation_format(device: &wgpu::Device) -> wgpu::TextureFormat {
-    shader::pipeline::texture_format(accumulation(device))
-}
-
-/// [`accumulation_format`] in the descriptions' terms.
-fn accumulation(device: &wgpu::Device) -> Format {
-    if device
-        .features()
-        .contains(wgpu::Features::FLOAT32_BLENDABLE)
-    {
-        Format::Rgba32Float
-    } else {
-        Format::Rgba16Float
-    }
-}
-
-/// The depth-stencil copy's format: the depth target's 32-bit float with stencil where
-/// the device has it, else 24-bit depth.
-pub(crate) fn depth_stencil_format(device: &wgpu::Device) -> wgpu::TextureFormat {
-    shader::pipeline::depth_format(depth_stencil(device))
-}
-
-/// [`depth_stencil_format`] in the descriptions' terms.
-fn depth_stencil(device: &wgpu::Device) -> DepthFormat {
-    if device
-        .features()
-        .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8)
-    {
-        DepthFormat::Depth32FloatStencil8
-    } else {
-        DepthFormat::Depth24PlusStencil8
-    }
-}
-
 /// The pipelines' depth-stencil format as declared; [`depth_stencil`] replaces it with
 /// the device's when they are built.
 const DS: DepthFormat = DepthFormat::Depth24PlusStencil8;
@@ -333,31 +265,6 @@ fn permutation(layout: GBufferLayout, specular: bool, shadowed: bool) -> Vec<&'s
     features
 }
 
-impl VolumeTargets {
-    /// Targets of `width` × `height` pixels, or 1x1 ones without `enabled`.
-    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32, enabled: bool) -> Self {
-        use wgpu::TextureUsages as U;
-        let (w, h) = if enabled { (width, height) } else { (1, 1) };
-        let make = |label, format, usage| {
-            crate::resources::targets::texture(device, label, w, h, format, usage).1
-        };
-        let accumulation_view = make(
-            "light accumulation",
-            accumulation_format(device),
-            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
-        );
-        let depth_stencil_view = make(
-            "light volume depth-stencil",
-            depth_stencil_format(device),
-            U::RENDER_ATTACHMENT,
-        );
-        Self {
-            accumulation_view,
-            depth_stencil_view,
-        }
-    }
-}
-
 /// The pass's pipelines and the unit mesh.
 pub(crate) struct LightVolumes {
     layouts: Layouts,
@@ -380,12 +287,6 @@ pub(crate) struct LightVolumes {
     index_count: u32,
     /// How far the unit mesh reaches (its vertices' radius).
     pub reach: f32,
-}
-
-/// The pass's bind groups.
-pub(crate) struct Groups {
-    pub volume: wgpu::BindGroup,
-    pub gbuffer: wgpu::BindGroup,
 }
 
 impl LightVolumes {
@@ -653,6 +554,7 @@ impl LightVolumes {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use shader::Format;
     use shadercheck::{Caps, assert_struct_layout, members};
 
     #[test]

@@ -5,7 +5,7 @@
 //! ([`super::lights`]), shadowed spots through their maps ([`crate::spot_shadows`]);
 //! feature `all_lights` tests every light at every pixel instead (the reference the tiled
 //! image equals, and the baseline of its measurements); feature `light_volumes` adds the
-//! stencil volumes' accumulation ([`super::light_volumes`]). With MSAA on, the baseline's
+//! stencil volumes' accumulation (the light volumes pass). With MSAA on, the baseline's
 //! frame takes [`LIGHTING_MSAA`]: its multisampled G-buffer resolved by KZ2's tricks
 //! (interior pixels lit once, edge pixels appended to a list and lit per sample by an
 //! indirect dispatch with the PCF taps split across the samples) or, for measurement,
@@ -14,31 +14,21 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Dim, Dispatch, Entry, Format, Group, Kind, Pass, Sample, Stage};
 
-use super::lights::LightBuffers;
-use super::{FrameContext, LIBRARY};
+use super::context::FrameContext;
 use crate::error::Result;
 use crate::gbuffer::{
     KZ2_LOAD_BINDINGS, KZ2_MSAA_LOAD_BINDINGS, LOAD_BINDINGS, MSAA_LOAD_BINDINGS,
 };
+pub(crate) use crate::resources::groups::LightingGroups as Groups;
+use crate::resources::lights::GpuLocalLights;
+use crate::resources::lights::LightBuffers;
 use crate::resources::rows::FrameUniforms;
 use crate::resources::targets::Targets;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 use bytemuck::{Pod, Zeroable};
 use deferred::DeferredLight;
 use deferred::GBufferLayout;
-
-/// What lighting needs of the local lights besides the lights (WGSL `GpuLocalLights`),
-/// 80 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub(crate) struct GpuLocalLights {
-    /// Camera-relative world to view space: the camera's rotation.
-    pub view_rotation: [[f32; 4]; 4],
-    /// Light tiles across and down.
-    pub tiles: [u32; 2],
-    /// Zero.
-    pub pad: [u32; 2],
-}
 
 // The tiled path stages a tile's list with one load per invocation.
 const _: () = assert!(
@@ -64,7 +54,7 @@ pub(crate) struct GpuPcfSplit {
     pub taps: [deferred::msaa::DeferredPcfTap; PCF_SPLIT_TAPS],
 }
 
-const _: () = assert!(crate::shadows::MAX_PCF_RADIUS == 2 && crate::MSAA_SAMPLES == 4);
+const _: () = assert!(crate::shadows::MAX_PCF_RADIUS == 2 && crate::config::MSAA_SAMPLES == 4);
 
 impl GpuPcfSplit {
     /// The split of every radius's box kernel.
@@ -302,16 +292,8 @@ type WaterVariants = (ComputePass<[u32; 2]>, Option<ComputePass<[u32; 2]>>);
 struct MsaaLighting {
     load: &'static [Binding; 4],
     pass: ComputePass<[u32; 2]>,
-    mode: crate::MsaaLighting,
+    mode: crate::config::MsaaLighting,
     pcf_split: wgpu::Buffer,
-}
-
-/// The renderer's bind groups for lighting (they change only when the light buffer grows).
-pub(crate) struct Groups {
-    pub frame: wgpu::BindGroup,
-    pub gbuffer: wgpu::BindGroup,
-    /// The MSAA variant's (frame, gbuffer), with MSAA on.
-    pub msaa: Option<(wgpu::BindGroup, wgpu::BindGroup)>,
 }
 
 impl Lighting {
@@ -320,9 +302,9 @@ impl Lighting {
     /// variant (`subgroups`: the device's subgroups aggregate its edge appends).
     pub(crate) fn new(
         device: &wgpu::Device,
-        paths: crate::LightPaths,
+        paths: crate::config::LightPaths,
         layout: GBufferLayout,
-        msaa: Option<crate::MsaaLighting>,
+        msaa: Option<crate::config::MsaaLighting>,
         subgroups: bool,
     ) -> Result<Self> {
         let (pass, load) = match layout {
@@ -330,7 +312,7 @@ impl Lighting {
             GBufferLayout::Octahedral => (&LIGHTING, &LOAD_BINDINGS),
         };
         let mut features = crate::gbuffer::features(layout).to_vec();
-        if paths == crate::LightPaths::EveryPixel {
+        if paths == crate::config::LightPaths::EveryPixel {
             features.push("all_lights");
         }
         let mut volume_features = crate::gbuffer::features(layout).to_vec();
@@ -343,7 +325,7 @@ impl Lighting {
                 };
                 let mut f = features.clone();
                 f.push("msaa");
-                if mode == crate::MsaaLighting::EverySample {
+                if mode == crate::config::MsaaLighting::EverySample {
                     f.push("msaa_every_sample");
                 }
                 if subgroups {
@@ -493,7 +475,7 @@ impl Lighting {
             // The pixels, then the edge count as arguments.
             m.pass.record(&mut pass, &[frame, gbuffer], &size);
             drop(pass);
-            if m.mode == crate::MsaaLighting::Kz2
+            if m.mode == crate::config::MsaaLighting::Kz2
                 && let Ok(edges) = m.pass.step("edges")
             {
                 encoder.copy_buffer_to_buffer(&t.edges, 0, &t.edge_dispatch, 0, 12);
@@ -506,12 +488,12 @@ impl Lighting {
             return;
         }
         let mut pass = timer.begin_compute(encoder, "lighting");
-        if let (Some(w), Some((plain, volumes))) = (f.water, &self.water) {
+        if let (Some(hdr), Some((plain, volumes))) = (f.water_hdr, &self.water) {
             let variant = match volumes {
                 Some(v) if !f.volumes.is_empty() => v,
                 _ => plain,
             };
-            variant.record(&mut pass, &[&g.frame, &g.gbuffer, &w.groups.hdr], &size);
+            variant.record(&mut pass, &[&g.frame, &g.gbuffer, hdr], &size);
             return;
         }
         let pass_variant = match &self.with_volumes {

@@ -2,175 +2,19 @@
 //! to per-tile depth ranges (`gpu::tile_depth`, pass 1 of `deferred`'s tiled culling),
 //! then `deferred`'s light-culling pass ([`deferred::pass::LIGHT_CULL_PASS`]) writes each
 //! 16x16 tile's light list, which lighting reads. Lights are uploaded in view space each
-//! frame ([`crate::frame::local_light_rows`]).
+//! frame ([`crate::resources::uniforms::local_light_rows`]).
 
-use bytemuck::{Pod, Zeroable};
-use deferred::lights::{DeferredLight, DeferredTileDepth, MAX_LIGHTS_PER_TILE, tile_counts};
-use deferred::pass::{LIGHT_CULL_PASS, LightCullCounters, LightCullParams};
+use deferred::pass::{LIGHT_CULL_PASS, LightCullParams};
 use shader::pipeline::ComputePass;
-use shader::{Binding, Dim, Entry, Group, Kind, Pass, Sample};
 
-use super::{FrameContext, LIBRARY};
+use super::context::FrameContext;
 use crate::error::Result;
-use crate::resources::static_pool::empty_storage;
+use crate::passes::depth_reductions::TILE_DEPTH;
+use crate::passes::depth_reductions::TILE_DEPTH_MSAA;
+pub(crate) use crate::resources::groups::LightTileGroups as Groups;
+use crate::resources::lights::LightBuffers;
 use crate::resources::targets::Targets;
 use crate::timing::GpuTimer;
-
-/// The tile-depth pass's parameters (WGSL `GpuTileDepthParams`), 16 bytes.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
-pub(crate) struct GpuTileDepthParams {
-    /// Viewport width and height in pixels.
-    pub size: [u32; 2],
-    /// Tiles across.
-    pub tiles_x: u32,
-    /// Non-zero for reversed depth.
-    pub reversed: u32,
-}
-
-/// Pass 1's workgroups are TILE x TILE invocations: one per pixel of a tile.
-const TILE: u32 = deferred::lights::TILE_SIZE;
-
-/// Pass 1 over the depth target (`[width, height]`): one workgroup per 2x2 tiles.
-pub(crate) const TILE_DEPTH: Pass<[u32; 2]> = Pass {
-    name: "light tile depth",
-    module: "gpu::tile_depth",
-    library: LIBRARY,
-    features: &[],
-    groups: &[Group {
-        name: "tiles",
-        bindings: &[
-            Binding::new("params", Kind::uniform(size_of::<GpuTileDepthParams>())),
-            // Targets::depth_float (the multisampled variant binds the depth itself).
-            Binding::new(
-                "depth_texture",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "tile_depths",
-                Kind::read_write(size_of::<DeferredTileDepth>()),
-            ),
-        ],
-    }],
-    // One workgroup of TILE_SIZE² invocations per 2x2 tiles, an invocation a pixel of each.
-    entries: &[Entry::grid("tile_depth", TILE, TILE, |size| {
-        let (tx, ty) = tile_counts(size[0], size[1]);
-        [tx.div_ceil(2) * TILE, ty.div_ceil(2) * TILE]
-    })],
-    zeroed: &[],
-};
-
-/// [`TILE_DEPTH`] over the baseline's multisampled depth (feature `msaa`): each tile's
-/// range covers every sample.
-pub(crate) const TILE_DEPTH_MSAA: Pass<[u32; 2]> = Pass {
-    groups: &[Group {
-        name: "tiles",
-        bindings: &[
-            TILE_DEPTH.groups[0].bindings[0],
-            Binding::new(
-                "depth_texture",
-                Kind::Texture {
-                    sample: Sample::Depth,
-                    dim: Dim::D2Multisampled,
-                },
-            ),
-            TILE_DEPTH.groups[0].bindings[2],
-        ],
-    }],
-    features: &["msaa"],
-    ..TILE_DEPTH
-};
-
-/// The light buffers of one target size: the lights (grown as needed), the per-tile depth
-/// ranges and lists, the counters and the two passes' uniforms.
-#[derive(Clone)]
-pub(crate) struct LightBuffers {
-    pub tile_params: wgpu::Buffer,
-    pub cull_params: wgpu::Buffer,
-    pub lights: wgpu::Buffer,
-    /// The stencil volumes' rows (`GpuLightVolume`), as many as lights.
-    pub volumes: wgpu::Buffer,
-    pub tile_depths: wgpu::Buffer,
-    pub counts: wgpu::Buffer,
-    pub indices: wgpu::Buffer,
-    pub counters: wgpu::Buffer,
-    /// Tiles across and down.
-    pub tiles: [u32; 2],
-    /// Lights `lights` holds.
-    pub capacity: usize,
-}
-
-impl LightBuffers {
-    /// Buffers for `targets` and `capacity` lights.
-    pub(crate) fn new(device: &wgpu::Device, targets: &Targets, capacity: usize) -> Result<Self> {
-        let (tx, ty) = tile_counts(targets.width, targets.height);
-        let tiles = u64::from(tx) * u64::from(ty);
-        let uniform = |label, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
-        let capacity = capacity.max(1);
-        let (lights, volumes) = Self::light_rows(device, capacity)?;
-        Ok(Self {
-            tile_params: uniform("light tile depth params", size_of::<GpuTileDepthParams>()),
-            cull_params: uniform("light culling params", size_of::<LightCullParams>()),
-            lights,
-            volumes,
-            tile_depths: empty_storage(
-                device,
-                "light tile depths",
-                tiles * size_of::<DeferredTileDepth>() as u64,
-            )?,
-            counts: empty_storage(device, "light tile counts", tiles * 4)?,
-            indices: empty_storage(
-                device,
-                "light tile indices",
-                tiles * u64::from(MAX_LIGHTS_PER_TILE) * 4,
-            )?,
-            counters: empty_storage(
-                device,
-                "light culling counters",
-                size_of::<LightCullCounters>() as u64,
-            )?,
-            tiles: [tx, ty],
-            capacity,
-        })
-    }
-
-    /// These buffers with room for `capacity` lights: new light and volume rows, the same
-    /// per-tile buffers (so what binds them outside the light passes, the compute laydown's
-    /// unpack writing the tile depths, stays bound).
-    pub(crate) fn with_capacity(&self, device: &wgpu::Device, capacity: usize) -> Result<Self> {
-        let capacity = capacity.max(1);
-        let (lights, volumes) = Self::light_rows(device, capacity)?;
-        Ok(Self {
-            lights,
-            volumes,
-            capacity,
-            ..self.clone()
-        })
-    }
-
-    /// The light rows and volume rows for `capacity` lights.
-    fn light_rows(device: &wgpu::Device, capacity: usize) -> Result<(wgpu::Buffer, wgpu::Buffer)> {
-        Ok((
-            empty_storage(
-                device,
-                "local lights",
-                (capacity * size_of::<DeferredLight>()) as u64,
-            )?,
-            empty_storage(
-                device,
-                "light volumes",
-                (capacity * size_of::<super::light_volumes::GpuLightVolume>()) as u64,
-            )?,
-        ))
-    }
-}
 
 /// The two passes' pipelines.
 pub(crate) struct LocalLights {
@@ -178,17 +22,6 @@ pub(crate) struct LocalLights {
     /// Over the multisampled depth, with MSAA on.
     tile_depth_msaa: Option<ComputePass<[u32; 2]>>,
     cull: ComputePass<LightCullParams>,
-}
-
-/// Their bind groups over one set of [`LightBuffers`].
-pub(crate) struct Groups {
-    tile_depth: wgpu::BindGroup,
-    tile_depth_msaa: Option<wgpu::BindGroup>,
-    cull: wgpu::BindGroup,
-    /// The counters, cleared before each culling pass.
-    counters: wgpu::Buffer,
-    /// Tiles across and down.
-    tiles: [u32; 2],
 }
 
 impl LocalLights {
@@ -286,6 +119,8 @@ impl LocalLights {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::resources::lights::GpuTileDepthParams;
+    use crate::shaders::LIBRARY;
     use shadercheck::{Caps, assert_struct_layout, members};
 
     #[test]

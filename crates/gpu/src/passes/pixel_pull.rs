@@ -9,15 +9,17 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Binding, Entry, Group, Kind, Pass, Raster, Stage};
 
-use super::laydown::record_draws;
+use super::context::FrameContext;
+use super::raster::record_draws;
 use super::raster::{
     DEPTH_EQUAL, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
 };
-use super::{FrameContext, LIBRARY};
 use crate::context::PrimitiveIdPath;
 use crate::error::Result;
 use crate::gbuffer;
+pub(crate) use crate::resources::groups::PixelPullGroups as Groups;
 use crate::resources::rows::{GpuMesh, GpuMicroBatch};
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The pixel-pull depth-equal pass. Features: the G-buffer layout's, the primitive-ID path
@@ -87,12 +89,6 @@ pub(crate) struct PixelPull {
     layouts: Layouts,
     pipeline: wgpu::RenderPipeline,
     fade_pipeline: wgpu::RenderPipeline,
-}
-
-/// A prepared scene's groups for the pass.
-pub(crate) struct Groups {
-    pub scene: wgpu::BindGroup,
-    pub pull: wgpu::BindGroup,
 }
 
 impl PixelPull {

@@ -13,18 +13,18 @@
 //! `staticscene::HiZ::build`, as `staticscene`'s one-level-per-dispatch `HIZ_PASS`.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Group, Kind, Pass, Sample};
 use staticscene::pass::{
-    GpuPlan, HizGrid, HizStep, QUERY_PASS, QueryCounters, QueryDispatch, hiz_header, hiz_words,
+    GpuPlan, HizGrid, QUERY_PASS, QueryCounters, QueryDispatch, hiz_header, hiz_words,
 };
 use staticscene::{
     DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryParams, QueryStats,
     StaticTile, TileId,
 };
 
-use super::static_place::QueryOutputs;
 use crate::error::Result;
+use crate::passes::depth_reductions::{HizPasses, hiz_steps};
 use crate::resources::readback::read_buffer;
+use crate::resources::static_draws::QueryOutputs;
 use crate::resources::static_pool::{StaticPool, empty_storage};
 use crate::resources::uploads::UploadSink;
 use crate::timing::GpuTimer;
@@ -54,33 +54,6 @@ pub struct StaticQueryOutput {
     /// Active tiles of the scene that were not activated on the GPU (skipped).
     pub skipped_tiles: Vec<TileId>,
 }
-
-/// Levels one `gpu::hiz_depth` dispatch reduces (a 16x16 block of its source level per
-/// workgroup).
-pub(crate) const HIZ_LEVELS_PER_DISPATCH: usize = 4;
-
-/// The HiZ pyramid from the depth target (`gpu::hiz_depth`), four levels per dispatch:
-/// from the depth target (which it also copies into level 0) or, with feature
-/// `from_buffer`, from level `step.level`. The grid is one invocation per 2x2 source texels
-/// (the size of the first level written).
-pub(crate) const HIZ_DEPTH: Pass<HizGrid> = Pass {
-    name: "hiz from depth",
-    module: "gpu::hiz_depth",
-    library: super::LIBRARY,
-    features: &["from_buffer"],
-    groups: &[Group {
-        name: "depth",
-        bindings: &[
-            Binding::new("step", Kind::uniform(size_of::<HizStep>())),
-            Binding::new("depth", Kind::texture_2d(Sample::Depth)),
-            Binding::new("hiz", Kind::read_write(4)),
-        ],
-    }],
-    entries: &[shader::Entry::grid("reduce_hiz", 8, 8, |g| {
-        [g.width, g.height]
-    })],
-    zeroed: &[],
-};
 
 /// The HiZ buffer laid out for a depth target of one size: the uniforms of the depth
 /// pass and of the reduction steps after it.
@@ -136,8 +109,7 @@ pub struct StaticQuery {
     subgroups: bool,
     /// The device's subgroup sizes (min, max).
     subgroup_sizes: (u32, u32),
-    hiz_depth: ComputePass<HizGrid>,
-    hiz_from_buffer: ComputePass<HizGrid>,
+    hiz_passes: HizPasses,
     pool: StaticPool,
     params: wgpu::Buffer,
     /// The second pass's params (two-pass occlusion).
@@ -205,8 +177,7 @@ impl StaticQuery {
                 let info = device.adapter_info();
                 (info.subgroup_min_size, info.subgroup_max_size)
             },
-            hiz_depth: ComputePass::new(device, &HIZ_DEPTH, &[], &[])?,
-            hiz_from_buffer: ComputePass::new(device, &HIZ_DEPTH, &["from_buffer"], &[])?,
+            hiz_passes: HizPasses::new(device)?,
             pool: StaticPool::new(device),
             params: uniform("static query params"),
             params_second: uniform("static query params (second pass)"),
@@ -313,33 +284,7 @@ impl StaticQuery {
             self.hiz = empty_storage(device, "static query hiz", bytes)?;
         }
         queue.write_buffer(&self.hiz, 0, bytemuck::cast_slice(&header));
-        let levels = header[0] as usize;
-        let step = |level: usize| {
-            let step = HizStep {
-                level: level as u32,
-                reversed: u32::from(reversed),
-                pad: [0; 2],
-            };
-            crate::resources::buffer_init(
-                device,
-                "hiz step",
-                bytemuck::bytes_of(&step),
-                size_of::<HizStep>() as u64,
-                wgpu::BufferUsages::UNIFORM,
-            )
-        };
-        // Source levels 0 (the depth target: always, it fills level 0), 4, 8, ... while a
-        // coarser level is left to write. A dispatch's grid: its source's quads.
-        let steps = (0..levels.max(2) - 1)
-            .step_by(HIZ_LEVELS_PER_DISPATCH)
-            .map(|level| {
-                let grid = HizGrid {
-                    width: header[4 + 4 * level].div_ceil(2),
-                    height: header[5 + 4 * level].div_ceil(2),
-                };
-                (step(level), grid)
-            })
-            .collect();
+        let steps = hiz_steps(device, &header, reversed, "hiz step");
         self.depth_hiz = Some(DepthHiz {
             size: (width, height),
             reversed,
@@ -361,32 +306,9 @@ impl StaticQuery {
         let Some(d) = &self.depth_hiz else {
             return Ok(());
         };
-        let groups = d
-            .steps
-            .iter()
-            .enumerate()
-            .map(|(i, (step, grid))| {
-                let pass = if i == 0 {
-                    &self.hiz_depth
-                } else {
-                    &self.hiz_from_buffer
-                };
-                let group = pass.bind_group(
-                    device,
-                    "depth",
-                    &[
-                        ("step", step.as_entire_binding()),
-                        ("depth", wgpu::BindingResource::TextureView(depth)),
-                        ("hiz", self.hiz.as_entire_binding()),
-                    ],
-                )?;
-                Ok((pass, group, *grid))
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let groups = self.hiz_passes.groups(device, &d.steps, depth, &self.hiz)?;
         let mut pass = timer.begin_compute(encoder, label);
-        for (variant, group, grid) in &groups {
-            variant.record(&mut pass, &[group], grid);
-        }
+        self.hiz_passes.record(&mut pass, &groups);
         Ok(())
     }
 
@@ -790,16 +712,16 @@ mod tests {
 
     #[test]
     fn hiz_depth_matches_its_description_and_the_reduction_uniform() {
-        shadercheck::check_pass(&super::HIZ_DEPTH, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass(&crate::passes::depth_reductions::HIZ_DEPTH, |_| shadercheck::Caps::CORE);
         let m = shadercheck::assert_composed(
-            super::super::LIBRARY,
+            crate::shaders::LIBRARY,
             "gpu::hiz_depth",
             &[],
             shadercheck::Caps::CORE,
         );
         assert_eq!(
             shadercheck::const_u32(&m, "GPU_HIZ_DEPTH_LEVELS_PER_DISPATCH"),
-            Some(super::HIZ_LEVELS_PER_DISPATCH as u32)
+            Some(crate::passes::depth_reductions::HIZ_LEVELS_PER_DISPATCH as u32)
         );
         shadercheck::assert_struct_layout(
             &m,

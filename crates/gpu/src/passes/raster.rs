@@ -7,7 +7,13 @@ use shader::{
     Target, Topology,
 };
 
+use crate::passes::context::FrameContext;
+use crate::resources::plan::Draw;
 use crate::resources::rows::{FrameUniforms, GpuInstance, GpuMaterial, GpuVertex};
+use crate::resources::static_draws::DRAW_BYTES;
+use crate::resources::static_draws::STATIC_COUNTER_DRAWS;
+use crate::resources::static_draws::STATIC_COUNTER_LATE_DRAWS;
+use crate::resources::static_draws::StaticBuffers;
 
 /// Group 0 of every pass that draws or resolves the scene (`gpu::scene_bindings`).
 pub(crate) const SCENE_GROUP: Group = Group {
@@ -153,6 +159,91 @@ mod tests {
                 .collect();
             assert_eq!(got, want, "{layout:?}");
             assert!(gbuffer_targets(layout).iter().all(|t| t.blend.is_none()));
+        }
+    }
+}
+
+/// Records static draw lists into a geometry pass: the opaque list with `opaque`, the
+/// alpha-tested list with `alpha` (index buffer and bind groups are the caller's); the full
+/// lists, or with `late` the late ones.
+pub(crate) fn record_static_draws(
+    pass: &mut wgpu::RenderPass<'_>,
+    b: &StaticBuffers,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+    late: bool,
+) {
+    let (block, count_word) = if late {
+        (b.setup_count, STATIC_COUNTER_LATE_DRAWS)
+    } else {
+        (0, STATIC_COUNTER_DRAWS)
+    };
+    for (list, pipeline, first, count) in [
+        (0u64, opaque, 0u32, b.opaque),
+        (1, alpha, b.opaque, b.alpha),
+    ] {
+        if count == 0 {
+            continue;
+        }
+        pass.set_pipeline(pipeline);
+        let offset = u64::from(block + first) * DRAW_BYTES;
+        if b.with_count {
+            pass.multi_draw_indexed_indirect_count(
+                &b.draws,
+                offset,
+                &b.counters,
+                4 * (u64::from(count_word) + list),
+                count,
+            );
+        } else {
+            pass.multi_draw_indexed_indirect(&b.draws, offset, count);
+        }
+    }
+}
+
+/// Records the scene's planned draws with the opaque or alpha-tested pipeline as each
+/// needs, opaque draws first (they fill depth that early-Z then uses against the
+/// foliage), then, in a frame with a static query, the static draw lists (opaque, then
+/// alpha-tested) with `statics`, a pipeline that applies the LOD fade dither (static
+/// instances may fade). `skip_regular`: leave out the draws of regular materials (the
+/// mixed frame's laydown). Bind groups are the caller's.
+pub(crate) fn record_draws(
+    pass: &mut wgpu::RenderPass<'_>,
+    f: &FrameContext<'_>,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+    statics: &wgpu::RenderPipeline,
+    skip_regular: bool,
+) {
+    draw_planned(pass, f.scene, opaque, alpha, skip_regular);
+    if f.static_query
+        && let Some(b) = &f.scene.statics
+    {
+        record_static_draws(pass, b, statics, statics, false);
+    }
+}
+
+/// The scene's planned draws (its batches), opaque first, then alpha-tested; without the
+/// regular materials' with `skip_regular`.
+pub(crate) fn draw_planned(
+    pass: &mut wgpu::RenderPass<'_>,
+    scene: &crate::resources::PreparedScene,
+    opaque: &wgpu::RenderPipeline,
+    alpha: &wgpu::RenderPipeline,
+    skip_regular: bool,
+) {
+    let draws: &[Draw] = &scene.draws;
+    pass.set_index_buffer(scene.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+    for alpha_pass in [false, true] {
+        pass.set_pipeline(if alpha_pass { alpha } else { opaque });
+        for d in draws.iter().filter(|d| {
+            d.alpha_tested == alpha_pass && d.instance_count > 0 && !(skip_regular && d.regular)
+        }) {
+            pass.draw_indexed(
+                d.first_index..d.first_index + d.index_count,
+                d.base_vertex as i32,
+                d.first_instance..d.first_instance + d.instance_count,
+            );
         }
     }
 }

@@ -13,12 +13,14 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Binding, Entry, Group, Kind, Pass, Raster, Stage};
 
+use super::context::FrameContext;
 use super::raster::{
     DEPTH_WRITE, GEOMETRY, SCENE_GROUP, depth_attachment, gbuffer_targets, loaded_colors,
 };
-use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer;
+pub(crate) use crate::resources::groups::RegularGroups as Groups;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The regular geometry pass: the baseline's module with its `regular` entry and the
@@ -58,12 +60,6 @@ pub(crate) const REGULAR_FEATURES: wgpu::Features = wgpu::Features::SHADER_EARLY
 pub(crate) struct Regular {
     layouts: Layouts,
     pipeline: wgpu::RenderPipeline,
-}
-
-/// A prepared scene's groups for the pass.
-pub(crate) struct Groups {
-    pub scene: wgpu::BindGroup,
-    pub validity: wgpu::BindGroup,
 }
 
 impl Regular {

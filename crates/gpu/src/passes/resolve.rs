@@ -8,11 +8,13 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Size, Stage};
 use tiling::{PassDispatch, WaveCommand};
 
+use super::context::FrameContext;
 use super::raster::SCENE_GROUP;
-use super::{FrameContext, LIBRARY};
 use crate::error::Result;
 use crate::gbuffer::{KZ2_STORE_BINDINGS, STORE_BINDINGS};
+pub(crate) use crate::resources::groups::ResolveGroups as Groups;
 use crate::resources::rows::{GpuMesh, GpuMicroBatch};
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 use deferred::GBufferLayout;
 
@@ -37,7 +39,7 @@ pub(crate) const RESOLVE: Pass<[u32; 2]> = Pass {
                 Binding::new("vis_texture", Kind::texture_2d(Sample::Uint)),
                 Binding::new(
                     "ring",
-                    Kind::read(super::vertex_ring::RING_VERTEX_BYTES as usize),
+                    Kind::read(crate::resources::ring::RING_VERTEX_BYTES as usize),
                 ),
                 Binding::new("table", Kind::read(size_of::<tiling::MicroBatchInfo>())),
             ],
@@ -109,20 +111,6 @@ pub(crate) struct Resolve {
     full_screen: usize,
 }
 
-/// A prepared scene's bind groups for the resolve (groups 0, 1 and 3; the G-buffer's group
-/// 2 is the renderer's) and the per-pass uniform's stride.
-pub(crate) struct Groups {
-    pub scene: wgpu::BindGroup,
-    pub inputs: wgpu::BindGroup,
-    pub waves: wgpu::BindGroup,
-    pub pass_stride: u32,
-    /// Whether the wave-command resolve reads the vertex ring (its passes interleaved
-    /// with the ring's transforms).
-    pub reads_ring: bool,
-    _pass_uniforms: wgpu::Buffer,
-    _ring_stand_in: wgpu::Buffer,
-}
-
 impl Resolve {
     /// The pipelines for wave commands of `wave_width` lanes, writing `layout`; `vrs`:
     /// with HFW's software VRS broadcast.
@@ -180,14 +168,14 @@ impl Resolve {
         meshes: &wgpu::Buffer,
         micro_batches: &wgpu::Buffer,
         vis_view: &wgpu::TextureView,
-        classification: &super::classify::Buffers,
-        ring: Option<&super::vertex_ring::Buffers>,
+        classification: &crate::resources::groups::ClassifyBuffers,
+        ring: Option<&crate::resources::groups::RingBuffers>,
     ) -> Result<Groups> {
         let passes = classification.sizes.passes;
         // The pass's half of the ring, where the ring holds it.
         let half = |p: u32| {
             ring.and_then(|r| r.half_base.get(p as usize).copied())
-                .unwrap_or(super::vertex_ring::RING_NONE)
+                .unwrap_or(crate::resources::ring::RING_NONE)
         };
         let stride =
             u64::from(device.limits().min_uniform_buffer_offset_alignment).max(PASS_UNIFORM_BYTES);
@@ -197,14 +185,14 @@ impl Resolve {
             words[at..at + 4].copy_from_slice(&p.to_le_bytes());
             words[at + 4..at + 8].copy_from_slice(&half(p).to_le_bytes());
         }
-        let stand_in = crate::resources::buffer_init(
+        let stand_in = crate::resources::buffers::buffer_init(
             device,
             "vertex ring stand-in",
-            &[0u8; super::vertex_ring::RING_VERTEX_BYTES as usize],
+            &[0u8; crate::resources::ring::RING_VERTEX_BYTES as usize],
             0,
             wgpu::BufferUsages::STORAGE,
         );
-        let pass_uniforms = crate::resources::buffer_init(
+        let pass_uniforms = crate::resources::buffers::buffer_init(
             device,
             "resolve pass index",
             &words,
@@ -276,13 +264,18 @@ impl Resolve {
         encoder: &mut wgpu::CommandEncoder,
         f: &FrameContext<'_>,
         timer: &mut GpuTimer,
-        ring: &super::vertex_ring::VertexRing,
+        mut transform: impl FnMut(
+            &mut wgpu::CommandEncoder,
+            &crate::resources::groups::RingBuffers,
+            u32,
+            &mut GpuTimer,
+        ),
     ) {
         let c = &f.scene.classification;
         let g = &f.scene.resolve;
         if let (true, Some(b)) = (g.reads_ring, &f.scene.vertex_ring) {
             for p in 0..c.sizes.passes {
-                ring.record_transform_timed(encoder, b, p, timer);
+                transform(encoder, b, p, timer);
                 let mut pass = timer.begin_compute_as(
                     encoder,
                     "material resolve (wave commands, ring)",

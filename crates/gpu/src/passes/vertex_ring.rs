@@ -17,38 +17,17 @@ use shader::pipeline::ComputePass;
 use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Size, Stage};
 use tiling::{MicroBatchInfo, PassDispatch, PassInfo, TilingParams, UberChunk, VertexWaveCommand};
 
+use super::context::FrameContext;
 use super::raster::SCENE_GROUP;
-use super::{FrameContext, LIBRARY};
 use crate::error::Result;
-use crate::resources::buffer_init;
+use crate::resources::buffers::buffer_init;
+pub(crate) use crate::resources::groups::RingBuffers as Buffers;
+use crate::resources::ring::RING_NONE;
+use crate::resources::ring::RING_PASS_UNIFORM_BYTES;
+use crate::resources::ring::RING_VERTEX_BYTES;
 use crate::resources::rows::{GpuMesh, GpuMicroBatch};
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
-
-/// Bytes of one ring vertex (`visbuf::VisbufVertex`).
-pub const RING_VERTEX_BYTES: u64 = size_of::<visbuf::VisbufVertex>() as u64;
-/// Bytes of the per-pass uniform (pass, half base), bound at a dynamic offset.
-pub(crate) const RING_PASS_UNIFORM_BYTES: u64 = 16;
-/// The per-pass uniform's `y` for a pass the ring does not hold (WGSL `GPU_RING_NONE`).
-pub(crate) const RING_NONE: u32 = u32::MAX;
-/// The spare 16 bits' flag: the vertex's UV is read from the vertex buffer (WGSL
-/// `GPU_RING_UV_FROM_VERTICES`).
-pub const RING_UV_FROM_VERTICES: u16 = 1;
-
-/// The slot of vertex `vertex` of instance `instance` (within its micro batch, whose mesh
-/// has `vertex_count` vertices and whose planned range starts at `ring_offset`) in pass
-/// `pass` of a ring of `ring_vertices` slots. WGSL twin: `gpu_ring_slot` with the pass's
-/// half base.
-#[must_use]
-pub fn ring_slot(
-    ring_vertices: u32,
-    pass: u32,
-    ring_offset: u32,
-    vertex_count: u32,
-    instance: u32,
-    vertex: u32,
-) -> u32 {
-    (pass % 2) * (ring_vertices / 2) + ring_offset + instance * vertex_count + vertex
-}
 
 /// The transform into the ring (dispatched indirectly, one pass at a time).
 pub(crate) const VERTEX_RING: Pass<u32> = Pass {
@@ -94,31 +73,6 @@ pub(crate) struct VertexRing {
     transform: ComputePass<u32>,
 }
 
-/// A prepared scene's vertex-side buffers and bind groups.
-pub(crate) struct Buffers {
-    pub params: TilingParams,
-    /// Slots of the ring (its bytes / 32).
-    pub ring_vertices: u32,
-    /// Per pass: the first slot of its half, or [`RING_NONE`].
-    pub half_base: Vec<u32>,
-    pub ubers: wgpu::Buffer,
-    pub pyramid: wgpu::Buffer,
-    pub deltas: wgpu::Buffer,
-    pub micro_batch_waves: wgpu::Buffer,
-    pub vertex_commands: wgpu::Buffer,
-    pub vertex_dispatches: wgpu::Buffer,
-    pub pass_items: wgpu::Buffer,
-    pub totals: wgpu::Buffer,
-    pub ring: wgpu::Buffer,
-    /// The per-pass uniforms (pass, half base) at `pass_stride`.
-    pub _pass_uniforms: wgpu::Buffer,
-    pub pass_stride: u32,
-    waves_group: wgpu::BindGroup,
-    scene_group: wgpu::BindGroup,
-    ring_group: wgpu::BindGroup,
-    _kept: [wgpu::Buffer; 5],
-}
-
 impl VertexRing {
     pub(crate) fn new(device: &wgpu::Device) -> Result<Self> {
         Ok(Self {
@@ -145,7 +99,7 @@ impl VertexRing {
         ring_bytes: u64,
     ) -> Result<Buffers> {
         let storage = |label: &str, bytes: u64, extra: wgpu::BufferUsages| {
-            crate::resources::storage_buffer(device, label, bytes.max(16), extra)
+            crate::resources::buffers::storage_buffer(device, label, bytes.max(16), extra)
         };
         let none = wgpu::BufferUsages::empty();
         let chunks = u64::from(params.chunk_count.max(1));
@@ -378,7 +332,7 @@ impl VertexRing {
 }
 
 /// Everything the vertex side wrote in the last deferred frame, read back
-/// ([`Inspect::read_vertex_ring`](crate::Inspect::read_vertex_ring)).
+/// ([`Inspect::read_vertex_ring`](crate::inspect::Inspect::read_vertex_ring)).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VertexRingReadback {
     /// The uber chunks (one per 64 chunks of the cull buffer).
@@ -459,6 +413,8 @@ impl VertexRingReadback {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::resources::ring::RING_UV_FROM_VERTICES;
+    use crate::resources::ring::ring_slot;
 
     #[test]
     fn description_matches_its_module() {

@@ -7,9 +7,10 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
-use super::{FrameContext, LIBRARY};
+use super::context::FrameContext;
 use crate::error::Result;
 use crate::resources::targets::Targets;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The copies, over the image (`[width, height]`): words and depth (`copy_vis`), or the

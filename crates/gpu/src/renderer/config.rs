@@ -43,17 +43,17 @@ pub enum Laydown {
     /// Issue 17's compute laydown: triangles rasterised in compute into a 64-bit target
     /// with `atomicMax` (depth bits high, vis word low), an invocation each, or the
     /// large-triangle pass's workgroups past the split
-    /// ([`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT)); one pass
+    /// ([`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::config::COMPUTE_LAYDOWN_MAX_EXTENT)); one pass
     /// to the depth target and vis texture; then those crossing the near plane drawn by
     /// the hardware over them. Faster on the H200, whose raster units are 2 of its 66
     /// TPCs (0.56-0.81x of the hardware laydown; BENCHMARKS.md). Needs
-    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::COMPUTE_LAYDOWN_FEATURES) (64-bit storage-buffer
+    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::config::COMPUTE_LAYDOWN_FEATURES) (64-bit storage-buffer
     /// atomics); on a device without them, and in frames with a static query (whose
     /// indirect draw lists the hardware draws), the hardware laydown runs instead, and
     /// [`FrameOutput::laydown`](crate::FrameOutput::laydown) says so.
     Compute,
     /// The default: the first deferred frames without a static query alternate the two
-    /// laydowns, [`AUTO_LAYDOWN_FRAMES`](crate::AUTO_LAYDOWN_FRAMES) timed frames
+    /// laydowns, [`AUTO_LAYDOWN_FRAMES`](crate::config::AUTO_LAYDOWN_FRAMES) timed frames
     /// each after one untimed frame each (waited for, so [`Renderer::submit`] waits
     /// during the trial), and every later frame takes the one whose median frame time
     /// (the GPU's timestamps, else wall time) was lower. A device without the compute
@@ -149,7 +149,7 @@ pub struct RendererConfig {
     pub light_paths: LightPaths,
     /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
     /// G-buffer's baked sun term).
-    pub shadows: Option<crate::ShadowConfig>,
+    pub shadows: Option<crate::config::ShadowConfig>,
     /// The G-buffer layout: `deferred`'s octahedral one (the default: world-space 12+12-bit
     /// normal, 20 bytes a pixel) or KZ2's four RGBA8 targets (view-space normal xy as f16,
     /// lighting and glow, motion and log specular power, albedo and sun shadow; 16 bytes a
@@ -170,7 +170,7 @@ pub struct RendererConfig {
     pub upload_pool: framealloc::PoolConfig,
     /// Shadow maps for the spot lights that cast shadows (KZ2's fade, the largest first);
     /// `None`: every spot lights unshadowed.
-    pub spot_shadows: Option<crate::SpotShadowConfig>,
+    pub spot_shadows: Option<crate::config::SpotShadowConfig>,
     /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
     /// (1024² texels), rendered when the scene or the sun
     /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
@@ -202,9 +202,9 @@ pub struct RendererConfig {
     /// The compute laydown's split: triangles whose screen box is wider or taller than this
     /// many pixels, or larger than a quarter of its square in area, go to its
     /// large-triangle pass instead of an invocation each (0: every one; at most
-    /// [`COMPUTE_LAYDOWN_EXTENT_LIMIT`](crate::COMPUTE_LAYDOWN_EXTENT_LIMIT), where the
+    /// [`COMPUTE_LAYDOWN_EXTENT_LIMIT`](crate::config::COMPUTE_LAYDOWN_EXTENT_LIMIT), where the
     /// fixed-point edge functions still fit 32 bits). Default
-    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::COMPUTE_LAYDOWN_MAX_EXTENT).
+    /// [`COMPUTE_LAYDOWN_MAX_EXTENT`](crate::config::COMPUTE_LAYDOWN_MAX_EXTENT).
     pub compute_laydown_max_extent: f32,
     /// Force the compute laydown's 64-bit target (the device must have its features);
     /// `None` picks [`LaydownTarget::best_for`] the device: the storage buffer (measured
@@ -334,7 +334,7 @@ impl RendererConfig {
             s.validate()?;
         }
         let extent = self.compute_laydown_max_extent;
-        if !(0.0..=crate::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&extent) {
+        if !(0.0..=crate::config::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&extent) {
             return bad(
                 "RendererConfig::compute_laydown_max_extent",
                 f64::from(extent),
@@ -343,7 +343,7 @@ impl RendererConfig {
         }
         if let Some(bytes) = self.vertex_ring {
             // Two halves of at least one 64-vertex chunk; slots in u32.
-            let min = 2 * 64 * passes::vertex_ring::RING_VERTEX_BYTES;
+            let min = 2 * 64 * crate::resources::ring::RING_VERTEX_BYTES;
             if !(min..=1 << 36).contains(&bytes) {
                 return bad(
                     "RendererConfig::vertex_ring",
@@ -400,8 +400,8 @@ impl Default for RendererConfig {
             subgroups: true,
             mip_bias: 0.0,
             light_paths: LightPaths::Tiled,
-            shadows: Some(crate::ShadowConfig::default()),
-            spot_shadows: Some(crate::SpotShadowConfig::default()),
+            shadows: Some(crate::config::ShadowConfig::default()),
+            spot_shadows: Some(crate::config::SpotShadowConfig::default()),
             baked_sun: true,
             upload_pool: framealloc::PoolConfig::KZ2,
             frames_in_flight: 2,
@@ -410,7 +410,7 @@ impl Default for RendererConfig {
             msaa: None,
             conditional_volumes: true,
             laydown: Laydown::Hardware,
-            compute_laydown_max_extent: crate::COMPUTE_LAYDOWN_MAX_EXTENT,
+            compute_laydown_max_extent: crate::config::COMPUTE_LAYDOWN_MAX_EXTENT,
             compute_laydown_target: None,
             mixed_frame: false,
             vertex_ring: None,

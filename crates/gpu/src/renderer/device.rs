@@ -1,6 +1,7 @@
 //! What a renderer asks of its device: the features it can use and the limits it needs.
 
 use super::*;
+use crate::frame::stage_counts;
 
 impl Renderer {
     /// The device features the renderer cannot run without: none (each optional one
@@ -21,7 +22,7 @@ impl Renderer {
     /// drivers' 16; four bind groups, the image size, buffers of `width * height`
     /// words). Request these, or the adapter's own limits, when you create the device.
     pub fn required_limits(config: &RendererConfig) -> wgpu::Limits {
-        let c = passes::stage_counts();
+        let c = stage_counts();
         let d = wgpu::Limits::default();
         let pixels = u64::from(config.width) * u64::from(config.height);
         // The largest buffers: the vis words (4 bytes a pixel) and the wave commands (16

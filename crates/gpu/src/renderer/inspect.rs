@@ -20,7 +20,7 @@ pub struct LightTiles {
     /// [`LightTiles::lights`], the first `counts[t]` valid.
     pub indices: Vec<u32>,
     /// The lights that took the tiled path in the last frame, in view space: all of
-    /// [`local_light_rows`](crate::local_light_rows), in its order, under
+    /// [`local_light_rows`](crate::inspect::local_light_rows), in its order, under
     /// [`LightPaths::Tiled`]; under [`LightPaths::Classified`], those KZ2's classifier
     /// left to the tiles, in the same relative order.
     pub lights: Vec<deferred::DeferredLight>,
@@ -253,7 +253,10 @@ impl<'r> Inspect<'r> {
     ///
     /// # Errors
     /// A scene prepared by another renderer, or a device or mapping error.
-    pub fn read_laydown_stats(&self, scene: &PreparedScene) -> Result<Option<crate::LaydownStats>> {
+    pub fn read_laydown_stats(
+        &self,
+        scene: &PreparedScene,
+    ) -> Result<Option<crate::inspect::LaydownStats>> {
         self.r.check_scene(scene)?;
         let Some(g) = &scene.compute_laydown else {
             return Ok(None);
@@ -268,13 +271,13 @@ impl<'r> Inspect<'r> {
     }
 
     /// Reads the static placement's debug words of the last frame with a static query of
-    /// `scene` (what [`debug::static_lod_fade`](crate::debug::static_lod_fade) and
-    /// [`debug::static_two_pass`](crate::debug::static_two_pass) colour the vis buffer by).
+    /// `scene` (what [`debug::static_lod_fade`](crate::inspect::debug::static_lod_fade) and
+    /// [`debug::static_two_pass`](crate::inspect::debug::static_two_pass) colour the vis buffer by).
     ///
     /// # Errors
     /// A scene without static setups, a scene prepared by another renderer, or a device
     /// or mapping error.
-    pub fn read_static_debug(&self, scene: &PreparedScene) -> Result<crate::StaticDebug> {
+    pub fn read_static_debug(&self, scene: &PreparedScene) -> Result<crate::statics::StaticDebug> {
         self.r.check_scene(scene)?;
         let b = Renderer::static_buffers(scene)?;
         let words = self.r.words(&b.debug, 0, b.debug.size())?;
@@ -285,7 +288,7 @@ impl<'r> Inspect<'r> {
             .map(|(i, s)| (i as u32, *s))
             .collect();
         ranges.sort_by_key(|(_, s)| s.first_id);
-        Ok(crate::StaticDebug {
+        Ok(crate::statics::StaticDebug {
             ranges,
             words,
             base: b.debug_base,
@@ -316,7 +319,7 @@ impl<'r> Inspect<'r> {
                 c.plan
                     .maps
                     .iter()
-                    .filter(|m| **m == passes::conditional::MapDraw::Skipped)
+                    .filter(|m| **m == crate::resources::conditional::MapDraw::Skipped)
                     .count() as u32
             }),
         }
@@ -330,7 +333,7 @@ impl<'r> Inspect<'r> {
     /// A device or mapping error.
     #[doc(hidden)]
     pub fn read_conditional_volumes(&self) -> Result<Vec<ConditionalLight>> {
-        use passes::conditional::{COUNT_WORDS, DRAW_WORDS, MapDraw};
+        use crate::resources::conditional::{COUNT_WORDS, DRAW_WORDS, MapDraw};
         let Some(c) = &self.r.light.conditional else {
             return Ok(Vec::new());
         };
@@ -472,12 +475,12 @@ impl<'r> Inspect<'r> {
     pub fn read_vertex_ring(
         &self,
         scene: &PreparedScene,
-    ) -> Result<Option<crate::VertexRingReadback>> {
+    ) -> Result<Option<crate::inspect::VertexRingReadback>> {
         self.r.check_scene(scene)?;
         scene
             .vertex_ring
             .as_ref()
-            .map(|b| crate::VertexRingReadback::read(&self.r.device, &self.r.queue, b))
+            .map(|b| crate::inspect::VertexRingReadback::read(&self.r.device, &self.r.queue, b))
             .transpose()
     }
 
@@ -654,12 +657,13 @@ impl Hooks<'_> {
                 origin_offset: self.r.origin_offset,
                 msaa: false,
                 compute_laydown: false,
-                water: None,
+                water_hdr: None,
             };
             self.r.pipelines.record(
                 Recording::Classification,
                 &mut encoder,
                 &f,
+                None,
                 &mut self.r.timer,
             );
             self.r.timer.resolve(&mut encoder);

@@ -24,7 +24,7 @@ pub enum LaydownReason {
     /// [`RendererConfig::laydown`] asked for it and the device can run it.
     Asked,
     /// The compute laydown (asked for, or [`Laydown::Auto`]) needs
-    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::COMPUTE_LAYDOWN_FEATURES), which the device
+    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::config::COMPUTE_LAYDOWN_FEATURES), which the device
     /// lacks: the hardware laydown runs instead.
     NoComputeFeatures,
     /// [`Laydown::Auto`] is still timing both: `frames_left` deferred frames to go.

@@ -15,7 +15,7 @@ pub struct LightPathCounts {
     /// near plane): back faces alone, no stencil.
     pub volumes_from_inside: u32,
     /// Spot lights that rendered a shadow map (shadow-casting, not faded out, among the
-    /// largest [`SpotShadowConfig::maps`](crate::SpotShadowConfig::maps)), or had one to
+    /// largest [`SpotShadowConfig::maps`](crate::config::SpotShadowConfig::maps)), or had one to
     /// render: see the next two.
     pub spot_shadow_maps: u32,
     /// Of `volumes`, those tested for KZ2's conditional rendering
@@ -38,13 +38,13 @@ pub(super) struct LightState {
     /// light buffer's order.
     pub(super) tiled: Vec<deferred::DeferredLight>,
     /// This frame's stencil volume draws.
-    pub(super) volume_draws: Vec<passes::light_volumes::VolumeDraw>,
+    pub(super) volume_draws: Vec<crate::resources::lights::VolumeDraw>,
     /// This frame's spot-map slots of the lights on the volume path (drawn or not).
     pub(super) volume_map_slots: Vec<u32>,
     /// This frame's lights on the volume path (`GpuLightVolume` order).
     pub(super) volume_rows: Vec<deferred::DeferredLight>,
     /// KZ2's conditional rendering emulated: buffers and this frame's plan.
-    pub(super) conditional: Option<passes::conditional::ConditionalBuffers>,
+    pub(super) conditional: Option<crate::resources::conditional::ConditionalBuffers>,
 }
 
 impl LightState {
@@ -52,7 +52,7 @@ impl LightState {
     pub(super) fn new(
         local: wgpu::Buffer,
         buffers: LightBuffers,
-        conditional: Option<passes::conditional::ConditionalBuffers>,
+        conditional: Option<crate::resources::conditional::ConditionalBuffers>,
     ) -> Self {
         Self {
             local,
@@ -77,7 +77,7 @@ impl Renderer {
         frame: &FrameInput,
         uniforms: &FrameUniforms,
     ) -> Result<u32> {
-        use crate::passes::light_volumes::{GpuLightVolume, VolumeDraw};
+        use crate::resources::lights::{GpuLightVolume, VolumeDraw};
         use deferred::lights::{LightClassifier, LightPath};
         let (width, height) = (self.config.width, self.config.height);
         let camera = &frame.camera;
@@ -205,7 +205,7 @@ impl Renderer {
     /// the direct draws are) and the maps the CPU skips, and uploads the tests and the
     /// caster rows. Nothing with the emulation off.
     pub(super) fn plan_conditional(&mut self, scene: &PreparedScene) -> Result<()> {
-        use passes::conditional::{
+        use crate::resources::conditional::{
             ConditionalPlan, GpuCasterDraw, GpuConditionalParams, GpuConditionalTest, MAX_TESTS,
             MapDraw,
         };

@@ -8,24 +8,28 @@ use std::time::{Duration, Instant};
 
 use crate::context::{ActivePaths, OPTIONAL_FEATURES, PrimitiveIdPath, scoped, wait_idle};
 use crate::error::{Error, Result};
-use crate::frame::{FrameInput, PreviousCamera, frame_uniforms, local_light_rows};
+use crate::frame::prepare::{PrepareContext, prepare};
+use crate::frame::{Pipelines, Recording};
 use crate::image::Rgba8Image;
 use crate::passes::classify::ClassificationVariant;
-use crate::passes::compute_laydown::LaydownTarget;
-use crate::passes::lighting::GpuLocalLights;
-use crate::passes::lights::{GpuTileDepthParams, LightBuffers};
 use crate::passes::query::{PreparedView, StaticQuery};
-use crate::passes::static_place::{
-    STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
-    STATIC_COUNTER_PLACED, StaticBuffers,
-};
-use crate::passes::{self, FrameContext, Pipelines, Recording, TargetGroups};
+use crate::passes::{self, context::FrameContext};
+use crate::resources::PreparedScene;
+use crate::resources::groups::TargetGroups;
+use crate::resources::lights::GpuLocalLights;
+use crate::resources::lights::GpuTileDepthParams;
+use crate::resources::lights::LightBuffers;
 use crate::resources::readback::read_buffer;
 use crate::resources::readback::read_texture;
 use crate::resources::rows::FrameUniforms;
+use crate::resources::static_draws::{
+    STATIC_COUNTER_BAD_BATCHES, STATIC_COUNTER_DRAWS, STATIC_COUNTER_OVER_CAPACITY,
+    STATIC_COUNTER_PLACED, StaticBuffers,
+};
 use crate::resources::targets::Targets;
+use crate::resources::uniforms::{FrameInput, PreviousCamera, frame_uniforms, local_light_rows};
 use crate::resources::uploads::{UploadSink, UploadStats, Uploads};
-use crate::resources::{PrepareContext, PreparedScene, prepare};
+use crate::resources::vis64::LaydownTarget;
 use crate::scene::Scene;
 use crate::statics::{StaticFrameStats, StaticOcclusion, StaticShadowStats, StaticView};
 use crate::stats::{ClassificationStats, GpuClassification, classification_statistics};
@@ -231,7 +235,7 @@ impl Renderer {
             let lights = LightBuffers::new(device, &targets, 64)?;
             let mut targets = targets;
             targets.vis64 = compute_laydown.map(|kind| {
-                passes::compute_laydown::TargetResource::new(
+                crate::resources::vis64::TargetResource::new(
                     device,
                     kind,
                     config.width,
@@ -380,6 +384,9 @@ impl Renderer {
             };
             let static_query = view.is_some();
             let compute_laydown = self.compute_laydown_for(what, static_query);
+            // FC5's water runs after lighting (not in the baseline's MSAA frame).
+            let with_water =
+                what.lights() && !(what == Recording::Baseline && self.targets.msaa.is_some());
             // Field by field, so the timer can be borrowed beside it.
             macro_rules! context {
                 () => {
@@ -395,10 +402,8 @@ impl Renderer {
                         origin_offset: self.origin_offset,
                         msaa: what == Recording::Baseline && self.targets.msaa.is_some(),
                         compute_laydown,
-                        water: if what.lights()
-                            && !(what == Recording::Baseline && self.targets.msaa.is_some())
-                        {
-                            self.water.as_ref()
+                        water_hdr: if with_water {
+                            self.water.as_ref().map(|w| &w.groups.hdr)
                         } else {
                             None
                         },
@@ -419,8 +424,13 @@ impl Renderer {
                     true,
                 );
             }
-            self.pipelines
-                .record_after_geometry(what, &mut encoder, &context!(), &mut self.timer);
+            self.pipelines.record_after_geometry(
+                what,
+                &mut encoder,
+                &context!(),
+                self.water.as_ref().filter(|_| with_water),
+                &mut self.timer,
+            );
             let laydown = what.lays_down().then(|| {
                 if self.pipelines.laid_down_in_compute(&context!()) {
                     Laydown::Compute

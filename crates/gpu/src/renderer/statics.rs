@@ -141,7 +141,7 @@ impl Renderer {
     /// The static query's shadow view of each sun slice this frame re-renders (KZ2's
     /// shadow query with size threshold, HZD's orthographic sun query): the slice's
     /// volume seen from the sun, LODs from the camera view's LOD point, casters below
-    /// [`ShadowConfig::static_size_threshold`](crate::ShadowConfig) of the slice's texels
+    /// [`ShadowConfig::static_size_threshold`](crate::config::ShadowConfig) of the slice's texels
     /// dropped; each placed into the slice's own rows and draw lists, which its shadow
     /// pass draws instead of the camera's. Recorded after the camera view's placement
     /// (the views share nothing it reads), one view's query and placement after the

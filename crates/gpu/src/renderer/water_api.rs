@@ -7,9 +7,10 @@ use glam::{UVec2, Vec2, Vec3};
 use super::Renderer;
 use crate::context::scoped;
 use crate::error::{Error, Result};
-use crate::frame::Camera;
 use crate::passes::water::{Built, Shared, WaterData, WaterPasses, WaterState, WaterTargets};
+use crate::resources::uniforms::Camera;
 
+use crate::passes::water::targets::buffer_size;
 use crate::water_scene::{
     WaterDecal, WaterScene, WaterSummary, check_materials, check_options, material_map,
     max_displacement, near_meshes, sector_tree,
@@ -96,7 +97,7 @@ impl Renderer {
         if self.config.msaa.is_some() {
             return Error::config(
                 "RendererConfig::msaa",
-                f64::from(crate::MSAA_SAMPLES),
+                f64::from(crate::config::MSAA_SAMPLES),
                 "off with water (its passes are single-sample)",
             );
         }
@@ -164,12 +165,7 @@ impl Renderer {
             let (passes, targets) = match keep {
                 Some(w)
                     if w.half == half
-                        && w.targets.size
-                            == crate::passes::water::buffer_size(
-                                width,
-                                height,
-                                o.resolution_scale,
-                            ) =>
+                        && w.targets.size == buffer_size(width, height, o.resolution_scale) =>
                 {
                     (w.passes, w.targets)
                 }
@@ -249,7 +245,7 @@ impl Renderer {
     }
 
     /// This frame's (and the next frames') displacement decals, in water coordinates; at
-    /// most [`MAX_WATER_DECALS`](crate::MAX_WATER_DECALS). Without water, nothing.
+    /// most [`MAX_WATER_DECALS`](crate::water_scene::MAX_WATER_DECALS). Without water, nothing.
     ///
     /// # Errors
     /// Too many decals, a texture index past [`WaterScene::decal_textures`], or a box that

@@ -1,6 +1,5 @@
 //! Reading GPU buffers and textures back to the CPU (tests, debug views, statistics).
 
-use crate::context::wait_idle;
 use crate::error::{Error, Result};
 
 /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) from `offset` into a new
@@ -118,4 +117,12 @@ pub(crate) fn read_texture_layer(
         out.extend_from_slice(&padded[start..start + row as usize]);
     }
     Ok(out)
+}
+
+/// Blocks until the GPU has finished all submitted work.
+pub fn wait_idle(device: &wgpu::Device) -> Result<()> {
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map(|_| ())
+        .map_err(|e| Error::Poll(e.to_string()))
 }

@@ -241,7 +241,7 @@ const _: () = assert!(size_of::<GpuStaticParams>() == 48);
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::passes::LIBRARY;
+    use crate::shaders::LIBRARY;
 
     fn check(module: &str, name: &str, size: usize, members: &[(&str, u32)]) {
         let m = shadercheck::assert_composed(LIBRARY, module, &[], shadercheck::Caps::CORE);

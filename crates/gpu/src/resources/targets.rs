@@ -2,6 +2,7 @@
 //! the output image, with the views every pass binds.
 
 use crate::gbuffer;
+use shader::{DepthFormat, Format};
 
 /// Depth format of every pass: reversed Z, cleared to 0, tested with `Greater`.
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -38,7 +39,7 @@ pub(crate) struct Targets {
     /// The compute laydown's 64-bit visibility target (depth bits high, vis word low, 8
     /// bytes a pixel, row-major), with [`Laydown::Compute`](crate::Laydown) on a device
     /// that has it (set by the renderer after [`Targets::new`]).
-    pub vis64: Option<crate::passes::compute_laydown::TargetResource>,
+    pub vis64: Option<crate::resources::vis64::TargetResource>,
     /// G-buffer targets RT0..RT3, in `deferred`'s layout order (kept with their views).
     pub gbuffer: Vec<wgpu::Texture>,
     pub gbuffer_views: Vec<wgpu::TextureView>,
@@ -50,7 +51,7 @@ pub(crate) struct Targets {
     /// The spot lights' shadow maps (one 1x1 layer without them).
     pub spot_shadows: crate::spot_shadows::SpotShadowMaps,
     /// The stencil light volumes' accumulation and depth-stencil (1x1 without volumes).
-    pub light_volumes: crate::passes::light_volumes::VolumeTargets,
+    pub light_volumes: VolumeTargets,
     /// The baseline path's 4x multisampled depth and G-buffer, with MSAA on.
     pub msaa: Option<MsaaTargets>,
 }
@@ -59,7 +60,7 @@ pub(crate) struct Targets {
 /// dispatch's three words and the count).
 pub(crate) const MSAA_EDGES_HEADER: u64 = 16;
 
-/// The baseline's multisampled targets ([`crate::MSAA_SAMPLES`] samples a pixel) and
+/// The baseline's multisampled targets ([`crate::config::MSAA_SAMPLES`] samples a pixel) and
 /// the list of edge pixels lighting appends to.
 pub(crate) struct MsaaTargets {
     /// The views (each keeps its texture alive).
@@ -83,7 +84,7 @@ impl MsaaTargets {
         use wgpu::TextureUsages as U;
         let make = |label: &str, format| {
             let usage = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
-            let samples = crate::MSAA_SAMPLES;
+            let samples = crate::config::MSAA_SAMPLES;
             texture_samples(device, label, [width, height], format, usage, samples).1
         };
         let depth_view = make("msaa depth", DEPTH_FORMAT);
@@ -167,7 +168,7 @@ impl Targets {
         shadows: Option<crate::shadows::ShadowConfig>,
         light_volumes: bool,
         gbuffer_layout: deferred::GBufferLayout,
-        spot_shadows: Option<crate::SpotShadowConfig>,
+        spot_shadows: Option<crate::config::SpotShadowConfig>,
         msaa: bool,
     ) -> Self {
         use wgpu::TextureUsages as U;
@@ -242,13 +243,75 @@ impl Targets {
             output_view,
             shadows: crate::shadows::ShadowMaps::new(device, shadows),
             spot_shadows: crate::spot_shadows::SpotShadowMaps::new(device, spot_shadows),
-            light_volumes: crate::passes::light_volumes::VolumeTargets::new(
-                device,
-                width,
-                height,
-                light_volumes,
-            ),
+            light_volumes: VolumeTargets::new(device, width, height, light_volumes),
             msaa: msaa.then(|| MsaaTargets::new(device, width, height, gbuffer_layout)),
+        }
+    }
+}
+
+/// The volume pass's own targets: the light accumulation (read by lighting) and the
+/// depth-stencil copy of the frame's depth. 1x1 when no light may take the path.
+/// (Views keep their textures alive.)
+pub(crate) struct VolumeTargets {
+    pub accumulation_view: wgpu::TextureView,
+    pub depth_stencil_view: wgpu::TextureView,
+}
+
+/// The accumulation's format: 32-bit float where the device blends it (the sum then
+/// rounds as the compute lighting's own does), else 16-bit.
+pub(crate) fn accumulation_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    shader::pipeline::texture_format(accumulation(device))
+}
+
+/// [`accumulation_format`] in the descriptions' terms.
+pub(crate) fn accumulation(device: &wgpu::Device) -> Format {
+    if device
+        .features()
+        .contains(wgpu::Features::FLOAT32_BLENDABLE)
+    {
+        Format::Rgba32Float
+    } else {
+        Format::Rgba16Float
+    }
+}
+
+/// The depth-stencil copy's format: the depth target's 32-bit float with stencil where
+/// the device has it, else 24-bit depth.
+pub(crate) fn depth_stencil_format(device: &wgpu::Device) -> wgpu::TextureFormat {
+    shader::pipeline::depth_format(depth_stencil(device))
+}
+
+/// [`depth_stencil_format`] in the descriptions' terms.
+pub(crate) fn depth_stencil(device: &wgpu::Device) -> DepthFormat {
+    if device
+        .features()
+        .contains(wgpu::Features::DEPTH32FLOAT_STENCIL8)
+    {
+        DepthFormat::Depth32FloatStencil8
+    } else {
+        DepthFormat::Depth24PlusStencil8
+    }
+}
+
+impl VolumeTargets {
+    /// Targets of `width` × `height` pixels, or 1x1 ones without `enabled`.
+    pub(crate) fn new(device: &wgpu::Device, width: u32, height: u32, enabled: bool) -> Self {
+        use wgpu::TextureUsages as U;
+        let (w, h) = if enabled { (width, height) } else { (1, 1) };
+        let make = |label, format, usage| texture(device, label, w, h, format, usage).1;
+        let accumulation_view = make(
+            "light accumulation",
+            accumulation_format(device),
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let depth_stencil_view = make(
+            "light volume depth-stencil",
+            depth_stencil_format(device),
+            U::RENDER_ATTACHMENT,
+        );
+        Self {
+            accumulation_view,
+            depth_stencil_view,
         }
     }
 }

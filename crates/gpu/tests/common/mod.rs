@@ -1,7 +1,9 @@
 //! What the renderer's integration tests share: a renderer on testkit's device.
 #![allow(dead_code)]
 
-use gpu::{Material, Renderer, RendererConfig, Rgba8Image, ShaderKind, ShadowConfig};
+use gpu::config::ShadowConfig;
+use gpu::scene::ShaderKind;
+use gpu::{Material, Renderer, RendererConfig, Rgba8Image};
 use testkit::device::ctx;
 
 /// The sun's shadow maps of the tests' renderers: the default cascades at 512 texels

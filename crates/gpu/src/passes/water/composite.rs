@@ -5,11 +5,10 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
-use super::super::LIBRARY;
-use super::super::lighting::GpuLocalLights;
-use super::GpuWaterFrame;
+use super::rows::{FRAME, MATERIALS, WATER, float_texture};
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::resources::lights::GpuLocalLights;
+use crate::shaders::LIBRARY;
 
 /// The pass, over the image (`[width, height]`).
 pub(crate) const COMPOSITE: Pass<[u32; 2]> = Pass {
@@ -20,34 +19,19 @@ pub(crate) const COMPOSITE: Pass<[u32; 2]> = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            FRAME,
+            WATER,
             Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
             Binding::new("lights", Kind::read(size_of::<deferred::DeferredLight>())),
             Binding::new("light_counts", Kind::read(4)),
             Binding::new("light_indices", Kind::read(4)),
-            Binding::new(
-                "surface",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "normals",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "foam",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            float_texture("surface"),
+            float_texture("normals"),
+            float_texture("foam"),
             Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "materials",
-                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
-            ),
+            MATERIALS,
             Binding::new("material_map", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "scene_hdr",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            float_texture("scene_hdr"),
             Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
             Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
         ],

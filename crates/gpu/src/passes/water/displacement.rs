@@ -4,10 +4,10 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Dim, Entry, Format, Group, Kind, Pass, Sample};
 
-use super::super::LIBRARY;
-use super::{GpuWaterDecal, GpuWaterFrame};
+use super::rows::GpuWaterDecal;
+use super::rows::{FRAME, MATERIALS, WATER, float_texture};
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::shaders::LIBRARY;
 
 /// The pass, over the mini G-buffer (`[width, height]`).
 pub(crate) const DISPLACEMENT: Pass<[u32; 2]> = Pass {
@@ -18,21 +18,12 @@ pub(crate) const DISPLACEMENT: Pass<[u32; 2]> = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            FRAME,
+            WATER,
             Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "depth",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "materials",
-                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
-            ),
-            Binding::new(
-                "noise",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            float_texture("depth"),
+            MATERIALS,
+            float_texture("noise"),
             Binding::new("decals", Kind::read(size_of::<GpuWaterDecal>())),
             Binding::new(
                 "decal_texels",

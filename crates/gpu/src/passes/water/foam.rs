@@ -4,10 +4,9 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
-use super::super::LIBRARY;
-use super::GpuWaterFrame;
+use super::rows::{FRAME, MATERIALS, WATER, float_texture};
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::shaders::LIBRARY;
 
 /// The pass, over the image (`[width, height]`).
 pub(crate) const FOAM: Pass<[u32; 2]> = Pass {
@@ -18,30 +17,15 @@ pub(crate) const FOAM: Pass<[u32; 2]> = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
-            Binding::new(
-                "surface",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            FRAME,
+            WATER,
+            float_texture("surface"),
             Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "materials",
-                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
-            ),
+            MATERIALS,
             Binding::new("atlas", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "shore",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "noise",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "displacement",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            float_texture("shore"),
+            float_texture("noise"),
+            float_texture("displacement"),
             Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
             Binding::new("foam", Kind::storage_texture_2d(Format::R32Float)),
         ],

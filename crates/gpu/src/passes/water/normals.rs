@@ -4,10 +4,9 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
 
-use super::super::LIBRARY;
-use super::GpuWaterFrame;
+use super::rows::{FRAME, MATERIALS, WATER, float_texture};
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::shaders::LIBRARY;
 
 /// The pass, over the image (`[width, height]`).
 pub(crate) const NORMALS: Pass<[u32; 2]> = Pass {
@@ -18,21 +17,12 @@ pub(crate) const NORMALS: Pass<[u32; 2]> = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
-            Binding::new(
-                "surface",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
+            FRAME,
+            WATER,
+            float_texture("surface"),
             Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "mesh_normal",
-                Kind::texture_2d(Sample::Float { filterable: false }),
-            ),
-            Binding::new(
-                "materials",
-                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
-            ),
+            float_texture("mesh_normal"),
+            MATERIALS,
             Binding::new("normals", Kind::storage_texture_2d(Format::Rgba16Float)),
         ],
     }],

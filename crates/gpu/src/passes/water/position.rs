@@ -6,11 +6,13 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Sample, Stage, Target};
 
-use super::super::LIBRARY;
 use super::super::raster::{DEPTH_WRITE, GEOMETRY};
-use super::{GpuWaterFrame, WaterData, WaterGroups, WaterTargets};
+use super::data::WaterData;
+use super::groups::WaterGroups;
+use super::rows::{FRAME, MATERIALS, WATER};
+use super::targets::WaterTargets;
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The pass: two vertex stages (near meshes, far sectors) and one fragment stage.
@@ -22,13 +24,10 @@ pub(crate) const POSITION: Pass = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            FRAME,
+            WATER,
             Binding::new("world", Kind::texture_2d(Sample::Uint)),
-            Binding::new(
-                "materials",
-                Kind::read(size_of::<water::material::WaterMaterialGpu>()),
-            ),
+            MATERIALS,
             Binding::new("vertices", Kind::read(32)),
             Binding::new("nodes", Kind::read(32)),
             Binding::new("far_list", Kind::read(4)),

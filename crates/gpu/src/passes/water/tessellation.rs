@@ -5,11 +5,12 @@
 use shader::pipeline::{Layouts, RasterPass};
 use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Stage, Target};
 
-use super::super::LIBRARY;
 use super::super::raster::{DEPTH_WRITE, GEOMETRY};
-use super::{GpuWaterFrame, WaterGroups, WaterTargets};
+use super::groups::WaterGroups;
+use super::rows::{FRAME, WATER};
+use super::targets::WaterTargets;
 use crate::error::Result;
-use crate::resources::rows::FrameUniforms;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// The pass: the grid's vertex and fragment stages.
@@ -21,8 +22,8 @@ pub(crate) const TESSELLATION: Pass = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("frame", Kind::uniform(size_of::<FrameUniforms>())),
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            FRAME,
+            WATER,
             Binding::new("vertices", Kind::read(16)),
             Binding::new("tile_list", Kind::read(4)),
         ],

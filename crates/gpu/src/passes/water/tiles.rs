@@ -5,9 +5,11 @@
 use shader::pipeline::ComputePass;
 use shader::{Binding, Entry, Group, Kind, Pass, Sample};
 
-use super::super::LIBRARY;
-use super::{GpuWaterFrame, WaterGroups, WaterTargets};
+use super::groups::WaterGroups;
+use super::rows::WATER;
+use super::targets::WaterTargets;
 use crate::error::Result;
+use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
 /// What the two entry points run over: the mini G-buffer's size and its tile count.
@@ -26,7 +28,7 @@ pub(crate) const TILES: Pass<TilesDispatch> = Pass {
     groups: &[Group {
         name: "water",
         bindings: &[
-            Binding::new("water", Kind::uniform(size_of::<GpuWaterFrame>())),
+            WATER,
             Binding::new("data", Kind::texture_2d(Sample::Uint)),
             Binding::new("counts", Kind::read_write(4)),
             Binding::new("tile_list", Kind::read_write(4)),

@@ -442,7 +442,7 @@ pub fn light_paths(image: &Rgba8Image, frame: &crate::FrameInput) -> (Rgba8Image
     };
     let proj = perspective.gpu(glam::Vec2::new(w as f32, h as f32));
     let classifier = LightClassifier::default();
-    for light in crate::local_light_rows(&frame.lighting, &frame.camera) {
+    for light in crate::inspect::local_light_rows(&frame.lighting, &frame.camera) {
         let class = classifier.classify(&proj, &light);
         let colour = match class.path {
             LightPath::Culled => {
@@ -487,7 +487,7 @@ pub const LEGEND_HEIGHT: u32 = 12;
 pub fn lights_per_tile(
     width: u32,
     height: u32,
-    tiles: &crate::LightTiles,
+    tiles: &crate::inspect::LightTiles,
     max: u32,
 ) -> (Rgba8Image, u32) {
     use deferred::lights::TILE_SIZE;
@@ -639,7 +639,7 @@ mod tests {
             nearest: 0.5,
             farthest: 0.2,
         };
-        let tiles = crate::LightTiles {
+        let tiles = crate::inspect::LightTiles {
             tiles: [3, 2],
             depths: vec![
                 full,
@@ -650,7 +650,7 @@ mod tests {
                 full,
             ],
             counts: vec![0, 8, 0, 4, 2, 8],
-            ..crate::LightTiles::default()
+            ..crate::inspect::LightTiles::default()
         };
         let (w, h) = (40u32, 44u32);
         let (img, max) = lights_per_tile(w, h, &tiles, 0);
@@ -670,7 +670,7 @@ mod tests {
         assert_eq!(max, 4);
         assert_eq!(img.pixels[(5 * w + 21) as usize], heat_color(1.0));
         // Fewer counts than tiles (a short read) leave black, never read out of bounds.
-        let short = crate::LightTiles {
+        let short = crate::inspect::LightTiles {
             counts: vec![1],
             ..tiles
         };
