@@ -712,7 +712,9 @@ mod tests {
 
     #[test]
     fn hiz_depth_matches_its_description_and_the_reduction_uniform() {
-        shadercheck::check_pass(&crate::passes::depth_reductions::HIZ_DEPTH, |_| shadercheck::Caps::CORE);
+        shadercheck::check_pass(&crate::passes::depth_reductions::HIZ_DEPTH, |_| {
+            shadercheck::Caps::CORE
+        });
         let m = shadercheck::assert_composed(
             crate::shaders::LIBRARY,
             "gpu::hiz_depth",
