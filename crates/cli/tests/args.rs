@@ -94,22 +94,26 @@ fn densities_are_finite_and_above_zero() {
 fn numbers_between_bounds_name_them_and_the_unit() {
     assert_eq!(cli::number_between("0.125", 0.125, 1.0, ""), Ok(0.125));
     assert_eq!(cli::number_between(" 64 ", 0.0, 64.0, " texels"), Ok(64.0));
-    assert_eq!(
-        cli::number_between("0.1", 0.125, 1.0, "").unwrap_err(),
-        "0.1 is not between 0.125 and 1"
-    );
-    assert_eq!(
-        cli::number_between("NaN", 1.0, 10_000.0, " metres").unwrap_err(),
-        "NaN is not between 1 and 10000 metres"
-    );
-    assert_eq!(
-        cli::number_between("inf", 0.0, 64.0, " texels").unwrap_err(),
-        "inf is not between 0 and 64 texels"
-    );
-    assert_eq!(
-        cli::number_between("far", 1.0, 2.0, "").unwrap_err(),
-        "`far` is not a number"
-    );
+    for (s, lo, hi, unit, message) in [
+        ("0.1", 0.125, 1.0, "", "0.1 is not between 0.125 and 1"),
+        (
+            "NaN",
+            1.0,
+            10_000.0,
+            " metres",
+            "NaN is not between 1 and 10000 metres",
+        ),
+        (
+            "inf",
+            0.0,
+            64.0,
+            " texels",
+            "inf is not between 0 and 64 texels",
+        ),
+        ("far", 1.0, 2.0, "", "`far` is not a number"),
+    ] {
+        assert_eq!(cli::number_between(s, lo, hi, unit).unwrap_err(), message);
+    }
 }
 
 #[test]
@@ -127,31 +131,23 @@ fn a_density_over_the_limits_names_the_flag_and_the_scene() {
     );
 }
 
+/// `--no-sun`, `--lights`, the square's half-size and the seed.
+fn lights(no_sun: bool, count: u32, half_extent: f32, seed: u64) -> LocalLights {
+    LocalLights {
+        no_sun,
+        count,
+        half_extent,
+        seed,
+    }
+}
+
 #[test]
 fn no_sun_and_no_lights_leave_the_rest_alone() {
     let day = Lighting::default();
     let target = Vec3::new(5.0, 1.0, -3.0);
-    let same = cli::lighting(
-        day.clone(),
-        target,
-        &LocalLights {
-            no_sun: false,
-            count: 0,
-            half_extent: 25.0,
-            seed: 1,
-        },
-    );
+    let same = cli::lighting(day.clone(), target, &lights(false, 0, 25.0, 1));
     assert_eq!(same, day);
-    let night = cli::lighting(
-        day.clone(),
-        target,
-        &LocalLights {
-            no_sun: true,
-            count: 0,
-            half_extent: 25.0,
-            seed: 1,
-        },
-    );
+    let night = cli::lighting(day.clone(), target, &lights(true, 0, 25.0, 1));
     assert_eq!(night.sun_color, Vec3::ZERO);
     assert_eq!(night.ambient, day.ambient);
     assert!(night.point_lights.is_empty() && night.spot_lights.is_empty());
@@ -161,16 +157,7 @@ fn no_sun_and_no_lights_leave_the_rest_alone() {
 fn lights_come_at_dusk_around_the_target() {
     let day = Lighting::default();
     let target = Vec3::new(5.0, 1.0, -3.0);
-    let dusk = cli::lighting(
-        day.clone(),
-        target,
-        &LocalLights {
-            no_sun: false,
-            count: 30,
-            half_extent: 10.0,
-            seed: 7,
-        },
-    );
+    let dusk = cli::lighting(day.clone(), target, &lights(false, 30, 10.0, 7));
     // Two point lights in three, the rest spots.
     assert_eq!(dusk.point_lights.len(), 20);
     assert_eq!(dusk.spot_lights.len(), 10);
@@ -190,16 +177,7 @@ fn lights_come_at_dusk_around_the_target() {
         assert!((0.5..=3.0).contains(&d.y), "{p}: lamps 0.5-3 m up");
     }
     // With the sun off too, it stays off.
-    let dark = cli::lighting(
-        day,
-        target,
-        &LocalLights {
-            no_sun: true,
-            count: 3,
-            half_extent: 10.0,
-            seed: 7,
-        },
-    );
+    let dark = cli::lighting(day, target, &lights(true, 3, 10.0, 7));
     assert_eq!(dark.sun_color, Vec3::ZERO);
     assert_eq!(dark.point_lights.len() + dark.spot_lights.len(), 3);
 }

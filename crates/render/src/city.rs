@@ -62,13 +62,7 @@ pub(crate) fn render_city(
     // still).
     let readback = args.occlusion == OcclusionArg::Readback;
     for _ in 0..desc.fade_frames.max(u32::from(readback)) {
-        let mut view = gpu::StaticView {
-            query: &mut query,
-            scene: &mut cpu,
-            view: desc,
-            options: QueryOptions::default(),
-            occlusion,
-        };
+        let mut view = static_view(&mut query, &mut cpu, desc, occlusion);
         renderer.render_static(&prepared, &frame, RenderPath::Deferred, &mut view)?;
     }
     if readback {
@@ -78,13 +72,7 @@ pub(crate) fn render_city(
     }
     let mut images = Vec::new();
     for &path in paths {
-        let mut view = gpu::StaticView {
-            query: &mut query,
-            scene: &mut cpu,
-            view: desc,
-            options: QueryOptions::default(),
-            occlusion,
-        };
+        let mut view = static_view(&mut query, &mut cpu, desc, occlusion);
         let frames = if args.walk > 0.0 {
             let base = frame.clone();
             let ahead = (base.camera.target - base.camera.position).normalize();
@@ -211,4 +199,20 @@ pub(crate) fn render_city(
     );
     print!("{report}");
     Ok(())
+}
+
+/// The city's static view of one frame: `desc` with the query's default options.
+fn static_view<'a>(
+    query: &'a mut gpu::StaticQuery,
+    scene: &'a mut gpu::staticscene::Scene,
+    desc: gpu::staticscene::ViewDesc,
+    occlusion: gpu::StaticOcclusion,
+) -> gpu::StaticView<'a> {
+    gpu::StaticView {
+        query,
+        scene,
+        view: desc,
+        options: gpu::staticscene::QueryOptions::default(),
+        occlusion,
+    }
 }

@@ -222,63 +222,7 @@ impl State {
                 }
 
                 ui.separator();
-                let s = self.prepared.summary();
-                let lights = self.renderer.inspect().light_path_counts();
-                let uploads = self.renderer.inspect().upload_stats();
-                egui::Grid::new("counters")
-                    .striped(true)
-                    .num_columns(2)
-                    .show(ui, |ui| {
-                        let mut row = |k: &str, v: String| {
-                            ui.label(k);
-                            ui.label(v);
-                            ui.end_row();
-                        };
-                        row("instances", s.instances.to_string());
-                        row("triangles", s.triangles.to_string());
-                        row(
-                            "micro batches / passes",
-                            format!("{} / {}", s.micro_batches, s.passes),
-                        );
-                        row(
-                            "local lights",
-                            (self.lighting.point_lights.len() + self.lighting.spot_lights.len())
-                                .to_string(),
-                        );
-                        row(
-                            "lights tiled / volumes",
-                            format!("{} / {}", lights.tiled, lights.volumes),
-                        );
-                        row("spot shadow maps", lights.spot_shadow_maps.to_string());
-                        row(
-                            "uploads",
-                            format!("{} B in {} blocks", uploads.bytes, uploads.blocks.len()),
-                        );
-                        if let Some((st, _)) = &self.stats {
-                            row("vis pixels", st.vis_pixels.to_string());
-                            row("tile groups", st.tile_groups.to_string());
-                            row("pixel commands", st.pixel_commands.to_string());
-                            row(
-                                "wave commands",
-                                format!("{} (width {})", st.wave_commands, st.wave_width),
-                            );
-                            row("unfilled lanes", st.unfilled_lanes.to_string());
-                            row("depth-equal waves (HZD)", st.depth_equal_waves.to_string());
-                            row(
-                                "vertices after chunk culling",
-                                format!("{} of {}", st.vertices_after_chunk_culling, st.scene_vertices),
-                            );
-                            row(
-                                "GPU = CPU twin",
-                                match st.gpu_matches_cpu {
-                                    Some(true) => "yes",
-                                    Some(false) => "NO",
-                                    None => "-",
-                                }
-                                .to_string(),
-                            );
-                        }
-                    });
+                self.counters(ui);
                 ui.checkbox(
                     &mut self.stats_on,
                     "classification counters (read back and checked on the CPU twice a second; deferred frames)",
@@ -294,6 +238,67 @@ impl State {
                          O sun shadows; R reset camera; F1 overlay; F12 screenshot; Esc quit",
                     );
                 });
+            });
+    }
+
+    /// The counters' grid: the scene's and the renderer's, then (while switched on) the
+    /// classification's.
+    fn counters(&self, ui: &mut egui::Ui) {
+        let s = self.prepared.summary();
+        let lights = self.renderer.inspect().light_path_counts();
+        let uploads = self.renderer.inspect().upload_stats();
+        let local = self.lighting.point_lights.len() + self.lighting.spot_lights.len();
+        let mut rows = vec![
+            ("instances", s.instances.to_string()),
+            ("triangles", s.triangles.to_string()),
+            (
+                "micro batches / passes",
+                format!("{} / {}", s.micro_batches, s.passes),
+            ),
+            ("local lights", local.to_string()),
+            (
+                "lights tiled / volumes",
+                format!("{} / {}", lights.tiled, lights.volumes),
+            ),
+            ("spot shadow maps", lights.spot_shadow_maps.to_string()),
+            (
+                "uploads",
+                format!("{} B in {} blocks", uploads.bytes, uploads.blocks.len()),
+            ),
+        ];
+        if let Some((st, _)) = &self.stats {
+            let twin = match st.gpu_matches_cpu {
+                Some(true) => "yes",
+                Some(false) => "NO",
+                None => "-",
+            };
+            let vertices = format!(
+                "{} of {}",
+                st.vertices_after_chunk_culling, st.scene_vertices
+            );
+            rows.extend([
+                ("vis pixels", st.vis_pixels.to_string()),
+                ("tile groups", st.tile_groups.to_string()),
+                ("pixel commands", st.pixel_commands.to_string()),
+                (
+                    "wave commands",
+                    format!("{} (width {})", st.wave_commands, st.wave_width),
+                ),
+                ("unfilled lanes", st.unfilled_lanes.to_string()),
+                ("depth-equal waves (HZD)", st.depth_equal_waves.to_string()),
+                ("vertices after chunk culling", vertices),
+                ("GPU = CPU twin", twin.to_string()),
+            ]);
+        }
+        egui::Grid::new("counters")
+            .striped(true)
+            .num_columns(2)
+            .show(ui, |ui| {
+                for (k, v) in rows {
+                    ui.label(k);
+                    ui.label(v);
+                    ui.end_row();
+                }
             });
     }
 }
