@@ -332,14 +332,7 @@ impl Report {
                 group_digits(s.placed),
                 s.draws[0],
                 s.draws[1],
-                if s.over_capacity + s.bad_batches > 0 {
-                    format!(
-                        " ({} over capacity, {} bad batches)",
-                        s.over_capacity, s.bad_batches
-                    )
-                } else {
-                    String::new()
-                }
+                overflow(s.over_capacity, s.bad_batches)
             ),
         );
     }
@@ -368,14 +361,7 @@ impl Report {
                     group_digits(v.placed),
                     v.draws[0],
                     v.draws[1],
-                    if v.over_capacity + v.bad_batches > 0 {
-                        format!(
-                            " ({} over capacity, {} bad batches)",
-                            v.over_capacity, v.bad_batches
-                        )
-                    } else {
-                        String::new()
-                    }
+                    overflow(v.over_capacity, v.bad_batches)
                 ),
             );
         }
@@ -663,6 +649,16 @@ impl fmt::Display for Report {
     }
 }
 
+/// ` (N over capacity, M bad batches)` after a static query's placed instances and draws,
+/// where either count is above zero; nothing otherwise.
+fn overflow(over_capacity: u32, bad_batches: u32) -> String {
+    if over_capacity > 0 || bad_batches > 0 {
+        format!(" ({over_capacity} over capacity, {bad_batches} bad batches)")
+    } else {
+        String::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -671,5 +667,16 @@ mod tests {
         assert_eq!(super::group_digits(999), "999");
         assert_eq!(super::group_digits(1000), "1 000");
         assert_eq!(super::group_digits(1_234_567), "1 234 567");
+    }
+
+    #[test]
+    fn overflow_is_named_only_when_there_is_some() {
+        assert_eq!(super::overflow(0, 0), "");
+        assert_eq!(super::overflow(3, 0), " (3 over capacity, 0 bad batches)");
+        assert_eq!(super::overflow(0, 1), " (0 over capacity, 1 bad batches)");
+        assert_eq!(
+            super::overflow(u32::MAX, u32::MAX),
+            " (4294967295 over capacity, 4294967295 bad batches)"
+        );
     }
 }

@@ -115,8 +115,8 @@ impl MsaaArg {
     }
 }
 
-/// `--light-paths`: the `render` binary's (the same choices and names).
-pub use render::LightPathsArg;
+/// `--light-paths`: the `render` binary's (the same choices and names: the `cli` crate's).
+pub use cli::LightPathsArg;
 
 /// Open a demo scene in a window and fly through it; switch paths and debug views; read the
 /// per-pass GPU times live.
@@ -138,13 +138,13 @@ pub struct Args {
     pub seed: u64,
     /// Instance density multiplier, above 0 (checked against the talk's limits before
     /// anything is built).
-    #[arg(long, default_value_t = 1.0, value_parser = positive_density, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, value_parser = cli::positive_density, allow_negative_numbers = true)]
     pub density: f32,
     /// Window (and image) width in pixels, 1 to 16384.
-    #[arg(long, default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    #[arg(long, default_value_t = 1280, value_parser = cli::image_side())]
     pub width: u32,
     /// Window (and image) height in pixels, 1 to 16384.
-    #[arg(long, default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=16384))]
+    #[arg(long, default_value_t = 720, value_parser = cli::image_side())]
     pub height: u32,
     /// The path to start on.
     #[arg(long, value_enum, default_value = "deferred")]
@@ -158,7 +158,7 @@ pub struct Args {
     pub camera: Option<Camera>,
     /// Add this many local lights (two point lights in three, the rest spots) around the
     /// camera's target, at dusk (0 to 4000).
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4000))]
+    #[arg(long, default_value_t = 0, value_parser = cli::light_count())]
     pub lights: u32,
     /// Switch the sun off.
     #[arg(long)]
@@ -178,7 +178,7 @@ pub struct Args {
     /// Scripted mode: render this many frames (1 to 100000) through the window at exactly
     /// `--width` x `--height` from a still camera, then take `--screenshot` (and with
     /// `--exit`, close).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    #[arg(long, value_parser = cli::frame_count())]
     pub script_frames: Option<u32>,
     /// Where screenshots go: with `--script-frames`, the PNG written after the last
     /// scripted frame; otherwise the file F12 writes (default
@@ -191,19 +191,6 @@ pub struct Args {
     /// Start with the overlay hidden (`F1` shows it).
     #[arg(long)]
     pub no_overlay: bool,
-}
-
-/// A density given on the command line: a finite number above zero.
-fn positive_density(s: &str) -> Result<f32, String> {
-    let d: f32 = s
-        .trim()
-        .parse()
-        .map_err(|_| format!("`{s}` is not a number"))?;
-    if d.is_finite() && d > 0.0 {
-        Ok(d)
-    } else {
-        Err(format!("{s} is not a finite number above 0"))
-    }
 }
 
 /// A camera given as `px,py,pz,tx,ty,tz`: six finite numbers, the target away from the eye.
@@ -320,8 +307,7 @@ pub fn load_scene(source: &SceneSource) -> Result<LoadedScene> {
             })
         }
         SceneSource::Demo(options) => {
-            demo::check_density(options)
-                .with_context(|| format!("--density for the {} scene", options.scene.name()))?;
+            cli::check_density(options)?;
             let (scene, frame) = demo::build(options);
             Ok(LoadedScene {
                 name: source.name(),
@@ -388,16 +374,14 @@ impl Args {
 
     /// The lighting of the first frame: the scene's, dusk with `--lights` local lights
     /// scattered within 25 m of `target`, the sun off with `--no-sun`.
-    pub fn lighting(&self, mut lighting: Lighting, target: Vec3) -> Lighting {
-        if self.no_sun {
-            lighting.sun_color = Vec3::ZERO;
-        }
-        if self.lights > 0 {
-            lighting.sun_color *= 0.12;
-            lighting.ambient *= 0.35;
-            demo::scatter_lights(&mut lighting, target, 25.0, self.lights as usize, self.seed);
-        }
-        lighting
+    pub fn lighting(&self, lighting: Lighting, target: Vec3) -> Lighting {
+        let lights = cli::LocalLights {
+            no_sun: self.no_sun,
+            count: self.lights,
+            half_extent: 25.0,
+            seed: self.seed,
+        };
+        cli::lighting(lighting, target, &lights)
     }
 }
 

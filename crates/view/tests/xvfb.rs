@@ -159,29 +159,35 @@ fn read(path: &Path) -> Rgba8Image {
     Rgba8Image::read_png(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The headless renderer at the scripted size, in the viewer's default configuration.
+fn headless_renderer() -> Renderer {
+    let c = ctx();
+    let config = RendererConfig {
+        width: WIDTH,
+        height: HEIGHT,
+        ..RendererConfig::default()
+    };
+    Renderer::new(&c.device, &c.queue, config).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The scripted camera's still frame (`--camera`, time 0) under `lighting`.
+fn scripted_frame(lighting: gpu::Lighting) -> FrameInput {
+    FrameInput {
+        camera: Camera::look_at(EYE, TARGET),
+        time: 0.0,
+        lighting,
+    }
+}
+
 /// The same scene, camera and configuration on the headless device.
 fn headless(path: RenderPath) -> (Renderer, gpu::PreparedScene, FrameInput) {
-    let c = ctx();
     let (scene, demo_frame) = demo::build(&DemoOptions {
         scene: DemoScene::Forest,
         ..DemoOptions::default()
     });
-    let mut r = Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: WIDTH,
-            height: HEIGHT,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let mut r = headless_renderer();
     let prepared = r.prepare(&scene).unwrap_or_else(|e| panic!("{e}"));
-    let frame = FrameInput {
-        camera: Camera::look_at(EYE, TARGET),
-        time: 0.0,
-        lighting: demo_frame.lighting,
-    };
+    let frame = scripted_frame(demo_frame.lighting);
     r.render(&prepared, &frame, path)
         .unwrap_or_else(|e| panic!("{e}"));
     (r, prepared, frame)
@@ -280,22 +286,9 @@ fn the_city_through_the_window_is_the_headless_city() {
         &city.world.groups,
     )
     .unwrap();
-    let mut r = Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            width: WIDTH,
-            height: HEIGHT,
-            ..RendererConfig::default()
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let mut r = headless_renderer();
     let prepared = r.prepare(&city.scene).unwrap_or_else(|e| panic!("{e}"));
-    let frame = FrameInput {
-        camera: Camera::look_at(EYE, TARGET),
-        time: 0.0,
-        lighting: city.frame.lighting.clone(),
-    };
+    let frame = scripted_frame(city.frame.lighting.clone());
     for _ in 0..FRAMES {
         let mut view = gpu::statics::StaticView {
             query: &mut query,

@@ -1,0 +1,99 @@
+//! The renderer and device the arguments ask for.
+
+use gpu::config::PrimitiveIdPath;
+use gpu::{HeadlessOptions, RendererConfig};
+
+use crate::args::{
+    Args, GBufferArg, LaydownArg, LaydownTargetArg, MsaaArg, PrimitiveIdArg, VertexRingArg, VrsArg,
+};
+
+impl Args {
+    /// The headless device's options: `--no-subgroups` and `--no-barycentrics` leave those
+    /// features off, `--indirect-validation` turns wgpu's validation on.
+    pub fn headless_options(&self) -> HeadlessOptions {
+        let mut disable = wgpu::Features::empty();
+        if self.no_subgroups {
+            disable |= wgpu::Features::SUBGROUP;
+        }
+        if self.no_barycentrics {
+            disable |= wgpu::Features::SHADER_BARYCENTRICS;
+        }
+        HeadlessOptions {
+            disable_features: disable,
+            indirect_validation: self.indirect_validation,
+            ..Default::default()
+        }
+    }
+
+    /// The renderer configuration the arguments ask for (`--msaa compare`: KZ2's; the
+    /// second renderer lighting every sample is [`RendererConfig`] with that changed).
+    pub fn renderer_config(&self) -> RendererConfig {
+        let primitive_id = match self.primitive_id {
+            PrimitiveIdArg::Auto => None,
+            PrimitiveIdArg::Builtin => Some(PrimitiveIdPath::Builtin),
+            PrimitiveIdArg::Xor => Some(PrimitiveIdPath::PerVertexXor),
+            PrimitiveIdArg::Provoking => Some(PrimitiveIdPath::ProvokingVertex),
+        };
+        RendererConfig {
+            width: self.width,
+            height: self.height,
+            primitive_id,
+            light_paths: if self.all_lights {
+                gpu::config::LightPaths::EveryPixel
+            } else {
+                self.light_paths.paths()
+            },
+            shadows: (!self.no_shadows).then(|| gpu::config::ShadowConfig {
+                cache: !self.no_shadow_cache,
+                resolution_divisor: if self.uniform_shadow_resolution {
+                    [1; 8]
+                } else {
+                    gpu::config::ShadowConfig::default().resolution_divisor
+                },
+                static_size_threshold: self.shadow_size_threshold,
+                ..gpu::config::ShadowConfig::default()
+            }),
+            baked_sun: !self.no_baked_sun,
+            spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
+            cull_shadow_casters: !self.no_caster_culling,
+            conditional_volumes: !self.no_conditional_volumes,
+            gbuffer: match self.gbuffer {
+                GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
+                GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
+            },
+            msaa: match self.msaa {
+                MsaaArg::Off => None,
+                MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
+                MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
+            },
+            laydown: match self.laydown {
+                LaydownArg::Hardware => gpu::Laydown::Hardware,
+                LaydownArg::Compute => gpu::Laydown::Compute,
+                LaydownArg::Auto => gpu::Laydown::Auto,
+            },
+            compute_laydown_max_extent: self.laydown_max_extent,
+            compute_laydown_target: match self.laydown_target {
+                LaydownTargetArg::Auto => None,
+                LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
+                LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
+            },
+            mixed_frame: self.mixed_frame,
+            vertex_ring: match self.vertex_ring {
+                VertexRingArg::Off => None,
+                VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
+                VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
+            },
+            ring_resolve: !self.per_pixel_transform,
+            vrs: match self.vrs {
+                VrsArg::Off => None,
+                VrsArg::On => Some(gpu::config::VrsConfig::default()),
+                VrsArg::All2x2 => Some(gpu::config::VrsConfig {
+                    distance_2x1: 1e-6,
+                    distance_2x2: 1e-6,
+                    ..gpu::config::VrsConfig::default()
+                }),
+            },
+            ..RendererConfig::default()
+        }
+    }
+}
