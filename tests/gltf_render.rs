@@ -213,12 +213,18 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
         &c.device,
         &c.queue,
         RendererConfig {
-            width: 192,
-            height: 108,
-            shadows: Some(gpu::config::ShadowConfig {
-                resolution: 512,
-                ..gpu::config::ShadowConfig::default()
-            }),
+            image: gpu::config::ImageConfig {
+                width: 192,
+                height: 108,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: Some(gpu::config::ShadowConfig {
+                    resolution: 512,
+                    ..gpu::config::ShadowConfig::default()
+                }),
+                ..Default::default()
+            },
             ..RendererConfig::default()
         },
     )

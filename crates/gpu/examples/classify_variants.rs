@@ -46,8 +46,11 @@ fn main() -> anyhow::Result<()> {
         &ctx.device,
         &ctx.queue,
         RendererConfig {
-            width: args.width,
-            height: args.height,
+            image: gpu::config::ImageConfig {
+                width: args.width,
+                height: args.height,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         },
     )?;

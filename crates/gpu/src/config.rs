@@ -1,4 +1,5 @@
-//! What a [`RendererConfig`](crate::RendererConfig) chooses beyond its defaults: the
+//! [`RendererConfig`](crate::RendererConfig)'s groups (image, geometry, lighting, frames) and
+//! what they choose beyond the defaults: the
 //! laydown and how `Laydown::Auto` chose, the light paths, MSAA, VRS, shadows, the vertex
 //! ring's sizes, the compute laydown's limits and the device paths the renderer found.
 
@@ -7,8 +8,8 @@ pub use crate::passes::compute_laydown::{
     COMPUTE_LAYDOWN_EXTENT_LIMIT, COMPUTE_LAYDOWN_MAX_EXTENT,
 };
 pub use crate::renderer::{
-    AUTO_LAYDOWN_FRAMES, LaydownChoice, LaydownReason, LightPaths, MSAA_SAMPLES, MsaaLighting,
-    VrsConfig,
+    AUTO_LAYDOWN_FRAMES, FrameConfig, GeometryConfig, ImageConfig, LaydownChoice, LaydownReason,
+    LightPaths, LightingConfig, MSAA_SAMPLES, MsaaLighting, VrsConfig,
 };
 pub use crate::resources::vis64::{
     COMPUTE_LAYDOWN_FEATURES, LAYDOWN_TEXTURE_FEATURES, LaydownTarget,

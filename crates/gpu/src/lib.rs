@@ -103,7 +103,8 @@
 //! };
 //!
 //! let ctx = gpu::headless(&gpu::HeadlessOptions::default())?;
-//! let config = RendererConfig { width: 640, height: 360, ..RendererConfig::default() };
+//! let mut config = RendererConfig::default();
+//! (config.image.width, config.image.height) = (640, 360);
 //! let mut renderer = Renderer::new(&ctx.device, &ctx.queue, config)?;
 //! let prepared = renderer.prepare(&scene)?;
 //! let frame = FrameInput::new(Camera::look_at(Vec3::new(0.0, 1.0, 8.0), Vec3::ZERO));

@@ -310,28 +310,40 @@ fn renderer_misuse_is_an_error() {
     for (bad, name) in [
         (
             RendererConfig {
-                width: 0,
+                image: gpu::config::ImageConfig {
+                    width: 0,
+                    ..Default::default()
+                },
                 ..RendererConfig::default()
             },
             "RendererConfig::width",
         ),
         (
             RendererConfig {
-                height: 0,
+                image: gpu::config::ImageConfig {
+                    height: 0,
+                    ..Default::default()
+                },
                 ..RendererConfig::default()
             },
             "RendererConfig::height",
         ),
         (
             RendererConfig {
-                mip_bias: f32::NAN,
+                image: gpu::config::ImageConfig {
+                    mip_bias: f32::NAN,
+                    ..Default::default()
+                },
                 ..RendererConfig::default()
             },
             "RendererConfig::mip_bias",
         ),
         (
             RendererConfig {
-                mip_bias: -17.0,
+                image: gpu::config::ImageConfig {
+                    mip_bias: -17.0,
+                    ..Default::default()
+                },
                 ..RendererConfig::default()
             },
             "RendererConfig::mip_bias",

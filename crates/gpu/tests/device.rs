@@ -69,9 +69,15 @@ fn frames_without_indirect_validation_are_the_same() {
         })
         .unwrap_or_else(|e| panic!("{e}"));
         let config = RendererConfig {
-            width: 160,
-            height: 96,
-            shadows: None,
+            image: gpu::config::ImageConfig {
+                width: 160,
+                height: 96,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: None,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         };
         let mut r = Renderer::new(&ctx.device, &ctx.queue, config).unwrap();

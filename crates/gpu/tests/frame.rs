@@ -218,12 +218,20 @@ fn upload_rig(pool: PoolConfig) -> (gpu::Renderer, gpu::PreparedScene, FrameInpu
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 25.0, 300, 3);
     let r = common::renderer_with(gpu::RendererConfig {
-        width: 160,
-        height: 90,
-        shadows: common::test_shadows(),
-        upload_pool: pool,
-        // No pacing wait: every frame may run ahead.
-        frames_in_flight: 64,
+        image: gpu::config::ImageConfig {
+            width: 160,
+            height: 90,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
+        frames: gpu::config::FrameConfig {
+            upload_pool: pool, // No pacing wait: every frame may run ahead.
+            frames_in_flight: 64,
+            ..Default::default()
+        },
         ..gpu::RendererConfig::default()
     });
     let p = r.prepare(&scene).unwrap();
@@ -346,7 +354,10 @@ fn an_upload_pool_smaller_than_a_frame_is_an_error() {
         &c.device,
         &c.queue,
         gpu::RendererConfig {
-            upload_pool: PoolConfig::new(1000, 300),
+            frames: gpu::config::FrameConfig {
+                upload_pool: PoolConfig::new(1000, 300),
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         },
     );
@@ -384,10 +395,16 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
     demo::scatter_lights(&mut frame.lighting, target, 25.0, 100, 3);
     let renderer = |gbuffer| {
         common::renderer_with(gpu::RendererConfig {
-            width: 240,
-            height: 135,
-            shadows: common::test_shadows(),
-            gbuffer,
+            image: gpu::config::ImageConfig {
+                width: 240,
+                height: 135,
+                gbuffer,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         })
     };
@@ -457,11 +474,20 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
     let (scene, frame) = scene(DemoScene::Forest);
     for vertex_ring in [None, Some(gpu::config::RING_BYTES_PS4)] {
         let mut r = common::renderer_with(gpu::RendererConfig {
-            width: 320,
-            height: 180,
-            shadows: common::test_shadows(),
-            laydown: gpu::Laydown::Compute,
-            vertex_ring,
+            image: gpu::config::ImageConfig {
+                width: 320,
+                height: 180,
+                ..Default::default()
+            },
+            geometry: gpu::config::GeometryConfig {
+                laydown: gpu::Laydown::Compute,
+                vertex_ring,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         });
         assert_eq!(r.laydown(), gpu::Laydown::Compute);
@@ -522,11 +548,20 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
         let (scene, frame) = scene(kind);
         let image = |laydown, light_paths| {
             let mut r = common::renderer_with(gpu::RendererConfig {
-                width: 320,
-                height: 180,
-                shadows: common::test_shadows(),
-                laydown,
-                light_paths,
+                image: gpu::config::ImageConfig {
+                    width: 320,
+                    height: 180,
+                    ..Default::default()
+                },
+                geometry: gpu::config::GeometryConfig {
+                    laydown,
+                    ..Default::default()
+                },
+                lighting: gpu::config::LightingConfig {
+                    shadows: common::test_shadows(),
+                    light_paths,
+                    ..Default::default()
+                },
                 ..gpu::RendererConfig::default()
             });
             assert_eq!(r.laydown(), laydown);

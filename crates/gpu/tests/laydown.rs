@@ -277,9 +277,15 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
         }
         tested += 1;
         let config = RendererConfig {
-            width: W,
-            height: H,
-            primitive_id: Some(path),
+            image: gpu::config::ImageConfig {
+                width: W,
+                height: H,
+                ..Default::default()
+            },
+            geometry: gpu::config::GeometryConfig {
+                primitive_id: Some(path),
+                ..Default::default()
+            },
             ..Default::default()
         };
         check_against_f64(config, path.name());
@@ -290,11 +296,17 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
 /// The compute laydown at the test size with split `extent` and target `target`.
 fn compute_config(extent: f32, target: LaydownTarget) -> RendererConfig {
     RendererConfig {
-        width: W,
-        height: H,
-        laydown: Laydown::Compute,
-        compute_laydown_max_extent: extent,
-        compute_laydown_target: Some(target),
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            laydown: Laydown::Compute,
+            compute_laydown_max_extent: extent,
+            compute_laydown_target: Some(target),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }
@@ -328,10 +340,16 @@ fn compute_laydown_matches_the_f64_rasteriser() {
                 &probe.device,
                 &probe.queue,
                 RendererConfig {
-                    width: W,
-                    height: H,
-                    laydown: Laydown::Compute,
-                    compute_laydown_target: Some(target),
+                    image: gpu::config::ImageConfig {
+                        width: W,
+                        height: H,
+                        ..Default::default()
+                    },
+                    geometry: gpu::config::GeometryConfig {
+                        laydown: Laydown::Compute,
+                        compute_laydown_target: Some(target),
+                        ..Default::default()
+                    },
                     ..Default::default()
                 },
             );
@@ -621,9 +639,15 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
     let probe = ctx();
     let render = |laydown| {
         let config = RendererConfig {
-            width: W,
-            height: H,
-            laydown,
+            image: gpu::config::ImageConfig {
+                width: W,
+                height: H,
+                ..Default::default()
+            },
+            geometry: gpu::config::GeometryConfig {
+                laydown,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
@@ -692,9 +716,15 @@ fn the_compute_laydown_falls_back_to_the_hardware_one_without_64_bit_atomics() {
     .unwrap();
     assert!(!c.paths.int64_atomics);
     let config = RendererConfig {
-        width: W,
-        height: H,
-        laydown: Laydown::Compute,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            laydown: Laydown::Compute,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
@@ -822,9 +852,15 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
             &probe.device,
             &probe.queue,
             RendererConfig {
-                width: W,
-                height: H,
-                laydown,
+                image: gpu::config::ImageConfig {
+                    width: W,
+                    height: H,
+                    ..Default::default()
+                },
+                geometry: gpu::config::GeometryConfig {
+                    laydown,
+                    ..Default::default()
+                },
                 ..Default::default()
             },
         )
@@ -962,9 +998,15 @@ fn auto_times_both_laydowns_then_keeps_the_faster() {
     assert!(compute_device());
     let c = ctx();
     let config = RendererConfig {
-        width: W,
-        height: H,
-        laydown: Laydown::Auto,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            laydown: Laydown::Auto,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();

@@ -31,11 +31,20 @@ fn lit_forest() -> (Scene, FrameInput) {
 
 fn renderer(light_paths: LightPaths, subgroups: bool) -> Renderer {
     common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        light_paths,
-        subgroups,
-        shadows: common::test_shadows(),
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            subgroups,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            light_paths,
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }
@@ -57,12 +66,21 @@ fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool
     let prepared = r.prepare(scene).unwrap();
     // The compute laydown's frame too: its depth comes from the laydown's unpack.
     let mut compute = common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        light_paths: LightPaths::Tiled,
-        subgroups,
-        shadows: common::test_shadows(),
-        laydown: gpu::Laydown::Compute,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            subgroups,
+            laydown: gpu::Laydown::Compute,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            light_paths: LightPaths::Tiled,
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     });
     assert_eq!(compute.laydown(), gpu::Laydown::Compute);
@@ -336,11 +354,17 @@ fn reference_forest() -> (Scene, FrameInput) {
 /// reference evaluates the lighting terms alone.
 fn reference_renderer(light_paths: LightPaths) -> Renderer {
     common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        shadows: None,
-        spot_shadows: None,
-        light_paths,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: None,
+            spot_shadows: None,
+            light_paths,
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }
@@ -559,11 +583,17 @@ fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
     frame.lighting.spot_lights = vec![lit, buried, aloft];
     let make = |conditional_volumes| {
         common::renderer_with(RendererConfig {
-            width: 240,
-            height: 136,
-            shadows: common::test_shadows(),
-            light_paths: LightPaths::Volumes,
-            conditional_volumes,
+            image: gpu::config::ImageConfig {
+                width: 240,
+                height: 136,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                light_paths: LightPaths::Volumes,
+                conditional_volumes,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         })
     };

@@ -32,11 +32,20 @@ fn scene(kind: DemoScene) -> (Scene, gpu::FrameInput) {
 
 fn renderer(mixed: bool, laydown: Laydown) -> gpu::Renderer {
     common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        shadows: common::test_shadows(),
-        mixed_frame: mixed,
-        laydown,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            mixed_frame: mixed,
+            laydown,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }

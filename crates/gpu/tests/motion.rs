@@ -141,10 +141,19 @@ fn sub_pixel_edge_on_blades_move_as_their_depth() {
     });
     for ring in [None, Some(gpu::config::RING_BYTES_PS5)] {
         let mut r = common::renderer_with(gpu::RendererConfig {
-            width: W,
-            height: H,
-            vertex_ring: ring,
-            shadows: common::test_shadows(),
+            image: gpu::config::ImageConfig {
+                width: W,
+                height: H,
+                ..Default::default()
+            },
+            geometry: gpu::config::GeometryConfig {
+                vertex_ring: ring,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         });
         let prepared = r.prepare(&scene).unwrap();

@@ -70,12 +70,18 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
 
 fn config(msaa: Option<MsaaLighting>) -> RendererConfig {
     RendererConfig {
-        width: W,
-        height: H,
-        shadows: None,
-        spot_shadows: None,
-        baked_sun: false,
-        msaa,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            msaa,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: None,
+            spot_shadows: None,
+            baked_sun: false,
+            ..Default::default()
+        },
         ..RendererConfig::default()
     }
 }
@@ -240,11 +246,17 @@ fn kz2_tricks_give_the_every_sample_image() {
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
     let render = |mode, shadows| {
         let mut r = common::renderer_with(RendererConfig {
-            width: 320,
-            height: 192,
-            shadows,
-            spot_shadows: shadows.map(|_| gpu::config::SpotShadowConfig::default()),
-            msaa: Some(mode),
+            image: gpu::config::ImageConfig {
+                width: 320,
+                height: 192,
+                msaa: Some(mode),
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows,
+                spot_shadows: shadows.map(|_| gpu::config::SpotShadowConfig::default()),
+                ..Default::default()
+            },
             ..RendererConfig::default()
         });
         let prepared = r.prepare(&scene).unwrap();
@@ -298,7 +310,10 @@ fn kz2_tricks_give_the_every_sample_image() {
 #[test]
 fn msaa_refuses_what_it_cannot_serve() {
     let bad = RendererConfig {
-        light_paths: LightPaths::Volumes,
+        lighting: gpu::config::LightingConfig {
+            light_paths: LightPaths::Volumes,
+            ..config(Some(MsaaLighting::Kz2)).lighting
+        },
         ..config(Some(MsaaLighting::Kz2))
     };
     let e = bad.validate().unwrap_err().to_string();

@@ -27,10 +27,19 @@ fn scene(kind: DemoScene) -> (Scene, gpu::FrameInput) {
 
 fn renderer(primitive_id: Option<PrimitiveIdPath>) -> gpu::Renderer {
     common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        primitive_id,
-        shadows: common::test_shadows(),
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            primitive_id,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }

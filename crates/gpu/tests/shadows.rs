@@ -94,9 +94,15 @@ fn shadow_maps_move_by_whole_texels_and_keep_their_texels() {
         ..ShadowConfig::default()
     };
     let mut r = common::renderer_with(RendererConfig {
-        width: 160,
-        height: 90,
-        shadows: Some(config),
+        image: gpu::config::ImageConfig {
+            width: 160,
+            height: 90,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: Some(config),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     });
     let prepared = r.prepare(&scene).unwrap();
@@ -166,10 +172,16 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
     let (w, h) = (240u32, 136u32);
     let make = |baked_sun: bool| {
         common::renderer_with(RendererConfig {
-            width: w,
-            height: h,
-            shadows: common::test_shadows(),
-            baked_sun,
+            image: gpu::config::ImageConfig {
+                width: w,
+                height: h,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                baked_sun,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         })
     };
@@ -268,12 +280,18 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
     });
     let make = |cache: bool| {
         common::renderer_with(RendererConfig {
-            width: 160,
-            height: 90,
-            shadows: Some(ShadowConfig {
-                cache,
-                ..common::test_shadows().unwrap()
-            }),
+            image: gpu::config::ImageConfig {
+                width: 160,
+                height: 90,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: Some(ShadowConfig {
+                    cache,
+                    ..common::test_shadows().unwrap()
+                }),
+                ..Default::default()
+            },
             ..RendererConfig::default()
         })
     };
@@ -364,10 +382,16 @@ fn shadowed_spots_only_darken_and_fade_out() {
     }
     let make = |spot_shadows| {
         common::renderer_with(RendererConfig {
-            width: 240,
-            height: 136,
-            shadows: common::test_shadows(),
-            spot_shadows,
+            image: gpu::config::ImageConfig {
+                width: 240,
+                height: 136,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                spot_shadows,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         })
     };
@@ -422,10 +446,16 @@ fn culling_casters_per_shadow_view_changes_no_texel() {
     demo::scatter_lights(&mut frame.lighting, target, 25.0, 120, 3);
     let make = |cull_shadow_casters| {
         common::renderer_with(RendererConfig {
-            width: 200,
-            height: 112,
-            shadows: common::test_shadows(),
-            cull_shadow_casters,
+            image: gpu::config::ImageConfig {
+                width: 200,
+                height: 112,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                cull_shadow_casters,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         })
     };

@@ -33,10 +33,16 @@ fn renderer() -> Renderer {
 /// GPU-driven city and the same instances planned as batches, which these tests compare.
 fn renderer_sized(width: u32, height: u32) -> Renderer {
     common::renderer_with(gpu::RendererConfig {
-        width,
-        height,
-        shadows: common::test_shadows(),
-        baked_sun: false,
+        image: gpu::config::ImageConfig {
+            width,
+            height,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: common::test_shadows(),
+            baked_sun: false,
+            ..Default::default()
+        },
         ..gpu::RendererConfig::default()
     })
 }
@@ -67,10 +73,16 @@ impl Rig {
     fn without_sun_shadows(width: u32, height: u32) -> Rig {
         let mut rig = Rig::sized(width, height);
         rig.r = common::renderer_with(gpu::RendererConfig {
-            width,
-            height,
-            shadows: None,
-            baked_sun: false,
+            image: gpu::config::ImageConfig {
+                width,
+                height,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: None,
+                baked_sun: false,
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
@@ -808,12 +820,18 @@ fn conditional_volumes_keep_the_static_frame() {
     let mut images = Vec::new();
     for conditional_volumes in [true, false] {
         rig.r = common::renderer_with(gpu::RendererConfig {
-            width: W,
-            height: H,
-            shadows: common::test_shadows(),
-            baked_sun: false,
-            light_paths: gpu::config::LightPaths::Volumes,
-            conditional_volumes,
+            image: gpu::config::ImageConfig {
+                width: W,
+                height: H,
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: common::test_shadows(),
+                baked_sun: false,
+                light_paths: gpu::config::LightPaths::Volumes,
+                conditional_volumes,
+                ..Default::default()
+            },
             ..gpu::RendererConfig::default()
         });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();

@@ -201,10 +201,16 @@ fn shadows(threshold: f32) -> ShadowConfig {
 
 fn renderer(shadows: Option<ShadowConfig>, baked_sun: bool) -> Renderer {
     common::renderer_with(RendererConfig {
-        width: W,
-        height: H,
-        shadows,
-        baked_sun,
+        image: gpu::config::ImageConfig {
+            width: W,
+            height: H,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows,
+            baked_sun,
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }

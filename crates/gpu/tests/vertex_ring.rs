@@ -46,11 +46,20 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
         let wind = Wind::default();
         scene.wind = Some(wind);
         let mut r = common::renderer_with(RendererConfig {
-            width: W,
-            height: H,
-            primitive_id: Some(PrimitiveIdPath::Builtin),
-            shadows: None,
-            vertex_ring: Some(ring_bytes),
+            image: gpu::config::ImageConfig {
+                width: W,
+                height: H,
+                ..Default::default()
+            },
+            geometry: gpu::config::GeometryConfig {
+                primitive_id: Some(PrimitiveIdPath::Builtin),
+                vertex_ring: Some(ring_bytes),
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                shadows: None,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         });
         let prepared = r.prepare(&scene).unwrap();
@@ -257,11 +266,20 @@ fn resolve_from_the_ring_equals_the_per_pixel_transform() {
         let mut gbuffers = Vec::new();
         for ring_resolve in [false, true] {
             let mut r = common::renderer_with(RendererConfig {
-                width: W,
-                height: H,
-                shadows: None,
-                vertex_ring: Some(ring_bytes),
-                ring_resolve,
+                image: gpu::config::ImageConfig {
+                    width: W,
+                    height: H,
+                    ..Default::default()
+                },
+                geometry: gpu::config::GeometryConfig {
+                    vertex_ring: Some(ring_bytes),
+                    ring_resolve,
+                    ..Default::default()
+                },
+                lighting: gpu::config::LightingConfig {
+                    shadows: None,
+                    ..Default::default()
+                },
                 ..RendererConfig::default()
             });
             let prepared = r.prepare(&scene).unwrap();

@@ -43,11 +43,20 @@ fn quad_commands_cover_every_pixel_once_and_the_broadcast_equals_the_sample() {
             let mut runs = Vec::new();
             for vrs in [None, Some(vrs)] {
                 let mut r = common::renderer_with(RendererConfig {
-                    width: W,
-                    height: H,
-                    shadows: None,
-                    vertex_ring: ring,
-                    vrs,
+                    image: gpu::config::ImageConfig {
+                        width: W,
+                        height: H,
+                        ..Default::default()
+                    },
+                    geometry: gpu::config::GeometryConfig {
+                        vertex_ring: ring,
+                        vrs,
+                        ..Default::default()
+                    },
+                    lighting: gpu::config::LightingConfig {
+                        shadows: None,
+                        ..Default::default()
+                    },
                     ..RendererConfig::default()
                 });
                 let prepared = r.prepare(&scene).unwrap();

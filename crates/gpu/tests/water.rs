@@ -38,10 +38,19 @@ fn demo() -> &'static RiverDemo {
 
 fn config(width: u32, height: u32, subgroups: bool) -> RendererConfig {
     RendererConfig {
-        width,
-        height,
-        subgroups,
-        shadows: common::test_shadows(),
+        image: gpu::config::ImageConfig {
+            width,
+            height,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            subgroups,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: common::test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     }
 }
@@ -505,7 +514,10 @@ fn the_water_over_the_compute_laydown_matches_the_hardware_laydown() {
     let d = demo();
     let frame = |laydown| {
         let mut r = common::renderer_with(RendererConfig {
-            laydown,
+            geometry: gpu::config::GeometryConfig {
+                laydown,
+                ..config(256, 144, true).geometry
+            },
             ..config(256, 144, true)
         });
         assert_eq!(r.laydown(), laydown);

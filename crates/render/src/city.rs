@@ -41,7 +41,7 @@ pub(crate) fn render_city(
     let paths: &[RenderPath] = match args.path {
         // The MSAA baseline takes no static frames (its HiZ would read single-sample
         // depth): the city's frames stay on the deferred path.
-        _ if renderer.config().msaa.is_some() => {
+        _ if renderer.config().image.msaa.is_some() => {
             eprintln!("--msaa: the city's static frames render the deferred path only");
             &[RenderPath::Deferred]
         }

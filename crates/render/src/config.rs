@@ -35,63 +35,72 @@ impl Args {
             PrimitiveIdArg::Provoking => Some(PrimitiveIdPath::ProvokingVertex),
         };
         RendererConfig {
-            width: self.width,
-            height: self.height,
-            primitive_id,
-            light_paths: if self.all_lights {
-                gpu::config::LightPaths::EveryPixel
-            } else {
-                self.light_paths.paths()
-            },
-            shadows: (!self.no_shadows).then(|| gpu::config::ShadowConfig {
-                cache: !self.no_shadow_cache,
-                resolution_divisor: if self.uniform_shadow_resolution {
-                    [1; 8]
-                } else {
-                    gpu::config::ShadowConfig::default().resolution_divisor
+            image: gpu::config::ImageConfig {
+                width: self.width,
+                height: self.height,
+                gbuffer: match self.gbuffer {
+                    GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
+                    GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
                 },
-                static_size_threshold: self.shadow_size_threshold,
-                ..gpu::config::ShadowConfig::default()
-            }),
-            baked_sun: !self.no_baked_sun,
-            spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
-            cull_shadow_casters: !self.no_caster_culling,
-            conditional_volumes: !self.no_conditional_volumes,
-            gbuffer: match self.gbuffer {
-                GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
-                GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
+                msaa: match self.msaa {
+                    MsaaArg::Off => None,
+                    MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
+                    MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
+                },
+                ..Default::default()
             },
-            msaa: match self.msaa {
-                MsaaArg::Off => None,
-                MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
-                MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
+            geometry: gpu::config::GeometryConfig {
+                primitive_id,
+                laydown: match self.laydown {
+                    LaydownArg::Hardware => gpu::Laydown::Hardware,
+                    LaydownArg::Compute => gpu::Laydown::Compute,
+                    LaydownArg::Auto => gpu::Laydown::Auto,
+                },
+                compute_laydown_max_extent: self.laydown_max_extent,
+                compute_laydown_target: match self.laydown_target {
+                    LaydownTargetArg::Auto => None,
+                    LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
+                    LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
+                },
+                mixed_frame: self.mixed_frame,
+                vertex_ring: match self.vertex_ring {
+                    VertexRingArg::Off => None,
+                    VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
+                    VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
+                },
+                ring_resolve: !self.per_pixel_transform,
+                vrs: match self.vrs {
+                    VrsArg::Off => None,
+                    VrsArg::On => Some(gpu::config::VrsConfig::default()),
+                    VrsArg::All2x2 => Some(gpu::config::VrsConfig {
+                        distance_2x1: 1e-6,
+                        distance_2x2: 1e-6,
+                        ..gpu::config::VrsConfig::default()
+                    }),
+                },
+                ..Default::default()
             },
-            laydown: match self.laydown {
-                LaydownArg::Hardware => gpu::Laydown::Hardware,
-                LaydownArg::Compute => gpu::Laydown::Compute,
-                LaydownArg::Auto => gpu::Laydown::Auto,
-            },
-            compute_laydown_max_extent: self.laydown_max_extent,
-            compute_laydown_target: match self.laydown_target {
-                LaydownTargetArg::Auto => None,
-                LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
-                LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
-            },
-            mixed_frame: self.mixed_frame,
-            vertex_ring: match self.vertex_ring {
-                VertexRingArg::Off => None,
-                VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
-                VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
-            },
-            ring_resolve: !self.per_pixel_transform,
-            vrs: match self.vrs {
-                VrsArg::Off => None,
-                VrsArg::On => Some(gpu::config::VrsConfig::default()),
-                VrsArg::All2x2 => Some(gpu::config::VrsConfig {
-                    distance_2x1: 1e-6,
-                    distance_2x2: 1e-6,
-                    ..gpu::config::VrsConfig::default()
+            lighting: gpu::config::LightingConfig {
+                light_paths: if self.all_lights {
+                    gpu::config::LightPaths::EveryPixel
+                } else {
+                    self.light_paths.paths()
+                },
+                shadows: (!self.no_shadows).then(|| gpu::config::ShadowConfig {
+                    cache: !self.no_shadow_cache,
+                    resolution_divisor: if self.uniform_shadow_resolution {
+                        [1; 8]
+                    } else {
+                        gpu::config::ShadowConfig::default().resolution_divisor
+                    },
+                    static_size_threshold: self.shadow_size_threshold,
+                    ..gpu::config::ShadowConfig::default()
                 }),
+                baked_sun: !self.no_baked_sun,
+                spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
+                cull_shadow_casters: !self.no_caster_culling,
+                conditional_volumes: !self.no_conditional_volumes,
+                ..Default::default()
             },
             ..RendererConfig::default()
         }

@@ -58,7 +58,10 @@ pub fn run(args: &Args) -> Result<()> {
             &ctx.device,
             &ctx.queue,
             RendererConfig {
-                msaa: Some(gpu::config::MsaaLighting::EverySample),
+                image: gpu::config::ImageConfig {
+                    msaa: Some(gpu::config::MsaaLighting::EverySample),
+                    ..config.clone().image
+                },
                 ..config.clone()
             },
         )?),

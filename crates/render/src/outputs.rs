@@ -57,9 +57,9 @@ pub(crate) fn render_scene(
         report.timings(path, &frames);
         report.laydown_ran(path, renderer, &frames);
         let name = built.name;
-        if path == RenderPath::Baseline && renderer.config().msaa.is_some() {
+        if path == RenderPath::Baseline && renderer.config().image.msaa.is_some() {
             let edges = renderer.inspect().read_msaa_edges()?;
-            if renderer.config().msaa == Some(gpu::config::MsaaLighting::Kz2) {
+            if renderer.config().image.msaa == Some(gpu::config::MsaaLighting::Kz2) {
                 report.msaa_edges(edges.len(), (args.width * args.height) as usize);
             }
             if let Some(r) = every_sample.as_deref_mut() {
@@ -209,7 +209,7 @@ pub(crate) fn report_lighting(
     report.conditional_volumes(&renderer.inspect().read_conditional_volumes()?);
     report.uploads(
         renderer.inspect().upload_stats(),
-        renderer.config().upload_pool,
+        renderer.config().frames.upload_pool,
     );
     // KZ2's skip: pixels in full baked sun shadow, or facing away, run no sun shader.
     let (surfaces, depth) = (
@@ -271,7 +271,7 @@ fn shadow_views(
         return Ok(());
     };
     let maps = renderer.inspect().read_shadow_maps()?;
-    let Some(config) = renderer.config().shadows else {
+    let Some(config) = renderer.config().lighting.shadows else {
         return Ok(());
     };
     let resolution = config.resolution;

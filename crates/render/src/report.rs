@@ -36,7 +36,7 @@ impl Report {
         );
         r.row(
             "mixed frame (deferred path)",
-            if renderer.config().mixed_frame {
+            if renderer.config().geometry.mixed_frame {
                 "on: terrain and rocks by the regular geometry pass"
             } else {
                 "off: every batch through the vis buffer"
@@ -46,7 +46,7 @@ impl Report {
         let c = renderer.config();
         r.row(
             "laydown (deferred paths)",
-            match (c.laydown, renderer.laydown_target()) {
+            match (c.geometry.laydown, renderer.laydown_target()) {
                 (gpu::Laydown::Hardware, _) => "hardware".to_string(),
                 (asked, None) => format!(
                     "hardware ({} asked for: the adapter lacks SHADER_INT64_ATOMIC_MIN_MAX)",
@@ -56,7 +56,7 @@ impl Report {
                     "{}: compute into a 64-bit {}, triangles over {} pixels a workgroup each",
                     asked.name(),
                     target.name(),
-                    c.compute_laydown_max_extent
+                    c.geometry.compute_laydown_max_extent
                 ),
             },
         );
@@ -76,13 +76,16 @@ impl Report {
             }
             .to_string(),
         );
-        r.row("resolution", format!("{} x {}", c.width, c.height));
+        r.row(
+            "resolution",
+            format!("{} x {}", c.image.width, c.image.height),
+        );
         r.row(
             "G-buffer",
             format!(
                 "{:?}: {} bytes a pixel + 4 of depth",
-                c.gbuffer,
-                c.gbuffer.color_bytes_per_sample()
+                c.image.gbuffer,
+                c.image.gbuffer.color_bytes_per_sample()
             ),
         );
         let s = prepared.summary();

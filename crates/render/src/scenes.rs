@@ -186,7 +186,7 @@ fn render_river(
     renderer: &mut Renderer,
     every_sample: Option<&mut Renderer>,
 ) -> Result<()> {
-    if renderer.config().msaa.is_some() {
+    if renderer.config().image.msaa.is_some() {
         eprintln!("--msaa: the river renders without water (its passes are single-sample)");
     }
     let t0 = std::time::Instant::now();
@@ -203,7 +203,7 @@ fn render_river(
         scene: &demo.scene,
         frame: &frame,
         build: ("scene build and water bakes (CPU)", build_ms),
-        water: (renderer.config().msaa.is_none()).then_some((&water, demo.decals.as_slice())),
+        water: (renderer.config().image.msaa.is_none()).then_some((&water, demo.decals.as_slice())),
     };
     let out = render_scene(args, ctx, renderer, every_sample, &built);
     renderer.set_water(None)?;

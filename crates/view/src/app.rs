@@ -401,8 +401,8 @@ impl State {
                 self.stats = None;
                 self.message = Some(format!(
                     "renderer rebuilt at {}x{} and scene prepared in {:.0} ms",
-                    wanted.width,
-                    wanted.height,
+                    wanted.image.width,
+                    wanted.image.height,
                     t.elapsed().as_secs_f64() * 1e3
                 ));
             }

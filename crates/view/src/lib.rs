@@ -341,12 +341,18 @@ impl Args {
     /// as [`RendererConfig::default`].
     pub fn renderer_config(&self, width: u32, height: u32) -> RendererConfig {
         RendererConfig {
-            width,
-            height,
-            msaa: self.msaa.msaa(),
-            light_paths: self.light_paths.paths(),
-            shadows: (!self.no_shadows).then(gpu::config::ShadowConfig::default),
-            spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
+            image: gpu::config::ImageConfig {
+                width,
+                height,
+                msaa: self.msaa.msaa(),
+                ..Default::default()
+            },
+            lighting: gpu::config::LightingConfig {
+                light_paths: self.light_paths.paths(),
+                shadows: (!self.no_shadows).then(gpu::config::ShadowConfig::default),
+                spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
+                ..Default::default()
+            },
             ..RendererConfig::default()
         }
     }

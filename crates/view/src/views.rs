@@ -101,7 +101,7 @@ pub fn debug_image(
     frame: &FrameInput,
 ) -> Result<Option<(Rgba8Image, String)>> {
     let config = renderer.config();
-    let (w, h) = (config.width, config.height);
+    let (w, h) = (config.image.width, config.image.height);
     let out = match view {
         DebugView::Image => return Ok(None),
         DebugView::VisIds => (
@@ -170,7 +170,7 @@ pub fn debug_image(
             )
         }
         DebugView::ShadowAtlas => {
-            let Some(shadows) = config.shadows else {
+            let Some(shadows) = config.lighting.shadows else {
                 bail!("the shadow atlas needs the sun's shadows (O switches them on)");
             };
             let maps = renderer.inspect().read_shadow_maps()?;

@@ -163,8 +163,11 @@ fn read(path: &Path) -> Rgba8Image {
 fn headless_renderer() -> Renderer {
     let c = ctx();
     let config = RendererConfig {
-        width: WIDTH,
-        height: HEIGHT,
+        image: gpu::config::ImageConfig {
+            width: WIDTH,
+            height: HEIGHT,
+            ..Default::default()
+        },
         ..RendererConfig::default()
     };
     Renderer::new(&c.device, &c.queue, config).unwrap_or_else(|e| panic!("{e}"))

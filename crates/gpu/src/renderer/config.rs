@@ -129,53 +129,48 @@ pub enum MsaaLighting {
     EverySample,
 }
 
-/// Renderer options.
+/// Renderer options, grouped by concern: [`image`](Self::image), [`geometry`](Self::geometry)
+/// (the laydown and HFW's vertex side), [`lighting`](Self::lighting) (lights and shadows)
+/// and [`frames`](Self::frames) (pacing and uploads). Start from
+/// [`RendererConfig::recommended`] and change what you need:
+///
+/// ```
+/// # fn f(adapter: &wgpu::Adapter) {
+/// let mut config = gpu::RendererConfig::recommended(adapter, 1920, 1080);
+/// config.lighting.light_paths = gpu::config::LightPaths::Classified;
+/// config.frames.frames_in_flight = 3;
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct RendererConfig {
+    /// The image: its size, the G-buffer layout, MSAA on the baseline path and the
+    /// resolve's mip bias.
+    pub image: ImageConfig,
+    /// Geometry: how the deferred paths lay down depth and the vis buffer (hardware or
+    /// compute, and the compute laydown's split and target), the primitive-ID path,
+    /// subgroups, HFW's mixed frame, vertex ring and software VRS.
+    pub geometry: GeometryConfig,
+    /// Lighting and shadows: the local lights' paths, the sun's cascades and baked term,
+    /// the spot maps, caster culling and KZ2's conditional volumes.
+    pub lighting: LightingConfig,
+    /// Frame pacing and uploads: frames in flight and the per-frame upload pool.
+    pub frames: FrameConfig,
+}
+
+/// The image: its size, the G-buffer layout, MSAA on the baseline path and the resolve's
+/// mip bias.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageConfig {
     /// Image width in pixels, at least 1.
     pub width: u32,
     /// Image height in pixels, at least 1.
     pub height: u32,
-    /// Force a primitive-ID path (the device must have its feature); `None` picks the
-    /// best the device has.
-    pub primitive_id: Option<PrimitiveIdPath>,
-    /// Use subgroup operations where the device has them (else the workgroup fallback).
-    pub subgroups: bool,
-    /// Mip bias of the compute resolve (log2 units, in [-16, 16]).
-    pub mip_bias: f32,
-    /// How local lights reach the image: the tiles (the default), KZ2's classification
-    /// between tiles and stencil volumes, stencil volumes alone, or every light tested at
-    /// every pixel (the reference and measurement baseline).
-    pub light_paths: LightPaths,
-    /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
-    /// G-buffer's baked sun term).
-    pub shadows: Option<crate::config::ShadowConfig>,
     /// The G-buffer layout: `deferred`'s octahedral one (the default: world-space 12+12-bit
     /// normal, 20 bytes a pixel) or KZ2's four RGBA8 targets (view-space normal xy as f16,
     /// lighting and glow, motion and log specular power, albedo and sun shadow; 16 bytes a
     /// pixel). Both render the same scene; the KZ2 preset rounds more (BENCHMARKS.md has
     /// the image difference). The depth target stays `Depth32Float` in both.
     pub gbuffer: deferred::GBufferLayout,
-    /// Shadow views (sun slices, spot maps) draw only the casters whose chunk of instances
-    /// (64 consecutive instances of a batch, in Morton order) meets the view; off, every
-    /// caster (the maps are the same: the test compares them).
-    pub cull_shadow_casters: bool,
-    /// Frames [`Renderer::submit`] lets run ahead of the GPU before it waits for the
-    /// oldest (at least 1; default 2: one recording while one renders).
-    pub frames_in_flight: u32,
-    /// The per-frame upload pool (KZ2's render-memory allocator, `framealloc`): every
-    /// frame's uniforms, lights and query parameters are sub-allocated from its blocks
-    /// and freed when the GPU has finished the frame. Default: KZ2's 22 MiB in 256 KiB
-    /// blocks.
-    pub upload_pool: framealloc::PoolConfig,
-    /// Shadow maps for the spot lights that cast shadows (KZ2's fade, the largest first);
-    /// `None`: every spot lights unshadowed.
-    pub spot_shadows: Option<crate::config::SpotShadowConfig>,
-    /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
-    /// (1024² texels), rendered when the scene or the sun
-    /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
-    /// the sun's shader. Off: the term is 1 everywhere.
-    pub baked_sun: bool,
     /// KZ2's MSAA on the baseline path ([`RenderPath::Baseline`]): its depth prepass and
     /// G-buffer pass render [`MSAA_SAMPLES`] samples a pixel, lighting resolves them into
     /// the output image (the average of the samples' tone-mapped colours). `None`: single
@@ -185,15 +180,15 @@ pub struct RendererConfig {
     /// are refused with it. [`Inspect::read_depth`] and [`Inspect::read_gbuffer`] read
     /// the single-sample targets.
     pub msaa: Option<MsaaLighting>,
-    /// KZ2's conditional rendering, emulated with indirect draws: a light on the
-    /// stencil-volume path that owns a spot shadow map first counts the pixels its shading
-    /// would cover (an occlusion query over a test draw of its volume), and a compute pass
-    /// turns the count into the indirect arguments of its map's caster draws and of its
-    /// volume draws, so a light behind a wall or lighting only air draws neither, with no
-    /// CPU round trip. The image is the same either way. Takes effect with a light path
-    /// that has volumes on a device with `INDIRECT_FIRST_INSTANCE` (else the draws are
-    /// direct); default on.
-    pub conditional_volumes: bool,
+    /// Mip bias of the compute resolve (log2 units, in [-16, 16]).
+    pub mip_bias: f32,
+}
+
+/// Geometry: how the deferred paths lay down depth and the vis buffer (hardware or
+/// compute, and the compute laydown's split and target), the primitive-ID path, subgroups,
+/// HFW's mixed frame, vertex ring and software VRS.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeometryConfig {
     /// How the deferred paths lay down depth and the vis buffer (default
     /// [`Laydown::Auto`]: both timed over the first frames, the faster kept;
     /// [`Laydown::Compute`] falls back to the hardware laydown on a device without 64-bit
@@ -210,6 +205,11 @@ pub struct RendererConfig {
     /// `None` picks [`LaydownTarget::best_for`] the device: the storage buffer (measured
     /// faster than the `r64uint` texture on the H200).
     pub compute_laydown_target: Option<LaydownTarget>,
+    /// Force a primitive-ID path (the device must have its feature); `None` picks the
+    /// best the device has.
+    pub primitive_id: Option<PrimitiveIdPath>,
+    /// Use subgroup operations where the device has them (else the workgroup fallback).
+    pub subgroups: bool,
     /// HFW's mixed frame on [`RenderPath::Deferred`]: batches of
     /// [`Material::regular`](crate::Material::regular) materials (the demo scenes' terrain
     /// and rocks) leave the vis buffer and are drawn by a regular geometry pass after the
@@ -241,6 +241,53 @@ pub struct RendererConfig {
     /// micro-batch IDs), quad commands from the classification, and the resolve shading
     /// one sample per quad command and broadcasting it through workgroup memory.
     pub vrs: Option<VrsConfig>,
+}
+
+/// Lighting and shadows: the local lights' paths, the sun's cascades and baked term, the
+/// spot maps, caster culling and KZ2's conditional volumes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightingConfig {
+    /// How local lights reach the image: the tiles (the default), KZ2's classification
+    /// between tiles and stencil volumes, stencil volumes alone, or every light tested at
+    /// every pixel (the reference and measurement baseline).
+    pub light_paths: LightPaths,
+    /// The sun's cascaded shadow maps; `None`: the sun is unshadowed (but for the
+    /// G-buffer's baked sun term).
+    pub shadows: Option<crate::config::ShadowConfig>,
+    /// Shadow maps for the spot lights that cast shadows (KZ2's fade, the largest first);
+    /// `None`: every spot lights unshadowed.
+    pub spot_shadows: Option<crate::config::SpotShadowConfig>,
+    /// KZ2's pre-rendered sun shadow: a low-resolution map of the scene's batches
+    /// (1024² texels), rendered when the scene or the sun
+    /// direction changes, written into the G-buffer's sun term; pixels where it is 0 skip
+    /// the sun's shader. Off: the term is 1 everywhere.
+    pub baked_sun: bool,
+    /// Shadow views (sun slices, spot maps) draw only the casters whose chunk of instances
+    /// (64 consecutive instances of a batch, in Morton order) meets the view; off, every
+    /// caster (the maps are the same: the test compares them).
+    pub cull_shadow_casters: bool,
+    /// KZ2's conditional rendering, emulated with indirect draws: a light on the
+    /// stencil-volume path that owns a spot shadow map first counts the pixels its shading
+    /// would cover (an occlusion query over a test draw of its volume), and a compute pass
+    /// turns the count into the indirect arguments of its map's caster draws and of its
+    /// volume draws, so a light behind a wall or lighting only air draws neither, with no
+    /// CPU round trip. The image is the same either way. Takes effect with a light path
+    /// that has volumes on a device with `INDIRECT_FIRST_INSTANCE` (else the draws are
+    /// direct); default on.
+    pub conditional_volumes: bool,
+}
+
+/// Frame pacing and uploads: frames in flight and the per-frame upload pool.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameConfig {
+    /// Frames [`Renderer::submit`] lets run ahead of the GPU before it waits for the
+    /// oldest (at least 1; default 2: one recording while one renders).
+    pub frames_in_flight: u32,
+    /// The per-frame upload pool (KZ2's render-memory allocator, `framealloc`): every
+    /// frame's uniforms, lights and query parameters are sub-allocated from its blocks
+    /// and freed when the GPU has finished the frame. Default: KZ2's 22 MiB in 256 KiB
+    /// blocks.
+    pub upload_pool: framealloc::PoolConfig,
 }
 
 /// HFW's rule for the shading rate, chosen in the vertex stage ("blends through 1x1 and
@@ -295,7 +342,7 @@ impl VrsConfig {
             Ok(())
         } else {
             Error::config(
-                "RendererConfig::vrs",
+                "RendererConfig::geometry.vrs",
                 f64::from(self.distance_2x1),
                 "finite thresholds, 0 < distance_2x1 <= distance_2x2, 0 < speed_2x1 <= speed_2x2",
             )
@@ -311,53 +358,57 @@ impl RendererConfig {
     /// [`Error::Config`] naming the field and its allowed range.
     pub fn validate(&self) -> Result<()> {
         let bad = Error::config;
-        if self.width == 0 {
-            return bad("RendererConfig::width", 0.0, "at least 1 pixel");
+        if self.image.width == 0 {
+            return bad("RendererConfig::image.width", 0.0, "at least 1 pixel");
         }
-        if self.height == 0 {
-            return bad("RendererConfig::height", 0.0, "at least 1 pixel");
+        if self.image.height == 0 {
+            return bad("RendererConfig::image.height", 0.0, "at least 1 pixel");
         }
-        if self.mip_bias.is_nan() || self.mip_bias.abs() > 16.0 {
+        if self.image.mip_bias.is_nan() || self.image.mip_bias.abs() > 16.0 {
             return bad(
-                "RendererConfig::mip_bias",
-                f64::from(self.mip_bias),
+                "RendererConfig::image.mip_bias",
+                f64::from(self.image.mip_bias),
                 "[-16, 16] (log2 units)",
             );
         }
-        if self.frames_in_flight == 0 {
-            return bad("RendererConfig::frames_in_flight", 0.0, "at least 1 frame");
+        if self.frames.frames_in_flight == 0 {
+            return bad(
+                "RendererConfig::frames.frames_in_flight",
+                0.0,
+                "at least 1 frame",
+            );
         }
-        if let Some(s) = &self.shadows {
+        if let Some(s) = &self.lighting.shadows {
             s.validate()?;
         }
-        if let Some(s) = &self.spot_shadows {
+        if let Some(s) = &self.lighting.spot_shadows {
             s.validate()?;
         }
-        let extent = self.compute_laydown_max_extent;
+        let extent = self.geometry.compute_laydown_max_extent;
         if !(0.0..=crate::config::COMPUTE_LAYDOWN_EXTENT_LIMIT).contains(&extent) {
             return bad(
-                "RendererConfig::compute_laydown_max_extent",
+                "RendererConfig::geometry.compute_laydown_max_extent",
                 f64::from(extent),
                 "[0, 254] pixels",
             );
         }
-        if let Some(bytes) = self.vertex_ring {
+        if let Some(bytes) = self.geometry.vertex_ring {
             // Two halves of at least one 64-vertex chunk; slots in u32.
             let min = 2 * 64 * crate::resources::ring::RING_VERTEX_BYTES;
             if !(min..=1 << 36).contains(&bytes) {
                 return bad(
-                    "RendererConfig::vertex_ring",
+                    "RendererConfig::geometry.vertex_ring",
                     bytes as f64,
                     "4096 bytes to 64 GiB (the device's storage binding limit applies)",
                 );
             }
         }
-        if let Some(v) = &self.vrs {
+        if let Some(v) = &self.geometry.vrs {
             v.validate()?;
         }
-        if self.msaa.is_some() && self.light_paths.volumes() {
+        if self.image.msaa.is_some() && self.lighting.light_paths.volumes() {
             return bad(
-                "RendererConfig::msaa",
+                "RendererConfig::image.msaa",
                 f64::from(MSAA_SAMPLES),
                 "off with a light path that has stencil volumes (they are single-sample)",
             );
@@ -377,11 +428,17 @@ impl RendererConfig {
     pub fn recommended(adapter: &wgpu::Adapter, width: u32, height: u32) -> Self {
         let features = adapter.features();
         Self {
-            width,
-            height,
-            subgroups: features.contains(wgpu::Features::SUBGROUP),
-            laydown: Laydown::Auto,
-            vertex_ring: Some(tiling::RING_BYTES_PS5),
+            image: ImageConfig {
+                width,
+                height,
+                ..ImageConfig::default()
+            },
+            geometry: GeometryConfig {
+                subgroups: features.contains(wgpu::Features::SUBGROUP),
+                laydown: Laydown::Auto,
+                vertex_ring: Some(tiling::RING_BYTES_PS5),
+                ..GeometryConfig::default()
+            },
             ..Self::default()
         }
     }
@@ -394,28 +451,60 @@ impl RendererConfig {
 impl Default for RendererConfig {
     fn default() -> Self {
         Self {
+            image: ImageConfig::default(),
+            geometry: GeometryConfig::default(),
+            lighting: LightingConfig::default(),
+            frames: FrameConfig::default(),
+        }
+    }
+}
+
+impl Default for ImageConfig {
+    fn default() -> Self {
+        Self {
             width: 1280,
             height: 720,
-            primitive_id: None,
-            subgroups: true,
-            mip_bias: 0.0,
-            light_paths: LightPaths::Tiled,
-            shadows: Some(crate::config::ShadowConfig::default()),
-            spot_shadows: Some(crate::config::SpotShadowConfig::default()),
-            baked_sun: true,
-            upload_pool: framealloc::PoolConfig::KZ2,
-            frames_in_flight: 2,
-            cull_shadow_casters: true,
             gbuffer: deferred::GBufferLayout::Octahedral,
             msaa: None,
-            conditional_volumes: true,
+            mip_bias: 0.0,
+        }
+    }
+}
+
+impl Default for GeometryConfig {
+    fn default() -> Self {
+        Self {
             laydown: Laydown::Hardware,
             compute_laydown_max_extent: crate::config::COMPUTE_LAYDOWN_MAX_EXTENT,
             compute_laydown_target: None,
+            primitive_id: None,
+            subgroups: true,
             mixed_frame: false,
             vertex_ring: None,
             ring_resolve: true,
             vrs: None,
+        }
+    }
+}
+
+impl Default for LightingConfig {
+    fn default() -> Self {
+        Self {
+            light_paths: LightPaths::Tiled,
+            shadows: Some(crate::config::ShadowConfig::default()),
+            spot_shadows: Some(crate::config::SpotShadowConfig::default()),
+            baked_sun: true,
+            cull_shadow_casters: true,
+            conditional_volumes: true,
+        }
+    }
+}
+
+impl Default for FrameConfig {
+    fn default() -> Self {
+        Self {
+            frames_in_flight: 2,
+            upload_pool: framealloc::PoolConfig::KZ2,
         }
     }
 }

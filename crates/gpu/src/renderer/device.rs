@@ -24,12 +24,16 @@ impl Renderer {
     pub fn required_limits(config: &RendererConfig) -> wgpu::Limits {
         let c = stage_counts();
         let d = wgpu::Limits::default();
-        let pixels = u64::from(config.width) * u64::from(config.height);
+        let pixels = u64::from(config.image.width) * u64::from(config.image.height);
         // The largest buffers: the vis words (4 bytes a pixel) and the wave commands (16
         // bytes per command, at most a pixel's worth each for wave width 1; 8 lanes on
         // lavapipe make it 2 bytes a pixel plus one per counter).
         // The compute laydown's 64-bit target: 8 bytes a pixel.
-        let per_pixel = if config.laydown.wants_compute() { 8 } else { 4 };
+        let per_pixel = if config.geometry.laydown.wants_compute() {
+            8
+        } else {
+            4
+        };
         let largest = (pixels * per_pixel).max(64 << 20);
         wgpu::Limits {
             max_storage_buffers_per_shader_stage: d
@@ -55,8 +59,8 @@ impl Renderer {
                 .max(c.invocations_per_workgroup),
             max_texture_dimension_2d: d
                 .max_texture_dimension_2d
-                .max(config.width)
-                .max(config.height),
+                .max(config.image.width)
+                .max(config.image.height),
             max_storage_buffer_binding_size: d.max_storage_buffer_binding_size.max(largest),
             max_buffer_size: d.max_buffer_size.max(largest),
             ..d
@@ -96,8 +100,11 @@ mod tests {
         }
         // A 16K image needs a larger texture dimension than the defaults.
         let big = Renderer::required_limits(&RendererConfig {
-            width: 16_384,
-            height: 16,
+            image: crate::config::ImageConfig {
+                width: 16_384,
+                height: 16,
+                ..Default::default()
+            },
             ..RendererConfig::default()
         });
         assert_eq!(big.max_texture_dimension_2d, 16_384);

@@ -24,12 +24,12 @@ impl Renderer {
             frame,
             scene.wind.as_ref(),
             origin,
-            (self.config.width, self.config.height),
-            self.config.mip_bias,
+            (self.config.image.width, self.config.image.height),
+            self.config.image.mip_bias,
             self.frame_index,
             previous,
         );
-        uniforms.vrs = self.config.vrs.map_or([0.0; 4], |v| v.uniform());
+        uniforms.vrs = self.config.geometry.vrs.map_or([0.0; 4], |v| v.uniform());
         self.bake_sun(scene, frame, &mut uniforms, statics)?;
         uniforms.local_light_count = self.upload_lights(frame, &uniforms)?;
         // Swaying foliage moves its shadows: a cached slice is stale once time moved.
@@ -38,7 +38,7 @@ impl Renderer {
         self.uploads
             .write(&self.frame, 0, bytemuck::bytes_of(&uniforms));
         if let Some(w) = &self.water {
-            let aspect = self.config.width as f32 / self.config.height as f32;
+            let aspect = self.config.image.width as f32 / self.config.image.height as f32;
             let u = w.data.frame_constants(frame, aspect);
             self.uploads.write(&w.data.frame, 0, bytemuck::bytes_of(&u));
             if !w.data.decals_cpu.is_empty() {
@@ -49,7 +49,7 @@ impl Renderer {
         self.view_rotation = frame.camera.view_rotation();
         self.origin_offset = glam::Vec4::from(uniforms.origin_offset).truncate();
         self.plan_conditional(scene)?;
-        let aspect = self.config.width as f32 / self.config.height as f32;
+        let aspect = self.config.image.width as f32 / self.config.image.height as f32;
         self.previous = Some((
             scene.id,
             PreviousCamera {

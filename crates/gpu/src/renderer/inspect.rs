@@ -212,7 +212,7 @@ impl<'r> Inspect<'r> {
                 Ok((bytes, texel))
             })
             .collect::<Result<_>>()?;
-        let n = (self.r.config.width * self.r.config.height) as usize;
+        let n = (self.r.config.image.width * self.r.config.image.height) as usize;
         let mut texel = Vec::with_capacity(20);
         // The KZ2 preset's view-space normals, back to world directions.
         let to_world = self.r.view_rotation.transpose();
@@ -222,7 +222,7 @@ impl<'r> Inspect<'r> {
                 for (bytes, size) in &targets {
                     texel.extend_from_slice(&bytes[i * size..(i + 1) * size]);
                 }
-                let layout = self.r.config.gbuffer;
+                let layout = self.r.config.image.gbuffer;
                 let mut s = layout.unpack_bytes(&texel).ok_or_else(|| {
                     Error::Map(format!(
                         "a G-buffer texel read back as {} bytes, not the layout's",
@@ -630,7 +630,7 @@ impl Hooks<'_> {
         scene: &PreparedScene,
         words: &[u32],
     ) -> Result<GpuClassification> {
-        let n = (self.r.config.width * self.r.config.height) as usize;
+        let n = (self.r.config.image.width * self.r.config.image.height) as usize;
         if words.len() != n {
             return Err(Error::Length {
                 what: "vis words (width * height of the renderer)",

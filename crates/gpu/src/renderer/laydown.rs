@@ -125,7 +125,7 @@ impl Renderer {
     /// each frame ran).
     pub fn laydown_choice(&self) -> LaydownChoice {
         let can = self.pipelines.compute_laydown.is_some();
-        let (laydown, reason) = match (self.config.laydown, can) {
+        let (laydown, reason) = match (self.config.geometry.laydown, can) {
             (Laydown::Hardware, _) => (Laydown::Hardware, LaydownReason::Asked),
             (_, false) => (Laydown::Hardware, LaydownReason::NoComputeFeatures),
             (Laydown::Compute, true) => (Laydown::Compute, LaydownReason::Asked),
@@ -143,7 +143,7 @@ impl Renderer {
     /// Whether this frame is one of [`Laydown::Auto`]'s trial frames (it is then waited for
     /// and timed).
     pub(super) fn auto_trial_frame(&self, what: Recording, static_query: bool) -> bool {
-        self.config.laydown == Laydown::Auto
+        self.config.geometry.laydown == Laydown::Auto
             && self.pipelines.compute_laydown.is_some()
             && self.auto.trial()
             && !static_query

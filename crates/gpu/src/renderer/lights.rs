@@ -79,7 +79,7 @@ impl Renderer {
     ) -> Result<u32> {
         use crate::resources::lights::{GpuLightVolume, VolumeDraw};
         use deferred::lights::{LightClassifier, LightPath};
-        let (width, height) = (self.config.width, self.config.height);
+        let (width, height) = (self.config.image.width, self.config.image.height);
         let camera = &frame.camera;
         let projection = deferred::Perspective::try_new(
             camera.fov_y,
@@ -103,7 +103,7 @@ impl Renderer {
         let mut all = local_light_rows(&frame.lighting, camera);
         let classifier = LightClassifier::default();
         self.upload_spot_shadows(&mut all, &projection, uniforms);
-        let volume = |l: &deferred::DeferredLight| match self.config.light_paths {
+        let volume = |l: &deferred::DeferredLight| match self.config.lighting.light_paths {
             LightPaths::Tiled | LightPaths::EveryPixel => false,
             LightPaths::Volumes => true,
             // A light the classifier culls stays with the tiles, whose own test decides.

@@ -131,7 +131,7 @@ impl Renderer {
         config.validate()?;
         device::check_limits(&Self::required_limits(&config), &device.limits())?;
         let mut paths = ActivePaths::for_device(device.features(), &device.adapter_info());
-        if let Some(p) = config.primitive_id {
+        if let Some(p) = config.geometry.primitive_id {
             if !device.features().contains(p.required_features()) {
                 return Err(Error::MissingFeature {
                     feature: p.feature_name(),
@@ -140,10 +140,10 @@ impl Renderer {
             }
             paths.primitive_id = p;
         }
-        if !config.subgroups {
+        if !config.geometry.subgroups {
             paths.subgroup_size = None;
         }
-        let laydown_target = match config.compute_laydown_target {
+        let laydown_target = match config.geometry.compute_laydown_target {
             Some(t) if !device.features().contains(t.required_features()) => {
                 return Err(Error::MissingFeature {
                     feature: match t {
@@ -156,14 +156,14 @@ impl Renderer {
             Some(t) => Some(t),
             None => LaydownTarget::best_for(device.features()),
         };
-        if config.mixed_frame
+        if config.geometry.mixed_frame
             && !device
                 .features()
                 .contains(passes::regular::REGULAR_FEATURES)
         {
             return Err(Error::MissingFeature {
                 feature: "SHADER_EARLY_DEPTH_TEST",
-                needed_by: "RendererConfig::mixed_frame (the regular geometry pass)",
+                needed_by: "RendererConfig::geometry.mixed_frame (the regular geometry pass)",
             });
         }
         // The commands are built for the widest subgroup the device may run; lavapipe: 8.
@@ -174,13 +174,13 @@ impl Renderer {
         scoped(device, || {
             let targets = Targets::new(
                 device,
-                config.width,
-                config.height,
-                config.shadows,
-                config.light_paths.volumes(),
-                config.gbuffer,
-                config.spot_shadows,
-                config.msaa.is_some(),
+                config.image.width,
+                config.image.height,
+                config.lighting.shadows,
+                config.lighting.light_paths.volumes(),
+                config.image.gbuffer,
+                config.lighting.spot_shadows,
+                config.image.msaa.is_some(),
             );
             let frame = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame uniforms"),
@@ -200,26 +200,26 @@ impl Renderer {
                 ..Default::default()
             });
             // Indirect draws of volume rows and caster instances need first_instance.
-            let conditional = config.conditional_volumes
+            let conditional = config.lighting.conditional_volumes
                 && device
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE);
             // The compute laydown where asked for and the device has 64-bit atomics.
-            let compute_laydown = (config.laydown.wants_compute() && paths.int64_atomics)
+            let compute_laydown = (config.geometry.laydown.wants_compute() && paths.int64_atomics)
                 .then_some(laydown_target)
                 .flatten();
             let pipelines = Pipelines::new(
                 device,
                 &paths,
                 wave_width.lanes(),
-                config.light_paths,
-                config.gbuffer,
-                config.msaa,
+                config.lighting.light_paths,
+                config.image.gbuffer,
+                config.image.msaa,
                 conditional,
                 compute_laydown,
-                config.compute_laydown_max_extent,
-                config.mixed_frame,
-                config.vrs.is_some(),
+                config.geometry.compute_laydown_max_extent,
+                config.geometry.mixed_frame,
+                config.geometry.vrs.is_some(),
             )?;
             let conditional = pipelines
                 .conditional
@@ -238,14 +238,14 @@ impl Renderer {
                 crate::resources::vis64::TargetResource::new(
                     device,
                     kind,
-                    config.width,
-                    config.height,
+                    config.image.width,
+                    config.image.height,
                 )
             });
             let groups = TargetGroups::new(device, &pipelines, &targets, &frame, &local, &lights)?;
             // The frame's passes, and up to 8 slices' static shadow query and placement.
             let timer = GpuTimer::new(device, queue, 256);
-            let uploads = Uploads::new(device, config.upload_pool)?;
+            let uploads = Uploads::new(device, config.frames.upload_pool)?;
             Ok(Self {
                 device: device.clone(),
                 queue: queue.clone(),
@@ -327,10 +327,10 @@ impl Renderer {
                     .device
                     .features()
                     .contains(wgpu::Features::INDIRECT_FIRST_INSTANCE),
-                baked_sun: self.config.baked_sun,
-                ring_bytes: self.config.vertex_ring,
-                ring_resolve: self.config.ring_resolve,
-                vrs: self.config.vrs.is_some(),
+                baked_sun: self.config.lighting.baked_sun,
+                ring_bytes: self.config.geometry.vertex_ring,
+                ring_resolve: self.config.geometry.ring_resolve,
+                vrs: self.config.geometry.vrs.is_some(),
             },
             scene,
         )
@@ -358,7 +358,7 @@ impl Renderer {
     ) -> Result<FrameOutput> {
         if statics.is_some() && what == Recording::Baseline && self.targets.msaa.is_some() {
             return Error::config(
-                "RendererConfig::msaa",
+                "RendererConfig::image.msaa",
                 f64::from(MSAA_SAMPLES),
                 "off for static frames on the baseline path (the static query's HiZ reads \
                  the single-sample depth)",
@@ -505,7 +505,7 @@ impl Renderer {
             return wait_idle(&self.device);
         }
         self.in_flight.push_back(index);
-        while self.in_flight.len() > self.config.frames_in_flight as usize {
+        while self.in_flight.len() > self.config.frames.frames_in_flight as usize {
             let oldest = self.in_flight.pop_front();
             self.device
                 .poll(wgpu::PollType::Wait {
@@ -587,8 +587,8 @@ impl Renderer {
     /// A device or mapping error.
     pub fn read_output(&self) -> Result<Rgba8Image> {
         Ok(Rgba8Image {
-            width: self.config.width,
-            height: self.config.height,
+            width: self.config.image.width,
+            height: self.config.image.height,
             pixels: self.texels(&self.targets.output, wgpu::TextureAspect::All)?,
         })
     }

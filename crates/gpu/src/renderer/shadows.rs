@@ -36,7 +36,7 @@ impl Renderer {
         uniforms: &mut FrameUniforms,
         mut statics: Option<&mut StaticView<'_>>,
     ) -> Result<()> {
-        if !self.config.baked_sun {
+        if !self.config.lighting.baked_sun {
             return Ok(());
         }
         // The static casters' bounds (origin-relative) and which tiles they came from.
@@ -109,6 +109,7 @@ impl Renderer {
             let camera = crate::shadows::sun_query_camera(world_to_clip, centre, sun.as_dvec3());
             let threshold = self
                 .config
+                .lighting
                 .shadows
                 .unwrap_or_default()
                 .static_size_threshold;
@@ -191,7 +192,7 @@ impl Renderer {
             );
             return Ok(());
         };
-        let aspect = self.config.width as f32 / self.config.height as f32;
+        let aspect = self.config.image.width as f32 / self.config.image.height as f32;
         let cascades = config.fit(&frame.camera, aspect, frame.lighting.sun_direction)?;
         let origin = frame.camera.position.as_dvec3();
         self.shadow.casters.slices.clear();
@@ -203,7 +204,7 @@ impl Renderer {
                 uniforms,
                 c.relative_matrix(origin),
             );
-            if self.config.cull_shadow_casters {
+            if self.config.lighting.cull_shadow_casters {
                 self.shadow.casters.slices.push(planes);
             }
         }
@@ -253,7 +254,7 @@ impl Renderer {
         for (slot, map) in chosen.iter().enumerate() {
             let m = map.view_to_clip * view_rotation;
             let planes = shadow_view(&mut self.uploads, &maps.frames, slot, uniforms, m);
-            if self.config.cull_shadow_casters {
+            if self.config.lighting.cull_shadow_casters {
                 self.shadow.casters.spots.push(planes);
             }
             gpu_rows.push(GpuSpotShadow::new(map, config.resolution));

@@ -75,7 +75,7 @@ impl Renderer {
         frame: &FrameInput,
     ) -> Result<StaticFrame> {
         let b = Self::static_buffers(scene)?;
-        let size = (self.config.width, self.config.height);
+        let size = (self.config.image.width, self.config.image.height);
         let mut first = v.view;
         let mut second = None;
         let depth_hiz = match v.occlusion {

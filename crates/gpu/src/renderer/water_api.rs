@@ -94,9 +94,9 @@ impl Renderer {
             return Ok(None);
         };
         let keep = self.water.take();
-        if self.config.msaa.is_some() {
+        if self.config.image.msaa.is_some() {
             return Error::config(
-                "RendererConfig::msaa",
+                "RendererConfig::image.msaa",
                 f64::from(crate::config::MSAA_SAMPLES),
                 "off with water (its passes are single-sample)",
             );
@@ -146,7 +146,7 @@ impl Renderer {
         };
         let device = self.device.clone();
         let half = o.half_precision && self.paths.f16;
-        let (width, height) = (self.config.width, self.config.height);
+        let (width, height) = (self.config.image.width, self.config.image.height);
         let summary = WaterSummary {
             bodies: built.near.bodies.len() as u32,
             mesh_triangles: built.near.indices.len() as u64 / 3,
@@ -266,7 +266,7 @@ impl Renderer {
     /// frame's camera.
     pub fn water_view(&self, camera: &Camera) -> Option<WaterView> {
         let w = self.water.as_ref()?;
-        let aspect = self.config.width as f32 / self.config.height as f32;
+        let aspect = self.config.image.width as f32 / self.config.image.height as f32;
         let tan_y = (camera.fov_y * 0.5).tan() * w.data.options.fov_scale;
         Some(WaterView {
             size: w.targets.size,

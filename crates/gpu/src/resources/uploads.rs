@@ -88,7 +88,7 @@ impl Uploads {
     /// A pool of `config`'s layout over a new upload buffer.
     pub(crate) fn new(device: &wgpu::Device, config: PoolConfig) -> Result<Self> {
         let pool = BlockPool::new(config).map_err(|e| Error::Config {
-            field: "RendererConfig::upload_pool",
+            field: "RendererConfig::frames.upload_pool",
             value: config.pool_bytes as f64,
             allowed: match e {
                 framealloc::Error::BadConfig { what, .. } => what,

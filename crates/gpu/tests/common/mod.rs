@@ -25,10 +25,19 @@ pub fn renderer_with(config: RendererConfig) -> Renderer {
 /// the tests' shadow maps.
 pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
     renderer_with(RendererConfig {
-        width,
-        height,
-        subgroups,
-        shadows: test_shadows(),
+        image: gpu::config::ImageConfig {
+            width,
+            height,
+            ..Default::default()
+        },
+        geometry: gpu::config::GeometryConfig {
+            subgroups,
+            ..Default::default()
+        },
+        lighting: gpu::config::LightingConfig {
+            shadows: test_shadows(),
+            ..Default::default()
+        },
         ..RendererConfig::default()
     })
 }

@@ -32,12 +32,12 @@ impl State {
         }
         // Scripted frames keep the asked size; interactive ones follow the window.
         if !scripted
-            && (self.wanted.width, self.wanted.height) != (size.width, size.height)
+            && (self.wanted.image.width, self.wanted.image.height) != (size.width, size.height)
             && size.width <= self.device.limits().max_texture_dimension_2d
             && size.height <= self.device.limits().max_texture_dimension_2d
         {
-            self.wanted.width = size.width;
-            self.wanted.height = size.height;
+            self.wanted.image.width = size.width;
+            self.wanted.image.height = size.height;
         }
         if self.wanted != *self.renderer.config() {
             if let Err(e) = self.wanted.validate() {
@@ -59,7 +59,10 @@ impl State {
             lighting: self.lighting.clone(),
         };
         let path = self.view.frame_path(self.path);
-        let (width, height) = (self.renderer.config().width, self.renderer.config().height);
+        let (width, height) = (
+            self.renderer.config().image.width,
+            self.renderer.config().image.height,
+        );
         let rendered = gpu::inspect::scoped(&self.device, || match &mut self.statics {
             // The city: HZD's static query in front of the frame, for this camera.
             Some(s) => {
@@ -228,7 +231,7 @@ impl State {
             Some(d) => (&d.view, d.size),
             None => {
                 let c = self.renderer.config();
-                (self.renderer.output_view(), (c.width, c.height))
+                (self.renderer.output_view(), (c.image.width, c.image.height))
             }
         }
     }

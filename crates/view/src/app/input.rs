@@ -105,14 +105,14 @@ impl State {
             }
             KeyCode::KeyV => self.view = self.view.cycle(if self.shift { -1 } else { 1 }),
             KeyCode::KeyM => {
-                self.wanted.msaa = match self.wanted.msaa {
+                self.wanted.image.msaa = match self.wanted.image.msaa {
                     None => Some(MsaaLighting::Kz2),
                     Some(MsaaLighting::Kz2) => Some(MsaaLighting::EverySample),
                     Some(MsaaLighting::EverySample) => None,
                 }
             }
             KeyCode::KeyL => {
-                self.wanted.light_paths = match self.wanted.light_paths {
+                self.wanted.lighting.light_paths = match self.wanted.lighting.light_paths {
                     LightPaths::Tiled => LightPaths::Classified,
                     LightPaths::Classified => LightPaths::Volumes,
                     LightPaths::Volumes => LightPaths::EveryPixel,
@@ -120,7 +120,7 @@ impl State {
                 }
             }
             KeyCode::KeyO => {
-                self.wanted.shadows = match self.wanted.shadows {
+                self.wanted.lighting.shadows = match self.wanted.lighting.shadows {
                     Some(_) => None,
                     None => Some(gpu::config::ShadowConfig::default()),
                 }

@@ -110,8 +110,8 @@ impl State {
                 ui.label(format!(
                     "{}: {}x{}, {:.1} fps, {:.2} ms a frame (wall, waited)",
                     self.loaded.name,
-                    c.width,
-                    c.height,
+                    c.image.width,
+                    c.image.height,
                     self.averages.shown_fps,
                     self.averages.shown_wall_ms
                 ));
@@ -151,14 +151,14 @@ impl State {
                     }
                 }
                 egui::ComboBox::from_label("MSAA, baseline (M)")
-                    .selected_text(msaa_name(self.wanted.msaa))
+                    .selected_text(msaa_name(self.wanted.image.msaa))
                     .show_ui(ui, |ui| {
                         for m in [None, Some(MsaaLighting::Kz2), Some(MsaaLighting::EverySample)] {
-                            ui.selectable_value(&mut self.wanted.msaa, m, msaa_name(m));
+                            ui.selectable_value(&mut self.wanted.image.msaa, m, msaa_name(m));
                         }
                     });
                 egui::ComboBox::from_label("light paths (L)")
-                    .selected_text(light_paths_name(self.wanted.light_paths))
+                    .selected_text(light_paths_name(self.wanted.lighting.light_paths))
                     .show_ui(ui, |ui| {
                         for l in [
                             LightPaths::Tiled,
@@ -167,20 +167,20 @@ impl State {
                             LightPaths::EveryPixel,
                         ] {
                             ui.selectable_value(
-                                &mut self.wanted.light_paths,
+                                &mut self.wanted.lighting.light_paths,
                                 l,
                                 light_paths_name(l),
                             );
                         }
                     });
                 ui.horizontal(|ui| {
-                    let mut sun = self.wanted.shadows.is_some();
+                    let mut sun = self.wanted.lighting.shadows.is_some();
                     if ui.checkbox(&mut sun, "sun shadows (O)").changed() {
-                        self.wanted.shadows = sun.then(gpu::config::ShadowConfig::default);
+                        self.wanted.lighting.shadows = sun.then(gpu::config::ShadowConfig::default);
                     }
-                    let mut spots = self.wanted.spot_shadows.is_some();
+                    let mut spots = self.wanted.lighting.spot_shadows.is_some();
                     if ui.checkbox(&mut spots, "spot shadows").changed() {
-                        self.wanted.spot_shadows = spots.then(gpu::config::SpotShadowConfig::default);
+                        self.wanted.lighting.spot_shadows = spots.then(gpu::config::SpotShadowConfig::default);
                     }
                 });
                 ui.label(format!(
