@@ -100,7 +100,7 @@ mod tests {
         }
         // A 16K image needs a larger texture dimension than the defaults.
         let big = Renderer::required_limits(&RendererConfig {
-            image: crate::config::ImageConfig {
+            image: ImageConfig {
                 width: 16_384,
                 height: 16,
                 ..Default::default()
