@@ -9,7 +9,7 @@ use glam::Vec2;
 use half::f16;
 
 use super::geom::{Aabb, clip, finite2, pack2x16float, point_in_polygon, signed_area};
-use super::spline::{SplineSample, closest_on_segment, flatten_bounded};
+use super::spline::{closest_on_segment, river_ranges};
 use super::*;
 use crate::math;
 use crate::progress::{Stage, report};
@@ -143,40 +143,9 @@ fn bake_river(
     let n = s.tile_texels as i64;
     let max_tiles = MAX_WORLD_WORDS / ((n as u64 + 1).pow(2) * u64::from(TEXEL_WORDS));
     let side = (n + 1) as usize;
-    let too_big = |value: u64| Error::LimitExceeded {
-        what: "texels a river's segments cover",
-        value,
-        limit: MAX_RIVER_TEXELS,
-        limit_name: "MAX_RIVER_TEXELS",
-    };
-    let samples: Vec<SplineSample> =
-        flatten_bounded(&river.points, texel * 0.5, MAX_RIVER_TEXELS as usize)
-            .ok_or(too_big(MAX_RIVER_TEXELS + 1))?;
-    // The texel range under each segment's capsule, and the total, before any work.
-    let ranges: Vec<(i64, i64, i64, i64)> = samples
-        .windows(2)
-        .map(|seg| {
-            let (a2, b2) = (seg[0].position.truncate(), seg[1].position.truncate());
-            let r = seg[0].width.max(seg[1].width) * 0.5;
-            let lo = (a2.min(b2) - r) / texel;
-            let hi = (a2.max(b2) + r) / texel;
-            (
-                math::ceil(lo.x) as i64,
-                math::ceil(lo.y) as i64,
-                math::floor(hi.x) as i64,
-                math::floor(hi.y) as i64,
-            )
-        })
-        .collect();
-    let total: u64 = ranges
-        .iter()
-        .map(|&(x0, y0, x1, y1)| {
-            ((x1 - x0 + 1).max(0) as u64).saturating_mul((y1 - y0 + 1).max(0) as u64)
-        })
-        .fold(0u64, u64::saturating_add);
-    if total > MAX_RIVER_TEXELS {
-        return Err(too_big(total));
-    }
+    // The texel range under each segment's capsule, refused above MAX_RIVER_TEXELS before
+    // any work; world texels sit on the grid's corners (no half-texel shift).
+    let (samples, ranges) = river_ranges(&river.points, texel, Vec2::ZERO, 0.0, None)?;
     for (seg, &(x0, y0, x1, y1)) in samples.windows(2).zip(&ranges) {
         let (a, b) = (seg[0], seg[1]);
         let (a2, b2) = (a.position.truncate(), b.position.truncate());
