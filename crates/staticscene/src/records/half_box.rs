@@ -31,6 +31,16 @@ pub(super) fn half_to_f32_branchless(h: u16) -> f32 {
     f32::from_bits(bits | sign)
 }
 
+/// Three halves' bits as a vector, each through [`half_to_f32_branchless`].
+#[inline]
+fn half3(h: [u16; 3]) -> Vec3 {
+    Vec3::new(
+        half_to_f32_branchless(h[0]),
+        half_to_f32_branchless(h[1]),
+        half_to_f32_branchless(h[2]),
+    )
+}
+
 /// The f16 at or below `v` (`v` finite).
 fn f16_floor(v: f32) -> f16 {
     let h = f16::from_f32(v);
@@ -128,22 +138,14 @@ impl HalfAabb {
     #[must_use]
     #[inline]
     pub fn min(&self) -> Vec3 {
-        Vec3::new(
-            half_to_f32_branchless(self.min[0]),
-            half_to_f32_branchless(self.min[1]),
-            half_to_f32_branchless(self.min[2]),
-        )
+        half3(self.min)
     }
 
     /// The maximum corner.
     #[must_use]
     #[inline]
     pub fn max(&self) -> Vec3 {
-        Vec3::new(
-            half_to_f32_branchless(self.max[0]),
-            half_to_f32_branchless(self.max[1]),
-            half_to_f32_branchless(self.max[2]),
-        )
+        half3(self.max)
     }
 }
 
