@@ -59,24 +59,45 @@ fn check_settings(s: &WorldSettings) -> Result<(), Error> {
     Ok(())
 }
 
-fn check_lake(i: usize, lake: &Lake) -> Result<Aabb, Error> {
-    let index = i as u32;
-    let bad = |reason| Error::DegenerateBody {
-        kind: "lake",
-        index,
+/// The error of body `i` of `kind` ("lake" or "river") for a reason.
+fn degenerate(kind: &'static str, i: usize) -> impl Fn(&'static str) -> Error {
+    move |reason| Error::DegenerateBody {
+        kind,
+        index: i as u32,
         reason,
-    };
-    if lake.polygon.len() < 3 {
-        return Err(bad("fewer than 3 points"));
     }
-    if lake.polygon.len() > MAX_POINTS_PER_BODY as usize {
+}
+
+/// The point count every body checks: at least `min` (else `too_few`), at most
+/// [`MAX_POINTS_PER_BODY`] (`what` names the points in the error).
+fn check_count(
+    len: usize,
+    min: usize,
+    too_few: impl FnOnce() -> Error,
+    what: &'static str,
+) -> Result<(), Error> {
+    if len < min {
+        return Err(too_few());
+    }
+    if len > MAX_POINTS_PER_BODY as usize {
         return Err(Error::LimitExceeded {
-            what: "lake polygon points",
-            value: lake.polygon.len() as u64,
+            what,
+            value: len as u64,
             limit: u64::from(MAX_POINTS_PER_BODY),
             limit_name: "MAX_POINTS_PER_BODY",
         });
     }
+    Ok(())
+}
+
+fn check_lake(i: usize, lake: &Lake) -> Result<Aabb, Error> {
+    let bad = degenerate("lake", i);
+    check_count(
+        lake.polygon.len(),
+        3,
+        || bad("fewer than 3 points"),
+        "lake polygon points",
+    )?;
     if !lake.height.is_finite() || lake.height.abs() > MAX_COORDINATE {
         return Err(bad("height is not finite or beyond MAX_COORDINATE"));
     }
@@ -94,23 +115,13 @@ fn check_lake(i: usize, lake: &Lake) -> Result<Aabb, Error> {
 }
 
 fn check_river(i: usize, river: &River) -> Result<(), Error> {
-    let index = i as u32;
-    let bad = |reason| Error::DegenerateBody {
-        kind: "river",
-        index,
-        reason,
-    };
-    if river.points.len() < 2 {
-        return Err(bad("fewer than 2 points"));
-    }
-    if river.points.len() > MAX_POINTS_PER_BODY as usize {
-        return Err(Error::LimitExceeded {
-            what: "river points",
-            value: river.points.len() as u64,
-            limit: u64::from(MAX_POINTS_PER_BODY),
-            limit_name: "MAX_POINTS_PER_BODY",
-        });
-    }
+    let bad = degenerate("river", i);
+    check_count(
+        river.points.len(),
+        2,
+        || bad("fewer than 2 points"),
+        "river points",
+    )?;
     for p in &river.points {
         let ok = finite2(p.position.truncate())
             && p.position.z.is_finite()
