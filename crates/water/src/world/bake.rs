@@ -68,16 +68,16 @@ fn degenerate(kind: &'static str, i: usize) -> impl Fn(&'static str) -> Error {
     }
 }
 
-/// The point count every body checks: at least `min` (else `too_few`), at most
+/// The point count every body checks: at least `min` (else `bad(too_few)`), at most
 /// [`MAX_POINTS_PER_BODY`] (`what` names the points in the error).
 fn check_count(
     len: usize,
-    min: usize,
-    too_few: impl FnOnce() -> Error,
+    (min, too_few): (usize, &'static str),
+    bad: &impl Fn(&'static str) -> Error,
     what: &'static str,
 ) -> Result<(), Error> {
     if len < min {
-        return Err(too_few());
+        return Err(bad(too_few));
     }
     if len > MAX_POINTS_PER_BODY as usize {
         return Err(Error::LimitExceeded {
@@ -92,12 +92,8 @@ fn check_count(
 
 fn check_lake(i: usize, lake: &Lake) -> Result<Aabb, Error> {
     let bad = degenerate("lake", i);
-    check_count(
-        lake.polygon.len(),
-        3,
-        || bad("fewer than 3 points"),
-        "lake polygon points",
-    )?;
+    let few = (3, "fewer than 3 points");
+    check_count(lake.polygon.len(), few, &bad, "lake polygon points")?;
     if !lake.height.is_finite() || lake.height.abs() > MAX_COORDINATE {
         return Err(bad("height is not finite or beyond MAX_COORDINATE"));
     }
@@ -116,12 +112,8 @@ fn check_lake(i: usize, lake: &Lake) -> Result<Aabb, Error> {
 
 fn check_river(i: usize, river: &River) -> Result<(), Error> {
     let bad = degenerate("river", i);
-    check_count(
-        river.points.len(),
-        2,
-        || bad("fewer than 2 points"),
-        "river points",
-    )?;
+    let few = (2, "fewer than 2 points");
+    check_count(river.points.len(), few, &bad, "river points")?;
     for p in &river.points {
         let ok = finite2(p.position.truncate())
             && p.position.z.is_finite()
