@@ -231,14 +231,7 @@ fn occlusion_culls_something() {
         PlacedObject::new(0, centre + DVec3::new(0.0, 0.0, -30.0)),
         PlacedObject::new(1, centre + DVec3::new(15.0, 0.0, -30.0)),
     ];
-    let mut scene = scene(
-        &resources,
-        &[group(0, objects)],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    );
+    let mut scene = one_group_scene(&resources, objects);
     for reversed in [false, true] {
         let cam = perspective(
             centre,
