@@ -6,6 +6,8 @@
 //! the precise normal encoder choosing between two codes at a near-tie) the tests allow
 //! exactly that and count it; everything else must match bit for bit.
 
+mod common;
+
 use deferred::lights::{TileFrustum, tile_counts};
 use deferred::normal::oct_decode;
 use deferred::{
@@ -115,15 +117,7 @@ fn surfaces(n: usize) -> Vec<Surface> {
         })
         .collect();
     // Edge cases: bad values are sanitised the same way on both sides.
-    out.push(Surface {
-        lighting: Vec3::new(f32::NAN, f32::INFINITY, -1.0),
-        albedo: Vec3::new(f32::NAN, 2.0, -1.0),
-        normal: Vec3::new(f32::NAN, 0.0, 0.0),
-        roughness: f32::NAN,
-        specular: f32::INFINITY,
-        sun_shadow: -3.0,
-        motion: Vec2::new(f32::NAN, 1e9),
-    });
+    out.push(common::bad_surface());
     out.push(Surface {
         normal: Vec3::ZERO,
         ..Surface::default()

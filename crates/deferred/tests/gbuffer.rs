@@ -1,6 +1,8 @@
 //! G-buffer layouts: fixed vectors worked out by hand from the bit tables, roundtrip
 //! bounds for every channel (proptest), and decode of arbitrary bytes.
 
+mod common;
+
 use deferred::gbuffer::*;
 use deferred::normal::*;
 use deferred::{GBufferLayout, Kz2Texels, OctTexels, Surface, TargetFormat};
@@ -146,15 +148,7 @@ fn kz2_flips_negative_z() {
 
 #[test]
 fn bad_input_packs_sanely() {
-    let s = Surface {
-        lighting: Vec3::new(f32::NAN, f32::INFINITY, -1.0),
-        albedo: Vec3::new(f32::NAN, 2.0, -1.0),
-        normal: Vec3::new(f32::NAN, 0.0, 0.0),
-        roughness: f32::NAN,
-        specular: f32::INFINITY,
-        sun_shadow: -3.0,
-        motion: Vec2::new(f32::NAN, 1e9),
-    };
+    let s = common::bad_surface();
     for layout in GBufferLayout::ALL {
         let (b, n) = layout.pack_bytes(&s);
         let u = layout.unpack_bytes(&b[..n]).unwrap();

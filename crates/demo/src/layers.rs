@@ -24,6 +24,19 @@ pub(crate) fn paint(f: impl Fn(Vec2) -> (Vec3, f32)) -> AlbedoLayer {
     AlbedoLayer { size: n, texels }
 }
 
+/// The forest's six layers, in the order its materials index them: ground, bark, leaves,
+/// fern, grass, rock (the forest scene's and the river scene's).
+pub(crate) fn forest_layers() -> Vec<AlbedoLayer> {
+    vec![
+        ground_layer(),
+        bark_layer(),
+        leaf_layer(),
+        fern_layer(),
+        grass_layer(),
+        rock_layer(),
+    ]
+}
+
 /// Tileable noise over the unit square with `cells` lattice cells per side.
 pub(crate) fn tile_noise(uv: Vec2, cells: i32, seed: u32) -> f32 {
     fbm(uv * cells as f32, seed, 4, cells)

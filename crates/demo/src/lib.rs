@@ -430,18 +430,7 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
         canopy_mesh(&mut rng, 160),
     ];
     // Painting draws no random numbers: skipping it changes nothing else.
-    let albedo_layers = if paint {
-        vec![
-            ground_layer(),
-            bark_layer(),
-            leaf_layer(),
-            fern_layer(),
-            grass_layer(),
-            rock_layer(),
-        ]
-    } else {
-        Vec::new()
-    };
+    let albedo_layers = if paint { forest_layers() } else { Vec::new() };
     let materials = vec![
         regular(material("ground", ShaderKind::Opaque, 0, 0.9)),
         material("bark", ShaderKind::Opaque, 1, 0.8),

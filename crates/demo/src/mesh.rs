@@ -37,6 +37,18 @@ impl MeshBuilder {
         self.tri(a, c, d);
     }
 
+    /// The quads of a `cells` x `cells` grid whose `(cells + 1)^2` vertices were added
+    /// first, row-major (the terrains' height fields).
+    pub(crate) fn grid_quads(&mut self, cells: u32) {
+        let w = cells + 1;
+        for j in 0..cells {
+            for i in 0..cells {
+                let v = |i: u32, j: u32| (j * w + i) as u16;
+                self.quad(v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
+            }
+        }
+    }
+
     /// A double-sided card: centre `o`, right `r` and up `u` half-extents, uv rect.
     pub(crate) fn card(&mut self, o: Vec3, r: Vec3, u: Vec3, uv0: Vec2, uv1: Vec2, bend: Vec3) {
         let n = r.cross(u).normalize_or(Vec3::Z);
@@ -115,13 +127,7 @@ pub(crate) fn terrain_mesh_with(size: f32, cells: u32, h: impl Fn(f32, f32) -> f
             b.vertex(Vec3::new(x, h(x, z), z), n, Vec2::new(x, z) / 4.0);
         }
     }
-    let w = cells + 1;
-    for j in 0..cells {
-        for i in 0..cells {
-            let v = |i: u32, j: u32| (j * w + i) as u16;
-            b.quad(v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
-        }
-    }
+    b.grid_quads(cells);
     b.finish()
 }
 

@@ -21,8 +21,8 @@ use water::optics::WaterType;
 use water::world::{Lake, Ocean, River as WaterRiver, RiverPoint, WaterWorldBuilder};
 
 use super::{
-    MeshBuilder, Rng, bark_layer, bush_mesh, canopy_mesh, count, fern_layer, grass_layer,
-    ground_layer, leaf_layer, material, rock_layer, rock_mesh, trunk_mesh, tuft_mesh,
+    MeshBuilder, Rng, bush_mesh, canopy_mesh, count, forest_layers, material, rock_mesh,
+    trunk_mesh, tuft_mesh,
 };
 use scene::{
     Batch, MaterialId, Mesh, MeshId, Scene, ShaderKind, ShoreField, WaterDecal, WaterScene,
@@ -400,13 +400,7 @@ fn terrain_tile(ti: u32, tj: u32, tiles: u32, cells: u32, seed: u32) -> Mesh {
             b.vertex(Vec3::new(x, h(x, y), -y), n, Vec2::new(x, -y) / 4.0);
         }
     }
-    let w = cells + 1;
-    for j in 0..cells {
-        for i in 0..cells {
-            let v = |i: u32, j: u32| (j * w + i) as u16;
-            b.quad(v(i, j), v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
-        }
-    }
+    b.grid_quads(cells);
     b.finish()
 }
 
@@ -432,14 +426,7 @@ fn opaque(
     for t in 0..9 {
         meshes.push(terrain_tile(t % 3, t / 3, 3, 128, tseed));
     }
-    let albedo_layers = vec![
-        ground_layer(),
-        bark_layer(),
-        leaf_layer(),
-        fern_layer(),
-        grass_layer(),
-        rock_layer(),
-    ];
+    let albedo_layers = forest_layers();
     let materials = vec![
         material("ground", ShaderKind::Opaque, 0, 0.9),
         material("bark", ShaderKind::Opaque, 1, 0.8),

@@ -17,27 +17,18 @@ use water::world::{BodyBounds, WaterWorld};
 
 use crate::error::WaterError;
 
-/// Most water materials (the data word's 11-bit material field, less the value the
-/// material map uses for "no water").
-pub const MAX_WATER_MATERIALS: u32 = water::gbuffer::MAX_MATERIALS - 1;
-/// Most lakes and rivers drawn per body (the talk's heaviest scenes had 600 water bodies).
-pub const MAX_WATER_BODIES: u32 = 1024;
-/// Most far sectors per side of the world: Far Cry's "64 by 64 sectors in the world".
-pub const MAX_WATER_SECTORS_PER_SIDE: u32 = 64;
+// The limits of what the renderer draws a world from live beside the code that builds it
+// (`water::draw`); re-exported so that every water limit is named from here.
+pub use water::draw::{
+    MAX_WATER_BODIES, MAX_WATER_BODY_CELLS, MAX_WATER_MATERIAL_MAP, MAX_WATER_MATERIALS,
+    MAX_WATER_MESH_VERTICES, MAX_WATER_SECTORS_PER_SIDE, WATER_NO_MATERIAL,
+};
 /// Most displacement decals in a frame.
 pub const MAX_WATER_DECALS: u32 = 256;
 /// Most decal texture frames (layers of the decal texture array).
 pub const MAX_WATER_DECAL_LAYERS: u32 = 256;
 /// Largest decal texture side, texels.
 pub const MAX_WATER_DECAL_SIZE: u32 = 512;
-/// Most vertices of all near bodies' meshes together.
-pub const MAX_WATER_MESH_VERTICES: u32 = 1 << 22;
-/// Most cells of one body's near mesh grid (its cell grows to stay under this).
-pub const MAX_WATER_BODY_CELLS: u32 = 256 * 256;
-/// Largest material map side, texels (the map's texel grows to stay under this).
-pub const MAX_WATER_MATERIAL_MAP: u32 = 2048;
-/// The material map's "no water" material.
-pub const WATER_NO_MATERIAL: u32 = MAX_WATER_MATERIALS;
 
 /// How the renderer draws the water. Defaults: a mini G-buffer at half the image's
 /// resolution with a 15% wider field of view, near bodies within 400 m, 64 m far sectors

@@ -13,7 +13,9 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use rayon::prelude::*;
 use staticscene::baseline::{Flat, flat_query, flatten_scene};
-use staticscene::demo::{City, CityConfig, aerial_camera, city, raster_boxes, street_camera};
+use staticscene::demo::{
+    City, CityConfig, aerial_camera, box_hiz, city, raster_boxes, street_camera,
+};
 use staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
     ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
@@ -63,17 +65,8 @@ fn bench(c: &mut Criterion) {
 
     let flat = flatten_scene(&scene, glam::IVec3::ZERO);
     for (name, cam) in views(&cfg) {
-        let origin = snap_origin(cam.position);
         let [w, h] = VIEWPORT;
-        let depth = raster_boxes(
-            &city_data.building_boxes,
-            origin,
-            &cam.clip_from_floating(origin),
-            w,
-            h,
-            false,
-        );
-        let hiz = HiZ::build(&depth, w, h, false).unwrap();
+        let hiz = box_hiz(&city_data.building_boxes, &cam, &cam, w, h, false).unwrap();
         let mut view = ViewDesc::camera(cam, VIEWPORT);
         view.occlusion_camera = Some(cam);
         let params = QueryParams::new(&view).unwrap();

@@ -11,11 +11,11 @@ use std::time::{Duration, Instant};
 use clap::Parser;
 
 use staticscene::baseline::{flat_query, flatten_scene};
-use staticscene::demo::{CityConfig, aerial_camera, city, raster_boxes, street_camera};
+use staticscene::demo::{CityConfig, aerial_camera, box_hiz, city, street_camera};
 use staticscene::glam::IVec3;
 use staticscene::{
-    BuildConfig, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
-    ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
+    BuildConfig, DrawableSetupInstance, QueryOptions, QueryOutput, QueryParams, ResourceLibrary,
+    Scene, TileStreamer, ViewDesc,
 };
 
 /// Process CPU time (user + system) from /proc/self/stat, in clock ticks of 10 ms.
@@ -60,17 +60,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("street", street_camera(&cfg)),
         ("aerial", aerial_camera(&cfg)),
     ] {
-        let origin = snap_origin(cam.position);
         let (w, h) = (1920, 1080);
-        let depth = raster_boxes(
-            &c.building_boxes,
-            origin,
-            &cam.clip_from_floating(origin),
-            w,
-            h,
-            false,
-        );
-        let hiz = HiZ::build(&depth, w, h, false)?;
+        let hiz = box_hiz(&c.building_boxes, &cam, &cam, w, h, false)?;
         let mut view = ViewDesc::camera(cam, [w, h]);
         view.occlusion_camera = Some(cam);
         let params = QueryParams::new(&view)?;

@@ -428,6 +428,29 @@ pub fn city(config: &CityConfig) -> City {
     }
 }
 
+/// The HiZ of `boxes` as `depth_camera` sees them, in the floating space of `camera`'s
+/// snapped origin (the query's): [`raster_boxes`] then [`HiZ::build`](crate::HiZ::build),
+/// the occluders of the benches, the example and the tests. Fails as `HiZ::build` does.
+pub fn box_hiz(
+    boxes: &[(DVec3, DVec3)],
+    camera: &crate::Camera,
+    depth_camera: &crate::Camera,
+    width: u32,
+    height: u32,
+    reversed: bool,
+) -> Result<crate::HiZ, crate::Error> {
+    let origin = crate::snap_origin(camera.position);
+    let depth = raster_boxes(
+        boxes,
+        origin,
+        &depth_camera.clip_from_floating(origin),
+        width,
+        height,
+        reversed,
+    );
+    crate::HiZ::build(&depth, width, height, reversed)
+}
+
 /// Rasterises boxes (world space, f64 corners) into a depth buffer with the wgpu
 /// conventions (see [`view`](crate::view)): 12 triangles per box, pixel centres at +0.5,
 /// depth = clip z / w, keeping the nearest; triangles with a vertex at `w <= near_w` are

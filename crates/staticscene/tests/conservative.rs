@@ -8,7 +8,7 @@ use std::collections::HashSet;
 
 use common::*;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
-use staticscene::demo::raster_boxes;
+use staticscene::demo::{box_hiz, raster_boxes};
 use staticscene::{
     BuildConfig, Camera, DrawableSetupInstance, HiZ, PlacedObject, QueryOptions, QueryOutput,
     QueryParams, ViewDesc, WaveWidth, snap_origin,
@@ -231,14 +231,7 @@ fn occlusion_culls_something() {
         PlacedObject::new(0, centre + DVec3::new(0.0, 0.0, -30.0)),
         PlacedObject::new(1, centre + DVec3::new(15.0, 0.0, -30.0)),
     ];
-    let mut scene = scene(
-        &resources,
-        &[group(0, objects)],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    );
+    let mut scene = one_group_scene(&resources, objects);
     for reversed in [false, true] {
         let cam = perspective(
             centre,
@@ -248,20 +241,11 @@ fn occlusion_culls_something() {
             reversed,
         );
         let (w, h) = (120, 80);
-        let origin = snap_origin(cam.position);
         let wall = [(
             centre + DVec3::new(-5.0, -5.0, -11.0),
             centre + DVec3::new(5.0, 5.0, -10.0),
         )];
-        let depth = raster_boxes(
-            &wall,
-            origin,
-            &cam.clip_from_floating(origin),
-            w,
-            h,
-            reversed,
-        );
-        let hiz = HiZ::build(&depth, w, h, reversed).unwrap();
+        let hiz = box_hiz(&wall, &cam, &cam, w, h, reversed).unwrap();
         let mut view = ViewDesc::camera(cam, [w, h]);
         view.fade_frames = 0;
         view.occlusion_camera = Some(cam);

@@ -44,14 +44,14 @@ mod common;
 use std::collections::BTreeMap;
 
 use glam::DVec3;
-use staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
+use staticscene::demo::{CityConfig, box_hiz, city, street_camera};
 use staticscene::pass::{
     GpuPlan, QUERY_PASS, QueryCounters, TileSlots, hiz_words, tile_record_words, tile_records,
     tile_state_words,
 };
 use staticscene::{
     Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, OcclusionPass, QueryOptions,
-    QueryOutput, QueryParams, QueryStats, Scene, TileId, ViewDesc, canonical_batches, snap_origin,
+    QueryOutput, QueryParams, QueryStats, Scene, TileId, ViewDesc, canonical_batches,
 };
 use testkit::device::{Data, run_pass};
 
@@ -316,18 +316,8 @@ fn twin_over_frames(two_pass: bool, features: &[&str]) {
         // Single pass: last frame's depth through last frame's camera. Two-pass: this
         // frame's (the boxes stand in for what the first pass drew).
         let depth_camera = if two_pass { cam } else { prev };
-        let hiz = (two_pass || frame > 0).then(|| {
-            let origin = snap_origin(cam.position);
-            let depth = raster_boxes(
-                &c.building_boxes,
-                origin,
-                &depth_camera.clip_from_floating(origin),
-                w,
-                h,
-                false,
-            );
-            HiZ::build(&depth, w, h, false).unwrap()
-        });
+        let hiz = (two_pass || frame > 0)
+            .then(|| box_hiz(&c.building_boxes, &cam, &depth_camera, w, h, false).unwrap());
         if hiz.is_some() {
             view.occlusion_camera = Some(depth_camera);
         }

@@ -9,9 +9,9 @@ use std::collections::BTreeMap;
 use common::*;
 use glam::{DQuat, DVec3, Vec3};
 use staticscene::{
-    Aabb, BuildConfig, Camera, DrawableSetupInstance, FILTER_ALL, INSTANCE_FLAG_NO_FADE, MeshNode,
-    PlacedObject, QueryOptions, QueryOutput, QueryParams, STATE_FADING, STATE_FADING_OUT, Scene,
-    StaticMesh, ViewDesc, ViewKind,
+    Aabb, Camera, DrawableSetupInstance, FILTER_ALL, INSTANCE_FLAG_NO_FADE, MeshNode, PlacedObject,
+    QueryOptions, QueryOutput, QueryParams, STATE_FADING, STATE_FADING_OUT, Scene, StaticMesh,
+    ViewDesc, ViewKind,
 };
 
 const N: u32 = 4;
@@ -30,14 +30,7 @@ fn switch_scene(flags: u8) -> (Scene, DVec3) {
         vec![(0.0, 50.0, leaf(1)), (50.0, f32::INFINITY, leaf(2))],
     )];
     let origin = DVec3::new(300_000.0, 5.0, -2_000.0);
-    let s = scene(
-        &res,
-        &[group(0, vec![PlacedObject::new(0, origin)])],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    );
+    let s = one_group_scene(&res, vec![PlacedObject::new(0, origin)]);
     (s, origin)
 }
 

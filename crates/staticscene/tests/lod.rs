@@ -9,8 +9,8 @@ use std::collections::HashSet;
 use common::*;
 use glam::{DVec3, Vec3};
 use staticscene::{
-    Aabb, BuildConfig, DrawableSetupInstance, PlacedObject, QueryOptions, QueryOutput, QueryParams,
-    Scene, ViewDesc,
+    Aabb, DrawableSetupInstance, PlacedObject, QueryOptions, QueryOutput, QueryParams, Scene,
+    ViewDesc,
 };
 
 const FAR: f32 = f32::INFINITY;
@@ -49,14 +49,7 @@ fn one_switch(origin: DVec3, object_scale: f32, ignore_global: bool) -> Scene {
     let mut o = PlacedObject::new(0, origin);
     o.lod_scale = object_scale;
     o.ignore_global_lod_scale = ignore_global;
-    scene(
-        &res,
-        &[group(0, vec![o])],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    )
+    one_group_scene(&res, vec![o])
 }
 
 /// The level an f64 reference selects for distance `d` with brackets scaled by `s`.
@@ -150,14 +143,7 @@ fn parent_and_child_brackets_combine() {
         ],
     )];
     let origin = DVec3::new(5e5, 0.0, 0.0);
-    let mut scene = scene(
-        &res,
-        &[group(0, vec![PlacedObject::new(0, origin)])],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    );
+    let mut scene = one_group_scene(&res, vec![PlacedObject::new(0, origin)]);
     // Camera on +x at distance e from the origin: parent distance e - 25, child e - 21.
     let at = |scene: &mut Scene, e: f64| {
         let cam = perspective(origin + DVec3::new(e, 0.0, 0.0), origin, 1.2, 1.0, false);

@@ -5,10 +5,9 @@ mod common;
 
 use common::*;
 use glam::{DQuat, DVec3, Mat4};
-use staticscene::demo::raster_boxes;
+use staticscene::demo::box_hiz;
 use staticscene::{
-    Camera, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams, ViewDesc,
-    WaveWidth, snap_origin,
+    Camera, DrawableSetupInstance, QueryOptions, QueryOutput, QueryParams, ViewDesc, WaveWidth,
 };
 
 #[test]
@@ -26,16 +25,7 @@ fn par_query_equals_query() {
             projection: Mat4::perspective_rh(1.2, 16.0 / 9.0, 0.1, 5000.0),
             reversed_depth: false,
         };
-        let origin = snap_origin(cam.position);
-        let depth = raster_boxes(
-            &c.building_boxes,
-            origin,
-            &cam.clip_from_floating(origin),
-            w,
-            h,
-            false,
-        );
-        let hiz = HiZ::build(&depth, w, h, false).unwrap();
+        let hiz = box_hiz(&c.building_boxes, &cam, &cam, w, h, false).unwrap();
         let mut view = ViewDesc::camera(cam, [w, h]);
         view.fade_frames = 6;
         view.occlusion_camera = Some(cam);

@@ -304,14 +304,7 @@ fn floating_origin_keeps_a_tenth_of_a_millimetre_at_a_million_metres() {
         objects.push(o);
         truth.push((p, linear, local));
     }
-    let mut scene = scene(
-        &resources,
-        &[group(0, objects)],
-        BuildConfig {
-            orphan_below: 0,
-            ..BuildConfig::default()
-        },
-    );
+    let mut scene = one_group_scene(&resources, objects);
     let eye = far + DVec3::new(0.37, 1.61, 0.52);
     let cam = perspective(eye, eye + DVec3::new(0.0, 0.0, -1.0), 1.6, 1.0, false);
     let mut view = ViewDesc::camera(cam, [256, 256]);

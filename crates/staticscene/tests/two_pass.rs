@@ -12,10 +12,10 @@ mod common;
 use std::collections::BTreeSet;
 
 use glam::DVec3;
-use staticscene::demo::{CityConfig, city, raster_boxes, street_camera};
+use staticscene::demo::{CityConfig, box_hiz, city, street_camera};
 use staticscene::{
     CAMERA_STATE_VISIBLE, DrawableSetupInstance, HiZ, OcclusionPass, QueryOptions, QueryOutput,
-    QueryParams, Scene, ViewDesc, snap_origin,
+    QueryParams, Scene, ViewDesc,
 };
 
 fn visible_set(out: &QueryOutput<DrawableSetupInstance>) -> BTreeSet<(u32, u32)> {
@@ -57,16 +57,7 @@ fn two_passes_draw_the_single_pass_set_split_by_last_frames_visibility() {
         let mut cam = start;
         cam.position += DVec3::new(0.0, 0.0, -2.0 * frame as f64);
         cam.rotation *= glam::DQuat::from_rotation_y(0.2 * (frame as f64 * 0.4).sin());
-        let origin = snap_origin(cam.position);
-        let depth = raster_boxes(
-            &c.building_boxes,
-            origin,
-            &cam.clip_from_floating(origin),
-            w,
-            h,
-            false,
-        );
-        let hiz = HiZ::build(&depth, w, h, false).unwrap();
+        let hiz = box_hiz(&c.building_boxes, &cam, &cam, w, h, false).unwrap();
         // Visible when last queried (clusters the pre-cull skipped keep their bits).
         let last_visible: BTreeSet<(u32, u32)> = single
             .tiles()

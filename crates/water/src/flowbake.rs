@@ -52,7 +52,7 @@ use crate::Error;
 use crate::edt::DistanceField;
 use crate::math;
 use crate::progress::{Progress, Stage, report};
-use crate::world::{MAX_RIVER_TEXELS, River, spline};
+use crate::world::{River, spline};
 
 /// A point source of flow (a spring, an outlet, the foot of a waterfall).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -359,44 +359,13 @@ pub(crate) fn seed(
                 reason: "fewer than 2 points, or a non-finite point",
             });
         }
-        let too_big = |value: u64| Error::LimitExceeded {
-            what: "texels a river's segments cover",
-            value,
-            limit: MAX_RIVER_TEXELS,
-            limit_name: "MAX_RIVER_TEXELS",
-        };
-        let samples = spline::flatten_bounded(&river.points, ts * 0.5, MAX_RIVER_TEXELS as usize)
-            .ok_or(too_big(MAX_RIVER_TEXELS + 1))?;
-        let range = |a: &spline::SplineSample, b: &spline::SplineSample| {
-            let (a2, b2) = (a.position.truncate(), b.position.truncate());
-            let r = a.width.max(b.width) * 0.5;
-            let lo = (a2.min(b2) - r - input.origin) / ts - 0.5;
-            let hi = (a2.max(b2) + r - input.origin) / ts - 0.5;
-            let (x0, y0) = (
-                (math::ceil(lo.x) as i64).max(0),
-                (math::ceil(lo.y) as i64).max(0),
-            );
-            let (x1, y1) = (
-                (math::floor(hi.x) as i64).min(w - 1),
-                (math::floor(hi.y) as i64).min(h - 1),
-            );
-            (x0, y0, x1, y1)
-        };
-        let total = samples
-            .windows(2)
-            .map(|s| {
-                let (x0, y0, x1, y1) = range(&s[0], &s[1]);
-                ((x1 - x0 + 1).max(0) as u64) * ((y1 - y0 + 1).max(0) as u64)
-            })
-            .fold(0u64, u64::saturating_add);
-        if total > MAX_RIVER_TEXELS {
-            return Err(too_big(total));
-        }
-        for seg in samples.windows(2) {
+        // Texel centres sit half a texel in from the grid's corners.
+        let (samples, ranges) =
+            spline::river_ranges(&river.points, ts, input.origin, 0.5, Some((w, h)))?;
+        for (seg, &(x0, y0, x1, y1)) in samples.windows(2).zip(&ranges) {
             let (a, b) = (seg[0], seg[1]);
             let (a2, b2) = (a.position.truncate(), b.position.truncate());
             let dir = (b2 - a2).normalize_or_zero();
-            let (x0, y0, x1, y1) = range(&a, &b);
             for y in y0..=y1 {
                 for x in x0..=x1 {
                     let i = (y * w + x) as usize;
@@ -418,15 +387,13 @@ pub(crate) fn seed(
     }
     for src in input.sources {
         let r = src.radius.max(0.0);
-        let lo = (src.position - r - input.origin) / ts - 0.5;
-        let hi = (src.position + r - input.origin) / ts - 0.5;
-        let (x0, y0) = (
-            (math::ceil(lo.x) as i64).max(0),
-            (math::ceil(lo.y) as i64).max(0),
-        );
-        let (x1, y1) = (
-            (math::floor(hi.x) as i64).min(w - 1),
-            (math::floor(hi.y) as i64).min(h - 1),
+        let (x0, y0, x1, y1) = spline::grid_range(
+            src.position - r,
+            src.position + r,
+            ts,
+            input.origin,
+            0.5,
+            Some((w, h)),
         );
         for y in y0..=y1 {
             for x in x0..=x1 {

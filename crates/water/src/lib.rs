@@ -54,6 +54,7 @@
 //! | [`specaa`] | variance-based specular anti-aliasing (Tokuyoshi and Kaplanyan 2019) |
 //! | [`normals`] | normals from depth without derivatives (5 and 9 taps), radius growing near the camera, blend with the mesh normal |
 //! | [`gbuffer`] | the mini G-buffer's data word (shader ID, flags, material, foam and algae mips) |
+//! | [`draw`] | what the renderer draws a world from: the near bodies' low-resolution meshes, the far sectors' quadtree, the 6 m material map, and their limits |
 //! | [`tiles`] | 32 x 32 screen-tile classification, the indirect draw, the tessellated grid with 16-bit vertices and degenerate-triangle kills |
 //! | [`parallel`] | rayon versions of the distance transform and the flow bake (feature `parallel`; equal results) |
 //! | [`progress`] | progress reporting and cancellation for the bakers |
@@ -123,6 +124,7 @@ compile_error!("water needs float math: enable the `std` (default) or `libm` fea
 pub mod atlas;
 pub mod axes;
 pub mod decal;
+pub mod draw;
 pub mod edt;
 mod error;
 pub mod flow;

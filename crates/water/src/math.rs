@@ -86,6 +86,12 @@ pub fn ceil(x: f32) -> f32 {
     libm::ceilf(x)
 }
 
+/// Nearest integer, halves away from zero (`f32::round`).
+#[inline]
+pub fn round(x: f32) -> f32 {
+    libm::roundf(x)
+}
+
 /// `x - floor(x)`, in `[0, 1)` for finite `x` (WGSL's `fract`).
 #[inline]
 pub fn fract(x: f32) -> f32 {

@@ -1,6 +1,8 @@
 //! The water query against independent references: an f64 even-odd test over every lake
 //! edge, and an f64 Catmull–Rom centre line sampled densely for rivers.
 
+mod common;
+
 use testkit::Rng;
 use water::glam::{DVec2, DVec3, Vec2, Vec3};
 use water::world::{
@@ -131,12 +133,7 @@ fn centre_line(points: &[RiverPoint]) -> Vec<(DVec3, f64)> {
 
 #[test]
 fn rivers_follow_the_spline_with_slopes_and_a_waterfall() {
-    let pt = |x: f32, y: f32, z: f32, w: f32| RiverPoint {
-        position: Vec3::new(x, y, z),
-        width: w,
-        depth: 2.0,
-        speed: 3.0,
-    };
+    let pt = |x: f32, y: f32, z: f32, w: f32| common::river_point(Vec3::new(x, y, z), w, 2.0, 3.0);
     // A bending river that drops 1 m over its first 100 m, then falls 15 m in 2 m
     // horizontally (a waterfall), then flows on.
     let points = vec![
@@ -316,12 +313,7 @@ fn body_bounds_hold_every_point_the_query_finds() {
             material: k,
         });
     }
-    let point = |x: f32, y: f32, z: f32| RiverPoint {
-        position: Vec3::new(x, y, z),
-        width: 12.0,
-        depth: 2.0,
-        speed: 2.0,
-    };
+    let point = |x: f32, y: f32, z: f32| common::river_point(Vec3::new(x, y, z), 12.0, 2.0, 2.0);
     b.rivers.push(River {
         points: vec![
             point(0.0, 500.0, 30.0),
@@ -360,36 +352,7 @@ fn body_bounds_hold_every_point_the_query_finds() {
 /// `WaterWorld::candidates` holds the query's answer and every body covering the point.
 #[test]
 fn candidates_hold_the_query_and_every_covering_body() {
-    let mut b = WaterWorldBuilder::new();
-    b.ocean = Some(Ocean {
-        level: 0.0,
-        material: 0,
-    });
-    b.lakes.push(Lake {
-        polygon: vec![
-            Vec2::new(0.0, 0.0),
-            Vec2::new(60.0, 0.0),
-            Vec2::new(60.0, 40.0),
-            Vec2::new(0.0, 40.0),
-        ],
-        height: 10.0,
-        material: 1,
-    });
-    let p = |x: f32, y: f32, z: f32| RiverPoint {
-        position: Vec3::new(x, y, z),
-        width: 8.0,
-        depth: 1.5,
-        speed: 2.0,
-    };
-    b.rivers.push(River {
-        points: vec![
-            p(30.0, 120.0, 20.0),
-            p(30.0, 60.0, 14.0),
-            p(30.0, 20.0, 9.0),
-        ],
-        material: 2,
-    });
-    let world = b.build(&mut water::no_progress).unwrap();
+    let world = common::lake_and_river(9.0);
     let mut both = 0;
     for y in 0..120 {
         for x in 0..60 {

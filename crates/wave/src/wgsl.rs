@@ -4,7 +4,7 @@
 //!
 //! | module | needs | contents |
 //! | --- | --- | --- |
-//! | `wave::common` ([`COMMON`]) | core | `WAVE_NO_SLOT`, `WaveAppend`, `WaveBatch`, `wave_slot`, ballot-mask helpers (`wave_ballot_count`, `wave_ballot_count_below` = MaskBitCnt, `wave_ballot_first`), order-preserving float words (`wave_ordered_f32`, `wave_unordered_f32`) |
+//! | `wave::common` ([`COMMON`]) | core | `WAVE_NO_SLOT`, `WaveAppend`, `WaveBatch`, `wave_slot`, ballot-mask helpers (`wave_ballot_count`, `wave_ballot_count_below` = MaskBitCnt over `wave_word_count_below`, `wave_ballot_first`), order-preserving float words (`wave_ordered_f32`, `wave_unordered_f32`) |
 //! | `wave::subgroup` ([`SUBGROUP`]) | `Features::SUBGROUP` | `wave_sg_is_leader`, `wave_sg_append_begin` / `_n_begin` / `_end`: `subgroupBallot`, `subgroupExclusiveAdd`, `subgroupBroadcastFirst` |
 //! | `wave::workgroup` ([`WORKGROUP`]) | core | the fallback: `wave_wg_ballot` (workgroup-shared `atomicOr`), `wave_wg_append_*`, `wave_wg_broadcast_leader`, and the run-grouped batch output `wave_wg_batch_begin` / `wave_wg_batch_headers_begin` |
 //! | `wave::append` ([`APPEND`]) | with the `subgroups` feature, `Features::SUBGROUP` | the path-neutral `wave_append_begin`, `wave_append_n_begin`, `wave_append_end`: the subgroup path's with the `subgroups` feature, the fallback's without; also imports `wave::workgroup` (the batch output) |

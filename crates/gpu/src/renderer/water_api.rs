@@ -12,9 +12,9 @@ use crate::resources::uniforms::Camera;
 
 use crate::passes::water::targets::buffer_size;
 use crate::water_scene::{
-    WaterDecal, WaterScene, WaterSummary, check_materials, check_options, material_map,
-    max_displacement, near_meshes, sector_tree,
+    WaterDecal, WaterScene, WaterSummary, check_materials, check_options, draw_error,
 };
+use water::draw::{material_map, near_meshes, sector_tree};
 
 /// The mini G-buffer of the last frame ([`Renderer::read_water_gbuffer`]), row-major.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -139,10 +139,11 @@ impl Renderer {
         }
         let o = &scene.options;
         let built = Built {
-            near: near_meshes(&scene.world, &bodies, o.near_cell)?,
-            tree: sector_tree(&scene.world, &bodies, o)?,
+            near: near_meshes(&scene.world, &bodies, o.near_cell).map_err(draw_error)?,
+            tree: sector_tree(&scene.world, &bodies, o.sector_size, o.ocean_extent)
+                .map_err(draw_error)?,
             map: material_map(&scene.world, &bodies, o.blend_distance),
-            max_displacement: max_displacement(scene),
+            max_displacement: scene.max_displacement(),
         };
         let device = self.device.clone();
         let half = o.half_precision && self.paths.f16;

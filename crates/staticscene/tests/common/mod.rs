@@ -18,6 +18,16 @@ pub fn scene(resources: &[MeshNode], groups: &[StreamingGroup], config: BuildCon
     scene
 }
 
+/// A scene of one streaming group of `objects`, all in one tile (no orphan tile): what
+/// the tests that place a few objects by hand build.
+pub fn one_group_scene(resources: &[MeshNode], objects: Vec<PlacedObject>) -> Scene {
+    let config = BuildConfig {
+        orphan_below: 0,
+        ..BuildConfig::default()
+    };
+    scene(resources, &[group(0, objects)], config)
+}
+
 /// A small demo city (about `instances` instances) as a scene.
 pub fn city_scene(instances: usize, seed: u64) -> (Scene, CityConfig) {
     let mut cfg = CityConfig::with_instances(instances);

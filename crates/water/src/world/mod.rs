@@ -61,6 +61,8 @@
 //! | texels, 3 words | height (f32, `0xffffffff` = no water), flow `pack2x16float(x, y)`, `pack2x16float(depth, s)` |
 
 mod bake;
+mod geom;
+mod read;
 pub(crate) mod spline;
 
 use alloc::vec::Vec;
@@ -358,7 +360,7 @@ impl WaterWorld {
     /// offset and count stays inside the array, so queries cannot read out of bounds
     /// (queries on any accepted array never panic).
     pub fn from_words(words: Vec<u32>) -> Result<Self, Error> {
-        bake::validate(&words)?;
+        read::validate(&words)?;
         Ok(Self { words })
     }
 
@@ -383,7 +385,7 @@ impl WaterWorld {
     /// The water surface at horizontal position `p` (metres), or `None`.
     #[must_use]
     pub fn query(&self, p: Vec2) -> Option<WaterLevel> {
-        bake::query(&self.words, p)
+        read::query(&self.words, p)
     }
 
     /// Every body whose water covers `p`, whether or not its surface is the highest there
@@ -394,7 +396,7 @@ impl WaterWorld {
     #[must_use]
     pub fn candidates(&self, p: Vec2) -> Vec<WaterLevel> {
         let mut out = Vec::new();
-        bake::visit(&self.words, p, |l| out.push(l));
+        read::visit(&self.words, p, |l| out.push(l));
         out
     }
 
@@ -417,7 +419,7 @@ impl WaterWorld {
     /// its height tiles.
     #[must_use]
     pub fn bodies(&self) -> Vec<BodyBounds> {
-        bake::bodies(&self.words)
+        read::bodies(&self.words)
     }
 
     /// The ocean, if the world has one.

@@ -5,7 +5,8 @@ use alloc::vec::Vec;
 
 use glam::{Vec2, Vec3};
 
-use crate::math;
+use super::MAX_RIVER_TEXELS;
+use crate::{Error, math};
 
 /// One control point of a river.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +116,71 @@ pub(crate) fn flatten_bounded(
         speed: last.speed,
     });
     Some(out)
+}
+
+/// An inclusive grid range `(x0, y0, x1, y1)`.
+pub(crate) type GridRange = (i64, i64, i64, i64);
+
+/// The inclusive range `(x0, y0, x1, y1)` of grid points inside the box `[lo, hi]`, grid
+/// point `(x, y)` lying at `origin + ((x, y) + shift) * texel`; with `size = (w, h)`
+/// clamped to the grid.
+pub(crate) fn grid_range(
+    lo: Vec2,
+    hi: Vec2,
+    texel: f32,
+    origin: Vec2,
+    shift: f32,
+    size: Option<(i64, i64)>,
+) -> GridRange {
+    let lo = (lo - origin) / texel - shift;
+    let hi = (hi - origin) / texel - shift;
+    let (x0, y0) = (math::ceil(lo.x) as i64, math::ceil(lo.y) as i64);
+    let (x1, y1) = (math::floor(hi.x) as i64, math::floor(hi.y) as i64);
+    match size {
+        Some((w, h)) => (x0.max(0), y0.max(0), x1.min(w - 1), y1.min(h - 1)),
+        None => (x0, y0, x1, y1),
+    }
+}
+
+/// A river flattened for a grid of `texel` metres, and the inclusive grid range
+/// `(x0, y0, x1, y1)` under each segment's capsule's bounding box, where grid point
+/// `(x, y)` lies at `origin + ((x, y) + shift) * texel`; with `size = (w, h)` the ranges
+/// are clamped to the grid. The world bake and the flow bake rasterise rivers through
+/// this, so both refuse the same rivers, before any rasterising: more than
+/// [`MAX_RIVER_TEXELS`] texels over all ranges is an error.
+pub(crate) fn river_ranges(
+    points: &[RiverPoint],
+    texel: f32,
+    origin: Vec2,
+    shift: f32,
+    size: Option<(i64, i64)>,
+) -> Result<(Vec<SplineSample>, Vec<GridRange>), Error> {
+    let too_big = |value: u64| Error::LimitExceeded {
+        what: "texels a river's segments cover",
+        value,
+        limit: MAX_RIVER_TEXELS,
+        limit_name: "MAX_RIVER_TEXELS",
+    };
+    let samples = flatten_bounded(points, texel * 0.5, MAX_RIVER_TEXELS as usize)
+        .ok_or(too_big(MAX_RIVER_TEXELS + 1))?;
+    let ranges: Vec<GridRange> = samples
+        .windows(2)
+        .map(|seg| {
+            let (a2, b2) = (seg[0].position.truncate(), seg[1].position.truncate());
+            let r = seg[0].width.max(seg[1].width) * 0.5;
+            grid_range(a2.min(b2) - r, a2.max(b2) + r, texel, origin, shift, size)
+        })
+        .collect();
+    let total = ranges
+        .iter()
+        .map(|&(x0, y0, x1, y1)| {
+            ((x1 - x0 + 1).max(0) as u64).saturating_mul((y1 - y0 + 1).max(0) as u64)
+        })
+        .fold(0u64, u64::saturating_add);
+    if total > MAX_RIVER_TEXELS {
+        return Err(too_big(total));
+    }
+    Ok((samples, ranges))
 }
 
 /// Closest point on segment `a -> b` to `p` (2D): parameter in `[0, 1]` and distance.

@@ -66,18 +66,23 @@ fn wave_ballot_count(mask: vec4<u32>) -> u32 {
     return countOneBits(mask.x) + countOneBits(mask.y) + countOneBits(mask.z) + countOneBits(mask.w);
 }
 
+// The set bits of one ballot word, lanes `lo .. lo + 31`, strictly below `lane`: the
+// per-word step of MaskBitCnt, shared by the subgroup ballot and the workgroup ballot.
+fn wave_word_count_below(bits: u32, lo: u32, lane: u32) -> u32 {
+    var b = bits;
+    if (lane <= lo) {
+        b = 0u;
+    } else if (lane < lo + 32u) {
+        b &= (1u << (lane - lo)) - 1u;
+    }
+    return countOneBits(b);
+}
+
 // The set lanes of `mask` strictly below `lane`: the talk's MaskBitCnt.
 fn wave_ballot_count_below(mask: vec4<u32>, lane: u32) -> u32 {
     var n = 0u;
     for (var w = 0u; w < 4u; w++) {
-        let lo = w * 32u;
-        var bits = mask[w];
-        if (lane <= lo) {
-            bits = 0u;
-        } else if (lane < lo + 32u) {
-            bits &= (1u << (lane - lo)) - 1u;
-        }
-        n += countOneBits(bits);
+        n += wave_word_count_below(mask[w], w * 32u, lane);
     }
     return n;
 }

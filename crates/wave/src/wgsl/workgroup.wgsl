@@ -68,14 +68,7 @@ fn wave_wg_ballot_count_below(mask: array<u32, WAVE_WG_BALLOT_WORDS>, lane: u32)
     var m = mask;
     var n = 0u;
     for (var w = 0u; w < WAVE_WG_BALLOT_WORDS; w++) {
-        let lo = w * 32u;
-        var bits = m[w];
-        if (lane <= lo) {
-            bits = 0u;
-        } else if (lane < lo + 32u) {
-            bits &= (1u << (lane - lo)) - 1u;
-        }
-        n += countOneBits(bits);
+        n += wave_word_count_below(m[w], w * 32u, lane);
     }
     return n;
 }

@@ -12,12 +12,12 @@ use crate::passes::water::rows::GpuWaterFrame;
 use crate::passes::water::rows::STAT_WORDS;
 use crate::passes::water::targets::WaterTargets;
 use crate::resources::uniforms::FrameInput;
-use crate::water_scene::MaterialMap;
-use crate::water_scene::NearMeshes;
-use crate::water_scene::SectorTree;
 use crate::water_scene::{MAX_WATER_DECALS, WaterOptions, WaterScene};
 use glam::Mat4;
 use staticscene::pass::{HizGrid, hiz_header};
+use water::draw::MaterialMap;
+use water::draw::NearMeshes;
+use water::draw::SectorTree;
 use wgpu::util::DeviceExt;
 
 /// A texture of `data` (one mip, one layer unless `layers`).

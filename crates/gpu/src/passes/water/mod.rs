@@ -1,6 +1,7 @@
 //! FC5's water in the frame (seed 003), one module per pass; the order, the targets and
-//! the per-frame constants are here. [`crate::water_scene`] has the API, the CPU side and
-//! the table of passes; this module runs them after the opaque frame's lighting:
+//! the per-frame constants are here. [`crate::water_scene`] has the API and the table of
+//! passes, `water::draw` the CPU side (meshes, sector tree, material map);
+//! this module runs them after the opaque frame's lighting:
 //!
 //! hiz -> [`visibility`] -> [`position`] -> [`displacement`] -> [`tiles`] -> depth copy ->
 //! [`tessellation`] -> light tiles -> [`normals`] -> [`foam`] -> [`composite`]
@@ -413,7 +414,7 @@ mod tests {
         assert_eq!(u("GPU_WATER_FLAG_SHORE"), Some(FLAG_SHORE));
         assert_eq!(u("GPU_WATER_FLAG_SSR"), Some(FLAG_SSR));
         assert_eq!(u("GPU_WATER_FLAG_MATERIAL_MAP"), Some(FLAG_MATERIAL_MAP));
-        use crate::water_scene::{
+        use water::draw::{
             NODE_FLAT, NODE_MATERIAL_SHIFT, NODE_OCEAN, NODE_PURE, NODE_WATER, WATER_NO_MATERIAL,
         };
         assert_eq!(u("GPU_WATER_NODE_PURE"), Some(NODE_PURE));
