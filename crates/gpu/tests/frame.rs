@@ -230,7 +230,6 @@ fn upload_rig(pool: PoolConfig) -> (gpu::Renderer, gpu::PreparedScene, FrameInpu
         frames: gpu::config::FrameConfig {
             upload_pool: pool, // No pacing wait: every frame may run ahead.
             frames_in_flight: 64,
-            ..Default::default()
         },
         ..gpu::RendererConfig::default()
     });

@@ -100,7 +100,6 @@ impl Args {
                 spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
                 cull_shadow_casters: !self.no_caster_culling,
                 conditional_volumes: !self.no_conditional_volumes,
-                ..Default::default()
             },
             ..RendererConfig::default()
         }

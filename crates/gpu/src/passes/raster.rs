@@ -140,29 +140,6 @@ pub(crate) fn loaded_colors(
         .collect()
 }
 
-#[cfg(test)]
-mod tests {
-    use shader::pipeline::{depth_format, texture_format};
-
-    use super::*;
-
-    /// The descriptions' formats are the textures' they draw into.
-    #[test]
-    fn formats_are_the_targets() {
-        assert_eq!(depth_format(DEPTH), crate::resources::targets::DEPTH_FORMAT);
-        assert_eq!(depth_format(SHADOW), crate::shadows::SHADOW_FORMAT);
-        for layout in deferred::GBufferLayout::ALL {
-            let want = crate::gbuffer::color_formats(layout);
-            let got: Vec<_> = gbuffer_targets(layout)
-                .iter()
-                .map(|t| texture_format(t.format))
-                .collect();
-            assert_eq!(got, want, "{layout:?}");
-            assert!(gbuffer_targets(layout).iter().all(|t| t.blend.is_none()));
-        }
-    }
-}
-
 /// Records static draw lists into a geometry pass: the opaque list with `opaque`, the
 /// alpha-tested list with `alpha` (index buffer and bind groups are the caller's); the full
 /// lists, or with `late` the late ones.
@@ -244,6 +221,29 @@ pub(crate) fn draw_planned(
                 d.base_vertex as i32,
                 d.first_instance..d.first_instance + d.instance_count,
             );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use shader::pipeline::{depth_format, texture_format};
+
+    use super::*;
+
+    /// The descriptions' formats are the textures' they draw into.
+    #[test]
+    fn formats_are_the_targets() {
+        assert_eq!(depth_format(DEPTH), crate::resources::targets::DEPTH_FORMAT);
+        assert_eq!(depth_format(SHADOW), crate::shadows::SHADOW_FORMAT);
+        for layout in deferred::GBufferLayout::ALL {
+            let want = crate::gbuffer::color_formats(layout);
+            let got: Vec<_> = gbuffer_targets(layout)
+                .iter()
+                .map(|t| texture_format(t.format))
+                .collect();
+            assert_eq!(got, want, "{layout:?}");
+            assert!(gbuffer_targets(layout).iter().all(|t| t.blend.is_none()));
         }
     }
 }
