@@ -8,7 +8,7 @@
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
 //! The terrain's and the rocks' materials are [`Material::regular`]: HFW's mixed frame
-//! (`gpu::RendererConfig::mixed_frame`) draws them in its regular geometry pass instead of
+//! (`gpu::RendererConfig::geometry.mixed_frame`) draws them in its regular geometry pass instead of
 //! the vis buffer.
 //!
 //! Nothing here needs a device: the scenes are `scene` descriptions, which `gpu` prepares.

@@ -16,5 +16,5 @@ pub use crate::resources::vis64::{
 };
 pub use crate::shadows::ShadowConfig;
 pub use crate::spot_shadows::{MAX_SPOT_SHADOW_MAPS, SpotShadowConfig};
-/// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::vertex_ring`.
+/// The talk's vertex ring sizes (PS4 12 MiB, PS5 24 MiB), for `RendererConfig::geometry.vertex_ring`.
 pub use tiling::{RING_BYTES_PS4, RING_BYTES_PS5};

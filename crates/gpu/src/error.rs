@@ -69,7 +69,7 @@ pub enum Error {
     /// the pool is smaller than a frame's uploads, or the GPU has not finished the frames
     /// holding it. Nothing was overwritten; the frame was not submitted.
     UploadPoolExhausted {
-        /// Bytes in the pool (`RendererConfig::upload_pool`).
+        /// Bytes in the pool (`RendererConfig::frames.upload_pool`).
         pool_bytes: u64,
         /// Blocks in the pool, all live.
         blocks: u32,
@@ -96,7 +96,7 @@ pub enum Error {
     },
     /// A [`RendererConfig`](crate::RendererConfig) value outside its range.
     Config {
-        /// Which value (`RendererConfig::width`).
+        /// Which value (`RendererConfig::image.width`).
         field: &'static str,
         /// What it was.
         value: f64,
@@ -155,7 +155,7 @@ impl fmt::Display for Error {
             } => write!(
                 f,
                 "the upload pool ({pool_bytes} bytes in {blocks} blocks, \
-                 RendererConfig::upload_pool) is full: the frame's {frame_bytes} bytes of \
+                 RendererConfig::frames.upload_pool) is full: the frame's {frame_bytes} bytes of \
                  uploads wait for frames the GPU has not finished; raise the pool size or \
                  wait for the device"
             ),

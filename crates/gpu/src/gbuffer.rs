@@ -1,5 +1,5 @@
 //! The G-buffer on the GPU, in either of `deferred`'s layouts
-//! ([`RendererConfig::gbuffer`](crate::RendererConfig::gbuffer)): the octahedral one (the
+//! ([`RendererConfig::image.gbuffer`](crate::config::ImageConfig::gbuffer)): the octahedral one (the
 //! default: world-space 12+12-bit normal, formats guaranteed for storage writes, render
 //! attachments and 4x MSAA, 20 bytes a pixel) or KZ2's four RGBA8 targets (view-space
 //! normal xy in f16 pairs, 16 bytes a pixel; feature `kz2_gbuffer` of the modules), written as

@@ -41,12 +41,12 @@
 //! # What it draws
 //!
 //! Lighting: KZ2's sun slices as stable cascaded shadow maps with a baked sun term; point
-//! and spot lights through 16x16 tiles or stencil light volumes ([`LightPaths`]) with KZ2's
-//! light-shader permutations; shadow-casting spots ([`SpotShadowConfig`]) whose maps and
+//! and spot lights through 16x16 tiles or stencil light volumes ([`LightPaths`](config::LightPaths)) with KZ2's
+//! light-shader permutations; shadow-casting spots ([`SpotShadowConfig`](config::SpotShadowConfig)) whose maps and
 //! shading the GPU skips when their volume covers no pixel
-//! ([`RendererConfig::conditional_volumes`]); the octahedral or KZ2's G-buffer; HZD's
+//! ([`RendererConfig::lighting.conditional_volumes`](crate::config::LightingConfig::conditional_volumes)); the octahedral or KZ2's G-buffer; HZD's
 //! depth-equal baseline (single-sample, or 4x MSAA lit with KZ2's tricks:
-//! [`MsaaLighting`]). Every per-frame upload is sub-allocated from `framealloc`'s pool, so
+//! [`MsaaLighting`](config::MsaaLighting)). Every per-frame upload is sub-allocated from `framealloc`'s pool, so
 //! frames can be submitted without waiting ([`Renderer::submit`]).
 //!
 //! Beside the scene the renderer draws Far Cry 5's water ([`Renderer::set_water`] with a

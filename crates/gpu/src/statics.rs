@@ -133,7 +133,7 @@ pub struct StaticShadowStats {
 
 /// HZD's mode, where the CPU consumes the query: `scene` with its static setups replaced
 /// by planned batches of what `out` (a [`StaticQuery::run`] with
-/// [`QueryReadback::Full`](crate::statics::QueryReadback::Full) of `params`) found visible, one batch
+/// [`QueryReadback::Full`] of `params`) found visible, one batch
 /// per query batch (its setup's mesh and material, its instances' transforms from the
 /// query's floating space back to world space). [`Renderer::prepare`](crate::Renderer::prepare)
 /// then plans them with `tiling::build_plan` as any batch.

@@ -31,7 +31,7 @@
 //! | depth | what it holds | read by |
 //! | --- | --- | --- |
 //! | the depth target ([`Inspect::read_depth`](crate::inspect::Inspect::read_depth)) | the opaque scene only | lighting, shadows' light tiles, the static query's HiZ (next frame's occlusion), the water's own HiZ, refraction and the water depth under the surface (foam, light transport), screen-space reflections |
-//! | the depth with water ([`Renderer::read_water_depth`](crate::Renderer::read_water_depth)) | a copy of the opaque depth with the tessellated water drawn into it (depth-tested, writing) | the water's local light tiles; whatever draws after the water and must be hidden by it (particles, fog, transparent objects): choose this one |
+//! | the depth with water ([`Inspect::read_water_depth`](crate::inspect::Inspect::read_water_depth)) | a copy of the opaque depth with the tessellated water drawn into it (depth-tested, writing) | the water's local light tiles; whatever draws after the water and must be hidden by it (particles, fog, transparent objects): choose this one |
 //!
 //! A pass that looks *through* the water (what lies under it) reads the depth target; a
 //! pass that draws *over* the finished image reads the depth with water. The static query
@@ -55,7 +55,7 @@ use water::world::BodyBounds;
 
 use crate::error::{Error, Result};
 
-/// What the last frame's water passes did ([`Renderer::water_stats`](crate::Renderer::water_stats)).
+/// What the last frame's water passes did ([`Inspect::water_stats`](crate::inspect::Inspect::water_stats)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WaterStats {
     /// The mini G-buffer's size.

@@ -316,7 +316,7 @@ fn renderer_misuse_is_an_error() {
                 },
                 ..RendererConfig::default()
             },
-            "RendererConfig::width",
+            "RendererConfig::image.width",
         ),
         (
             RendererConfig {
@@ -326,7 +326,7 @@ fn renderer_misuse_is_an_error() {
                 },
                 ..RendererConfig::default()
             },
-            "RendererConfig::height",
+            "RendererConfig::image.height",
         ),
         (
             RendererConfig {
@@ -336,7 +336,7 @@ fn renderer_misuse_is_an_error() {
                 },
                 ..RendererConfig::default()
             },
-            "RendererConfig::mip_bias",
+            "RendererConfig::image.mip_bias",
         ),
         (
             RendererConfig {
@@ -346,7 +346,7 @@ fn renderer_misuse_is_an_error() {
                 },
                 ..RendererConfig::default()
             },
-            "RendererConfig::mip_bias",
+            "RendererConfig::image.mip_bias",
         ),
     ] {
         match Renderer::new(&c.device, &c.queue, bad) {

@@ -364,7 +364,7 @@ fn an_upload_pool_smaller_than_a_frame_is_an_error() {
         matches!(
             bad,
             Err(gpu::Error::Config {
-                field: "RendererConfig::upload_pool",
+                field: "RendererConfig::frames.upload_pool",
                 ..
             })
         ),

@@ -317,7 +317,7 @@ fn msaa_refuses_what_it_cannot_serve() {
         ..config(Some(MsaaLighting::Kz2))
     };
     let e = bad.validate().unwrap_err().to_string();
-    assert!(e.contains("RendererConfig::msaa"), "{e}");
+    assert!(e.contains("RendererConfig::image.msaa"), "{e}");
 
     let (scene, frame, _) = quad_scene();
     let mut r = common::renderer_with(config(Some(MsaaLighting::Kz2)));

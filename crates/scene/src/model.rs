@@ -159,7 +159,7 @@ pub struct Material {
     pub roughness: f32,
     /// Specular intensity in [0, 1].
     pub specular: f32,
-    /// HFW's mixed frame (`gpu::RendererConfig::mixed_frame`): batches
+    /// HFW's mixed frame (`gpu::RendererConfig::geometry.mixed_frame`): batches
     /// of this material skip the vis buffer and are drawn by the regular geometry pass
     /// after the laydown, which writes the G-buffer from a fragment shader and clears the
     /// pixels' validity bits (the talk's stencil bit), so the classification leaves those

@@ -75,14 +75,14 @@ pub(crate) struct Pipelines {
     pub resolve: resolve::Resolve,
     pub baseline: baseline::Baseline,
     /// HFW's mixed frame's regular geometry pass, with
-    /// [`RendererConfig::mixed_frame`](crate::RendererConfig).
+    /// [`RendererConfig::geometry.mixed_frame`](crate::config::GeometryConfig::mixed_frame).
     pub regular: Option<regular::Regular>,
     pub pixel_pull: pixel_pull::PixelPull,
     pub lighting: lighting::Lighting,
     pub lights: lights::LocalLights,
     /// With a light path that has volumes.
     pub light_volumes: Option<light_volumes::LightVolumes>,
-    /// With volumes and [`RendererConfig::conditional_volumes`](crate::RendererConfig)
+    /// With volumes and [`RendererConfig::lighting.conditional_volumes`](crate::config::LightingConfig::conditional_volumes)
     /// on a device with `INDIRECT_FIRST_INSTANCE`.
     pub conditional: Option<conditional::Conditional>,
     pub static_place: static_place::StaticPlace,
@@ -315,7 +315,7 @@ impl Pipelines {
                     self.vis_copy.record_depth(e, f, timer);
                 }
                 self.classify.record_output(e, f, timer);
-                // HFW's vertex side (RendererConfig::vertex_ring): the vertex wave
+                // HFW's vertex side (RendererConfig::geometry.vertex_ring): the vertex wave
                 // commands from the cull buffer, then each pass's transform into the ring.
                 // With the resolve reading the ring, each pass's transform is recorded
                 // right before its resolve; else all of them here (measured alone).

@@ -33,11 +33,11 @@ pub(crate) struct PrepareContext<'a> {
     pub indirect_first_instance: bool,
     /// Whether the renderer bakes KZ2's pre-rendered sun map.
     pub baked_sun: bool,
-    /// The vertex ring's bytes (`RendererConfig::vertex_ring`; `None`: no ring).
+    /// The vertex ring's bytes (`RendererConfig::geometry.vertex_ring`; `None`: no ring).
     pub ring_bytes: Option<u64>,
-    /// Whether the resolve reads the ring (`RendererConfig::ring_resolve`).
+    /// Whether the resolve reads the ring (`RendererConfig::geometry.ring_resolve`).
     pub ring_resolve: bool,
-    /// HFW's software VRS (`RendererConfig::vrs`): the plan uses visbuf's VRS layout.
+    /// HFW's software VRS (`RendererConfig::geometry.vrs`): the plan uses visbuf's VRS layout.
     pub vrs: bool,
 }
 

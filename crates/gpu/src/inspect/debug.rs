@@ -23,7 +23,7 @@ pub fn vis_ids(width: u32, height: u32, vis: &[u32]) -> Rgba8Image {
 }
 
 /// HFW's software VRS: the shading rate of every pixel from the rate bits of its vis word
-/// (visbuf's VRS layout: `RendererConfig::vrs`): 1x1 dark green, 1x2 blue, 2x1 orange,
+/// (visbuf's VRS layout: `RendererConfig::geometry.vrs`): 1x1 dark green, 1x2 blue, 2x1 orange,
 /// 2x2 red; pixels without geometry yellow. Returns the image and the pixels at each rate
 /// (code order: 1x1, 1x2, 2x1, 2x2).
 pub fn shading_rate(width: u32, height: u32, vis: &[u32]) -> (Rgba8Image, [u64; 4]) {

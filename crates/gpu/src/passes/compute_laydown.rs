@@ -44,7 +44,7 @@ use crate::timing::GpuTimer;
 /// batch of triangles, 8x8 blocks of the box rejected whole). The area bound sends long
 /// slanted triangles, whose boxes are mostly empty, to the blocks. 24 was the fastest on
 /// every demo scene at 4K on the H200 (BENCHMARKS.md)
-/// ([`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) sets it; WGSL:
+/// ([`RendererConfig::geometry.compute_laydown_max_extent`](crate::config::GeometryConfig::compute_laydown_max_extent) sets it; WGSL:
 /// the override `GPU_COMPUTE_LAYDOWN_MAX_EXTENT`).
 pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 24.0;
 
@@ -325,7 +325,7 @@ pub struct LaydownStats {
     /// a million pixels), including any past the list's capacity.
     pub hybrid: u64,
     /// Of those, rasterised by the large-triangle pass (a box wider or taller than
-    /// [`RendererConfig::compute_laydown_max_extent`](crate::RendererConfig) pixels, or
+    /// [`RendererConfig::geometry.compute_laydown_max_extent`](crate::config::GeometryConfig::compute_laydown_max_extent) pixels, or
     /// larger than a quarter of its square).
     pub large: u64,
     /// Listed triangles past either list's capacity (not drawn; the report shows them).

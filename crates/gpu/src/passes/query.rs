@@ -144,7 +144,7 @@ impl StaticQuery {
     }
 
     /// [`StaticQuery::new`] with the batch output chosen: per subgroup when `subgroups`
-    /// and the device has `Features::SUBGROUP` (as `RendererConfig::subgroups` does for
+    /// and the device has `Features::SUBGROUP` (as `RendererConfig::geometry.subgroups` does for
     /// the frame's passes), else per 64-invocation workgroup.
     ///
     /// # Errors

@@ -110,11 +110,11 @@ impl LightPaths {
     }
 }
 
-/// MSAA samples per pixel of the baseline path with [`RendererConfig::msaa`] on: 4, the
+/// MSAA samples per pixel of the baseline path with [`RendererConfig::image.msaa`](crate::config::ImageConfig::msaa) on: 4, the
 /// count wgpu guarantees for every G-buffer format.
 pub const MSAA_SAMPLES: u32 = 4;
 
-/// How the baseline path lights its 4x multisampled G-buffer ([`RendererConfig::msaa`]).
+/// How the baseline path lights its 4x multisampled G-buffer ([`RendererConfig::image.msaa`](crate::config::ImageConfig::msaa)).
 /// Both give the same image but where the PCF split rounds (edge pixels' shadows).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MsaaLighting {

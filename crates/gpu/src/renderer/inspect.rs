@@ -468,7 +468,7 @@ impl<'r> Inspect<'r> {
 
     /// What HFW's vertex side wrote in the last deferred frame of `scene` (vertex wave
     /// commands, dispatches, the ring), read back; `None` without
-    /// [`RendererConfig::vertex_ring`].
+    /// [`RendererConfig::geometry.vertex_ring`](crate::config::GeometryConfig::vertex_ring).
     ///
     /// # Errors
     /// A scene of another renderer, or a device error.

@@ -21,7 +21,7 @@ pub struct LaydownChoice {
 /// Why a renderer's deferred frames take the laydown they take.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LaydownReason {
-    /// [`RendererConfig::laydown`] asked for it and the device can run it.
+    /// [`RendererConfig::geometry.laydown`](crate::config::GeometryConfig::laydown) asked for it and the device can run it.
     Asked,
     /// The compute laydown (asked for, or [`Laydown::Auto`]) needs
     /// [`COMPUTE_LAYDOWN_FEATURES`](crate::config::COMPUTE_LAYDOWN_FEATURES), which the device

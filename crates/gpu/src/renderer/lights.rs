@@ -19,11 +19,11 @@ pub struct LightPathCounts {
     /// render: see the next two.
     pub spot_shadow_maps: u32,
     /// Of `volumes`, those tested for KZ2's conditional rendering
-    /// ([`RendererConfig::conditional_volumes`]): lights with a spot map, whose map and
+    /// ([`RendererConfig::lighting.conditional_volumes`](crate::config::LightingConfig::conditional_volumes)): lights with a spot map, whose map and
     /// shading the GPU skips if their test counts no pixel.
     pub volumes_tested: u32,
     /// Of `spot_shadow_maps`, those the CPU skipped under
-    /// [`RendererConfig::conditional_volumes`]: their light takes the volume path but has
+    /// [`RendererConfig::lighting.conditional_volumes`](crate::config::LightingConfig::conditional_volumes): their light takes the volume path but has
     /// no volume draw (wholly behind the near plane).
     pub spot_shadow_maps_skipped: u32,
 }
@@ -70,7 +70,7 @@ impl Renderer {
     /// Uploads the frame's local lights in view space and the light passes' uniforms (the
     /// lights move in view space with the camera, so every frame), growing the light
     /// buffers when they are short. Splits the lights between the tiles and the stencil
-    /// volumes as [`RendererConfig::light_paths`] says: the tiled ones first in the light
+    /// volumes as [`RendererConfig::lighting.light_paths`](crate::config::LightingConfig::light_paths) says: the tiled ones first in the light
     /// buffer (their count is returned, for the frame uniforms), the volumes' after them.
     pub(super) fn upload_lights(
         &mut self,

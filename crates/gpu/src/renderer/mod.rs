@@ -70,7 +70,7 @@ pub struct FrameOutput {
     pub untimed_passes: u32,
     /// The laydown this frame ran (`None` for a path without one: the baseline, pixel
     /// pull). A frame with a static query runs the hardware laydown whatever
-    /// [`RendererConfig::laydown`] asks.
+    /// [`RendererConfig::geometry.laydown`](crate::config::GeometryConfig::laydown) asks.
     pub laydown: Option<Laydown>,
 }
 
@@ -498,7 +498,7 @@ impl Renderer {
     }
 
     /// After a frame's submission `index`: waits for it (`wait`), or keeps at most
-    /// [`RendererConfig::frames_in_flight`] frames ahead of the GPU.
+    /// [`RendererConfig::frames.frames_in_flight`](crate::config::FrameConfig::frames_in_flight) frames ahead of the GPU.
     fn pace(&mut self, index: wgpu::SubmissionIndex, wait: bool) -> Result<()> {
         if wait {
             self.in_flight.clear();
@@ -536,7 +536,7 @@ impl Renderer {
     }
 
     /// Records and submits one frame of `scene` as [`Renderer::render`] does, without
-    /// waiting for the GPU (unless [`RendererConfig::frames_in_flight`] frames are already
+    /// waiting for the GPU (unless [`RendererConfig::frames.frames_in_flight`](crate::config::FrameConfig::frames_in_flight) frames are already
     /// running: then for the oldest): the next frame's CPU work overlaps this one's GPU
     /// work, and its uploads take other blocks of the upload pool (those of finished
     /// frames are reused). Reads no timings ([`FrameOutput::gpu`] is empty); [`Renderer::wait`], a

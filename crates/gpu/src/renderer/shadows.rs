@@ -18,7 +18,7 @@ impl Renderer {
     /// with a static query of its static casters, for this frame's sun, rendered (in a
     /// submission of its own) when the scene, the sun direction or the set of active
     /// static tiles changed, its matrix put into `uniforms`. Off
-    /// (`RendererConfig::baked_sun`), or for a scene with nothing to cast, the matrix stays
+    /// (`RendererConfig::lighting.baked_sun`), or for a scene with nothing to cast, the matrix stays
     /// zero: no baked shadow.
     ///
     /// The static casters come from the static query's shadow view over the bake's

@@ -16,7 +16,7 @@ use crate::water_scene::{
 };
 use water::draw::{material_map, near_meshes, sector_tree};
 
-/// The mini G-buffer of the last frame ([`Renderer::read_water_gbuffer`]), row-major.
+/// The mini G-buffer of the last frame ([`Inspect::read_water_gbuffer`](crate::inspect::Inspect::read_water_gbuffer)), row-major.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WaterGBuffer {
     /// Its size (the image's times [`WaterOptions::resolution_scale`](crate::WaterOptions)).
@@ -27,7 +27,7 @@ pub struct WaterGBuffer {
     pub depth: Vec<f32>,
 }
 
-/// The last frame's 32x32 tiles ([`Renderer::read_water_tiles`]).
+/// The last frame's 32x32 tiles ([`Inspect::read_water_tiles`](crate::inspect::Inspect::read_water_tiles)).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct WaterTiles {
     /// Tiles across and down.

@@ -76,14 +76,14 @@ pub struct PreparedScene {
     pub(crate) bounds: Option<(Vec3, Vec3)>,
     pub(crate) baseline: wgpu::BindGroup,
     /// The mixed frame's regular geometry pass's groups (`Some` exactly in a renderer with
-    /// [`RendererConfig::mixed_frame`](crate::RendererConfig): the laydown then leaves
+    /// [`RendererConfig::geometry.mixed_frame`](crate::config::GeometryConfig::mixed_frame): the laydown then leaves
     /// out the regular draws).
     pub(crate) regular: Option<groups::RegularGroups>,
     /// The pixel-pull pass's groups.
     pub(crate) pixel_pull: groups::PixelPullGroups,
     pub(crate) classification: groups::ClassifyBuffers,
     pub(crate) resolve: groups::ResolveGroups,
-    /// HFW's vertex side (with `RendererConfig::vertex_ring`): vertex wave commands and
+    /// HFW's vertex side (with `RendererConfig::geometry.vertex_ring`): vertex wave commands and
     /// the ring.
     pub(crate) vertex_ring: Option<groups::RingBuffers>,
     /// The instance table (planned instances, then the static setups' reserved slots).

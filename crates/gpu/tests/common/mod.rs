@@ -6,6 +6,8 @@ use gpu::scene::ShaderKind;
 use gpu::{Material, Renderer, RendererConfig, Rgba8Image};
 use testkit::device::ctx;
 
+pub mod laydown;
+
 /// The sun's shadow maps of the tests' renderers: the default cascades at 512 texels
 /// (lavapipe rasterises a 2048-texel map of the forest in about 0.2 s).
 pub fn test_shadows() -> Option<ShadowConfig> {
