@@ -22,7 +22,9 @@
 //!     pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))?;
 //! // Laydown::Auto (the compute laydown where it measures faster), HFW's vertex ring, the
 //! // tiled light lists, the sun's cascades and spot maps.
-//! let config = RendererConfig::recommended(&adapter, 1920, 1080);
+//! let mut config = RendererConfig::recommended(&adapter, 1920, 1080);
+//! // Grouped by concern: image, geometry (the laydown), lighting, frames (pacing, uploads).
+//! config.lighting.light_paths = gpu::config::LightPaths::Classified;
 //! let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
 //!     required_features: adapter.features() & Renderer::optional_features(),
 //!     required_limits: Renderer::required_limits(&config),

@@ -6,9 +6,9 @@ use anyhow::Result;
 use gpu::{RenderPath, Renderer};
 
 use crate::args::{Args, OcclusionArg};
+use crate::config::with_lights;
 use crate::outputs::{compare_with_baseline, report_lighting};
 use crate::report::Report;
-use crate::scenes::with_lights;
 
 /// The city: streamed into the GPU static query, prepared with its static setups, rendered
 /// with the query in front of the frame (optionally with occlusion: `--occlusion`); images

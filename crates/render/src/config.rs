@@ -1,4 +1,4 @@
-//! The renderer and device the arguments ask for.
+//! The renderer and device the arguments ask for, and the frame's lights (`--lights`, `--no-sun`).
 
 use gpu::config::PrimitiveIdPath;
 use gpu::{HeadlessOptions, RendererConfig};
@@ -104,4 +104,23 @@ impl Args {
             ..RendererConfig::default()
         }
     }
+}
+
+/// `frame` with `args.lights` lights scattered within `half_extent` metres of its target
+/// (`--light-area` instead, if given), and the sun and ambient dimmed to dusk so that they
+/// show; the sun off with `--no-sun` ([`cli::lighting`]).
+pub(crate) fn with_lights(
+    args: &Args,
+    mut frame: gpu::FrameInput,
+    half_extent: f32,
+) -> gpu::FrameInput {
+    let lights = cli::LocalLights {
+        no_sun: args.no_sun,
+        count: args.lights,
+        half_extent: args.light_area.unwrap_or(half_extent),
+        seed: args.seed,
+    };
+    let lighting = std::mem::take(&mut frame.lighting);
+    frame.lighting = cli::lighting(lighting, frame.camera.target, &lights);
+    frame
 }

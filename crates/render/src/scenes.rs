@@ -10,6 +10,7 @@ use gpu::Renderer;
 
 use crate::args::{Args, CameraArg, WaterPrecisionArg};
 use crate::city::render_city;
+use crate::config::with_lights;
 use crate::outputs::{Built, render_scene};
 
 /// The `--gltf` file imported (with a progress bar on stderr for a large one): its path,
@@ -92,25 +93,6 @@ pub(crate) fn render_chosen(
         render_river(args, ctx, renderer, every_sample)?;
     }
     Ok(())
-}
-
-/// `frame` with `args.lights` lights scattered within `half_extent` metres of its target
-/// (`--light-area` instead, if given), and the sun and ambient dimmed to dusk so that they
-/// show; the sun off with `--no-sun` ([`cli::lighting`]).
-pub(crate) fn with_lights(
-    args: &Args,
-    mut frame: gpu::FrameInput,
-    half_extent: f32,
-) -> gpu::FrameInput {
-    let lights = cli::LocalLights {
-        no_sun: args.no_sun,
-        count: args.lights,
-        half_extent: args.light_area.unwrap_or(half_extent),
-        seed: args.seed,
-    };
-    let lighting = std::mem::take(&mut frame.lighting);
-    frame.lighting = cli::lighting(lighting, frame.camera.target, &lights);
-    frame
 }
 
 /// Files from this size on (bytes) show a progress bar while they import.

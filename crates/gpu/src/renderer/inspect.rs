@@ -718,3 +718,33 @@ impl Hooks<'_> {
         })
     }
 }
+
+/// The read-backs' shared helpers.
+impl Renderer {
+    /// Mip 0, layer 0 of `texture` read back as `T`s, one a texel (row-major).
+    pub(super) fn texels<T: bytemuck::Pod>(
+        &self,
+        texture: &wgpu::Texture,
+        aspect: wgpu::TextureAspect,
+    ) -> Result<Vec<T>> {
+        let bytes = read_texture(
+            &self.device,
+            &self.queue,
+            texture,
+            aspect,
+            size_of::<T>() as u32,
+        )?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// `bytes` of `buffer` from `offset` read back as `T`s.
+    pub(super) fn words<T: bytemuck::Pod>(
+        &self,
+        buffer: &wgpu::Buffer,
+        offset: u64,
+        bytes: u64,
+    ) -> Result<Vec<T>> {
+        let data = read_buffer(&self.device, &self.queue, buffer, offset, bytes)?;
+        Ok(bytemuck::pod_collect_to_vec(&data))
+    }
+}
