@@ -62,9 +62,9 @@
 //!
 //! ```no_run
 //! use gpu::glam::{Affine3A, Vec2, Vec3, Vec4};
+//! use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind};
 //! use gpu::{
-//!     AlbedoLayer, Batch, Camera, FrameInput, Material, MaterialId, Mesh, MeshId, RenderPath,
-//!     Renderer, RendererConfig, Scene, ShaderKind,
+//!     Batch, Camera, FrameInput, Material, Mesh, RenderPath, Renderer, RendererConfig, Scene,
 //! };
 //!
 //! // A unit quad facing +Z, drawn 100 times in a row, under a 2x2 checker texture.
