@@ -209,25 +209,14 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
     );
 
     let c = testkit::device::ctx();
-    let mut r = Renderer::new(
-        &c.device,
-        &c.queue,
-        RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 192,
-                height: 108,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: Some(gpu::config::ShadowConfig {
-                    resolution: 512,
-                    ..gpu::config::ShadowConfig::default()
-                }),
-                ..Default::default()
-            },
-            ..RendererConfig::default()
-        },
-    )
+    let mut r = Renderer::new(&c.device, &c.queue, {
+        let mut rc = RendererConfig::sized(192, 108);
+        rc.lighting.shadows = Some(gpu::config::ShadowConfig {
+            resolution: 512,
+            ..gpu::config::ShadowConfig::default()
+        });
+        rc
+    })
     .unwrap();
     let frame = FrameInput::new(Camera::look_at(
         Vec3::new(0.0, 4.0, 12.0),

@@ -45,14 +45,7 @@ fn main() -> anyhow::Result<()> {
     let mut r = Renderer::new(
         &ctx.device,
         &ctx.queue,
-        RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: args.width,
-                height: args.height,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
-        },
+        RendererConfig::sized(args.width, args.height),
     )?;
     let (scene, frame) = demo::build(&DemoOptions {
         scene: match args.scene {

@@ -224,14 +224,7 @@ fn main() -> anyhow::Result<()> {
     let mut renderer = Renderer::new(
         &ctx.device,
         &ctx.queue,
-        RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: args.width,
-                height: args.height,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
-        },
+        RendererConfig::sized(args.width, args.height),
     )?;
     renderer.set_water(Some(&demo.water))?;
     // A camera over the rapids, looking down the river.

@@ -68,18 +68,8 @@ fn frames_without_indirect_validation_are_the_same() {
             ..HeadlessOptions::default()
         })
         .unwrap_or_else(|e| panic!("{e}"));
-        let config = RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 160,
-                height: 96,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: None,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
-        };
+        let mut config = RendererConfig::sized(160, 96);
+        config.lighting.shadows = None;
         let mut r = Renderer::new(&ctx.device, &ctx.queue, config).unwrap();
         let p = r.prepare(&scene).unwrap();
         r.render(&p, &frame, RenderPath::Deferred).unwrap();

@@ -393,18 +393,11 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 25.0, 100, 3);
     let renderer = |gbuffer| {
-        common::renderer_with(gpu::RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 240,
-                height: 135,
-                gbuffer,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                ..Default::default()
-            },
-            ..gpu::RendererConfig::default()
+        common::renderer_with({
+            let mut rc = gpu::RendererConfig::sized(240, 135);
+            rc.image.gbuffer = gbuffer;
+            rc.lighting.shadows = common::test_shadows();
+            rc
         })
     };
     let mut kz2 = renderer(GBufferLayout::Kz2);
@@ -472,22 +465,12 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
     );
     let (scene, frame) = scene(DemoScene::Forest);
     for vertex_ring in [None, Some(gpu::config::RING_BYTES_PS4)] {
-        let mut r = common::renderer_with(gpu::RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 320,
-                height: 180,
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                laydown: gpu::Laydown::Compute,
-                vertex_ring,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                ..Default::default()
-            },
-            ..gpu::RendererConfig::default()
+        let mut r = common::renderer_with({
+            let mut rc = gpu::RendererConfig::sized(320, 180);
+            rc.geometry.laydown = gpu::Laydown::Compute;
+            rc.geometry.vertex_ring = vertex_ring;
+            rc.lighting.shadows = common::test_shadows();
+            rc
         });
         assert_eq!(r.laydown(), gpu::Laydown::Compute);
         let prepared = r.prepare(&scene).unwrap();
@@ -546,22 +529,12 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
     for kind in DemoScene::ALL {
         let (scene, frame) = scene(kind);
         let image = |laydown, light_paths| {
-            let mut r = common::renderer_with(gpu::RendererConfig {
-                image: gpu::config::ImageConfig {
-                    width: 320,
-                    height: 180,
-                    ..Default::default()
-                },
-                geometry: gpu::config::GeometryConfig {
-                    laydown,
-                    ..Default::default()
-                },
-                lighting: gpu::config::LightingConfig {
-                    shadows: common::test_shadows(),
-                    light_paths,
-                    ..Default::default()
-                },
-                ..gpu::RendererConfig::default()
+            let mut r = common::renderer_with({
+                let mut rc = gpu::RendererConfig::sized(320, 180);
+                rc.geometry.laydown = laydown;
+                rc.lighting.shadows = common::test_shadows();
+                rc.lighting.light_paths = light_paths;
+                rc
             });
             assert_eq!(r.laydown(), laydown);
             let prepared = r.prepare(&scene).unwrap();

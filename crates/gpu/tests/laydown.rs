@@ -215,18 +215,8 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
             continue;
         }
         tested += 1;
-        let config = RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: W,
-                height: H,
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                primitive_id: Some(path),
-                ..Default::default()
-            },
-            ..Default::default()
-        };
+        let mut config = RendererConfig::sized(W, H);
+        config.geometry.primitive_id = Some(path);
         check_against_f64(config, path.name());
     }
     assert!(tested >= 1);
@@ -234,19 +224,12 @@ fn laydown_matches_an_f64_rasteriser_on_every_available_path() {
 
 /// The compute laydown at the test size with split `extent` and target `target`.
 fn compute_config(extent: f32, target: LaydownTarget) -> RendererConfig {
-    RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            laydown: Laydown::Compute,
-            compute_laydown_max_extent: extent,
-            compute_laydown_target: Some(target),
-            ..Default::default()
-        },
-        ..Default::default()
+    {
+        let mut rc = RendererConfig::sized(W, H);
+        rc.geometry.laydown = Laydown::Compute;
+        rc.geometry.compute_laydown_max_extent = extent;
+        rc.geometry.compute_laydown_target = Some(target);
+        rc
     }
 }
 
@@ -263,23 +246,12 @@ fn compute_laydown_matches_the_f64_rasteriser() {
                 probe.adapter_line()
             );
             // Forcing it is an error naming the feature, not a panic.
-            let forced = Renderer::new(
-                &probe.device,
-                &probe.queue,
-                RendererConfig {
-                    image: gpu::config::ImageConfig {
-                        width: W,
-                        height: H,
-                        ..Default::default()
-                    },
-                    geometry: gpu::config::GeometryConfig {
-                        laydown: Laydown::Compute,
-                        compute_laydown_target: Some(target),
-                        ..Default::default()
-                    },
-                    ..Default::default()
-                },
-            );
+            let forced = Renderer::new(&probe.device, &probe.queue, {
+                let mut rc = RendererConfig::sized(W, H);
+                rc.geometry.laydown = Laydown::Compute;
+                rc.geometry.compute_laydown_target = Some(target);
+                rc
+            });
             let message = forced.err().map(|e| e.to_string()).unwrap_or_default();
             assert!(message.contains("INT64"), "{message}");
             continue;
@@ -556,18 +528,8 @@ fn awkward_triangles_neither_hang_nor_spill_and_near_ones_reach_the_hardware_par
     let frame = FrameInput::new(camera);
     let probe = ctx();
     let render = |laydown| {
-        let config = RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: W,
-                height: H,
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                laydown,
-                ..Default::default()
-            },
-            ..Default::default()
-        };
+        let mut config = RendererConfig::sized(W, H);
+        config.geometry.laydown = laydown;
         let mut r = Renderer::new(&probe.device, &probe.queue, config).unwrap();
         let prepared = r.prepare(&scene).unwrap();
         let (vis, _) = r.hooks().render_laydown(&prepared, &frame).unwrap();

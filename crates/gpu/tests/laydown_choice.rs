@@ -18,18 +18,8 @@ fn the_compute_laydown_falls_back_to_the_hardware_one_without_64_bit_atomics() {
     })
     .unwrap();
     assert!(!c.paths.int64_atomics);
-    let config = RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            laydown: Laydown::Compute,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let mut config = RendererConfig::sized(W, H);
+    config.geometry.laydown = Laydown::Compute;
     let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
     assert_eq!(r.laydown(), Laydown::Hardware);
     let (scene, frame) = test_scene();
@@ -151,22 +141,11 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
     let frame = FrameInput::new(camera);
     let probe = ctx();
     let vis = |laydown| {
-        let mut r = Renderer::new(
-            &probe.device,
-            &probe.queue,
-            RendererConfig {
-                image: gpu::config::ImageConfig {
-                    width: W,
-                    height: H,
-                    ..Default::default()
-                },
-                geometry: gpu::config::GeometryConfig {
-                    laydown,
-                    ..Default::default()
-                },
-                ..Default::default()
-            },
-        )
+        let mut r = Renderer::new(&probe.device, &probe.queue, {
+            let mut rc = RendererConfig::sized(W, H);
+            rc.geometry.laydown = laydown;
+            rc
+        })
         .unwrap();
         assert_eq!(r.laydown(), laydown);
         let prepared = r.prepare(&scene).unwrap();
@@ -300,18 +279,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 fn auto_times_both_laydowns_then_keeps_the_faster() {
     assert!(compute_device());
     let c = ctx();
-    let config = RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            laydown: Laydown::Auto,
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let mut config = RendererConfig::sized(W, H);
+    config.geometry.laydown = Laydown::Auto;
     let mut r = Renderer::new(&c.device, &c.queue, config).unwrap();
     let (scene, frame) = test_scene();
     let prepared = r.prepare(&scene).unwrap();

@@ -30,22 +30,12 @@ fn lit_forest() -> (Scene, FrameInput) {
 }
 
 fn renderer(light_paths: LightPaths, subgroups: bool) -> Renderer {
-    common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            subgroups,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            light_paths,
-            shadows: common::test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.geometry.subgroups = subgroups;
+        rc.lighting.light_paths = light_paths;
+        rc.lighting.shadows = common::test_shadows();
+        rc
     })
 }
 
@@ -65,23 +55,13 @@ fn light_tiles_equal_the_twin(scene: &Scene, frame: &FrameInput, subgroups: bool
     let mut r = renderer(LightPaths::Tiled, subgroups);
     let prepared = r.prepare(scene).unwrap();
     // The compute laydown's frame too: its depth comes from the laydown's unpack.
-    let mut compute = common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            subgroups,
-            laydown: gpu::Laydown::Compute,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            light_paths: LightPaths::Tiled,
-            shadows: common::test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    let mut compute = common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.geometry.subgroups = subgroups;
+        rc.geometry.laydown = gpu::Laydown::Compute;
+        rc.lighting.light_paths = LightPaths::Tiled;
+        rc.lighting.shadows = common::test_shadows();
+        rc
     });
     assert_eq!(compute.laydown(), gpu::Laydown::Compute);
     let compute_prepared = compute.prepare(scene).unwrap();
@@ -353,19 +333,12 @@ fn reference_forest() -> (Scene, FrameInput) {
 /// Without the sun's and the spots' shadow maps (their tests are tests/shadows.rs): the
 /// reference evaluates the lighting terms alone.
 fn reference_renderer(light_paths: LightPaths) -> Renderer {
-    common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: None,
-            spot_shadows: None,
-            light_paths,
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.lighting.shadows = None;
+        rc.lighting.spot_shadows = None;
+        rc.lighting.light_paths = light_paths;
+        rc
     })
 }
 
@@ -582,19 +555,12 @@ fn conditional_volumes_skip_hidden_lights_and_keep_the_image() {
     );
     frame.lighting.spot_lights = vec![lit, buried, aloft];
     let make = |conditional_volumes| {
-        common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 240,
-                height: 136,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                light_paths: LightPaths::Volumes,
-                conditional_volumes,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        common::renderer_with({
+            let mut rc = RendererConfig::sized(240, 136);
+            rc.lighting.shadows = common::test_shadows();
+            rc.lighting.light_paths = LightPaths::Volumes;
+            rc.lighting.conditional_volumes = conditional_volumes;
+            rc
         })
     };
     let mut on = make(true);

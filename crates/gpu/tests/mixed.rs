@@ -31,22 +31,12 @@ fn scene(kind: DemoScene) -> (Scene, gpu::FrameInput) {
 }
 
 fn renderer(mixed: bool, laydown: Laydown) -> gpu::Renderer {
-    common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            mixed_frame: mixed,
-            laydown,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: common::test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.geometry.mixed_frame = mixed;
+        rc.geometry.laydown = laydown;
+        rc.lighting.shadows = common::test_shadows();
+        rc
     })
 }
 

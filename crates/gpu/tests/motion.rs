@@ -140,21 +140,11 @@ fn sub_pixel_edge_on_blades_move_as_their_depth() {
         density: 0.5,
     });
     for ring in [None, Some(gpu::config::RING_BYTES_PS5)] {
-        let mut r = common::renderer_with(gpu::RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: W,
-                height: H,
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                vertex_ring: ring,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                ..Default::default()
-            },
-            ..gpu::RendererConfig::default()
+        let mut r = common::renderer_with({
+            let mut rc = gpu::RendererConfig::sized(W, H);
+            rc.geometry.vertex_ring = ring;
+            rc.lighting.shadows = common::test_shadows();
+            rc
         });
         let prepared = r.prepare(&scene).unwrap();
         r.render(&prepared, &frame, RenderPath::Deferred).unwrap();

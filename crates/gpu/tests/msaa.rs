@@ -69,20 +69,13 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
 }
 
 fn config(msaa: Option<MsaaLighting>) -> RendererConfig {
-    RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            msaa,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: None,
-            spot_shadows: None,
-            baked_sun: false,
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    {
+        let mut rc = RendererConfig::sized(W, H);
+        rc.image.msaa = msaa;
+        rc.lighting.shadows = None;
+        rc.lighting.spot_shadows = None;
+        rc.lighting.baked_sun = false;
+        rc
     }
 }
 
@@ -245,19 +238,12 @@ fn kz2_tricks_give_the_every_sample_image() {
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 12.0, 40, 5);
     let render = |mode, shadows| {
-        let mut r = common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 320,
-                height: 192,
-                msaa: Some(mode),
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows,
-                spot_shadows: shadows.map(|_| gpu::config::SpotShadowConfig::default()),
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        let mut r = common::renderer_with({
+            let mut rc = RendererConfig::sized(320, 192);
+            rc.image.msaa = Some(mode);
+            rc.lighting.shadows = shadows;
+            rc.lighting.spot_shadows = shadows.map(|_| gpu::config::SpotShadowConfig::default());
+            rc
         });
         let prepared = r.prepare(&scene).unwrap();
         r.render(&prepared, &frame, RenderPath::Baseline).unwrap();

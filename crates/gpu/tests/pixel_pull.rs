@@ -26,21 +26,11 @@ fn scene(kind: DemoScene) -> (Scene, gpu::FrameInput) {
 }
 
 fn renderer(primitive_id: Option<PrimitiveIdPath>) -> gpu::Renderer {
-    common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            primitive_id,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: common::test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.geometry.primitive_id = primitive_id;
+        rc.lighting.shadows = common::test_shadows();
+        rc
     })
 }
 

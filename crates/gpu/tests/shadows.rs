@@ -93,17 +93,10 @@ fn shadow_maps_move_by_whole_texels_and_keep_their_texels() {
         far: 40.0,
         ..ShadowConfig::default()
     };
-    let mut r = common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: 160,
-            height: 90,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: Some(config),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    let mut r = common::renderer_with({
+        let mut rc = RendererConfig::sized(160, 90);
+        rc.lighting.shadows = Some(config);
+        rc
     });
     let prepared = r.prepare(&scene).unwrap();
     let base = render(&mut r, &prepared, &frame);
@@ -171,18 +164,11 @@ fn the_baked_sun_term_agrees_with_the_real_time_slices() {
     });
     let (w, h) = (240u32, 136u32);
     let make = |baked_sun: bool| {
-        common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: w,
-                height: h,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                baked_sun,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        common::renderer_with({
+            let mut rc = RendererConfig::sized(w, h);
+            rc.lighting.shadows = common::test_shadows();
+            rc.lighting.baked_sun = baked_sun;
+            rc
         })
     };
     let mut off = make(false);
@@ -279,20 +265,13 @@ fn cached_slices_give_the_images_of_slices_rendered_every_frame() {
         density: 0.25,
     });
     let make = |cache: bool| {
-        common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 160,
-                height: 90,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: Some(ShadowConfig {
-                    cache,
-                    ..common::test_shadows().unwrap()
-                }),
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        common::renderer_with({
+            let mut rc = RendererConfig::sized(160, 90);
+            rc.lighting.shadows = Some(ShadowConfig {
+                cache,
+                ..common::test_shadows().unwrap()
+            });
+            rc
         })
     };
     let (mut cached, mut every) = (make(true), make(false));
@@ -381,18 +360,11 @@ fn shadowed_spots_only_darken_and_fade_out() {
         s.shadow = false;
     }
     let make = |spot_shadows| {
-        common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 240,
-                height: 136,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                spot_shadows,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        common::renderer_with({
+            let mut rc = RendererConfig::sized(240, 136);
+            rc.lighting.shadows = common::test_shadows();
+            rc.lighting.spot_shadows = spot_shadows;
+            rc
         })
     };
     let mut r = make(Some(SpotShadowConfig::default()));
@@ -445,18 +417,11 @@ fn culling_casters_per_shadow_view_changes_no_texel() {
     let target = frame.camera.target;
     demo::scatter_lights(&mut frame.lighting, target, 25.0, 120, 3);
     let make = |cull_shadow_casters| {
-        common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: 200,
-                height: 112,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                cull_shadow_casters,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        common::renderer_with({
+            let mut rc = RendererConfig::sized(200, 112);
+            rc.lighting.shadows = common::test_shadows();
+            rc.lighting.cull_shadow_casters = cull_shadow_casters;
+            rc
         })
     };
     let (mut culled, mut every) = (make(true), make(false));

@@ -32,18 +32,11 @@ fn renderer() -> Renderer {
 /// only (the city's static instances are placed per frame), so it would differ between a
 /// GPU-driven city and the same instances planned as batches, which these tests compare.
 fn renderer_sized(width: u32, height: u32) -> Renderer {
-    common::renderer_with(gpu::RendererConfig {
-        image: gpu::config::ImageConfig {
-            width,
-            height,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: common::test_shadows(),
-            baked_sun: false,
-            ..Default::default()
-        },
-        ..gpu::RendererConfig::default()
+    common::renderer_with({
+        let mut rc = gpu::RendererConfig::sized(width, height);
+        rc.lighting.shadows = common::test_shadows();
+        rc.lighting.baked_sun = false;
+        rc
     })
 }
 
@@ -72,18 +65,11 @@ impl Rig {
     /// occlusion tests, which compare what occlusion draws.
     fn without_sun_shadows(width: u32, height: u32) -> Rig {
         let mut rig = Rig::sized(width, height);
-        rig.r = common::renderer_with(gpu::RendererConfig {
-            image: gpu::config::ImageConfig {
-                width,
-                height,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: None,
-                baked_sun: false,
-                ..Default::default()
-            },
-            ..gpu::RendererConfig::default()
+        rig.r = common::renderer_with({
+            let mut rc = gpu::RendererConfig::sized(width, height);
+            rc.lighting.shadows = None;
+            rc.lighting.baked_sun = false;
+            rc
         });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
         rig
@@ -819,20 +805,13 @@ fn conditional_volumes_keep_the_static_frame() {
     let desc = still_lod_desc(&camera);
     let mut images = Vec::new();
     for conditional_volumes in [true, false] {
-        rig.r = common::renderer_with(gpu::RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: W,
-                height: H,
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: common::test_shadows(),
-                baked_sun: false,
-                light_paths: gpu::config::LightPaths::Volumes,
-                conditional_volumes,
-                ..Default::default()
-            },
-            ..gpu::RendererConfig::default()
+        rig.r = common::renderer_with({
+            let mut rc = gpu::RendererConfig::sized(W, H);
+            rc.lighting.shadows = common::test_shadows();
+            rc.lighting.baked_sun = false;
+            rc.lighting.light_paths = gpu::config::LightPaths::Volumes;
+            rc.lighting.conditional_volumes = conditional_volumes;
+            rc
         });
         rig.prepared = rig.r.prepare(&rig.city.scene).unwrap();
         let (image, _) = rig.frame(desc, camera, RenderPath::Deferred);

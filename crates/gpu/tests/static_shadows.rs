@@ -200,18 +200,11 @@ fn shadows(threshold: f32) -> ShadowConfig {
 }
 
 fn renderer(shadows: Option<ShadowConfig>, baked_sun: bool) -> Renderer {
-    common::renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: W,
-            height: H,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows,
-            baked_sun,
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    common::renderer_with({
+        let mut rc = RendererConfig::sized(W, H);
+        rc.lighting.shadows = shadows;
+        rc.lighting.baked_sun = baked_sun;
+        rc
     })
 }
 

@@ -45,22 +45,12 @@ fn ring_holds_the_cpu_transform_and_the_commands_equal_the_cpu_twin() {
         });
         let wind = Wind::default();
         scene.wind = Some(wind);
-        let mut r = common::renderer_with(RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: W,
-                height: H,
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                primitive_id: Some(PrimitiveIdPath::Builtin),
-                vertex_ring: Some(ring_bytes),
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                shadows: None,
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        let mut r = common::renderer_with({
+            let mut rc = RendererConfig::sized(W, H);
+            rc.geometry.primitive_id = Some(PrimitiveIdPath::Builtin);
+            rc.geometry.vertex_ring = Some(ring_bytes);
+            rc.lighting.shadows = None;
+            rc
         });
         let prepared = r.prepare(&scene).unwrap();
         assert_eq!(
@@ -265,22 +255,12 @@ fn resolve_from_the_ring_equals_the_per_pixel_transform() {
         now.time = 1.1;
         let mut gbuffers = Vec::new();
         for ring_resolve in [false, true] {
-            let mut r = common::renderer_with(RendererConfig {
-                image: gpu::config::ImageConfig {
-                    width: W,
-                    height: H,
-                    ..Default::default()
-                },
-                geometry: gpu::config::GeometryConfig {
-                    vertex_ring: Some(ring_bytes),
-                    ring_resolve,
-                    ..Default::default()
-                },
-                lighting: gpu::config::LightingConfig {
-                    shadows: None,
-                    ..Default::default()
-                },
-                ..RendererConfig::default()
+            let mut r = common::renderer_with({
+                let mut rc = RendererConfig::sized(W, H);
+                rc.geometry.vertex_ring = Some(ring_bytes);
+                rc.geometry.ring_resolve = ring_resolve;
+                rc.lighting.shadows = None;
+                rc
             });
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &before, RenderPath::Deferred).unwrap();

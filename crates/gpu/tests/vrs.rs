@@ -42,22 +42,12 @@ fn quad_commands_cover_every_pixel_once_and_the_broadcast_equals_the_sample() {
             before.camera.target -= Vec3::new(step, 0.0, 0.0);
             let mut runs = Vec::new();
             for vrs in [None, Some(vrs)] {
-                let mut r = common::renderer_with(RendererConfig {
-                    image: gpu::config::ImageConfig {
-                        width: W,
-                        height: H,
-                        ..Default::default()
-                    },
-                    geometry: gpu::config::GeometryConfig {
-                        vertex_ring: ring,
-                        vrs,
-                        ..Default::default()
-                    },
-                    lighting: gpu::config::LightingConfig {
-                        shadows: None,
-                        ..Default::default()
-                    },
-                    ..RendererConfig::default()
+                let mut r = common::renderer_with({
+                    let mut rc = RendererConfig::sized(W, H);
+                    rc.geometry.vertex_ring = ring;
+                    rc.geometry.vrs = vrs;
+                    rc.lighting.shadows = None;
+                    rc
                 });
                 let prepared = r.prepare(&scene).unwrap();
                 r.render(&prepared, &before, RenderPath::Deferred).unwrap();

@@ -37,21 +37,11 @@ fn demo() -> &'static RiverDemo {
 }
 
 fn config(width: u32, height: u32, subgroups: bool) -> RendererConfig {
-    RendererConfig {
-        image: gpu::config::ImageConfig {
-            width,
-            height,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            subgroups,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: common::test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    {
+        let mut rc = RendererConfig::sized(width, height);
+        rc.geometry.subgroups = subgroups;
+        rc.lighting.shadows = common::test_shadows();
+        rc
     }
 }
 

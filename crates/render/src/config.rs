@@ -34,74 +34,66 @@ impl Args {
             PrimitiveIdArg::Xor => Some(PrimitiveIdPath::PerVertexXor),
             PrimitiveIdArg::Provoking => Some(PrimitiveIdPath::ProvokingVertex),
         };
-        RendererConfig {
-            image: gpu::config::ImageConfig {
-                width: self.width,
-                height: self.height,
-                gbuffer: match self.gbuffer {
-                    GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
-                    GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
-                },
-                msaa: match self.msaa {
-                    MsaaArg::Off => None,
-                    MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
-                    MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
-                },
-                ..Default::default()
-            },
-            geometry: gpu::config::GeometryConfig {
-                primitive_id,
-                laydown: match self.laydown {
-                    LaydownArg::Hardware => gpu::Laydown::Hardware,
-                    LaydownArg::Compute => gpu::Laydown::Compute,
-                    LaydownArg::Auto => gpu::Laydown::Auto,
-                },
-                compute_laydown_max_extent: self.laydown_max_extent,
-                compute_laydown_target: match self.laydown_target {
-                    LaydownTargetArg::Auto => None,
-                    LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
-                    LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
-                },
-                mixed_frame: self.mixed_frame,
-                vertex_ring: match self.vertex_ring {
-                    VertexRingArg::Off => None,
-                    VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
-                    VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
-                },
-                ring_resolve: !self.per_pixel_transform,
-                vrs: match self.vrs {
-                    VrsArg::Off => None,
-                    VrsArg::On => Some(gpu::config::VrsConfig::default()),
-                    VrsArg::All2x2 => Some(gpu::config::VrsConfig {
-                        distance_2x1: 1e-6,
-                        distance_2x2: 1e-6,
-                        ..gpu::config::VrsConfig::default()
-                    }),
-                },
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                light_paths: if self.all_lights {
-                    gpu::config::LightPaths::EveryPixel
-                } else {
-                    self.light_paths.paths()
-                },
-                shadows: (!self.no_shadows).then(|| gpu::config::ShadowConfig {
-                    cache: !self.no_shadow_cache,
-                    resolution_divisor: if self.uniform_shadow_resolution {
-                        [1; 8]
-                    } else {
-                        gpu::config::ShadowConfig::default().resolution_divisor
-                    },
-                    static_size_threshold: self.shadow_size_threshold,
-                    ..gpu::config::ShadowConfig::default()
+        {
+            let mut rc = RendererConfig::sized(self.width, self.height);
+            rc.image.gbuffer = match self.gbuffer {
+                GBufferArg::Octahedral => gpu::deferred::GBufferLayout::Octahedral,
+                GBufferArg::Kz2 => gpu::deferred::GBufferLayout::Kz2,
+            };
+            rc.image.msaa = match self.msaa {
+                MsaaArg::Off => None,
+                MsaaArg::Kz2 | MsaaArg::Compare => Some(gpu::config::MsaaLighting::Kz2),
+                MsaaArg::EverySample => Some(gpu::config::MsaaLighting::EverySample),
+            };
+            rc.geometry.primitive_id = primitive_id;
+            rc.geometry.laydown = match self.laydown {
+                LaydownArg::Hardware => gpu::Laydown::Hardware,
+                LaydownArg::Compute => gpu::Laydown::Compute,
+                LaydownArg::Auto => gpu::Laydown::Auto,
+            };
+            rc.geometry.compute_laydown_max_extent = self.laydown_max_extent;
+            rc.geometry.compute_laydown_target = match self.laydown_target {
+                LaydownTargetArg::Auto => None,
+                LaydownTargetArg::Buffer => Some(gpu::config::LaydownTarget::Buffer),
+                LaydownTargetArg::Texture => Some(gpu::config::LaydownTarget::Texture),
+            };
+            rc.geometry.mixed_frame = self.mixed_frame;
+            rc.geometry.vertex_ring = match self.vertex_ring {
+                VertexRingArg::Off => None,
+                VertexRingArg::Ps4 => Some(gpu::config::RING_BYTES_PS4),
+                VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
+            };
+            rc.geometry.ring_resolve = !self.per_pixel_transform;
+            rc.geometry.vrs = match self.vrs {
+                VrsArg::Off => None,
+                VrsArg::On => Some(gpu::config::VrsConfig::default()),
+                VrsArg::All2x2 => Some(gpu::config::VrsConfig {
+                    distance_2x1: 1e-6,
+                    distance_2x2: 1e-6,
+                    ..gpu::config::VrsConfig::default()
                 }),
-                baked_sun: !self.no_baked_sun,
-                spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
-                cull_shadow_casters: !self.no_caster_culling,
-                conditional_volumes: !self.no_conditional_volumes,
-            },
-            ..RendererConfig::default()
+            };
+            rc.lighting.light_paths = if self.all_lights {
+                gpu::config::LightPaths::EveryPixel
+            } else {
+                self.light_paths.paths()
+            };
+            rc.lighting.shadows = (!self.no_shadows).then(|| gpu::config::ShadowConfig {
+                cache: !self.no_shadow_cache,
+                resolution_divisor: if self.uniform_shadow_resolution {
+                    [1; 8]
+                } else {
+                    gpu::config::ShadowConfig::default().resolution_divisor
+                },
+                static_size_threshold: self.shadow_size_threshold,
+                ..gpu::config::ShadowConfig::default()
+            });
+            rc.lighting.baked_sun = !self.no_baked_sun;
+            rc.lighting.spot_shadows =
+                (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default);
+            rc.lighting.cull_shadow_casters = !self.no_caster_culling;
+            rc.lighting.conditional_volumes = !self.no_conditional_volumes;
+            rc
         }
     }
 }

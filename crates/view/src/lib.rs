@@ -340,20 +340,14 @@ impl Args {
     /// The renderer configuration the arguments ask for, at `width` x `height`; the rest
     /// as [`RendererConfig::default`].
     pub fn renderer_config(&self, width: u32, height: u32) -> RendererConfig {
-        RendererConfig {
-            image: gpu::config::ImageConfig {
-                width,
-                height,
-                msaa: self.msaa.msaa(),
-                ..Default::default()
-            },
-            lighting: gpu::config::LightingConfig {
-                light_paths: self.light_paths.paths(),
-                shadows: (!self.no_shadows).then(gpu::config::ShadowConfig::default),
-                spot_shadows: (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default),
-                ..Default::default()
-            },
-            ..RendererConfig::default()
+        {
+            let mut rc = RendererConfig::sized(width, height);
+            rc.image.msaa = self.msaa.msaa();
+            rc.lighting.light_paths = self.light_paths.paths();
+            rc.lighting.shadows = (!self.no_shadows).then(gpu::config::ShadowConfig::default);
+            rc.lighting.spot_shadows =
+                (!self.no_spot_shadows).then(gpu::config::SpotShadowConfig::default);
+            rc
         }
     }
 

@@ -162,14 +162,7 @@ fn read(path: &Path) -> Rgba8Image {
 /// The headless renderer at the scripted size, in the viewer's default configuration.
 fn headless_renderer() -> Renderer {
     let c = ctx();
-    let config = RendererConfig {
-        image: gpu::config::ImageConfig {
-            width: WIDTH,
-            height: HEIGHT,
-            ..Default::default()
-        },
-        ..RendererConfig::default()
-    };
+    let config = RendererConfig::sized(WIDTH, HEIGHT);
     Renderer::new(&c.device, &c.queue, config).unwrap_or_else(|e| panic!("{e}"))
 }
 

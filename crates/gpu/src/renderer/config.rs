@@ -418,6 +418,21 @@ impl RendererConfig {
 }
 
 impl RendererConfig {
+    /// [`RendererConfig::default`] at `width` x `height`: the portable, deterministic
+    /// set-up tests and tools start from (an embedder starts from
+    /// [`RendererConfig::recommended`]).
+    #[must_use]
+    pub fn sized(width: u32, height: u32) -> Self {
+        Self {
+            image: ImageConfig {
+                width,
+                height,
+                ..ImageConfig::default()
+            },
+            ..Self::default()
+        }
+    }
+
     /// The recommended pipeline for `adapter` at `width` x `height`: the pipeline the
     /// README describes and `render` runs by default. [`Laydown::Auto`] (the compute
     /// laydown where it measures faster, as on GPUs with few raster units such as the

@@ -26,21 +26,11 @@ pub fn renderer_with(config: RendererConfig) -> Renderer {
 /// A renderer of `width` x `height` on the shared test device, subgroups on or off, with
 /// the tests' shadow maps.
 pub fn renderer(width: u32, height: u32, subgroups: bool) -> Renderer {
-    renderer_with(RendererConfig {
-        image: gpu::config::ImageConfig {
-            width,
-            height,
-            ..Default::default()
-        },
-        geometry: gpu::config::GeometryConfig {
-            subgroups,
-            ..Default::default()
-        },
-        lighting: gpu::config::LightingConfig {
-            shadows: test_shadows(),
-            ..Default::default()
-        },
-        ..RendererConfig::default()
+    renderer_with({
+        let mut rc = RendererConfig::sized(width, height);
+        rc.geometry.subgroups = subgroups;
+        rc.lighting.shadows = test_shadows();
+        rc
     })
 }
 
