@@ -62,8 +62,9 @@ fn kind(handle: u64) -> (usize, bool) {
     }
 }
 
-/// A closed box of `[min, max]` with per-face normals and UVs in metres / 3.
-fn box_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
+/// A closed box of `[min, max]` (metres) with per-face normals, faces counter-clockwise seen
+/// from outside, and UVs in metres / 3 (the city's facades tile every 3 m).
+pub fn box_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
     let mut b = MeshBuilder::new(name);
     let c = [min, max];
     let corner = |x: usize, y: usize, z: usize| Vec3::new(c[x].x, c[y].y, c[z].z);

@@ -9,51 +9,20 @@
 
 mod common;
 
+use demo::city::box_mesh;
 use gpu::config::ShadowConfig;
-use gpu::glam::{Affine3A, DVec3, Vec2, Vec3, Vec4};
+use gpu::glam::{Affine3A, DVec3, Vec3};
 use gpu::scene::{AlbedoLayer, MaterialId, MeshId, ShaderKind, StaticSetup};
 use gpu::statics::{StaticFrameStats, StaticOcclusion, StaticQuery, StaticView, static_view_desc};
 use gpu::staticscene::{
     self, BuildConfig, MeshNode, PlacedObject, QueryOptions, ResourceLibrary, StaticMesh,
     StreamingGroup, TileStreamer,
 };
-use gpu::{Batch, Camera, FrameInput, Material, Mesh, RenderPath, Renderer, RendererConfig, Scene};
+use gpu::{Batch, Camera, FrameInput, Material, RenderPath, Renderer, RendererConfig, Scene};
 use testkit::device::ctx;
 
 const W: u32 = 160;
 const H: u32 = 90;
-
-/// A closed box of `[min, max]`, faces counter-clockwise seen from outside.
-fn box_mesh(name: &str, min: Vec3, max: Vec3) -> Mesh {
-    let mut m = Mesh {
-        name: name.into(),
-        ..Mesh::default()
-    };
-    let c = [min, max];
-    let corner = |x: usize, y: usize, z: usize| Vec3::new(c[x].x, c[y].y, c[z].z);
-    type Face = ([(usize, usize, usize); 4], Vec3);
-    let faces: [Face; 6] = [
-        ([(1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)], Vec3::X),
-        ([(0, 0, 1), (0, 1, 1), (0, 1, 0), (0, 0, 0)], Vec3::NEG_X),
-        ([(0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)], Vec3::Y),
-        ([(0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1)], Vec3::NEG_Y),
-        ([(0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)], Vec3::Z),
-        ([(1, 0, 0), (0, 0, 0), (0, 1, 0), (1, 1, 0)], Vec3::NEG_Z),
-    ];
-    for (corners, n) in faces {
-        let base = m.positions.len() as u16;
-        for (k, &(x, y, z)) in corners.iter().enumerate() {
-            m.positions.push(corner(x, y, z));
-            m.normals.push(n);
-            m.uvs.push(Vec2::new((k & 1) as f32, (k >> 1) as f32));
-            let t = if n.x == 0.0 { Vec3::X } else { Vec3::Z };
-            m.tangents.push(Vec4::new(t.x, t.y, t.z, 1.0));
-        }
-        m.indices
-            .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
-    }
-    m
-}
 
 /// Setup 0: a 2 x 6 x 2 m tower; setup 1: a 3 m cube. Local origin at the base centre.
 const TOWER: (Vec3, Vec3) = (Vec3::new(-1.0, 0.0, -1.0), Vec3::new(1.0, 6.0, 1.0));
