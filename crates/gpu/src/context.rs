@@ -118,7 +118,7 @@ impl ActivePaths {
                 wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS,
             ),
             f16: features.contains(wgpu::Features::SHADER_F16),
-            int64_atomics: features.contains(crate::config::COMPUTE_LAYDOWN_FEATURES),
+            int64_atomics: features.contains(crate::resources::vis64::COMPUTE_LAYDOWN_FEATURES),
             barycentrics: features.contains(wgpu::Features::SHADER_BARYCENTRICS),
         }
     }

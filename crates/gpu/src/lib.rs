@@ -137,6 +137,7 @@ pub mod water_scene;
 // description's common types and errors. Configuration details live in [`config`], the
 // static query in [`statics`], the water in [`water_scene`], read-backs, statistics and
 // test hooks in [`inspect`].
+pub use config::{Laydown, RenderPath, RendererConfig};
 pub use context::{GpuContext, HeadlessOptions, OPTIONAL_FEATURES, adapter_line, headless};
 /// The `deferred` version this crate's API uses (G-buffer layouts, lights, cascades).
 pub use deferred;
@@ -145,7 +146,7 @@ pub use error::{Error, FrameError, Result, SceneError, WaterError};
 pub use framealloc;
 pub use glam;
 pub use image::Rgba8Image;
-pub use renderer::{FrameOutput, Laydown, RenderPath, Renderer, RendererConfig};
+pub use renderer::{FrameOutput, Renderer};
 pub use resources::PreparedScene;
 /// The scene, frame input and water scene descriptions this crate's API takes (the common
 /// names below are re-exported from it).

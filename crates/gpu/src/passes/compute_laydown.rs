@@ -38,20 +38,6 @@ use crate::resources::vis64::TargetResource;
 use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
-/// The compute raster's default split (pixels): a triangle whose screen box is at most this
-/// wide and tall, and at most a quarter of this squared in area, is drawn by one
-/// invocation looping over its box; any other by the large-triangle pass (a workgroup per
-/// batch of triangles, 8x8 blocks of the box rejected whole). The area bound sends long
-/// slanted triangles, whose boxes are mostly empty, to the blocks. 24 was the fastest on
-/// every demo scene at 4K on the H200 (BENCHMARKS.md)
-/// ([`RendererConfig::geometry.compute_laydown_max_extent`](crate::config::GeometryConfig::compute_laydown_max_extent) sets it; WGSL:
-/// the override `GPU_COMPUTE_LAYDOWN_MAX_EXTENT`).
-pub const COMPUTE_LAYDOWN_MAX_EXTENT: f32 = 24.0;
-
-/// The largest extent the raster's fixed point holds: edge functions of boxes up to
-/// (254 + 2) x 256 subpixels stay below 2^31.
-pub const COMPUTE_LAYDOWN_EXTENT_LIMIT: f32 = 254.0;
-
 /// Most triangles the hardware part's list holds (4 bytes each: 16 MiB). Triangles past
 /// it are dropped (never silently: [`LaydownStats::hybrid`] counts them all).
 pub(crate) const HYBRID_CAPACITY: u32 = 1 << 22;
@@ -367,7 +353,7 @@ impl ComputeLaydown {
         } else {
             (&COMPUTE_LAYDOWN, &COMPUTE_LAYDOWN_HYBRID, &LAYDOWN_UNPACK)
         };
-        let extent = f64::from(max_extent.clamp(0.0, COMPUTE_LAYDOWN_EXTENT_LIMIT));
+        let extent = f64::from(max_extent.clamp(0.0, crate::config::COMPUTE_LAYDOWN_EXTENT_LIMIT));
         let raster = ComputePass::new(
             device,
             raster_pass,
@@ -637,6 +623,7 @@ pub(crate) fn stats(items: u32, vertex_count: u32, large: u32) -> LaydownStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::COMPUTE_LAYDOWN_MAX_EXTENT;
     use shadercheck::Caps;
 
     #[test]

@@ -85,6 +85,7 @@ pub(super) fn check_limits(needed: &wgpu::Limits, available: &wgpu::Limits) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::ImageConfig;
 
     #[test]
     fn default_limits_fall_short_by_name_and_the_required_ones_pass() {

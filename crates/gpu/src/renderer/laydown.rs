@@ -3,47 +3,6 @@
 
 use super::*;
 
-/// Frames of each laydown [`Laydown::Auto`] times before it chooses (after one untimed
-/// frame of each, which pays for first-use costs such as pipeline compilation).
-pub const AUTO_LAYDOWN_FRAMES: usize = 3;
-
-/// Which laydown the deferred frames without a static query take, and why
-/// ([`Renderer::laydown_choice`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LaydownChoice {
-    /// The laydown the next such frame takes (during [`Laydown::Auto`]'s trial: the one
-    /// it tries next).
-    pub laydown: Laydown,
-    /// Why.
-    pub reason: LaydownReason,
-}
-
-/// Why a renderer's deferred frames take the laydown they take.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum LaydownReason {
-    /// [`RendererConfig::geometry.laydown`](crate::config::GeometryConfig::laydown) asked for it and the device can run it.
-    Asked,
-    /// The compute laydown (asked for, or [`Laydown::Auto`]) needs
-    /// [`COMPUTE_LAYDOWN_FEATURES`](crate::config::COMPUTE_LAYDOWN_FEATURES), which the device
-    /// lacks: the hardware laydown runs instead.
-    NoComputeFeatures,
-    /// [`Laydown::Auto`] is still timing both: `frames_left` deferred frames to go.
-    Trial {
-        /// Deferred frames (without a static query) until the choice.
-        frames_left: u32,
-    },
-    /// [`Laydown::Auto`] timed both and kept the faster.
-    Measured {
-        /// Median time of the frames with the hardware laydown (ms; GPU time where the
-        /// device has timestamps, else wall time).
-        hardware_ms: f64,
-        /// Median time of the frames with the compute laydown (ms, the same measure).
-        compute_ms: f64,
-        /// Whether the times are the GPU's timestamps (else wall-clock times).
-        gpu_timed: bool,
-    },
-}
-
 /// [`Laydown::Auto`]'s state: the frames timed so far, then the verdict.
 #[derive(Clone, Debug, Default)]
 pub(super) struct AutoLaydown {

@@ -6,7 +6,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::context::{ActivePaths, OPTIONAL_FEATURES, PrimitiveIdPath, scoped, wait_idle};
+use crate::context::{ActivePaths, OPTIONAL_FEATURES, scoped, wait_idle};
 use crate::error::{Error, Result};
 use crate::frame::prepare::{PrepareContext, prepare};
 use crate::frame::{Pipelines, Recording};
@@ -39,7 +39,6 @@ mod water_api;
 pub use water_api::{WaterGBuffer, WaterGBufferInput, WaterTiles, WaterView};
 
 mod bench;
-mod config;
 mod device;
 mod frame;
 mod inspect;
@@ -48,10 +47,12 @@ mod lights;
 mod shadows;
 mod statics;
 
+pub use crate::config::{
+    AUTO_LAYDOWN_FRAMES, Laydown, LaydownChoice, LaydownReason, LightPaths, MSAA_SAMPLES,
+    RenderPath, RendererConfig,
+};
 pub use bench::WARM_UP;
-pub use config::*;
 pub use inspect::{ConditionalLight, Hooks, Inspect, LightTiles};
-pub use laydown::{AUTO_LAYDOWN_FRAMES, LaydownChoice, LaydownReason};
 pub use lights::LightPathCounts;
 
 /// What one rendered frame reports.
