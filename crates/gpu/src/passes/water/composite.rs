@@ -3,9 +3,9 @@
 //! feature `f16` for half precision where the device has `SHADER_F16`.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
+use shader::{Binding, Entry, Format, Kind, Pass, Sample};
 
-use super::rows::{FRAME, MATERIALS, WATER, float_texture};
+use super::rows::{FRAME, MATERIALS, WATER, float_texture, water_group};
 use crate::error::Result;
 use crate::resources::lights::GpuLocalLights;
 use crate::shaders::LIBRARY;
@@ -16,26 +16,23 @@ pub(crate) const COMPOSITE: Pass<[u32; 2]> = Pass {
     module: "gpu::water_composite",
     library: LIBRARY,
     features: &["f16"],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
-            Binding::new("lights", Kind::read(size_of::<deferred::DeferredLight>())),
-            Binding::new("light_counts", Kind::read(4)),
-            Binding::new("light_indices", Kind::read(4)),
-            float_texture("surface"),
-            float_texture("normals"),
-            float_texture("foam"),
-            Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            MATERIALS,
-            Binding::new("material_map", Kind::texture_2d(Sample::Uint)),
-            float_texture("scene_hdr"),
-            Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
-            Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        Binding::new("local", Kind::uniform(size_of::<GpuLocalLights>())),
+        Binding::new("lights", Kind::read(size_of::<deferred::DeferredLight>())),
+        Binding::new("light_counts", Kind::read(4)),
+        Binding::new("light_indices", Kind::read(4)),
+        float_texture("surface"),
+        float_texture("normals"),
+        float_texture("foam"),
+        Binding::new("data", Kind::texture_2d(Sample::Uint)),
+        MATERIALS,
+        Binding::new("material_map", Kind::texture_2d(Sample::Uint)),
+        float_texture("scene_hdr"),
+        Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
+        Binding::new("output", Kind::storage_texture_2d(Format::Rgba8Unorm)),
+    ])],
     entries: &[Entry::grid("composite", 8, 8, |s| *s)],
     zeroed: &[],
 };

@@ -2,9 +2,9 @@
 //! water depth and the decals' foam, per water pixel at full resolution.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
+use shader::{Binding, Entry, Format, Kind, Pass, Sample};
 
-use super::rows::{FRAME, MATERIALS, WATER, float_texture};
+use super::rows::{FRAME, MATERIALS, WATER, float_texture, water_group};
 use crate::error::Result;
 use crate::shaders::LIBRARY;
 
@@ -14,22 +14,19 @@ pub(crate) const FOAM: Pass<[u32; 2]> = Pass {
     module: "gpu::water_foam",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            float_texture("surface"),
-            Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            MATERIALS,
-            Binding::new("atlas", Kind::texture_2d(Sample::Uint)),
-            float_texture("shore"),
-            float_texture("noise"),
-            float_texture("displacement"),
-            Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
-            Binding::new("foam", Kind::storage_texture_2d(Format::R32Float)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        float_texture("surface"),
+        Binding::new("data", Kind::texture_2d(Sample::Uint)),
+        MATERIALS,
+        Binding::new("atlas", Kind::texture_2d(Sample::Uint)),
+        float_texture("shore"),
+        float_texture("noise"),
+        float_texture("displacement"),
+        Binding::new("scene_depth", Kind::texture_2d(Sample::Depth)),
+        Binding::new("foam", Kind::storage_texture_2d(Format::R32Float)),
+    ])],
     entries: &[Entry::grid("foam_pass", 8, 8, |s| *s)],
     zeroed: &[],
 };

@@ -2,9 +2,9 @@
 //! resolution, blended with the mesh normal.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Sample};
+use shader::{Binding, Entry, Format, Kind, Pass, Sample};
 
-use super::rows::{FRAME, MATERIALS, WATER, float_texture};
+use super::rows::{FRAME, MATERIALS, WATER, float_texture, water_group};
 use crate::error::Result;
 use crate::shaders::LIBRARY;
 
@@ -14,18 +14,15 @@ pub(crate) const NORMALS: Pass<[u32; 2]> = Pass {
     module: "gpu::water_normals",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            float_texture("surface"),
-            Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            float_texture("mesh_normal"),
-            MATERIALS,
-            Binding::new("normals", Kind::storage_texture_2d(Format::Rgba16Float)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        float_texture("surface"),
+        Binding::new("data", Kind::texture_2d(Sample::Uint)),
+        float_texture("mesh_normal"),
+        MATERIALS,
+        Binding::new("normals", Kind::storage_texture_2d(Format::Rgba16Float)),
+    ])],
     entries: &[Entry::grid("normals_from_depth", 8, 8, |s| *s)],
     zeroed: &[],
 };

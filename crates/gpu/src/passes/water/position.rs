@@ -4,12 +4,12 @@
 //! draws: flat sectors a quad each, height-map sectors a grid each).
 
 use shader::pipeline::{Layouts, RasterPass};
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Sample, Stage, Target};
+use shader::{Binding, Entry, Format, Kind, Pass, Raster, Sample, Stage, Target};
 
 use super::super::raster::{DEPTH_WRITE, GEOMETRY};
 use super::data::WaterData;
 use super::groups::WaterGroups;
-use super::rows::{FRAME, MATERIALS, WATER};
+use super::rows::{FRAME, MATERIALS, WATER, water_group};
 use super::targets::WaterTargets;
 use crate::error::Result;
 use crate::shaders::LIBRARY;
@@ -21,19 +21,16 @@ pub(crate) const POSITION: Pass = Pass {
     module: "gpu::water_position",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            Binding::new("world", Kind::texture_2d(Sample::Uint)),
-            MATERIALS,
-            Binding::new("vertices", Kind::read(32)),
-            Binding::new("nodes", Kind::read(32)),
-            Binding::new("far_list", Kind::read(4)),
-            Binding::new("hiz", Kind::read(4)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        Binding::new("world", Kind::texture_2d(Sample::Uint)),
+        MATERIALS,
+        Binding::new("vertices", Kind::read(32)),
+        Binding::new("nodes", Kind::read(32)),
+        Binding::new("far_list", Kind::read(4)),
+        Binding::new("hiz", Kind::read(4)),
+    ])],
     entries: &[
         Entry::draw("vs_near", Stage::Vertex),
         Entry::draw("vs_far_flat", Stage::Vertex),

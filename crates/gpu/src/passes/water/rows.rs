@@ -1,5 +1,5 @@
 use bytemuck::{Pod, Zeroable};
-use shader::{Binding, Kind, Sample};
+use shader::{Binding, Group, Kind, Sample};
 
 use crate::resources::rows::FrameUniforms;
 /// The per-frame water constants (WGSL `GpuWaterFrame`), 496 bytes.
@@ -87,4 +87,13 @@ pub(crate) const MATERIALS: Binding = Binding::new(
 /// An unfilterable float texture named `name` (the passes read it with `textureLoad`).
 pub(crate) const fn float_texture(name: &'static str) -> Binding {
     Binding::new(name, Kind::texture_2d(Sample::Float { filterable: false }))
+}
+
+/// A water pass's group `water` (the name its WGSL and the water's bind groups use) over
+/// `bindings`.
+pub(crate) const fn water_group(bindings: &'static [Binding]) -> Group {
+    Group {
+        name: "water",
+        bindings,
+    }
 }

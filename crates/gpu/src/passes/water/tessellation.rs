@@ -3,11 +3,11 @@
 //! `draw_indexed_indirect` into the depth with water.
 
 use shader::pipeline::{Layouts, RasterPass};
-use shader::{Binding, Entry, Format, Group, Kind, Pass, Raster, Stage, Target};
+use shader::{Binding, Entry, Format, Kind, Pass, Raster, Stage, Target};
 
 use super::super::raster::{DEPTH_WRITE, GEOMETRY};
 use super::groups::WaterGroups;
-use super::rows::{FRAME, WATER};
+use super::rows::{FRAME, WATER, water_group};
 use super::targets::WaterTargets;
 use crate::error::Result;
 use crate::shaders::LIBRARY;
@@ -19,15 +19,12 @@ pub(crate) const TESSELLATION: Pass = Pass {
     module: "gpu::water_tessellation",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            Binding::new("vertices", Kind::read(16)),
-            Binding::new("tile_list", Kind::read(4)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        Binding::new("vertices", Kind::read(16)),
+        Binding::new("tile_list", Kind::read(4)),
+    ])],
     entries: &[
         Entry::draw("vs_grid", Stage::Vertex),
         Entry::draw("fs_grid", Stage::Fragment),

@@ -3,10 +3,10 @@
 //! `water::tiles::classify`.
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Group, Kind, Pass, Sample};
+use shader::{Binding, Entry, Kind, Pass, Sample};
 
 use super::groups::WaterGroups;
-use super::rows::WATER;
+use super::rows::{WATER, water_group};
 use super::targets::WaterTargets;
 use crate::error::Result;
 use crate::shaders::LIBRARY;
@@ -25,16 +25,13 @@ pub(crate) const TILES: Pass<TilesDispatch> = Pass {
     module: "gpu::water_tiles",
     library: LIBRARY,
     features: &["subgroups"],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            WATER,
-            Binding::new("data", Kind::texture_2d(Sample::Uint)),
-            Binding::new("counts", Kind::read_write(4)),
-            Binding::new("tile_list", Kind::read_write(4)),
-            Binding::new("args", Kind::read_write(4)),
-        ],
-    }],
+    groups: &[water_group(&[
+        WATER,
+        Binding::new("data", Kind::texture_2d(Sample::Uint)),
+        Binding::new("counts", Kind::read_write(4)),
+        Binding::new("tile_list", Kind::read_write(4)),
+        Binding::new("args", Kind::read_write(4)),
+    ])],
     entries: &[
         Entry::grid(
             "count_tiles",

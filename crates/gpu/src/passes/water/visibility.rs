@@ -4,13 +4,13 @@
 //! does for its own).
 
 use shader::pipeline::ComputePass;
-use shader::{Binding, Entry, Group, Kind, Pass};
+use shader::{Binding, Entry, Kind, Pass};
 use staticscene::pass::HizGrid;
 
 use super::data::{WaterData, WaterHiz};
 use super::groups::WaterGroups;
 use super::rows::GpuWaterBody;
-use super::rows::{FRAME, WATER};
+use super::rows::{FRAME, WATER, water_group};
 use crate::error::Result;
 use crate::passes::depth_reductions::HizPasses;
 use crate::shaders::LIBRARY;
@@ -28,21 +28,18 @@ pub(crate) const VISIBILITY: Pass<VisibilityDispatch> = Pass {
     module: "gpu::water_visibility",
     library: LIBRARY,
     features: &[],
-    groups: &[Group {
-        name: "water",
-        bindings: &[
-            FRAME,
-            WATER,
-            Binding::new("bodies", Kind::read(size_of::<GpuWaterBody>())),
-            Binding::new("near_args", Kind::read_write(4)),
-            Binding::new("nodes", Kind::read(32)),
-            Binding::new("lists", Kind::read_write(4)),
-            Binding::new("far_list", Kind::read_write(4)),
-            Binding::new("far_args", Kind::read_write(4)),
-            Binding::new("hiz", Kind::read(4)),
-            Binding::new("stats", Kind::read_write(4)),
-        ],
-    }],
+    groups: &[water_group(&[
+        FRAME,
+        WATER,
+        Binding::new("bodies", Kind::read(size_of::<GpuWaterBody>())),
+        Binding::new("near_args", Kind::read_write(4)),
+        Binding::new("nodes", Kind::read(32)),
+        Binding::new("lists", Kind::read_write(4)),
+        Binding::new("far_list", Kind::read_write(4)),
+        Binding::new("far_args", Kind::read_write(4)),
+        Binding::new("hiz", Kind::read(4)),
+        Binding::new("stats", Kind::read_write(4)),
+    ])],
     entries: &[
         Entry::items("near_bodies", 64, |d| d.bodies),
         Entry::once("far_sectors", 256),
