@@ -47,15 +47,11 @@ fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             let gpu = r.inspect().read_classification(&prepared).unwrap();
-            let (stats, mismatch) = r
-                .inspect()
-                .classification_statistics(&prepared, &gpu)
-                .unwrap();
-            assert_eq!(
-                mismatch,
-                None,
-                "{} subgroups {subgroups}: GPU classification differs from the CPU twin",
-                kind.name()
+            let stats = common::equals_twin(
+                &r,
+                &prepared,
+                &gpu,
+                &format!("{} subgroups {subgroups}", kind.name()),
             );
             assert!(
                 stats.vis_pixels > 300 * 200 / 2,
@@ -126,13 +122,11 @@ fn gpu_classification_equals_the_cpu_twin_on_random_vis_buffers() {
             }
             let gpu = r.hooks().classify_words(&prepared, &words).unwrap();
             assert_eq!(gpu.vis, words);
-            let (stats, mismatch) = r
-                .inspect()
-                .classification_statistics(&prepared, &gpu)
-                .unwrap();
-            assert_eq!(
-                mismatch, None,
-                "seed {seed} subgroups {subgroups}: GPU classification differs from the CPU twin"
+            let stats = common::equals_twin(
+                &r,
+                &prepared,
+                &gpu,
+                &format!("seed {seed} subgroups {subgroups}"),
             );
             assert!(stats.vis_pixels > 0);
         }
@@ -482,14 +476,7 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         for f in [&frame, &turned] {
             r.render(&prepared, f, RenderPath::Deferred).unwrap();
             let gpu = r.inspect().read_classification(&prepared).unwrap();
-            let (_, mismatch) = r
-                .inspect()
-                .classification_statistics(&prepared, &gpu)
-                .unwrap();
-            assert_eq!(
-                mismatch, None,
-                "vertex ring {vertex_ring:?}: GPU classification differs from the CPU twin"
-            );
+            common::equals_twin(&r, &prepared, &gpu, &format!("vertex ring {vertex_ring:?}"));
             masks.push(gpu.masks);
             culls.push(gpu.vertex_cull);
         }
@@ -540,16 +527,11 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
             let prepared = r.prepare(&scene).unwrap();
             r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
             let gpu = r.inspect().read_classification(&prepared).unwrap();
-            let (stats, mismatch) = r
-                .inspect()
-                .classification_statistics(&prepared, &gpu)
-                .unwrap();
-            assert_eq!(
-                mismatch,
-                None,
-                "{} {}: GPU classification differs from the CPU twin",
-                kind.name(),
-                laydown.name()
+            let stats = common::equals_twin(
+                &r,
+                &prepared,
+                &gpu,
+                &format!("{} {}", kind.name(), laydown.name()),
             );
             let laydown_stats = r.inspect().read_laydown_stats(&prepared).unwrap();
             eprintln!(

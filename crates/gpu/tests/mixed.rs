@@ -121,11 +121,7 @@ fn classify_output_takes_exactly_the_pixels_the_regular_pass_left() {
         );
         // The GPU equals tiling's CPU twin run as the frame runs it (mid classify over every
         // bit set, classify output over the final mask).
-        let (stats, mismatch) = r
-            .inspect()
-            .classification_statistics(&prepared, &c)
-            .unwrap();
-        assert_eq!(mismatch, None, "{}: GPU vs CPU twin", kind.name());
+        let stats = common::equals_twin(&r, &prepared, &c, kind.name());
         let regular = covered.iter().filter(|&&c| c).count();
         let hidden = (0..(W * H) as usize)
             .filter(|&i| covered[i] && laydown_vis[i] != visbuf::VIS_NONE)

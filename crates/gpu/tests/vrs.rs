@@ -53,13 +53,11 @@ fn quad_commands_cover_every_pixel_once_and_the_broadcast_equals_the_sample() {
                 r.render(&prepared, &before, RenderPath::Deferred).unwrap();
                 r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
                 let class = r.inspect().read_classification(&prepared).unwrap();
-                let (stats, mismatch) = r
-                    .inspect()
-                    .classification_statistics(&prepared, &class)
-                    .unwrap();
-                assert_eq!(
-                    mismatch, None,
-                    "GPU classification vs CPU twin (VRS {vrs:?})"
+                let stats = common::equals_twin(
+                    &r,
+                    &prepared,
+                    &class,
+                    &format!("GPU classification vs CPU twin (VRS {vrs:?})"),
                 );
                 runs.push((r.inspect().read_gbuffer().unwrap(), class, stats));
             }

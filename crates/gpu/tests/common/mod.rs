@@ -2,8 +2,9 @@
 #![allow(dead_code)]
 
 use gpu::config::ShadowConfig;
+use gpu::inspect::{ClassificationStats, GpuClassification};
 use gpu::scene::ShaderKind;
-use gpu::{Material, Renderer, RendererConfig, Rgba8Image};
+use gpu::{Material, PreparedScene, Renderer, RendererConfig, Rgba8Image};
 use testkit::device::ctx;
 
 pub mod laydown;
@@ -56,4 +57,24 @@ pub fn material(name: &str, shader: ShaderKind) -> Material {
         specular: 0.5,
         regular: false,
     }
+}
+
+/// The talk's statistics of `gpu` (the classification `prepared`'s last frame wrote),
+/// asserting first that it equals tiling's CPU twin run on the same vis words (`what`
+/// names the case in the failure).
+pub fn equals_twin(
+    r: &Renderer,
+    prepared: &PreparedScene,
+    gpu: &GpuClassification,
+    what: &str,
+) -> ClassificationStats {
+    let (stats, mismatch) = r
+        .inspect()
+        .classification_statistics(prepared, gpu)
+        .unwrap();
+    assert_eq!(
+        mismatch, None,
+        "{what}: GPU classification differs from the CPU twin"
+    );
+    stats
 }
