@@ -247,6 +247,19 @@ pub struct ComputePass<P: 'static> {
     size_overrides: Vec<(&'static str, f64)>,
 }
 
+/// `pass`'s WGSL composed with `features`, as a shader module.
+fn module<P>(
+    device: &wgpu::Device,
+    pass: &'static Pass<P>,
+    features: &[&str],
+) -> Result<wgpu::ShaderModule, Error> {
+    let source = pass.source(features)?;
+    Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(pass.name),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    }))
+}
+
 impl<P> ComputePass<P> {
     /// Composes `pass` with `features`, creates its module and a pipeline per entry point
     /// with the `override` values `constants`. Device errors (validation) are wgpu's; run
@@ -260,11 +273,7 @@ impl<P> ComputePass<P> {
         features: &[&str],
         constants: &[(&str, f64)],
     ) -> Result<Self, Error> {
-        let source = pass.source(features)?;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(pass.name),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let module = module(device, pass, features)?;
         let layouts = Layouts::new(device, pass);
         let steps = pass
             .entries
@@ -427,11 +436,7 @@ impl<P> RasterPass<P> {
         features: &[&str],
         constants: &[(&str, f64)],
     ) -> Result<Self, Error> {
-        let source = pass.source(features)?;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(pass.name),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
+        let module = module(device, pass, features)?;
         Ok(Self {
             pass,
             layouts,

@@ -216,13 +216,18 @@ pub(crate) fn draw_planned(
         for d in draws.iter().filter(|d| {
             d.alpha_tested == alpha_pass && d.instance_count > 0 && !(skip_regular && d.regular)
         }) {
-            pass.draw_indexed(
-                d.first_index..d.first_index + d.index_count,
-                d.base_vertex as i32,
-                d.first_instance..d.first_instance + d.instance_count,
-            );
+            draw(pass, d);
         }
     }
+}
+
+/// One planned draw: its index range, base vertex and instances.
+pub(crate) fn draw(pass: &mut wgpu::RenderPass<'_>, d: &Draw) {
+    pass.draw_indexed(
+        d.first_index..d.first_index + d.index_count,
+        d.base_vertex as i32,
+        d.first_instance..d.first_instance + d.instance_count,
+    );
 }
 
 #[cfg(test)]

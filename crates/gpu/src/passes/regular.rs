@@ -124,11 +124,7 @@ impl Regular {
             .iter()
             .filter(|d| d.regular && d.instance_count > 0)
         {
-            pass.draw_indexed(
-                d.first_index..d.first_index + d.index_count,
-                d.base_vertex as i32,
-                d.first_instance..d.first_instance + d.instance_count,
-            );
+            super::raster::draw(&mut pass, d);
         }
     }
 }
