@@ -140,6 +140,7 @@ fn reference() -> gpu::Scene {
     card.indices.extend_from_slice(&[4, 6, 5, 4, 7, 6]);
     let leaf = leaf_texture();
     gpu::Scene {
+        data_layers: Vec::new(),
         meshes: vec![ground, card],
         materials: vec![
             Material {
@@ -151,6 +152,7 @@ fn reference() -> gpu::Scene {
                 roughness: 0.9,
                 specular: 1.0,
                 regular: false,
+                ..Default::default()
             },
             Material {
                 name: String::new(),
@@ -161,6 +163,7 @@ fn reference() -> gpu::Scene {
                 roughness: 0.6,
                 specular: 1.0,
                 regular: false,
+                ..Default::default()
             },
         ],
         albedo_layers: vec![

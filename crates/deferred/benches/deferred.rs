@@ -51,6 +51,7 @@ fn surfaces() -> Vec<Surface> {
                 normal: n,
                 roughness: rng.f32(),
                 specular: rng.f32(),
+                metallic: rng.f32(),
                 sun_shadow: rng.f32(),
                 motion: Vec2::new(rng.range(-20.0, 20.0), rng.range(-20.0, 20.0)),
             }

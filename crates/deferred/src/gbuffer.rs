@@ -28,13 +28,19 @@
 //! | depth | `Depth32Float` (reversed Z) | depth | | | |
 //! | RT0 | `Rgba8Unorm` | lighting accumulation R (clamped to 1) | G | B | glow: luminance / [`KZ2_GLOW_RANGE`] |
 //! | RT1 | `Rgba8Uint` | normal code bits 0..8 | bits 8..16 | bits 16..24 | roughness, unorm8 |
-//! | RT2 | `Rgba16Float` | motion `x` (pixels) | motion `y` (pixels) | specular intensity | 0 (reserved) |
+//! | RT2 | `Rgba16Float` | motion `x` (pixels) | motion `y` (pixels) | specular intensity | metallic |
 //! | RT3 | `Rgba8Unorm` | albedo R (sRGB transfer) | G | B | baked sun shadow |
 //!
 //! # Conventions
 //!
-//! - Colours are linear RGB; albedo, roughness, specular intensity and sun shadow are in
-//!   `[0, 1]`; lighting accumulation is linear HDR radiance, non-negative.
+//! - Colours are linear RGB; albedo, roughness, specular intensity, metallic and sun shadow
+//!   are in `[0, 1]`; lighting accumulation is linear HDR radiance, non-negative.
+//! - The metallic workflow (glTF 2.0): [`Surface::albedo`] is the base colour; lighting
+//!   takes the diffuse colour `albedo · (1 − metallic)` and the specular lobe's Fresnel
+//!   `mix(specular · F(0.04), F(albedo), metallic)`, with Schlick's `F(f0)`. The KZ2 preset has no
+//!   free channel for metallic: it packs the diffuse colour `albedo · (1 − metallic)` as its
+//!   albedo and unpacks metallic 0, so a metal keeps its dielectric lobe and loses its
+//!   coloured reflection (what a 2009 G-buffer of four RGBA8 targets gives up).
 //! - Roughness is perceptual roughness `r` (GGX `α = r²`); KZ2 stores it as a Blinn-Phong
 //!   specular power in log range ([`spec_power_from_roughness`]).
 //! - Motion is the pixel's screen-space velocity in pixels, current minus previous
@@ -241,8 +247,12 @@ pub struct Surface {
     pub normal: Vec3,
     /// Perceptual roughness in `[0, 1]` (GGX `α = roughness²`).
     pub roughness: f32,
-    /// Specular intensity in `[0, 1]` (one channel: KZ2 found specular colour unused).
+    /// Specular intensity in `[0, 1]` (one channel: KZ2 found specular colour unused): scales
+    /// a dielectric's lobe (Fresnel from 0.04).
     pub specular: f32,
+    /// Metalness in `[0, 1]` (glTF's metallic): blends the diffuse colour to black and the
+    /// Fresnel to the albedo's. Lost by the KZ2 preset (see the module docs).
+    pub metallic: f32,
     /// Baked sun visibility in `[0, 1]` (KZ2's pre-rendered sun shadow).
     pub sun_shadow: f32,
     /// Screen-space velocity in pixels, current minus previous, `+y` down.
@@ -257,6 +267,7 @@ impl Default for Surface {
             normal: Vec3::Z,
             roughness: 0.5,
             specular: 0.5,
+            metallic: 0.0,
             sun_shadow: 1.0,
             motion: Vec2::ZERO,
         }
@@ -489,12 +500,15 @@ impl Kz2Texels {
                 spec_power_code(spec_power_from_roughness(s.roughness)),
                 unorm8(s.specular),
             ],
-            rt3: [
-                unorm8(s.albedo.x),
-                unorm8(s.albedo.y),
-                unorm8(s.albedo.z),
-                unorm8(s.sun_shadow),
-            ],
+            rt3: {
+                let diffuse = s.albedo * (1.0 - saturate(s.metallic));
+                [
+                    unorm8(diffuse.x),
+                    unorm8(diffuse.y),
+                    unorm8(diffuse.z),
+                    unorm8(s.sun_shadow),
+                ]
+            },
         }
     }
 
@@ -512,6 +526,7 @@ impl Kz2Texels {
             normal: normal::kz2_decode_view_normal(u32::from_le_bytes(t.rt1)),
             roughness: spec_code_roughness(t.rt2[2]),
             specular: unorm8_value(t.rt2[3]),
+            metallic: 0.0,
             sun_shadow: unorm8_value(t.rt3[3]),
             motion: Vec2::new(motion_value(t.rt2[0]), motion_value(t.rt2[1])),
         }
@@ -538,7 +553,7 @@ pub struct OctTexels {
     pub rt0: [u8; 4],
     /// Normal code bytes 0..3 + roughness (`Rgba8Uint`).
     pub rt1: [u8; 4],
-    /// Motion `x`, `y`, specular intensity, reserved 0, as binary16 bits (`Rgba16Float`).
+    /// Motion `x`, `y`, specular intensity, metallic, as binary16 bits (`Rgba16Float`).
     pub rt2: [u16; 4],
     /// Albedo RGB (sRGB transfer) + sun shadow (`Rgba8Unorm`).
     pub rt3: [u8; 4],
@@ -557,7 +572,7 @@ impl OctTexels {
                 half_bits(s.motion.x),
                 half_bits(s.motion.y),
                 half_bits(saturate(s.specular)),
-                0,
+                half_bits(saturate(s.metallic)),
             ],
             rt3: [
                 srgb8(s.albedo.x),
@@ -582,6 +597,7 @@ impl OctTexels {
             normal: normal::oct_decode(word),
             roughness: unorm8_value(t.rt1[3]),
             specular: saturate(half_value(t.rt2[2])),
+            metallic: saturate(half_value(t.rt2[3])),
             sun_shadow: unorm8_value(t.rt3[3]),
             motion: Vec2::new(half_value(t.rt2[0]), half_value(t.rt2[1])),
         }

@@ -40,7 +40,7 @@ fn unit(rng: &mut Rng) -> Vec3 {
 
 const SURFACE_WGSL_READ: &str = "
 fn read_surface(i: u32) -> DeferredSurface {
-    let b = i * 14u;
+    let b = i * 15u;
     var s: DeferredSurface;
     s.lighting = vec3<f32>(bitcast<f32>(input[b]), bitcast<f32>(input[b + 1u]), bitcast<f32>(input[b + 2u]));
     s.albedo = vec3<f32>(bitcast<f32>(input[b + 3u]), bitcast<f32>(input[b + 4u]), bitcast<f32>(input[b + 5u]));
@@ -49,6 +49,7 @@ fn read_surface(i: u32) -> DeferredSurface {
     s.specular = bitcast<f32>(input[b + 10u]);
     s.sun_shadow = bitcast<f32>(input[b + 11u]);
     s.motion = vec2<f32>(bitcast<f32>(input[b + 12u]), bitcast<f32>(input[b + 13u]));
+    s.metallic = bitcast<f32>(input[b + 14u]);
     return s;
 }
 fn write_surface(o: u32, s: DeferredSurface) {
@@ -59,10 +60,11 @@ fn write_surface(o: u32, s: DeferredSurface) {
     output[o + 8u] = bitcast<u32>(s.normal.z); output[o + 9u] = bitcast<u32>(s.roughness);
     output[o + 10u] = bitcast<u32>(s.specular); output[o + 11u] = bitcast<u32>(s.sun_shadow);
     output[o + 12u] = bitcast<u32>(s.motion.x); output[o + 13u] = bitcast<u32>(s.motion.y);
+    output[o + 14u] = bitcast<u32>(s.metallic);
 }
 ";
 
-fn surface_words(s: &Surface) -> [u32; 14] {
+fn surface_words(s: &Surface) -> [u32; 15] {
     let f = [
         s.lighting.x,
         s.lighting.y,
@@ -78,6 +80,7 @@ fn surface_words(s: &Surface) -> [u32; 14] {
         s.sun_shadow,
         s.motion.x,
         s.motion.y,
+        s.metallic,
     ];
     f.map(f32::to_bits)
 }
@@ -92,6 +95,7 @@ fn surface_from(w: &[u32]) -> Surface {
         specular: f(10),
         sun_shadow: f(11),
         motion: Vec2::new(f(12), f(13)),
+        metallic: f(14),
     }
 }
 
@@ -112,6 +116,7 @@ fn surfaces(n: usize) -> Vec<Surface> {
             normal: unit(&mut rng),
             roughness: rng.range(0.0, 1.0),
             specular: rng.range(0.0, 1.0),
+            metallic: rng.range(-0.1, 1.1),
             sun_shadow: rng.range(0.0, 1.0),
             motion: Vec2::new(rng.range(-40.0, 40.0), rng.range(-3000.0, 3000.0)),
         })
@@ -237,9 +242,9 @@ fn gbuffer_unpack_matches_the_cpu() {
     let rt2 = vec4<f32>(deferred_unpack_half(input[b + 2u] & 0xffffu), deferred_unpack_half(input[b + 2u] >> 16u),
         deferred_unpack_half(input[b + 3u] & 0xffffu), deferred_unpack_half(input[b + 3u] >> 16u));
     let o = deferred_gbuffer_oct_unpack(unpack4x8unorm(input[b]), rt1, rt2, unpack4x8unorm(input[b + 4u]));
-    write_surface(i * 28u, k);
-    write_surface(i * 28u + 14u, o);";
-    let out = run(&prelude, body, &input, n, 28);
+    write_surface(i * 30u, k);
+    write_surface(i * 30u + 15u, o);";
+    let out = run(&prelude, body, &input, n, 30);
     let close = |a: f32, b: f32, what: &str, i: usize| {
         assert!(
             (a - b).abs() <= 2e-6 * a.abs().max(b.abs()).max(1.0),
@@ -253,8 +258,8 @@ fn gbuffer_unpack_matches_the_cpu() {
             bytemuck::pod_read_unaligned(&[&bytes[..8], &bytes[8..12], &bytes[16..20]].concat());
         let oct: OctTexels = bytemuck::pod_read_unaligned(&bytes);
         for (cpu, gpu) in [
-            (kz2.unpack(), surface_from(&out[i * 28..])),
-            (oct.unpack(), surface_from(&out[i * 28 + 14..])),
+            (kz2.unpack(), surface_from(&out[i * 30..])),
+            (oct.unpack(), surface_from(&out[i * 30 + 15..])),
         ] {
             for (a, b, what) in [
                 (gpu.lighting, cpu.lighting, "lighting"),
@@ -267,6 +272,7 @@ fn gbuffer_unpack_matches_the_cpu() {
             }
             close(gpu.roughness, cpu.roughness, "roughness", i);
             close(gpu.specular, cpu.specular, "specular", i);
+            close(gpu.metallic, cpu.metallic, "metallic", i);
             close(gpu.sun_shadow, cpu.sun_shadow, "sun", i);
             assert_eq!(gpu.motion, cpu.motion, "{i} motion");
         }

@@ -16,9 +16,28 @@ fn surface() -> Surface {
         normal: Vec3::new(0.6, 0.8, 0.0),
         roughness: 0.5,
         specular: 0.5,
+        metallic: 0.0,
         sun_shadow: 1.0,
         motion: Vec2::new(1.5, -0.25),
     }
+}
+
+/// KZ2 has no metallic channel: it stores the diffuse colour, base · (1 − metallic), and
+/// reads metallic back as 0, so lighting sees the same diffuse term.
+#[test]
+fn kz2_stores_a_metal_as_its_diffuse_colour() {
+    let s = Surface {
+        albedo: Vec3::new(0.8, 0.4, 0.2),
+        metallic: 0.75,
+        ..Surface::default()
+    };
+    let b = Kz2Texels::pack(&s).unpack();
+    assert_eq!(b.metallic, 0.0);
+    let want = Vec3::new(0.2, 0.1, 0.05);
+    assert!((b.albedo - want).abs().max_element() <= 0.5 / 255.0 + 1e-6, "{}", b.albedo);
+    // The octahedral layout keeps both.
+    let o = OctTexels::pack(&s).unpack();
+    assert!((o.metallic - 0.75).abs() < 1e-3 && (o.albedo - s.albedo).abs().max_element() < 5e-3);
 }
 
 #[test]
@@ -234,7 +253,7 @@ proptest! {
     ) {
         let n = DVec3::new(d.x, d.y, d.z.abs()).as_vec3();
         let s = Surface { lighting: lighting.into(), albedo: albedo.into(), normal: n,
-            roughness: r, specular: spec, sun_shadow: sun, motion: Vec2::new(mx, my) };
+            roughness: r, specular: spec, metallic: 0.0, sun_shadow: sun, motion: Vec2::new(mx, my) };
         let b = Kz2Texels::pack(&s).unpack();
         let q = 0.5 / 255.0 + 1e-6;
         prop_assert!((b.albedo - s.albedo).abs().max_element() <= q);
@@ -256,12 +275,13 @@ proptest! {
         albedo in prop::array::uniform3(0.0f32..=1.0),
         r in 0.0f32..=1.0,
         spec in 0.0f32..=1.0,
+        metal in 0.0f32..=1.0,
         mx in -1000.0f32..1000.0,
         my in -1000.0f32..1000.0,
         d in direction(),
     ) {
         let s = Surface { albedo: albedo.into(), normal: d.as_vec3(), roughness: r,
-            specular: spec, motion: Vec2::new(mx, my), ..Surface::default() };
+            specular: spec, metallic: metal, motion: Vec2::new(mx, my), ..Surface::default() };
         let b = OctTexels::pack(&s).unpack();
         prop_assert!(angle(d, b.normal) <= 0.0397);
         // sRGB: half a code times the decode's steepest slope (2.4 / 1.055 at 1).
@@ -269,6 +289,7 @@ proptest! {
         prop_assert!((b.roughness - r).abs() <= 0.5 / 255.0 + 1e-6);
         // f16: relative half-ulp 2^-11.
         prop_assert!((b.specular - spec).abs() <= 2f32.powi(-12));
+        prop_assert!((b.metallic - metal).abs() <= 2f32.powi(-12));
         prop_assert!((b.motion - s.motion).abs().max_element() <= s.motion.abs().max_element() * 2f32.powi(-11));
     }
 

@@ -301,6 +301,7 @@ pub fn city_with(config: CityConfig) -> City {
     ];
     let albedo_layers = vec![rock_layer(), bark_layer(), leaf_layer(), grass_layer()];
     let scene = Scene {
+        data_layers: Vec::new(),
         meshes,
         materials,
         albedo_layers,

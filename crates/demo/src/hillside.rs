@@ -605,6 +605,7 @@ pub(super) fn hillside(seed: u64, density: f32, paint: bool, view: View) -> (Sce
     frame.lighting.sun_direction = (back * 0.5 + Vec3::Y * 0.8 + Vec3::X * 0.35).normalize();
     (
         Scene {
+            data_layers: Vec::new(),
             meshes,
             materials,
             albedo_layers,

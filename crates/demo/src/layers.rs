@@ -171,6 +171,7 @@ pub(crate) fn material(name: &str, shader: ShaderKind, layer: u32, roughness: f3
         roughness,
         specular: 0.3,
         regular: false,
+        ..Default::default()
     }
 }
 

@@ -518,6 +518,7 @@ fn forest(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
     };
     (
         Scene {
+            data_layers: Vec::new(),
             meshes,
             materials,
             albedo_layers,
@@ -615,6 +616,7 @@ fn grass(seed: u64, density: f32, paint: bool) -> (Scene, FrameInput) {
     ];
     (
         Scene {
+            data_layers: Vec::new(),
             meshes,
             materials,
             albedo_layers,

@@ -480,6 +480,7 @@ fn opaque(
         instances,
     };
     Scene {
+        data_layers: Vec::new(),
         meshes,
         materials,
         albedo_layers,

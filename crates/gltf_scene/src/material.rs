@@ -304,6 +304,7 @@ pub(crate) fn import(
             roughness: roughness.clamp(0.0, 1.0),
             specular: SPECULAR,
             regular: false,
+            ..Default::default()
         },
         texture: texture.map(|t| t.texture().source().index()),
         metallic_roughness_texture: pbr

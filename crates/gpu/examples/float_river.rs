@@ -156,6 +156,7 @@ fn with_crates(demo: &RiverDemo, crates: &[Crate]) -> Scene {
         roughness: 0.8,
         specular: 0.2,
         regular: false,
+        ..Default::default()
     });
     let instances = crates
         .iter()

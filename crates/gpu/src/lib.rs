@@ -78,6 +78,7 @@
 //!     indices: vec![0, 1, 2, 0, 2, 3],
 //! };
 //! let scene = Scene {
+//!     data_layers: vec![],
 //!     meshes: vec![quad],
 //!     materials: vec![Material {
 //!         name: "checker".into(),
@@ -88,6 +89,7 @@
 //!         roughness: 0.6,
 //!         specular: 0.5,
 //!         regular: false,
+//!         ..Default::default()
 //!     }],
 //!     albedo_layers: vec![AlbedoLayer {
 //!         size: 2,

@@ -286,6 +286,7 @@ fn plain_scene(mesh: Mesh, instances: Vec<Affine3A>) -> Scene {
         ..Default::default()
     });
     Scene {
+        data_layers: Vec::new(),
         meshes: vec![mesh],
         materials: vec![material("plain", ShaderKind::Opaque)],
         albedo_layers: vec![demo.albedo_layers[0].clone()],

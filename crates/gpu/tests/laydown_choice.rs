@@ -130,6 +130,7 @@ fn alpha_tested_cards_agree_between_the_compute_and_hardware_laydowns_within_one
         ));
     }
     let scene = Scene {
+        data_layers: Vec::new(),
         meshes,
         materials: vec![material("card", ShaderKind::AlphaTested)],
         albedo_layers: vec![layer],

@@ -190,6 +190,7 @@ fn swaying_quad(wind: Option<Wind>) -> (Scene, Affine3A) {
     };
     let instance = Affine3A::from_translation(Vec3::new(0.3, 0.0, -0.2));
     let scene = Scene {
+        data_layers: Vec::new(),
         meshes: vec![mesh],
         materials: vec![common::material("leaf", ShaderKind::AlphaTested)],
         albedo_layers: vec![AlbedoLayer {

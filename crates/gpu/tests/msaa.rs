@@ -40,6 +40,7 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
         indices: vec![0, 1, 2, 0, 2, 3],
     };
     let scene = Scene {
+        data_layers: Vec::new(),
         meshes: vec![mesh],
         materials: vec![Material {
             name: "matte".into(),
@@ -50,6 +51,7 @@ fn quad_scene() -> (Scene, FrameInput, [Vec3; 4]) {
             roughness: 1.0,
             specular: 0.0,
             regular: false,
+            ..Default::default()
         }],
         albedo_layers: vec![AlbedoLayer {
             size: 4,

@@ -79,6 +79,7 @@ const NO_CUBE: Layout = Layout {
 /// instances as planned batches.
 fn scene(statics: bool, layout: Layout) -> Scene {
     let mut scene = Scene {
+        data_layers: Vec::new(),
         meshes: vec![
             box_mesh("tower", TOWER.0, TOWER.1),
             box_mesh("cube", CUBE.0, CUBE.1),
@@ -97,6 +98,7 @@ fn scene(statics: bool, layout: Layout) -> Scene {
             roughness: 0.8,
             specular: 0.3,
             regular: false,
+            ..Default::default()
         }],
         albedo_layers: vec![AlbedoLayer {
             size: 4,

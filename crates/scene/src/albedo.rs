@@ -80,3 +80,47 @@ fn mip_chain(layer: &AlbedoLayer) -> Vec<Vec<[u8; 4]>> {
     }
     levels
 }
+
+/// One data layer: RGBA8, linear values in [0, 1] (a normal map's `0.5 · n + 0.5`, a
+/// metallic-roughness or occlusion map's channels), `size` × `size` texels, row major from
+/// the top-left. All data layers of a scene share one size (a power of two), which may
+/// differ from the albedo layers'.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DataLayer {
+    /// Width and height in texels.
+    pub size: u32,
+    /// `size * size` texels.
+    pub texels: Vec<[u8; 4]>,
+}
+
+impl DataLayer {
+    /// The mip chain the renderer uploads, level 0 (these texels) first, down to 1x1: every
+    /// channel box-filtered as a linear value (a normal map's averaged normals are
+    /// shorter than 1 where they diverge; the shader renormalises).
+    #[must_use]
+    pub fn mip_chain(&self) -> Vec<Vec<[u8; 4]>> {
+        let mut levels = vec![self.texels.clone()];
+        let mut size = self.size as usize;
+        while size > 1 {
+            let prev = levels.last().expect("at least one level");
+            let half = size / 2;
+            let mut next = Vec::with_capacity(half * half);
+            for y in 0..half {
+                for x in 0..half {
+                    let mut sum = [0u32; 4];
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let p = prev[(2 * y + dy) * size + 2 * x + dx];
+                        for c in 0..4 {
+                            sum[c] += u32::from(p[c]);
+                        }
+                    }
+                    // Round half up: (sum + 2) / 4, at most 255.
+                    next.push(sum.map(|v| ((v + 2) / 4) as u8));
+                }
+            }
+            levels.push(next);
+            size = half;
+        }
+        levels
+    }
+}

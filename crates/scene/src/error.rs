@@ -87,6 +87,8 @@ pub enum SceneError {
     UnknownTextureLayer {
         /// The material's name.
         material: String,
+        /// Which of its fields (`albedo_layer`, `maps.normal`, ...).
+        field: &'static str,
         /// The layer it used.
         layer: u32,
         /// How many layers the scene has.
@@ -94,6 +96,8 @@ pub enum SceneError {
     },
     /// Texture layers differ in size, or a layer's pixel count does not match its size.
     TextureSize {
+        /// Which array: `albedo_layers` or `data_layers`.
+        array: &'static str,
         /// The layer.
         layer: usize,
         /// What is wrong.
@@ -238,14 +242,19 @@ impl fmt::Display for SceneError {
             }
             SceneError::UnknownTextureLayer {
                 material,
+                field,
                 layer,
                 layers,
             } => write!(
                 f,
-                "material `{material}` uses albedo layer {layer}, but the scene has {layers} layers"
+                "material `{material}`: {field} is layer {layer}, but its array has {layers} layers"
             ),
-            SceneError::TextureSize { layer, detail } => {
-                write!(f, "albedo layer {layer}: {detail}")
+            SceneError::TextureSize {
+                array,
+                layer,
+                detail,
+            } => {
+                write!(f, "{array}[{layer}]: {detail}")
             }
             SceneError::Tiling(s) => write!(f, "micro batches and passes: {s}"),
             SceneError::Encoding(s) => write!(f, "primitive-ID encoding: {s}"),

@@ -24,6 +24,7 @@
 //!     indices: vec![0, 1, 2, 0, 2, 3],
 //! };
 //! let mut scene = Scene {
+//!     data_layers: vec![],
 //!     meshes: vec![quad],
 //!     materials: vec![Material {
 //!         name: "checker".into(),
@@ -34,6 +35,7 @@
 //!         roughness: 0.6,
 //!         specular: 0.5,
 //!         regular: false,
+//!         ..Default::default()
 //!     }],
 //!     albedo_layers: vec![AlbedoLayer {
 //!         size: 2,
@@ -76,15 +78,16 @@ mod frame;
 mod model;
 mod water_scene;
 
-pub use albedo::AlbedoLayer;
+pub use albedo::{AlbedoLayer, DataLayer};
 /// The `deferred` version this crate uses (its sRGB conversions filter the albedo mips).
 pub use deferred;
 pub use error::{FrameError, SceneError, WaterError};
 pub use frame::{Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight};
 pub use glam;
 pub use model::{
-    Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialId, Mesh, MeshId,
-    Scene, ShaderKind, StaticSetup, Wind,
+    Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialFeatures,
+    MaterialId, MaterialMaps, Mesh, MeshId, NormalMap, OcclusionMap, Scene, ShaderKind,
+    StaticSetup, Wind,
 };
 /// The `tiling` version [`Scene::tiling_batches`] answers in.
 pub use tiling;

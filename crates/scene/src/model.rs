@@ -7,7 +7,7 @@
 
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 
-use crate::AlbedoLayer;
+use crate::{AlbedoLayer, DataLayer};
 #[cfg(doc)]
 use crate::FrameInput;
 use crate::error::SceneError;
@@ -141,24 +141,42 @@ impl ShaderKind {
     }
 }
 
-/// A material: an albedo layer of the scene's texture array and a few constants.
+/// A material in glTF 2.0's metallic-roughness model: a base colour (an albedo layer times
+/// [`Material::tint`]), metallic and roughness, and optional normal, metallic-roughness,
+/// occlusion and emissive maps ([`MaterialMaps`]). Every map reads the mesh's one set of
+/// texture coordinates (`Mesh::uvs`) with trilinear filtering and repeat addressing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// A name for error messages.
     pub name: String,
     /// The shader.
     pub shader: ShaderKind,
-    /// Layer of [`Scene::albedo_layers`].
+    /// Layer of [`Scene::albedo_layers`]: the base colour (sRGB) and, for alpha-tested
+    /// materials, the alpha the cutoff tests.
     pub albedo_layer: u32,
-    /// Multiplies the texture's colour (linear RGB).
+    /// Multiplies the texture's colour (linear RGB): glTF's `baseColorFactor`.
     pub tint: Vec3,
     /// Alpha-test cutoff in [0, 1] for [`ShaderKind::AlphaTested`] (texels whose alpha is
     /// below it are discarded; ignored by opaque materials, but still checked).
     pub alpha_cutoff: f32,
-    /// Perceptual roughness in [0, 1] (GGX alpha = roughness²).
+    /// Perceptual roughness in [0, 1] (GGX alpha = roughness²), multiplied by the
+    /// metallic-roughness map's green channel where there is one.
     pub roughness: f32,
-    /// Specular intensity in [0, 1].
+    /// Specular intensity in [0, 1]: scales a dielectric's specular lobe (Schlick's Fresnel
+    /// from 0.04 at normal incidence), so 1 is glTF's dielectric.
     pub specular: f32,
+    /// Metalness in [0, 1] (glTF's `metallicFactor`), multiplied by the metallic-roughness
+    /// map's blue channel where there is one: the diffuse colour is `base · (1 −
+    /// metallic)`, the specular lobe's Fresnel `mix(specular · F(0.04), F(base),
+    /// metallic)` with Schlick's `F(f0)`.
+    pub metallic: f32,
+    /// Emitted radiance, linear RGB, each channel finite and ≥ 0 (glTF's `emissiveFactor`
+    /// times `KHR_materials_emissive_strength`), multiplied by the emissive map where
+    /// there is one; in the units of the frame's sun colour (radiance the camera sees
+    /// directly, added once).
+    pub emissive: Vec3,
+    /// The optional texture maps.
+    pub maps: MaterialMaps,
     /// HFW's mixed frame (`gpu::RendererConfig::geometry.mixed_frame`): batches
     /// of this material skip the vis buffer and are drawn by the regular geometry pass
     /// after the laydown, which writes the G-buffer from a fragment shader and clears the
@@ -167,6 +185,145 @@ pub struct Material {
     /// ([`SceneError::RegularNotOpaque`]). Every other path, and the
     /// static query's draws, ignore it.
     pub regular: bool,
+}
+
+impl Default for Material {
+    /// An opaque, white, dielectric material of roughness 0.5 on albedo layer 0, with no
+    /// maps.
+    fn default() -> Self {
+        Material {
+            name: String::new(),
+            shader: ShaderKind::Opaque,
+            albedo_layer: 0,
+            tint: Vec3::ONE,
+            alpha_cutoff: 0.5,
+            roughness: 0.5,
+            specular: 1.0,
+            metallic: 0.0,
+            emissive: Vec3::ZERO,
+            maps: MaterialMaps::default(),
+            regular: false,
+        }
+    }
+}
+
+/// A material's optional texture maps (glTF 2.0's `normalTexture`,
+/// `metallicRoughnessTexture`, `occlusionTexture` and `emissiveTexture`). The data maps
+/// (normal, metallic-roughness, occlusion) are layers of [`Scene::data_layers`], stored
+/// and filtered linearly; the emissive map is a colour, a layer of
+/// [`Scene::albedo_layers`] (sRGB).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaterialMaps {
+    /// Tangent-space normal map.
+    pub normal: Option<NormalMap>,
+    /// Layer of [`Scene::data_layers`] whose green channel multiplies the roughness and
+    /// blue channel the metallic (glTF's packing; red and alpha are not read).
+    pub metallic_roughness: Option<u32>,
+    /// Ambient occlusion.
+    pub occlusion: Option<OcclusionMap>,
+    /// Layer of [`Scene::albedo_layers`] whose colour multiplies [`Material::emissive`].
+    pub emissive: Option<u32>,
+}
+
+/// A tangent-space normal map (glTF 2.0 `normalTexture`): texel RGB in [0, 1] encodes the
+/// normal `(2 r − 1, 2 g − 1, 2 b − 1)` in the basis (tangent, bitangent, normal), where the
+/// bitangent is `cross(normal, tangent.xyz) · tangent.w` of the mesh's tangents
+/// (`Mesh::tangents`): +X follows increasing u, +Y the bitangent, +Z points out of the
+/// surface. The perturbed normal is `normalize(t · x · scale + b · y · scale + n · z)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalMap {
+    /// Layer of [`Scene::data_layers`].
+    pub layer: u32,
+    /// Scales the map's X and Y (glTF's `normalTexture.scale`); finite, in [-16, 16].
+    pub scale: f32,
+}
+
+/// An ambient occlusion map (glTF 2.0 `occlusionTexture`): its red channel `o` darkens
+/// the indirect (ambient) light by `1 + strength · (o − 1)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OcclusionMap {
+    /// Layer of [`Scene::data_layers`].
+    pub layer: u32,
+    /// In [0, 1] (glTF's `occlusionTexture.strength`).
+    pub strength: f32,
+}
+
+impl Material {
+    /// The permutation of the material's shader: which optional features it has
+    /// ([`MaterialFeatures`]).
+    pub fn features(&self) -> MaterialFeatures {
+        let m = &self.maps;
+        let mut f = MaterialFeatures::empty();
+        f.set(MaterialFeatures::NORMAL_MAP, m.normal.is_some());
+        f.set(
+            MaterialFeatures::METALLIC_ROUGHNESS_MAP,
+            m.metallic_roughness.is_some(),
+        );
+        f.set(MaterialFeatures::OCCLUSION_MAP, m.occlusion.is_some());
+        f.set(
+            MaterialFeatures::EMISSIVE,
+            m.emissive.is_some() || self.emissive != Vec3::ZERO,
+        );
+        f.set(
+            MaterialFeatures::ALPHA_TEST,
+            self.shader == ShaderKind::AlphaTested,
+        );
+        f
+    }
+}
+
+/// The optional features of a material, as bits (HFW's material shader permutation).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct MaterialFeatures(pub u32);
+
+impl MaterialFeatures {
+    /// A tangent-space normal map.
+    pub const NORMAL_MAP: Self = Self(1);
+    /// A metallic-roughness map.
+    pub const METALLIC_ROUGHNESS_MAP: Self = Self(2);
+    /// An occlusion map.
+    pub const OCCLUSION_MAP: Self = Self(4);
+    /// Emission (a factor, a map or both).
+    pub const EMISSIVE: Self = Self(8);
+    /// The alpha test.
+    pub const ALPHA_TEST: Self = Self(16);
+    /// Every feature with its name, in bit order.
+    pub const NAMED: [(Self, &'static str); 5] = [
+        (Self::NORMAL_MAP, "normal map"),
+        (Self::METALLIC_ROUGHNESS_MAP, "metallic-roughness map"),
+        (Self::OCCLUSION_MAP, "occlusion map"),
+        (Self::EMISSIVE, "emissive"),
+        (Self::ALPHA_TEST, "alpha test"),
+    ];
+
+    /// No feature.
+    pub const fn empty() -> Self {
+        Self(0)
+    }
+
+    /// Whether every bit of `other` is set.
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// Sets or clears `other`'s bits.
+    pub fn set(&mut self, other: Self, on: bool) {
+        if on {
+            self.0 |= other.0;
+        } else {
+            self.0 &= !other.0;
+        }
+    }
+
+    /// The names of the features set, in bit order ("none" for none).
+    pub fn names(self) -> Vec<&'static str> {
+        let v: Vec<_> = Self::NAMED
+            .iter()
+            .filter(|(f, _)| self.contains(*f))
+            .map(|(_, n)| *n)
+            .collect();
+        if v.is_empty() { vec!["none"] } else { v }
+    }
 }
 
 /// Checks that `value` lies in `[lo, hi]` (NaN never does).
@@ -220,8 +377,12 @@ pub struct Scene {
     pub meshes: Vec<Mesh>,
     /// Materials.
     pub materials: Vec<Material>,
-    /// The albedo texture array's layers.
+    /// The albedo texture array's layers (sRGB colour, linear alpha): base colours and
+    /// emissive maps.
     pub albedo_layers: Vec<AlbedoLayer>,
+    /// The data texture array's layers (linear): normal, metallic-roughness and occlusion
+    /// maps. Empty for a scene without them.
+    pub data_layers: Vec<DataLayer>,
     /// Batches of instances (drawn every frame; the CPU plans them once).
     pub batches: Vec<Batch>,
     /// What the static query's setup handles draw (index = handle); empty for a scene
@@ -365,36 +526,35 @@ impl Scene {
         if let Some(w) = &self.wind {
             w.validate()?;
         }
-        let size = self.albedo_layers.first().map_or(1, |l| l.size);
-        for (i, l) in self.albedo_layers.iter().enumerate() {
-            if l.size != size || !l.size.is_power_of_two() {
-                return Err(SceneError::TextureSize {
-                    layer: i,
-                    detail: format!(
-                        "size {} differs from layer 0's {size} or is not a power of two",
-                        l.size
-                    ),
-                });
-            }
-            if l.texels.len() != (l.size as usize).pow(2) {
-                return Err(SceneError::TextureSize {
-                    layer: i,
-                    detail: format!(
-                        "{} texels for a {}x{} layer",
-                        l.texels.len(),
-                        l.size,
-                        l.size
-                    ),
-                });
-            }
-        }
+        check_layers(
+            "albedo_layers",
+            self.albedo_layers.iter().map(|l| (l.size, l.texels.len())),
+        )?;
+        check_layers(
+            "data_layers",
+            self.data_layers.iter().map(|l| (l.size, l.texels.len())),
+        )?;
         for m in &self.materials {
-            if m.albedo_layer as usize >= self.albedo_layers.len() {
-                return Err(SceneError::UnknownTextureLayer {
-                    material: m.name.clone(),
-                    layer: m.albedo_layer,
-                    layers: self.albedo_layers.len(),
-                });
+            let (albedo, data) = (self.albedo_layers.len(), self.data_layers.len());
+            let maps = &m.maps;
+            let references = [
+                ("albedo_layer", Some(m.albedo_layer), albedo),
+                ("maps.normal", maps.normal.map(|n| n.layer), data),
+                ("maps.metallic_roughness", maps.metallic_roughness, data),
+                ("maps.occlusion", maps.occlusion.map(|o| o.layer), data),
+                ("maps.emissive", maps.emissive, albedo),
+            ];
+            for (field, layer, layers) in references {
+                if let Some(layer) = layer
+                    && layer as usize >= layers
+                {
+                    return Err(SceneError::UnknownTextureLayer {
+                        material: m.name.clone(),
+                        field,
+                        layer,
+                        layers,
+                    });
+                }
             }
             if m.regular && m.shader != ShaderKind::Opaque {
                 return Err(SceneError::RegularNotOpaque {
@@ -408,9 +568,20 @@ impl Scene {
             unit("alpha_cutoff", m.alpha_cutoff)
                 .and(unit("roughness", m.roughness))
                 .and(unit("specular", m.specular))
+                .and(unit("metallic", m.metallic))
                 .and(colour("tint.r", m.tint.x))
                 .and(colour("tint.g", m.tint.y))
                 .and(colour("tint.b", m.tint.z))
+                .and(colour("emissive.r", m.emissive.x))
+                .and(colour("emissive.g", m.emissive.y))
+                .and(colour("emissive.b", m.emissive.z))
+                .and(maps.normal.map_or(Ok(()), |n| {
+                    check_range(field("maps.normal.scale"), n.scale, -16.0, 16.0, "[-16, 16]")
+                }))
+                .and(
+                    maps.occlusion
+                        .map_or(Ok(()), |o| unit("maps.occlusion.strength", o.strength)),
+                )
                 .map_err(|(field, value, allowed)| SceneError::OutOfRange {
                     field,
                     value,
@@ -531,4 +702,33 @@ impl Scene {
             })
             .collect()
     }
+}
+
+/// Checks that the layers of one texture array (`(size, texel count)` each) share one
+/// power-of-two size and hold `size²` texels each.
+fn check_layers(
+    array: &'static str,
+    layers: impl Iterator<Item = (u32, usize)>,
+) -> Result<(), SceneError> {
+    let mut first = None;
+    for (i, (size, texels)) in layers.enumerate() {
+        let size0 = *first.get_or_insert(size);
+        if size != size0 || !size.is_power_of_two() {
+            return Err(SceneError::TextureSize {
+                array,
+                layer: i,
+                detail: format!(
+                    "size {size} differs from layer 0's {size0} or is not a power of two"
+                ),
+            });
+        }
+        if texels != (size as usize).pow(2) {
+            return Err(SceneError::TextureSize {
+                array,
+                layer: i,
+                detail: format!("{texels} texels for a {size}x{size} layer"),
+            });
+        }
+    }
+    Ok(())
 }

@@ -9,7 +9,7 @@
 //   KZ2   RT0 rgba8unorm  lighting rgb, glow       RT1 rgba8unorm  view normal x, y as f16 bytes
 //         RT2 rgba8unorm  motion xy, spec power, spec intensity    RT3 rgba8unorm  albedo (linear), sun shadow
 //   Oct   RT0 rgba8unorm  lighting rgb, glow       RT1 rgba8uint   normal code (24 bits), roughness
-//         RT2 rgba16float motion xy (px), specular, 0              RT3 rgba8unorm  albedo (sRGB), sun shadow
+//         RT2 rgba16float motion xy (px), specular, metallic       RT3 rgba8unorm  albedo (sRGB), sun shadow
 
 const DEFERRED_OCT_BITS: u32 = 12u;
 const DEFERRED_OCT_AXIS_MASK: u32 = 4095u;
@@ -36,7 +36,10 @@ struct DeferredSurface {
     normal: vec3<f32>,
     // perceptual, GGX alpha = roughness^2
     roughness: f32,
+    // scales a dielectric's lobe (Fresnel from 0.04)
     specular: f32,
+    // [0, 1]; Fresnel mix(specular * F(0.04), F(albedo), metallic), diffuse albedo * (1 - metallic)
+    metallic: f32,
     sun_shadow: f32,
     // pixels, current minus previous, +y down
     motion: vec2<f32>,
@@ -364,8 +367,10 @@ fn deferred_gbuffer_kz2_pack(s: DeferredSurface) -> DeferredKz2Targets {
                       f32(deferred_kz2_motion_code(s.motion.y)) / 255.0,
                       f32(power_code) / 255.0,
                       deferred_unorm8(s.specular));
-    t.rt3 = vec4<f32>(deferred_unorm8(s.albedo.x), deferred_unorm8(s.albedo.y),
-                      deferred_unorm8(s.albedo.z), deferred_unorm8(s.sun_shadow));
+    // No metallic channel: the diffuse colour is stored (metals lose their reflection).
+    let diffuse = s.albedo * (1.0 - deferred_saturate(s.metallic));
+    t.rt3 = vec4<f32>(deferred_unorm8(diffuse.x), deferred_unorm8(diffuse.y),
+                      deferred_unorm8(diffuse.z), deferred_unorm8(s.sun_shadow));
     return t;
 }
 
@@ -381,6 +386,7 @@ fn deferred_gbuffer_kz2_unpack(rt0: vec4<f32>, rt1: vec4<f32>, rt2: vec4<f32>, r
     let power = exp2(f32(deferred_unorm8_read(rt2.z)) / 255.0 * DEFERRED_KZ2_SPEC_LOG_RANGE) - 1.0;
     s.roughness = deferred_roughness_from_spec_power(power);
     s.specular = f32(deferred_unorm8_read(rt2.w)) / 255.0;
+    s.metallic = 0.0;
     s.albedo = vec3<f32>(f32(deferred_unorm8_read(rt3.x)), f32(deferred_unorm8_read(rt3.y)),
                          f32(deferred_unorm8_read(rt3.z))) / 255.0;
     s.sun_shadow = f32(deferred_unorm8_read(rt3.w)) / 255.0;
@@ -396,7 +402,8 @@ fn deferred_gbuffer_oct_pack(s: DeferredSurface) -> DeferredOctTargets {
     t.rt1 = vec4<u32>(code & 0xffu, (code >> 8u) & 0xffu, (code >> 16u) & 0xffu,
                       deferred_unorm8_code(s.roughness));
     t.rt2 = vec4<f32>(deferred_f16_round(s.motion.x), deferred_f16_round(s.motion.y),
-                      deferred_f16_round(deferred_saturate(s.specular)), 0.0);
+                      deferred_f16_round(deferred_saturate(s.specular)),
+                      deferred_f16_round(deferred_saturate(s.metallic)));
     t.rt3 = vec4<f32>(deferred_unorm8(deferred_srgb_encode(s.albedo.x)),
                       deferred_unorm8(deferred_srgb_encode(s.albedo.y)),
                       deferred_unorm8(deferred_srgb_encode(s.albedo.z)),
@@ -412,13 +419,14 @@ fn deferred_gbuffer_oct_unpack(rt0: vec4<f32>, rt1: vec4<u32>, rt2: vec4<f32>, r
     s.normal = deferred_oct_decode(b.x | (b.y << 8u) | (b.z << 16u));
     s.roughness = f32(b.w) / 255.0;
     var m = rt2;
-    for (var i = 0u; i < 3u; i++) {
+    for (var i = 0u; i < 4u; i++) {
         if deferred_is_nan(m[i]) {
             m[i] = 0.0;
         }
     }
     s.motion = clamp(m.xy, vec2<f32>(-DEFERRED_F16_MAX), vec2<f32>(DEFERRED_F16_MAX));
     s.specular = deferred_saturate(m.z);
+    s.metallic = deferred_saturate(m.w);
     s.albedo = vec3<f32>(deferred_srgb_decode(f32(deferred_unorm8_read(rt3.x)) / 255.0),
                          deferred_srgb_decode(f32(deferred_unorm8_read(rt3.y)) / 255.0),
                          deferred_srgb_decode(f32(deferred_unorm8_read(rt3.z)) / 255.0));

@@ -12,6 +12,7 @@ pub fn bad_surface() -> Surface {
         normal: Vec3::new(f32::NAN, 0.0, 0.0),
         roughness: f32::NAN,
         specular: f32::INFINITY,
+        metallic: f32::NAN,
         sun_shadow: -3.0,
         motion: Vec2::new(f32::NAN, 1e9),
     }

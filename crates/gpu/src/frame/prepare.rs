@@ -265,21 +265,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             primitive_bits: mb.primitive_bits,
         });
     }
-    let materials: Vec<GpuMaterial> = scene
-        .materials
-        .iter()
-        .map(|m| GpuMaterial {
-            tint: m.tint.to_array(),
-            albedo_layer: m.albedo_layer,
-            alpha_cutoff: match m.shader {
-                ShaderKind::AlphaTested => m.alpha_cutoff,
-                ShaderKind::Opaque => 0.0,
-            },
-            roughness: m.roughness,
-            specular: m.specular,
-            shader: m.shader.id(),
-        })
-        .collect();
+    let materials: Vec<GpuMaterial> = scene.materials.iter().map(GpuMaterial::new).collect();
     crate::context::scoped(device, || {
         let none = wgpu::BufferUsages::empty();
         let vertices = storage(
@@ -336,6 +322,11 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
+        let data = albedo::data_texture(device, c.queue, &scene.data_layers);
+        let data_view = data.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
         let scene_group = [
             ("frame", c.frame.as_entire_binding()),
             ("vertices", vertices.as_entire_binding()),
@@ -347,6 +338,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 "baked_sun_map",
                 wgpu::BindingResource::TextureView(&c.targets.shadows.baked_view),
             ),
+            ("data_maps", wgpu::BindingResource::TextureView(&data_view)),
         ];
         let p = c.pipelines;
         // The bake pass's group: its own frame, the stand-in where the map it renders is.
@@ -542,6 +534,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 micro_batches,
             ],
             _albedo: albedo,
+            _data: data,
         })
     })
 }

@@ -568,10 +568,10 @@ mod tests {
             let end = src[start..].find("\n}").unwrap();
             src[start..start + end].to_string()
         };
-        assert!(!shading(&["no_specular"]).contains("light_shading_specular("));
+        assert!(!shading(&["no_specular"]).contains("light_shading_surface_specular("));
         let with = shading(&[]);
         assert!(
-            with.contains("light_shading_specular(")
+            with.contains("light_shading_surface_specular(")
                 && with.contains("deferred_light_has_specular(l)")
         );
         shadercheck::check_pass_with(&LIGHT_VOLUMES_KZ2, &["kz2_gbuffer"], |_| Caps::CORE);

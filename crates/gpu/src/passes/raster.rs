@@ -32,6 +32,13 @@ pub(crate) const SCENE_GROUP: Group = Group {
         ),
         Binding::new("albedo_sampler", Kind::Sampler),
         Binding::new("baked_sun_map", Kind::texture_2d(Sample::Depth)),
+        Binding::new(
+            "data_maps",
+            Kind::Texture {
+                sample: Sample::Float { filterable: true },
+                dim: shader::Dim::D2Array,
+            },
+        ),
     ],
 };
 

@@ -1,7 +1,8 @@
-//! The albedo texture array: every layer of the scene with a full mip chain, filtered so
-//! alpha-tested foliage keeps its coverage with distance.
+//! The scene's texture arrays: the albedo layers (sRGB, filtered so alpha-tested foliage
+//! keeps its coverage with distance) and the data layers (linear: normal,
+//! metallic-roughness and occlusion maps), each with a full mip chain.
 
-use crate::scene::AlbedoLayer;
+use crate::scene::{AlbedoLayer, DataLayer};
 
 /// Uploads the albedo layers as an `Rgba8UnormSrgb` 2D array with a full mip chain.
 pub(crate) fn albedo_texture(
@@ -10,10 +11,58 @@ pub(crate) fn albedo_texture(
     layers: &[AlbedoLayer],
 ) -> wgpu::Texture {
     let size = layers.first().map_or(1, |l| l.size);
-    let count = layers.len().max(1) as u32;
+    let chains: Vec<_> = layers.iter().map(AlbedoLayer::mip_chain).collect();
+    layer_array(
+        device,
+        queue,
+        "albedo array",
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        size,
+        &chains,
+    )
+}
+
+/// The data layer of a scene without data maps: a flat normal (0.5, 0.5, 1), roughness
+/// and metallic factors kept (G, B = 1), no occlusion (R = 1). Never read through a
+/// material (whose layers are `NO_MAP`), only bound.
+const NEUTRAL_DATA: [u8; 4] = [255, 128, 255, 255];
+
+/// Uploads the data layers as an `Rgba8Unorm` 2D array with a full mip chain (one
+/// neutral 1x1 layer when there are none).
+pub(crate) fn data_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    layers: &[DataLayer],
+) -> wgpu::Texture {
+    let size = layers.first().map_or(1, |l| l.size);
+    let mut chains: Vec<_> = layers.iter().map(DataLayer::mip_chain).collect();
+    if chains.is_empty() {
+        chains.push(vec![vec![NEUTRAL_DATA]]);
+    }
+    layer_array(
+        device,
+        queue,
+        "data array",
+        wgpu::TextureFormat::Rgba8Unorm,
+        size,
+        &chains,
+    )
+}
+
+/// A `size` × `size` 2D array of `format` (4 bytes a texel) holding `chains` (one mip chain
+/// a layer, level 0 first; at least one layer is allocated).
+fn layer_array(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    format: wgpu::TextureFormat,
+    size: u32,
+    chains: &[Vec<Vec<[u8; 4]>>],
+) -> wgpu::Texture {
+    let count = chains.len().max(1) as u32;
     let mip_level_count = size.max(1).ilog2() + 1;
     let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("albedo array"),
+        label: Some(label),
         size: wgpu::Extent3d {
             width: size,
             height: size,
@@ -22,12 +71,12 @@ pub(crate) fn albedo_texture(
         mip_level_count,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        format,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
-    for (z, layer) in layers.iter().enumerate() {
-        for (mip, texels) in layer.mip_chain().iter().enumerate() {
+    for (z, chain) in chains.iter().enumerate() {
+        for (mip, texels) in chain.iter().enumerate() {
             let s = (size >> mip).max(1);
             queue.write_texture(
                 wgpu::TexelCopyTextureInfo {

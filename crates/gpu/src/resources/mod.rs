@@ -102,6 +102,8 @@ pub struct PreparedScene {
     pub(crate) instance_order: Vec<Vec<u32>>,
     pub(crate) _kept: Vec<wgpu::Buffer>,
     pub(crate) _albedo: wgpu::Texture,
+    /// The data maps' array (kept alive for the scene group).
+    pub(crate) _data: wgpu::Texture,
 }
 
 impl PreparedScene {

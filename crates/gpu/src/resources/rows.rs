@@ -2,6 +2,7 @@
 //! `gpu::frame` and `gpu::scene` (sizes and member offsets checked against naga's layout
 //! in the tests below).
 
+use crate::scene::{Material, ShaderKind};
 use bytemuck::{Pod, Zeroable};
 
 /// Per-frame constants (WGSL `FrameUniforms`): 496 bytes. See `wgsl/frame.wgsl` for the
@@ -126,13 +127,14 @@ pub(crate) struct GpuVertex {
 }
 const _: () = assert!(size_of::<GpuVertex>() == 48);
 
-/// One material (WGSL `GpuMaterial`): 32 bytes.
+/// One material (WGSL `GpuMaterial`): 80 bytes. Map layers are [`NO_MAP`] where the
+/// material has no such map.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(crate) struct GpuMaterial {
-    /// Linear RGB tint.
+    /// Linear RGB tint (the base colour factor).
     pub tint: [f32; 3],
-    /// Albedo array layer.
+    /// Albedo array layer of the base colour.
     pub albedo_layer: u32,
     /// Alpha-test cutoff (0 for opaque materials: nothing is discarded).
     pub alpha_cutoff: f32,
@@ -142,8 +144,59 @@ pub(crate) struct GpuMaterial {
     pub specular: f32,
     /// `ShaderKind::id`.
     pub shader: u32,
+    /// Emitted radiance, linear RGB.
+    pub emissive: [f32; 3],
+    /// Metalness.
+    pub metallic: f32,
+    /// Data array layer of the tangent-space normal map.
+    pub normal_layer: u32,
+    /// The normal map's XY scale.
+    pub normal_scale: f32,
+    /// Data array layer of the metallic-roughness map (G roughness, B metallic).
+    pub metallic_roughness_layer: u32,
+    /// Data array layer of the occlusion map (R).
+    pub occlusion_layer: u32,
+    /// The occlusion map's strength.
+    pub occlusion_strength: f32,
+    /// Albedo array layer of the emissive map.
+    pub emissive_layer: u32,
+    /// `MaterialFeatures` bits.
+    pub features: u32,
+    /// Padding to 16 bytes.
+    pub pad: u32,
 }
-const _: () = assert!(size_of::<GpuMaterial>() == 32);
+const _: () = assert!(size_of::<GpuMaterial>() == 80);
+
+/// The layer of a map a material does not have (WGSL `GPU_MATERIAL_NO_MAP`).
+pub(crate) const NO_MAP: u32 = u32::MAX;
+
+impl GpuMaterial {
+    /// The row of `m`.
+    pub(crate) fn new(m: &Material) -> Self {
+        let maps = &m.maps;
+        GpuMaterial {
+            tint: m.tint.to_array(),
+            albedo_layer: m.albedo_layer,
+            alpha_cutoff: match m.shader {
+                ShaderKind::AlphaTested => m.alpha_cutoff,
+                ShaderKind::Opaque => 0.0,
+            },
+            roughness: m.roughness,
+            specular: m.specular,
+            shader: m.shader.id(),
+            emissive: m.emissive.to_array(),
+            metallic: m.metallic,
+            normal_layer: maps.normal.map_or(NO_MAP, |n| n.layer),
+            normal_scale: maps.normal.map_or(1.0, |n| n.scale),
+            metallic_roughness_layer: maps.metallic_roughness.unwrap_or(NO_MAP),
+            occlusion_layer: maps.occlusion.map_or(NO_MAP, |o| o.layer),
+            occlusion_strength: maps.occlusion.map_or(0.0, |o| o.strength),
+            emissive_layer: maps.emissive.unwrap_or(NO_MAP),
+            features: m.features().0,
+            pad: 0,
+        }
+    }
+}
 
 /// Where one mesh sits in the concatenated buffers (WGSL `GpuMesh`). 16 bytes.
 #[repr(C)]
@@ -347,7 +400,17 @@ mod tests {
                 alpha_cutoff,
                 roughness,
                 specular,
-                shader
+                shader,
+                emissive,
+                metallic,
+                normal_layer,
+                normal_scale,
+                metallic_roughness_layer,
+                occlusion_layer,
+                occlusion_strength,
+                emissive_layer,
+                features,
+                pad
             }),
         );
         check(

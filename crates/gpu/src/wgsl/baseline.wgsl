@@ -16,6 +16,8 @@ struct BaselineOut {
     @location(3) relative: vec3<f32>,
     // the same point at the previous frame's time (animated foliage's motion)
     @location(4) previous: vec3<f32>,
+    // camera-relative world tangent, handedness in w (the normal map's frame)
+    @location(5) tangent: vec4<f32>,
 }
 
 @vertex
@@ -28,6 +30,8 @@ fn vs_baseline(@builtin(vertex_index) vertex: u32, @builtin(instance_index) inst
     out.normal = gpu_transform_normal(instances[instance], vertices[vertex].normal);
     out.relative = gpu_position(instances[instance], vertices[vertex].position);
     out.previous = gpu_previous_position(instances[instance], vertices[vertex].position);
+    let t = vertices[vertex].tangent;
+    out.tangent = vec4<f32>(gpu_transform_direction(instances[instance], t.xyz), t.w);
     return out;
 }
 
@@ -47,7 +51,7 @@ fn fs_baseline(in: BaselineOut) -> GBufferOut {
 }
 
 fn baseline_gbuffer(in: BaselineOut) -> GBufferOut {
-    let s = material_surface_moved(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.relative, in.previous);
+    let s = material_surface_moved(instances[in.instance].material, in.uv, dpdx(in.uv), dpdy(in.uv), in.normal, in.tangent, in.relative, in.previous);
     return gbuffer_fragment(s, frame.view_rotation);
 }
 

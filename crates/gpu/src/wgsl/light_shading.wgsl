@@ -52,8 +52,29 @@ fn light_shading_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f
     return ndf * vis * f * nl;
 }
 
+// The same lobe for a G-buffer surface in the metallic workflow: Fresnel
+// mix(specular * F(0.04), F(albedo), metallic) with Schlick's F (deferred::Surface).
+fn light_shading_surface_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, s: DeferredSurface) -> vec3<f32> {
+    let h = normalize(v + l);
+    let nh = max(dot(n, h), 0.0);
+    let nl = max(dot(n, l), 0.0);
+    let nv = max(dot(n, v), 1e-4);
+    let a = max(s.roughness * s.roughness, 0.02);
+    let a2 = a * a;
+    let dd = nh * nh * (a2 - 1.0) + 1.0;
+    let ndf = a2 / (LIGHT_SHADING_PI * dd * dd);
+    let k = a * 0.5;
+    let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
+    let m = 1.0 - max(dot(v, h), 0.0);
+    let m2 = m * m;
+    let w = m2 * m2 * m;
+    let dielectric = s.specular * (0.04 + 0.96 * w);
+    let metal = s.albedo + (vec3<f32>(1.0) - s.albedo) * w;
+    return mix(vec3<f32>(dielectric), metal, s.metallic) * (ndf * vis * nl);
+}
+
 // A surface as the local lights see it: view-space position, normal and direction to the
-// eye, and its diffuse reflectance over pi.
+// eye, and its diffuse reflectance over pi (the diffuse colour albedo * (1 - metallic)).
 struct LightShadingPoint {
     p: vec3<f32>,
     n: vec3<f32>,
@@ -66,7 +87,7 @@ struct LightShadingPoint {
 fn light_shading_point(view_rotation: mat4x4<f32>, p: vec3<f32>, s: DeferredSurface) -> LightShadingPoint {
     let pv = (view_rotation * vec4<f32>(p, 0.0)).xyz;
     let nv = (view_rotation * vec4<f32>(s.normal, 0.0)).xyz;
-    return LightShadingPoint(pv, nv, normalize(-pv), s.albedo / LIGHT_SHADING_PI);
+    return LightShadingPoint(pv, nv, normalize(-pv), s.albedo * ((1.0 - s.metallic) / LIGHT_SHADING_PI));
 }
 
 // Whether view-space `p` is inside the sphere of centre `pr.xyz`, radius `pr.w` (the
@@ -104,12 +125,12 @@ fn light_shading_local(l: DeferredLight, at: LightShadingPoint, s: DeferredSurfa
 #if no_specular
     // KZ2's no-specular light shader (the volumes' pipeline for such lights): the term
     // compiled out; x + 0 is x, so the sum below rounds as the branch's does.
-    let specular = 0.0;
+    let specular = vec3<f32>(0.0);
 #else
     // The light's flag (the compute lighting has one shader for every light).
-    var specular = 0.0;
+    var specular = vec3<f32>(0.0);
     if (deferred_light_has_specular(l)) {
-        specular = s.specular * light_shading_specular(at.n, at.v, ll, s.roughness, 0.04);
+        specular = light_shading_surface_specular(at.n, at.v, ll, s);
     }
 #endif
     return l.color * falloff * (at.diffuse * nll + specular);

@@ -277,7 +277,8 @@ fn lighting_base(pixel: vec2<u32>, xy: vec2<f32>, d: f32, s: DeferredSurface, ta
     let n = s.normal;
     let l = frame.sun_direction.xyz;
     let nl = max(dot(n, l), 0.0);
-    var color = s.lighting + s.albedo * frame.ambient.rgb * (0.6 + 0.4 * n.y);
+    // The geometry pass's own term: ambient (with occlusion) and emission (gpu::material).
+    var color = s.lighting;
     // KZ2's mix of the baked sun term and the real-time shadow: the darker of the two;
     // the sun's shader is skipped where the baked term is 0 (fully in baked shadow) or
     // the surface faces away.
@@ -293,7 +294,7 @@ fn lighting_base(pixel: vec2<u32>, xy: vec2<f32>, d: f32, s: DeferredSurface, ta
         sun = min(sun, lighting_sun_visibility(p, n, -at.p.z));
 #endif
     }
-    color += frame.sun_color.rgb * (at.diffuse * nl * sun + s.specular * light_shading_specular(n, v, l, s.roughness, 0.04) * sun);
+    color += frame.sun_color.rgb * (at.diffuse * nl * sun + light_shading_surface_specular(n, v, l, s) * sun);
 #if light_volumes
     // The lights the stencil volumes drew (passes::light_volumes), summed there.
     color += textureLoad(light_accumulation, vec2<i32>(pixel), 0).rgb;

@@ -48,29 +48,75 @@ fn material_baked_sun(p: vec3<f32>, n: vec3<f32>) -> f32 {
     return mix(mix(lit.x, lit.y, f.x), mix(lit.z, lit.w, f.x), f.y);
 }
 
+// The normal map's normal: tangent-space `m` (x along the tangent, y along the bitangent
+// cross(n, t) * handedness, z along `n`) in the frame of unit normal `n` and the
+// interpolated `tangent` (xyz, handedness in w), made orthogonal to `n` first. A tangent
+// parallel to the normal (or zero) leaves `n` unperturbed.
+fn material_normal(n: vec3<f32>, tangent: vec4<f32>, m: vec3<f32>) -> vec3<f32> {
+    let t0 = tangent.xyz - n * dot(n, tangent.xyz);
+    let tl = length(t0);
+    if (!(tl > 1e-6)) {
+        return n;
+    }
+    let t = t0 / tl;
+    let b = cross(n, t) * select(-1.0, 1.0, tangent.w >= 0.0);
+    let r = t * m.x + b * m.y + n * m.z;
+    let rl = length(r);
+    if (!(rl > 1e-6)) {
+        return n;
+    }
+    return r / rl;
+}
+
 // `p`: the sample's camera-relative position (for its motion and the baked sun), a point
 // that does not animate.
-fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>) -> DeferredSurface {
-    return material_surface_moved(material_index, uv, duv_dx, duv_dy, normal, p, p);
+fn material_surface(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, tangent: vec4<f32>, p: vec3<f32>) -> DeferredSurface {
+    return material_surface_moved(material_index, uv, duv_dx, duv_dy, normal, tangent, p, p);
 }
 
 // `p`: the sample's camera-relative position (for its motion and the baked sun);
 // `p_prev`: where it was at the previous frame's time, in this frame's camera-relative
 // space (gpu_previous_position interpolated).
-fn material_surface_moved(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, p_prev: vec3<f32>) -> DeferredSurface {
-    return material_surface_motion(material_index, uv, duv_dx, duv_dy, normal, p, material_motion(p, p_prev));
+fn material_surface_moved(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, tangent: vec4<f32>, p: vec3<f32>, p_prev: vec3<f32>) -> DeferredSurface {
+    return material_surface_motion(material_index, uv, duv_dx, duv_dy, normal, tangent, p, material_motion(p, p_prev));
 }
 
-// `motion`: the sample's screen motion in pixels, already known (the vertex ring's
-// interpolated current and previous HPOS).
-fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, p: vec3<f32>, motion: vec2<f32>) -> DeferredSurface {
+// The surface of material `material_index` at one sample: glTF 2.0's metallic-roughness
+// model (scene::Material). `normal` and `tangent` (xyz, handedness in w): the interpolated
+// vertex normal and tangent in camera-relative world space, not necessarily unit;
+// `uv` and its screen gradients `duv_dx`, `duv_dy` choose every map's mip level.
+// `motion`: the sample's screen motion in pixels. The lighting accumulation gets what the
+// geometry pass owns (KZ2's "indirect light"): the ambient hemisphere on the diffuse
+// colour, darkened by the occlusion map, plus the emission.
+fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>, duv_dy: vec2<f32>, normal: vec3<f32>, tangent: vec4<f32>, p: vec3<f32>, motion: vec2<f32>) -> DeferredSurface {
     let m = materials[material_index];
     let texel = textureSampleGrad(albedo, albedo_sampler, uv, m.albedo_layer, duv_dx, duv_dy);
     var s: DeferredSurface;
-    s.lighting = vec3<f32>(0.0);
     s.albedo = saturate(texel.rgb * m.tint);
-    s.normal = normalize(normal);
+    var n = normalize(normal);
+    if (m.normal_layer != GPU_MATERIAL_NO_MAP) {
+        let t = textureSampleGrad(data_maps, albedo_sampler, uv, m.normal_layer, duv_dx, duv_dy).xyz * 2.0 - 1.0;
+        n = material_normal(n, tangent, vec3<f32>(t.xy * m.normal_scale, t.z));
+    }
+    s.normal = n;
     s.roughness = m.roughness;
+    s.metallic = m.metallic;
+    if (m.metallic_roughness_layer != GPU_MATERIAL_NO_MAP) {
+        let mr = textureSampleGrad(data_maps, albedo_sampler, uv, m.metallic_roughness_layer, duv_dx, duv_dy);
+        s.roughness *= mr.g;
+        s.metallic *= mr.b;
+    }
+    var occlusion = 1.0;
+    if (m.occlusion_layer != GPU_MATERIAL_NO_MAP) {
+        let o = textureSampleGrad(data_maps, albedo_sampler, uv, m.occlusion_layer, duv_dx, duv_dy).r;
+        occlusion = 1.0 + m.occlusion_strength * (o - 1.0);
+    }
+    var emissive = m.emissive;
+    if (m.emissive_layer != GPU_MATERIAL_NO_MAP) {
+        emissive *= textureSampleGrad(albedo, albedo_sampler, uv, m.emissive_layer, duv_dx, duv_dy).rgb;
+    }
+    let diffuse = s.albedo * (1.0 - s.metallic);
+    s.lighting = emissive + diffuse * frame.ambient.rgb * ((0.6 + 0.4 * n.y) * occlusion);
     s.specular = m.specular;
     s.sun_shadow = material_baked_sun(p, s.normal);
     s.motion = motion;

@@ -172,6 +172,10 @@ fn pull_gbuffer(in: PullIn) -> PullSurface {
     let n = b.x * gpu_transform_normal(inst, vertices[t.v[0]].normal)
         + b.y * gpu_transform_normal(inst, vertices[t.v[1]].normal)
         + b.z * gpu_transform_normal(inst, vertices[t.v[2]].normal);
+    let t0 = vertices[t.v[0]].tangent;
+    let tangent = vec4<f32>(b.x * gpu_transform_direction(inst, t0.xyz)
+        + b.y * gpu_transform_direction(inst, vertices[t.v[1]].tangent.xyz)
+        + b.z * gpu_transform_direction(inst, vertices[t.v[2]].tangent.xyz), t0.w);
     // The camera-relative position back from the interpolated clip position.
     let c = frame.inv_view_proj * (b.x * l0.clip + b.y * l1.clip + b.z * l2.clip);
     let p = c.xyz / c.w;
@@ -184,7 +188,7 @@ fn pull_gbuffer(in: PullIn) -> PullSurface {
         p_now += b[k] * gpu_position(inst, q);
         p_prev += b[k] * gpu_previous_position(inst, q);
     }
-    let s = material_surface_motion(inst.material, uv, duv_dx, duv_dy, n, p, material_motion(p_now, p_prev));
+    let s = material_surface_motion(inst.material, uv, duv_dx, duv_dy, n, tangent, p, material_motion(p_now, p_prev));
     return PullSurface(gbuffer_fragment(s, frame.view_rotation), t.ok);
 }
 

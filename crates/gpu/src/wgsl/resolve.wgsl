@@ -79,6 +79,14 @@ fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchI
         visbuf_unpack_snorm_10_10_10_2(r1.normal).xyz,
         visbuf_unpack_snorm_10_10_10_2(r2.normal).xyz,
     ).value;
+    // Tangents as the normals; the handedness is the triangle's (MikkTSpace splits
+    // vertices whose handedness differs).
+    let tangent = vec4<f32>(visbuf_interpolate3(
+        b,
+        visbuf_unpack_snorm_10_10_10_2(r0.tangent).xyz,
+        visbuf_unpack_snorm_10_10_10_2(r1.tangent).xyz,
+        visbuf_unpack_snorm_10_10_10_2(r2.tangent).xyz,
+    ).value, visbuf_unpack_snorm_10_10_10_2(r0.tangent).w);
     let now = visbuf_interpolate3(b, h0, h1, h2).value;
     let before = visbuf_interpolate3(
         b,
@@ -93,7 +101,7 @@ fn resolve_from_ring(pixel: vec2<u32>, inst: GpuInstance, row: TilingMicroBatchI
         motion = (now.xy / now.z - before.xy / before.z) * frame.viewport.xy * vec2<f32>(0.5, -0.5);
     }
     let scale = visbuf_mip_bias_scale(frame.mip_bias);
-    out.surface = material_surface_motion(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, normal, p, motion);
+    out.surface = material_surface_motion(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, normal, tangent, p, motion);
     out.ok = true;
     return out;
 }
@@ -136,6 +144,8 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
     let b = visbuf_barycentrics(c0, c1, c2, vec2<f32>(pixel) + 0.5, frame.viewport.xy);
     let uv = visbuf_interpolate2(b, vec2<f32>(v0.u, v0.v), vec2<f32>(v1.u, v1.v), vec2<f32>(v2.u, v2.v));
     let n = visbuf_interpolate3(b, v0.normal, v1.normal, v2.normal).value;
+    let t = visbuf_interpolate3(b, v0.tangent.xyz, v1.tangent.xyz, v2.tangent.xyz).value;
+    let tangent = vec4<f32>(gpu_transform_direction(inst, t), v0.tangent.w);
     let scale = visbuf_mip_bias_scale(frame.mip_bias);
     let p = visbuf_interpolate3(b, r0, r1, r2).value;
     // Without wind nothing animates: the previous pose is this one (bit for bit).
@@ -146,7 +156,7 @@ fn resolve_pixel(pixel: vec2<u32>, word: u32, ring_base: u32) -> ResolvedPixel {
         let q2 = gpu_previous_position(inst, v2.position);
         p_prev = visbuf_interpolate3(b, q0, q1, q2).value;
     }
-    out.surface = material_surface_moved(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), p, p_prev);
+    out.surface = material_surface_moved(inst.material, uv.value, uv.ddx * scale, uv.ddy * scale, gpu_transform_normal(inst, n), tangent, p, p_prev);
     out.ok = true;
     return out;
 }

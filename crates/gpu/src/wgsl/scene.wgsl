@@ -17,7 +17,23 @@ struct GpuMaterial {
     roughness: f32,
     specular: f32,
     shader: u32,
+    emissive: vec3<f32>,
+    metallic: f32,
+    // data_maps layers, GPU_MATERIAL_NO_MAP where absent
+    normal_layer: u32,
+    normal_scale: f32,
+    metallic_roughness_layer: u32,
+    occlusion_layer: u32,
+    occlusion_strength: f32,
+    // albedo layer, GPU_MATERIAL_NO_MAP where absent
+    emissive_layer: u32,
+    // scene::MaterialFeatures bits
+    features: u32,
+    pad: u32,
 }
+
+// Rust: resources::rows::NO_MAP.
+const GPU_MATERIAL_NO_MAP: u32 = 0xffffffffu;
 
 // Where one mesh sits in the concatenated index and vertex arrays.
 struct GpuMesh {

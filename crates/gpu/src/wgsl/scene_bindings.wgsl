@@ -12,6 +12,9 @@
 @group(0) @binding(5) var albedo_sampler: sampler;
 // The baked sun map (gpu::shadows::BakedSun); a 1x1 stand-in where it is the attachment.
 @group(0) @binding(6) var baked_sun_map: texture_depth_2d;
+// The data maps (scene::DataLayer: normal, metallic-roughness, occlusion), linear; one
+// neutral 1x1 layer for a scene without them.
+@group(0) @binding(7) var data_maps: texture_2d_array<f32>;
 
 // Whether the vis words carry a shading rate (visbuf's VRS layout: RendererConfig::vrs).
 fn gpu_vrs_layout() -> bool {

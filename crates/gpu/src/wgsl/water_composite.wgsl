@@ -302,7 +302,7 @@ fn composite(@builtin(global_invocation_id) id: vec3<u32>) {
     let light_count = min(frame.local_light_count, arrayLength(&lights));
     let tile = (pixel.y / DEFERRED_TILE_SIZE) * local.tiles.x + pixel.x / DEFERRED_TILE_SIZE;
     if (light_count > 0u && tile < arrayLength(&light_counts)) {
-        let surf = DeferredSurface(vec3<f32>(0.0), foam_albedo + vec3<f32>(0.02), n, roughness, 1.0, 1.0, vec2<f32>(0.0));
+        let surf = DeferredSurface(vec3<f32>(0.0), foam_albedo + vec3<f32>(0.02), n, roughness, 1.0, 0.0, 1.0, vec2<f32>(0.0));
         let at = light_shading_point(local.view_rotation, rel, surf);
         let lc = min(light_counts[tile], DEFERRED_MAX_LIGHTS_PER_TILE);
         for (var k = 0u; k < lc; k++) {

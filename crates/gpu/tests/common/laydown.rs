@@ -41,6 +41,7 @@ pub fn test_scene() -> (Scene, FrameInput) {
         ));
     }
     let scene = Scene {
+        data_layers: Vec::new(),
         meshes,
         materials: vec![mat],
         albedo_layers: vec![demo.albedo_layers[0].clone()],

@@ -56,6 +56,7 @@ pub fn material(name: &str, shader: ShaderKind) -> Material {
         roughness: 0.5,
         specular: 0.5,
         regular: false,
+        ..Default::default()
     }
 }
 
