@@ -158,9 +158,10 @@ impl Geometry {
     }
 
     /// Appends the back side of every triangle (for a double-sided material: the renderer
-    /// culls back faces): vertices `n..2n` copy `0..n` with negated normals and tangent
-    /// handedness (the bitangent `w · n × t` keeps its direction), and triangle `a b c`
-    /// gets the twin `n+a, n+c, n+b` after all the front triangles.
+    /// culls back faces): vertices `n..2n` copy `0..n` with the whole tangent frame negated
+    /// (normal, tangent and handedness, so the bitangent `w · n × t` turns too and a normal
+    /// map's normal on the back is the front's negated, glTF 2.0 §3.9.2), and triangle
+    /// `a b c` gets the twin `n+a, n+c, n+b` after all the front triangles.
     pub(crate) fn add_back_faces(&mut self) {
         let n = self.positions.len() as u32;
         self.positions.extend_from_within(..);
@@ -170,7 +171,7 @@ impl Geometry {
         let back_tangents: Vec<Vec4> = self
             .tangents
             .iter()
-            .map(|t| t.truncate().extend(-t.w))
+            .map(|&t| -t)
             .collect();
         self.tangents.extend(back_tangents);
         let back: Vec<u32> = self
@@ -188,6 +189,11 @@ impl Geometry {
         let mut g = self.clone();
         for t in g.indices.chunks_exact_mut(3) {
             t.swap(1, 2);
+        }
+        // A mirroring transform turns `n × t`: the handedness turns with it, so the
+        // bitangent stays the direction of the texture's +v.
+        for t in &mut g.tangents {
+            t.w = -t.w;
         }
         g
     }
@@ -293,7 +299,17 @@ mod tests {
         g.add_back_faces();
         assert_eq!(g.indices, [0, 1, 2, 3, 5, 4]);
         assert_eq!(g.normals[3..], [Vec3::NEG_Z; 3]);
-        assert_eq!(g.tangents[4], Vec4::new(1.0, 0.0, 0.0, -1.0));
+        // The whole frame turns: the bitangent w · n × t, +Y in front, is -Y behind, so a
+        // normal-map normal (x t + y b + z n) behind is the front's negated.
+        assert_eq!(g.tangents[4], Vec4::new(-1.0, 0.0, 0.0, -1.0));
+        let bitangent = |i: usize| g.normals[i].cross(g.tangents[i].truncate()) * g.tangents[i].w;
+        assert_eq!(bitangent(0), Vec3::Y);
+        assert_eq!(bitangent(4), Vec3::NEG_Y);
+        // A mirrored copy keeps +v's direction under the mirroring transform.
+        let m = g.flipped();
+        let mirror = |v: Vec3| Vec3::new(-v.x, v.y, v.z);
+        let b = mirror(m.normals[0]).cross(mirror(m.tangents[0].truncate())) * m.tangents[0].w;
+        assert_eq!(b, mirror(bitangent(0)));
         // The back triangle's geometric normal is -Z.
         let p = |i: usize| g.positions[g.indices[i] as usize];
         assert_eq!(face_normal(p(3), p(4), p(5)), Vec3::NEG_Z);

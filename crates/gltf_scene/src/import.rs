@@ -4,13 +4,13 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use scene::{AlbedoLayer, Batch, MaterialId, MeshId, Scene};
+use scene::{AlbedoLayer, Batch, DataLayer, MaterialId, MeshId, NormalMap, OcclusionMap, Scene};
 
 use crate::geometry::Geometry;
 use crate::nodes::walk;
 use crate::primitive::primitive_geometry;
 use crate::{
-    Error, Imported, LoadOptions, METAL_DARKENING, Progress, SUPPORTED_EXTENSIONS, Stage, Summary,
+    Error, Imported, LoadOptions, Progress, SUPPORTED_EXTENSIONS, Stage, Summary,
     accessor, material, source,
 };
 
@@ -195,11 +195,20 @@ pub(crate) fn import(
         let m = prim.material();
         if let std::collections::hash_map::Entry::Vacant(e) = material_of.entry(m.index()) {
             e.insert(materials.len());
-            materials.push(material::import(file, &m, &mut warnings)?);
+            // A material with a bad value is replaced, so the rest of the file still draws.
+            materials.push(match material::import(file, &m, &mut warnings) {
+                Ok(imported) => imported,
+                Err(e) => {
+                    warnings.push(format!("{e}: drawn with glTF's default material"));
+                    material::Imported::fallback(m.name())
+                }
+            });
         }
     }
 
-    // Textures: base colour images become layers, metallic-roughness images give means.
+    // Textures: base colour and emissive images become albedo layers (sRGB), normal,
+    // metallic-roughness and occlusion images data layers (linear); an image used by
+    // several materials is one layer.
     let image_of = |i: usize| doc.images().nth(i);
     let mut decoded: HashMap<usize, image::RgbaImage> = HashMap::new();
     let images = doc.images().len();
@@ -213,47 +222,61 @@ pub(crate) fn import(
         }
         Ok(decoded.contains_key(&i))
     };
-    let mut layer_images: Vec<usize> = Vec::new();
+    let mut albedo_images: Vec<usize> = Vec::new();
+    let mut data_images: Vec<usize> = Vec::new();
     for m in materials.iter().filter(|m| !m.invisible) {
-        if let Some(t) = m.texture
-            && decode(t)?
-            && !layer_images.contains(&t)
-        {
-            layer_images.push(t);
+        for t in m.texture.into_iter().chain(m.maps.emissive) {
+            if decode(t)? && !albedo_images.contains(&t) {
+                albedo_images.push(t);
+            }
         }
-        if let Some(t) = m.metallic_roughness_texture {
-            decode(t)?;
+        for t in m.maps.data() {
+            if decode(t)? && !data_images.contains(&t) {
+                data_images.push(t);
+            }
         }
     }
     report(Stage::Images, images, images);
     let cap = options.max_layer_size.max(1);
     let cap = 1u32 << cap.ilog2();
-    let layer_sources: Vec<&image::RgbaImage> =
-        layer_images.iter().filter_map(|i| decoded.get(i)).collect();
-    let size = material::layer_size(
-        layer_sources
-            .iter()
-            .map(|img| img.width().max(img.height())),
-        cap,
-    );
-    let mut layers: Vec<AlbedoLayer> = Vec::new();
-    let mut resampled = 0;
-    for img in layer_sources {
-        if img.width() != size || img.height() != size {
-            resampled += 1;
-        }
-        layers.push(material::to_layer(img, size));
-    }
+    // Each array's sources and its layer size.
+    let sized = |chosen: &[usize]| {
+        let sources: Vec<&image::RgbaImage> =
+            chosen.iter().filter_map(|i| decoded.get(i)).collect();
+        let size = material::layer_size(
+            sources.iter().map(|img| img.width().max(img.height())),
+            cap,
+        );
+        (sources, size)
+    };
+    let (albedo_sources, size) = sized(&albedo_images);
+    let (data_sources, data_size) = sized(&data_images);
+    let resampled = albedo_sources
+        .iter()
+        .map(|img| (img, size))
+        .chain(data_sources.iter().map(|img| (img, data_size)))
+        .filter(|(img, s)| img.width() != *s || img.height() != *s)
+        .count();
+    let mut layers: Vec<AlbedoLayer> = albedo_sources
+        .iter()
+        .map(|img| material::to_layer(img, size))
+        .collect();
+    let data_layers: Vec<DataLayer> = data_sources
+        .iter()
+        .map(|img| material::to_data_layer(img, data_size))
+        .collect();
     let textures = layers.len();
+    let data_textures = data_layers.len();
     let mut white = None;
     let mut gpu_materials = Vec::new();
+    let position = |images: &[usize], t: Option<usize>| {
+        t.and_then(|t| images.iter().position(|&i| i == t))
+            .map(|l| l as u32)
+    };
     for m in &materials {
         let mut gm = m.material.clone();
-        gm.albedo_layer = match m
-            .texture
-            .and_then(|t| layer_images.iter().position(|&i| i == t))
-        {
-            Some(l) => l as u32,
+        gm.albedo_layer = match position(&albedo_images, m.texture) {
+            Some(l) => l,
             None => *white.get_or_insert_with(|| {
                 layers.push(AlbedoLayer {
                     size,
@@ -262,13 +285,21 @@ pub(crate) fn import(
                 layers.len() as u32 - 1
             }),
         };
-        let mut metallic = m.metallic;
-        if let Some(img) = m.metallic_roughness_texture.and_then(|t| decoded.get(&t)) {
-            let (r, mtl) = material::mean_roughness_metallic(img);
-            gm.roughness = (gm.roughness * r).clamp(0.0, 1.0);
-            metallic *= mtl;
-        }
-        gm.tint *= 1.0 - METAL_DARKENING * metallic;
+        let maps = &mut gm.maps;
+        maps.emissive = position(&albedo_images, m.maps.emissive);
+        maps.metallic_roughness = position(&data_images, m.maps.metallic_roughness);
+        maps.normal = maps.normal.and_then(|n| {
+            Some(NormalMap {
+                layer: position(&data_images, m.maps.normal)?,
+                ..n
+            })
+        });
+        maps.occlusion = maps.occlusion.and_then(|o| {
+            Some(OcclusionMap {
+                layer: position(&data_images, m.maps.occlusion)?,
+                ..o
+            })
+        });
         gpu_materials.push(gm);
     }
 
@@ -276,6 +307,7 @@ pub(crate) fn import(
     let mut scene = Scene {
         materials: gpu_materials,
         albedo_layers: layers,
+        data_layers,
         ..Scene::default()
     };
     let mut base_geometry: HashMap<(usize, usize), Option<Geometry>> = HashMap::new();
@@ -357,8 +389,10 @@ pub(crate) fn import(
         materials: scene.materials.len(),
         double_sided: materials.iter().filter(|m| m.double_sided).count(),
         textures,
+        data_textures,
         resampled,
         layer_size: size,
+        data_layer_size: data_size,
         camera: walked.camera.as_ref().map(|(_, l)| l.clone()),
         warnings: warnings.len(),
     };

@@ -57,28 +57,37 @@
 //!   [`scene::MAX_PRIMITIVES_PER_MESH`] triangles is split into pieces of consecutive
 //!   triangles, each within both limits (each piece its own batch with the same
 //!   instances): never an error for a valid file.
-//! - **Materials.** `baseColorFactor` rgb is the [`scene::Material::tint`];
-//!   `roughnessFactor` (times the mean green of a `metallicRoughnessTexture`) the
-//!   roughness; every material gets [`SPECULAR`], and metallic (factor times the
-//!   texture's mean blue) darkens the tint by [`METAL_DARKENING`] (the renderer's
-//!   G-buffer has one roughness and one specular per material and no metal model).
-//!   `alphaMode` OPAQUE is [`scene::ShaderKind::Opaque`]; MASK is
-//!   [`scene::ShaderKind::AlphaTested`] with its `alphaCutoff` (divided by the factor's
-//!   alpha, since the laydown tests the texture's alpha alone); BLEND is drawn as MASK at
-//!   0.5, with a warning. `doubleSided` adds the back side of every triangle (the renderer
-//!   culls back faces): vertices copied with negated normals, triangles with reversed
-//!   winding, after the front ones. KHR_texture_transform on the base colour texture is
-//!   baked into the texture coordinates (each glTF primitive has one material, so one
-//!   transform). Normal, occlusion and emissive textures are not used.
-//! - **Textures.** Base colour images are decoded with the `image` crate (PNG, JPEG, WebP;
+//! - **Materials.** glTF 2.0's metallic-roughness model maps one to one onto
+//!   [`scene::Material`]: `baseColorFactor` rgb is the tint, `metallicFactor` and
+//!   `roughnessFactor` the metallic and roughness (multiplied in the shader by the
+//!   `metallicRoughnessTexture`'s blue and green), `emissiveFactor` times
+//!   `KHR_materials_emissive_strength` the emissive; every material gets [`SPECULAR`].
+//!   `normalTexture` (with its `scale`), `metallicRoughnessTexture`, `occlusionTexture`
+//!   (with its `strength`) and `emissiveTexture` become the material's maps
+//!   ([`scene::MaterialMaps`]). Factors are clamped to their glTF ranges; a NaN or
+//!   infinite one is an [`Error::Material`]. `alphaMode` OPAQUE is
+//!   [`scene::ShaderKind::Opaque`]; MASK is [`scene::ShaderKind::AlphaTested`] with its
+//!   `alphaCutoff` (divided by the factor's alpha, since the laydown tests the texture's
+//!   alpha alone); BLEND is drawn as MASK at 0.5, with a warning (the renderer has no
+//!   transparent pass yet). `doubleSided` adds the back side of every triangle (the
+//!   renderer culls back faces): vertices copied with the whole tangent frame negated
+//!   (normal, tangent, handedness), triangles with reversed winding, after the front
+//!   ones. **Every map of a material reads one set of texture coordinates**: the base
+//!   colour texture's `texCoord` and `KHR_texture_transform`, baked into the mesh's
+//!   coordinates (else the first map's); a map that names another set or transform gets
+//!   a warning and is read with that one.
+//! - **Textures.** Images are decoded with the `image` crate (PNG, JPEG, WebP;
 //!   [`LoadOptions::max_image_dimension`], [`LoadOptions::max_image_bytes`] bound the
-//!   decoder). The renderer's albedo array has one size for all layers, a power of two, so
-//!   **every layer is the largest power of two not above the biggest texture's larger
-//!   side, capped at [`LoadOptions::max_layer_size`]** (1024 by default); a texture of
-//!   another size is resampled to it (triangle filter, linear light, premultiplied alpha;
-//!   [`Summary::resampled`] counts them). Materials without a texture share one white
-//!   layer. The renderer builds the mip chains. Samplers are not used (the renderer
-//!   repeats and filters trilinearly); a clamping or mirroring one gets a warning.
+//!   decoder), each once however many materials use it. Base colour and emissive images
+//!   become albedo layers (sRGB), normal, metallic-roughness and occlusion images data
+//!   layers (linear). Each array has one size for all its layers, a power of two, so
+//!   **every layer is the largest power of two not above its array's biggest texture's
+//!   larger side, capped at [`LoadOptions::max_layer_size`]** (1024 by default); a texture
+//!   of another size is resampled to it (triangle filter; colour in linear light with
+//!   premultiplied alpha, data on its stored values; [`Summary::resampled`] counts them).
+//!   Materials without a base colour texture share one white layer. The renderer builds
+//!   the mip chains. Samplers are not used (the renderer repeats and filters
+//!   trilinearly); a clamping or mirroring one gets a warning.
 //!
 //! # Errors
 //!
@@ -130,7 +139,7 @@ pub struct Progress {
     pub total: u64,
 }
 pub use error::Error;
-pub use material::{METAL_DARKENING, SPECULAR};
+pub use material::SPECULAR;
 /// The scene description this crate builds (`gpu` re-exports it).
 pub use scene;
 pub use scene::glam;
@@ -139,7 +148,11 @@ use import::import;
 
 /// The extensions a file may list in `extensionsRequired`. Any other there is an
 /// [`Error::UnsupportedExtension`]; extensions that are only used are ignored.
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_texture_transform", "KHR_mesh_quantization"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_texture_transform",
+    "KHR_mesh_quantization",
+    "KHR_materials_emissive_strength",
+];
 
 /// The file name errors give for bytes passed to [`load_slice`].
 pub const SLICE_FILE: &str = "(glTF bytes)";
@@ -213,12 +226,16 @@ pub struct Summary {
     pub materials: usize,
     /// Of them double-sided.
     pub double_sided: usize,
-    /// Base colour textures (albedo layers besides the shared white one).
+    /// Base colour and emissive textures (albedo layers besides the shared white one).
     pub textures: usize,
-    /// Of them resampled to the layer size.
+    /// Normal, metallic-roughness and occlusion textures (data layers).
+    pub data_textures: usize,
+    /// Textures of both kinds resampled to their array's layer size.
     pub resampled: usize,
     /// The side of every albedo layer (texels).
     pub layer_size: u32,
+    /// The side of every data layer (texels; 1 without data layers).
+    pub data_layer_size: u32,
     /// The camera's node name (or index) if the file gave one.
     pub camera: Option<String>,
     /// Number of warnings.
@@ -245,12 +262,16 @@ impl fmt::Display for Summary {
         )?;
         writeln!(
             f,
-            "  materials {} ({} double-sided), textures {} as {}x{} layers ({} resampled)",
+            "  materials {} ({} double-sided), textures {} as {}x{} colour layers and {} as \
+             {}x{} data layers ({} resampled)",
             self.materials,
             self.double_sided,
             self.textures,
             self.layer_size,
             self.layer_size,
+            self.data_textures,
+            self.data_layer_size,
+            self.data_layer_size,
             self.resampled
         )?;
         write!(

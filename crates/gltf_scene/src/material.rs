@@ -5,7 +5,7 @@ use std::io::Cursor;
 
 use image::{ImageFormat, RgbaImage};
 use scene::glam::{Mat3, Vec2, Vec3};
-use scene::{AlbedoLayer, Material, ShaderKind};
+use scene::{AlbedoLayer, DataLayer, Material, MaterialMaps, NormalMap, OcclusionMap, ShaderKind};
 
 use crate::{Error, LoadOptions};
 
@@ -137,6 +137,21 @@ pub(crate) fn to_layer(image: &RgbaImage, size: u32) -> AlbedoLayer {
     AlbedoLayer { size, texels }
 }
 
+/// `image` as a `size` × `size` data layer (normal, metallic-roughness or occlusion
+/// values, linear): copied texel for texel at that size, else resampled by `image`'s
+/// triangle filter on the stored values (no transfer function, no premultiplication).
+pub(crate) fn to_data_layer(image: &RgbaImage, size: u32) -> DataLayer {
+    let texels = if image.width() == size && image.height() == size {
+        image.pixels().map(|p| p.0).collect()
+    } else {
+        image::imageops::resize(image, size, size, image::imageops::FilterType::Triangle)
+            .pixels()
+            .map(|p| p.0)
+            .collect()
+    };
+    DataLayer { size, texels }
+}
+
 /// KHR_texture_transform as one matrix: `uv' = offset + R(rotation) · (scale ⊙ uv)`, where
 /// `R` takes `(u, v)` to `(cos·u + sin·v, −sin·u + cos·v)`: counter-clockwise as seen on the
 /// image (whose v runs down), the rotation of the Khronos glTF Sample Viewer and three.js
@@ -176,20 +191,148 @@ impl UvTransform {
 /// What the importer keeps of a glTF material.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Imported {
-    /// The renderer's material; `albedo_layer` is the glTF image index of the base colour
-    /// texture until the layers are known ([`Imported::texture`]).
+    /// The renderer's material; its layers are set once the layers are known (from the
+    /// image indices below), its maps' strengths are set here.
     pub material: Material,
     /// Image index of the base colour texture.
     pub texture: Option<usize>,
-    /// Image index of the metallic-roughness texture.
-    pub metallic_roughness_texture: Option<usize>,
-    pub metallic: f32,
+    /// Image indices of the maps: normal, metallic-roughness, occlusion (data layers) and
+    /// emissive (an albedo layer).
+    pub maps: MapImages,
     pub double_sided: bool,
     /// TEXCOORD set the base colour texture reads.
     pub uv_set: u32,
     pub uv_transform: Option<UvTransform>,
     /// Nothing of it can be seen (MASK with a cutoff above the constant alpha, no texture).
     pub invisible: bool,
+}
+
+impl Imported {
+    /// glTF 2.0's default material (§3.9.6: white, metallic 1, roughness 1, no textures),
+    /// named as the material it stands in for.
+    pub(crate) fn fallback(name: Option<&str>) -> Self {
+        Imported {
+            material: Material {
+                name: name.unwrap_or("the default material").to_owned(),
+                roughness: 1.0,
+                metallic: 1.0,
+                specular: SPECULAR,
+                ..Material::default()
+            },
+            texture: None,
+            maps: MapImages::default(),
+            double_sided: false,
+            uv_set: 0,
+            uv_transform: None,
+            invisible: false,
+        }
+    }
+}
+
+/// Image indices of a material's maps.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct MapImages {
+    pub normal: Option<usize>,
+    pub metallic_roughness: Option<usize>,
+    pub occlusion: Option<usize>,
+    pub emissive: Option<usize>,
+}
+
+impl MapImages {
+    /// The data maps' images (linear layers).
+    pub(crate) fn data(&self) -> impl Iterator<Item = usize> {
+        [self.normal, self.metallic_roughness, self.occlusion]
+            .into_iter()
+            .flatten()
+    }
+}
+
+/// One texture reference of a material: which image, which TEXCOORD set, which transform.
+struct TextureRef {
+    image: usize,
+    set: u32,
+    transform: Option<UvTransform>,
+    clamps: bool,
+}
+
+/// A `KHR_texture_transform`: the transform and the set it overrides `texCoord` with.
+struct Transform {
+    tex_coord: Option<u32>,
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+}
+
+impl Transform {
+    /// A `textureInfo`'s, as the gltf crate reads it.
+    fn of_info(t: gltf::texture::TextureTransform<'_>) -> Self {
+        Transform {
+            tex_coord: t.tex_coord(),
+            offset: t.offset(),
+            rotation: t.rotation(),
+            scale: t.scale(),
+        }
+    }
+
+    /// From the extension's JSON (the gltf crate reads it on `textureInfo` only, not on
+    /// `normalTexture` and `occlusionTexture`); absent members take the extension's
+    /// defaults, members of the wrong type are NaN (refused as not finite).
+    fn of_json(v: &gltf::json::Value) -> Self {
+        let num = |v: Option<&gltf::json::Value>, default: f32| match v {
+            None => default,
+            Some(v) => v.as_f64().map_or(f32::NAN, |x| x as f32),
+        };
+        let pair = |key: &str, default: f32| {
+            let a = v.get(key).and_then(|p| p.as_array());
+            match (v.get(key), a) {
+                (None, _) => [default; 2],
+                (Some(_), Some(a)) if a.len() == 2 => [num(a.first(), 0.0), num(a.get(1), 0.0)],
+                _ => [f32::NAN; 2],
+            }
+        };
+        Transform {
+            tex_coord: v
+                .get("texCoord")
+                .and_then(gltf::json::Value::as_u64)
+                .map(|s| s.min(u64::from(u32::MAX)) as u32),
+            offset: pair("offset", 0.0),
+            rotation: num(v.get("rotation"), 0.0),
+            scale: pair("scale", 1.0),
+        }
+    }
+}
+
+/// The image, set and transform of a texture reference, the transform checked finite.
+fn texture_ref(
+    texture: gltf::Texture<'_>,
+    tex_coord: u32,
+    transform: Option<Transform>,
+    finite: &dyn Fn(&str, &[f32]) -> Result<(), Error>,
+) -> Result<TextureRef, Error> {
+    use gltf::texture::WrappingMode::Repeat;
+    let sampler = texture.sampler();
+    let (set, transform) = match transform {
+        Some(t) => {
+            finite("KHR_texture_transform offset", &t.offset)?;
+            finite("KHR_texture_transform rotation", &[t.rotation])?;
+            finite("KHR_texture_transform scale", &t.scale)?;
+            (
+                t.tex_coord.unwrap_or(tex_coord),
+                Some(UvTransform {
+                    offset: Vec2::from_array(t.offset),
+                    rotation: t.rotation,
+                    scale: Vec2::from_array(t.scale),
+                }),
+            )
+        }
+        None => (tex_coord, None),
+    };
+    Ok(TextureRef {
+        image: texture.source().index(),
+        set,
+        transform,
+        clamps: sampler.wrap_s() != Repeat || sampler.wrap_t() != Repeat,
+    })
 }
 
 /// The renderer's mapping of a glTF material (`None`: the default material of glTF 2.0
@@ -263,54 +406,103 @@ pub(crate) fn import(
     } else {
         raw_cutoff
     };
-    let (uv_set, uv_transform) = match &texture {
-        Some(info) => {
-            let sampler = info.texture().sampler();
-            use gltf::texture::WrappingMode::Repeat;
-            if sampler.wrap_s() != Repeat || sampler.wrap_t() != Repeat {
-                warnings.push(format!(
-                    "{label}: the base colour texture's sampler clamps or mirrors; the renderer \
-                     repeats every texture"
-                ));
-            }
-            match info.texture_transform() {
-                Some(t) => {
-                    finite("KHR_texture_transform offset", &t.offset())?;
-                    finite("KHR_texture_transform rotation", &[t.rotation()])?;
-                    finite("KHR_texture_transform scale", &t.scale())?;
-                    (
-                        t.tex_coord().unwrap_or(info.tex_coord()),
-                        Some(UvTransform {
-                            offset: Vec2::from_array(t.offset()),
-                            rotation: t.rotation(),
-                            scale: Vec2::from_array(t.scale()),
-                        }),
-                    )
-                }
-                None => (info.tex_coord(), None),
-            }
+    // Every map reads the mesh's one UV set: the base colour's, else the first map's.
+    let finite: &dyn Fn(&str, &[f32]) -> Result<(), Error> = &finite;
+    let base = texture
+        .as_ref()
+        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .transpose()?;
+    let normal = m
+        .normal_texture()
+        .map(|i| {
+            finite("normalTexture.scale", &[i.scale()])?;
+            let t = i.extension_value("KHR_texture_transform").map(Transform::of_json);
+            Ok::<_, Error>((texture_ref(i.texture(), i.tex_coord(), t, finite)?, i.scale()))
+        })
+        .transpose()?;
+    let metallic_roughness = pbr
+        .metallic_roughness_texture()
+        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .transpose()?;
+    let occlusion = m
+        .occlusion_texture()
+        .map(|i| {
+            finite("occlusionTexture.strength", &[i.strength()])?;
+            let t = i.extension_value("KHR_texture_transform").map(Transform::of_json);
+            Ok::<_, Error>((
+                texture_ref(i.texture(), i.tex_coord(), t, finite)?,
+                i.strength(),
+            ))
+        })
+        .transpose()?;
+    let emissive_texture = m
+        .emissive_texture()
+        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .transpose()?;
+    let emissive_factor = m.emissive_factor();
+    finite("emissiveFactor", &emissive_factor)?;
+    let strength = m.emissive_strength().unwrap_or(1.0);
+    finite("KHR_materials_emissive_strength", &[strength])?;
+    let refs = [
+        ("base colour", base.as_ref()),
+        ("normal", normal.as_ref().map(|(r, _)| r)),
+        ("metallic-roughness", metallic_roughness.as_ref()),
+        ("occlusion", occlusion.as_ref().map(|(r, _)| r)),
+        ("emissive", emissive_texture.as_ref()),
+    ];
+    let first = refs.iter().find_map(|(_, r)| *r);
+    let (uv_set, uv_transform) = first.map_or((0, None), |r| (r.set, r.transform));
+    for (what, r) in refs {
+        let Some(r) = r else { continue };
+        if r.set != uv_set || r.transform != uv_transform {
+            warnings.push(format!(
+                "{label}: the {what} texture reads TEXCOORD_{} {}; the renderer reads every map \
+                 of a material with one set and transform (TEXCOORD_{uv_set} {})",
+                r.set,
+                transform_words(r.transform.as_ref()),
+                transform_words(uv_transform.as_ref()),
+            ));
         }
-        None => (0, None),
-    };
-    let metallic = metallic.clamp(0.0, 1.0);
-    let tint = Vec3::new(factor[0], factor[1], factor[2]).max(Vec3::ZERO);
-    Ok(Imported {
-        material: Material {
-            name: m.name().map_or_else(|| label.clone(), str::to_owned),
-            shader,
-            albedo_layer: 0,
-            tint,
-            alpha_cutoff,
-            roughness: roughness.clamp(0.0, 1.0),
-            specular: SPECULAR,
-            regular: false,
-            ..Default::default()
+        if r.clamps {
+            warnings.push(format!(
+                "{label}: the {what} texture's sampler clamps or mirrors; the renderer repeats \
+                 every texture"
+            ));
+        }
+    }
+    let emissive = Vec3::from_array(emissive_factor) * strength;
+    let material = Material {
+        name: m.name().map_or_else(|| label.clone(), str::to_owned),
+        shader,
+        tint: Vec3::new(factor[0], factor[1], factor[2]).max(Vec3::ZERO),
+        alpha_cutoff,
+        roughness: roughness.clamp(0.0, 1.0),
+        specular: SPECULAR,
+        metallic: metallic.clamp(0.0, 1.0),
+        emissive: emissive.max(Vec3::ZERO),
+        maps: MaterialMaps {
+            normal: normal.as_ref().map(|(_, scale)| NormalMap {
+                layer: 0,
+                scale: scale.clamp(-16.0, 16.0),
+            }),
+            metallic_roughness: metallic_roughness.as_ref().map(|_| 0),
+            occlusion: occlusion.as_ref().map(|(_, strength)| OcclusionMap {
+                layer: 0,
+                strength: strength.clamp(0.0, 1.0),
+            }),
+            emissive: emissive_texture.as_ref().map(|_| 0),
         },
-        texture: texture.map(|t| t.texture().source().index()),
-        metallic_roughness_texture: pbr
-            .metallic_roughness_texture()
-            .map(|t| t.texture().source().index()),
-        metallic,
+        ..Material::default()
+    };
+    Ok(Imported {
+        material,
+        texture: base.as_ref().map(|r| r.image),
+        maps: MapImages {
+            normal: normal.as_ref().map(|(r, _)| r.image),
+            metallic_roughness: metallic_roughness.as_ref().map(|r| r.image),
+            occlusion: occlusion.as_ref().map(|(r, _)| r.image),
+            emissive: emissive_texture.as_ref().map(|r| r.image),
+        },
         double_sided: m.double_sided(),
         uv_set,
         uv_transform,
@@ -318,26 +510,18 @@ pub(crate) fn import(
     })
 }
 
+/// "with no transform" or "with a KHR_texture_transform", for warnings.
+fn transform_words(t: Option<&UvTransform>) -> &'static str {
+    if t.is_some() {
+        "with a KHR_texture_transform"
+    } else {
+        "with no transform"
+    }
+}
+
 /// Every material's `specular`: the renderer's specular lobe has glTF's dielectric F0
 /// (0.04) built in, so 1 reproduces glTF's dielectric specular.
 pub const SPECULAR: f32 = 1.0;
-
-/// How much a metal's base colour is darkened in the tint (`tint × (1 − METAL_DARKENING ×
-/// metallic)`): the renderer has no coloured specular, so a metal keeps a darkened diffuse
-/// version of its colour instead of glTF's black diffuse and coloured reflection.
-pub const METAL_DARKENING: f32 = 0.5;
-
-/// The means of a metallic-roughness texture's green (roughness) and blue (metallic)
-/// channels, in [0, 1].
-pub(crate) fn mean_roughness_metallic(image: &RgbaImage) -> (f32, f32) {
-    let n = (image.width() as u64 * image.height() as u64).max(1) as f64;
-    let (mut g, mut b) = (0u64, 0u64);
-    for p in image.pixels() {
-        g += u64::from(p.0[1]);
-        b += u64::from(p.0[2]);
-    }
-    ((g as f64 / n / 255.0) as f32, (b as f64 / n / 255.0) as f32)
-}
 
 #[cfg(test)]
 mod tests {
