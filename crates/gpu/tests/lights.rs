@@ -368,7 +368,7 @@ fn against_f64_reference(
     (worst, over1, image.pixels.len())
 }
 
-/// An f64 CPU evaluation of `frame`'s lighting (sun, ambient, every point and spot light,
+/// An f64 CPU evaluation of `frame`'s lighting (sun, the G-buffer's ambient, every point and spot light,
 /// each light's specular term only where it has one, ACES, sRGB) on the G-buffer and depth
 /// of `r`'s last frame: per pixel, RGB in 1 / 255 steps.
 fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
@@ -417,7 +417,9 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
         color: s.color.as_dvec3(),
         specular: s.specular,
     }));
-    let spec = |n: DVec3, v: DVec3, l: DVec3, rough: f64, f0: f64| {
+    // GGX times Smith times n.l, and Fresnel in the metallic workflow:
+    // mix(specular · F(0.04), F(albedo), metallic) with Schlick's F.
+    let spec = |n: DVec3, v: DVec3, l: DVec3, rough: f64, fresnel: &dyn Fn(f64) -> DVec3| {
         let h = (v + l).normalize();
         let nh = n.dot(h).max(0.0);
         let nl = n.dot(l).max(0.0);
@@ -428,8 +430,7 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
         let ndf = a2 / (std::f64::consts::PI * dd * dd);
         let k = a * 0.5;
         let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
-        let f = f0 + (1.0 - f0) * (1.0 - v.dot(h).max(0.0)).powi(5);
-        ndf * vis * f * nl
+        fresnel((1.0 - v.dot(h).max(0.0)).powi(5)) * (ndf * vis * nl)
     };
     let smoothstep = |e0: f64, e1: f64, x: f64| {
         let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
@@ -463,16 +464,23 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
                 let v = (-p).normalize();
                 let n = s.normal.as_dvec3();
                 let albedo = s.albedo.as_dvec3();
-                let diffuse = albedo / std::f64::consts::PI;
+                let metallic = f64::from(s.metallic);
+                let diffuse = albedo * (1.0 - metallic) / std::f64::consts::PI;
                 let (rough, specular, shadow) = (
                     f64::from(s.roughness),
                     f64::from(s.specular),
                     f64::from(s.sun_shadow),
                 );
-                color = s.lighting.as_dvec3() + albedo * l.ambient.as_dvec3() * (0.6 + 0.4 * n.y);
+                let fresnel = |w: f64| {
+                    let dielectric = DVec3::splat(specular * (0.04 + 0.96 * w));
+                    let metal = albedo + (DVec3::ONE - albedo) * w;
+                    dielectric.lerp(metal, metallic)
+                };
+                // The geometry pass's ambient and emission are in the G-buffer's lighting.
+                color = s.lighting.as_dvec3();
                 color += l.sun_color.as_dvec3()
                     * (diffuse * n.dot(sun).max(0.0) * shadow
-                        + DVec3::splat(specular * spec(n, v, sun, rough, 0.04) * shadow));
+                        + spec(n, v, sun, rough, &fresnel) * shadow);
                 for light in &lights {
                     let to = light.p - p;
                     let dist2 = to.length_squared();
@@ -496,13 +504,12 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
                         );
                     }
                     let specular_term = if light.specular {
-                        specular * spec(n, v, ll, rough, 0.04)
+                        spec(n, v, ll, rough, &fresnel)
                     } else {
-                        0.0
+                        DVec3::ZERO
                     };
-                    color += light.color
-                        * falloff
-                        * (diffuse * n.dot(ll).max(0.0) + DVec3::splat(specular_term));
+                    color +=
+                        light.color * falloff * (diffuse * n.dot(ll).max(0.0) + specular_term);
                 }
             }
             out.push(
