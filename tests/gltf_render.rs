@@ -114,7 +114,7 @@ fn v2(a: &[[f32; 2]]) -> Vec<Vec2> {
 }
 
 /// The same scene built directly: a double-sided card is the front quad and its back
-/// (vertices copied with negated normals and tangent handedness, triangles reversed),
+/// (vertices copied with the tangent frame negated, triangles reversed),
 /// the leaf texture is layer 0, the untextured ground's white layer is layer 1.
 fn reference() -> gpu::Scene {
     let ground = Mesh {
@@ -132,7 +132,8 @@ fn reference() -> gpu::Scene {
         uvs: v2(&CARD_UV).repeat(2),
         tangents: [
             vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-            vec![Vec4::new(1.0, 0.0, 0.0, -1.0); 4],
+            // The back copy negates the whole tangent frame (normal, tangent, handedness).
+            vec![Vec4::new(-1.0, 0.0, 0.0, -1.0); 4],
         ]
         .concat(),
         indices: vec![0, 1, 2, 0, 2, 3],

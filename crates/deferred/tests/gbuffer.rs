@@ -34,7 +34,11 @@ fn kz2_stores_a_metal_as_its_diffuse_colour() {
     let b = Kz2Texels::pack(&s).unpack();
     assert_eq!(b.metallic, 0.0);
     let want = Vec3::new(0.2, 0.1, 0.05);
-    assert!((b.albedo - want).abs().max_element() <= 0.5 / 255.0 + 1e-6, "{}", b.albedo);
+    assert!(
+        (b.albedo - want).abs().max_element() <= 0.5 / 255.0 + 1e-6,
+        "{}",
+        b.albedo
+    );
     // The octahedral layout keeps both.
     let o = OctTexels::pack(&s).unpack();
     assert!((o.metallic - 0.75).abs() < 1e-3 && (o.albedo - s.albedo).abs().max_element() < 5e-3);

@@ -3,7 +3,8 @@
 //! "grass" (a tall-grass field of very high vertex density) and "hillside" /
 //! "hillside-grass" (HFW-like: a meadow of tall grass, blade by blade, before a forest of
 //! dense canopies, seen from 15 m up and from 5 m over the grass; grass triangles under a
-//! pixel wide at 4K).
+//! pixel wide at 4K) and "materials" (glTF 2.0's metallic-roughness model, feature by
+//! feature).
 //!
 //! Everything here is generated, no assets are loaded: a terrain height field, meshes built
 //! from primitives, and 256×256 albedo layers painted with integer-hashed value noise.
@@ -33,6 +34,7 @@ use staticscene::demo::Rng;
 pub mod city;
 mod hillside;
 mod layers;
+mod materials;
 mod mesh;
 pub mod river;
 
@@ -54,6 +56,11 @@ pub enum DemoScene {
     /// to the horizon (the talk's tall-grass case). The grass is built in rings of level
     /// of detail around each view's camera, so the two scenes' grass differs.
     HillsideGrass,
+    /// glTF 2.0's metallic-roughness model feature by feature: spheres over metallic ×
+    /// roughness, a normal- and occlusion-mapped brick wall (half of it with mirrored
+    /// texture coordinates), an emissive panel, a metallic-roughness-mapped plate,
+    /// alpha-masked leaf cards showing both faces.
+    Materials,
 }
 
 impl DemoScene {
@@ -68,6 +75,7 @@ impl DemoScene {
             DemoScene::Grass => "grass",
             DemoScene::Hillside => "hillside",
             DemoScene::HillsideGrass => "hillside-grass",
+            DemoScene::Materials => "materials",
         }
     }
 }
@@ -121,6 +129,7 @@ fn generate(options: &DemoOptions, paint: bool) -> (Scene, FrameInput) {
         DemoScene::HillsideGrass => {
             hillside::hillside(options.seed, density, paint, hillside::View::TallGrass)
         }
+        DemoScene::Materials => materials::materials(paint),
     }
 }
 
@@ -203,6 +212,12 @@ fn instance_vertices(options: &DemoOptions) -> u64 {
         DemoScene::HillsideGrass => {
             hillside::instance_vertices(options.seed, d, hillside::View::TallGrass, &scene.meshes)
         }
+        // Fixed: one instance of everything, twenty spheres (the density changes nothing).
+        DemoScene::Materials => scene
+            .batches
+            .iter()
+            .map(|b| v(b.mesh.0) * b.instances.len() as u64)
+            .sum(),
     }
 }
 

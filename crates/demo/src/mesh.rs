@@ -69,7 +69,7 @@ impl MeshBuilder {
     }
 
     /// Computes tangents from positions and UVs (per-triangle, accumulated, orthonormalised
-    /// against the normal; handedness in w).
+    /// against the normal; handedness in w, glTF's: `w · n × t` points up the image, −v).
     pub(crate) fn finish(mut self) -> Mesh {
         let m = &mut self.mesh;
         let mut tan = vec![Vec3::ZERO; m.positions.len()];
@@ -95,7 +95,8 @@ impl MeshBuilder {
         for i in 0..m.positions.len() {
             let n = m.normals[i];
             let t = (tan[i] - n * n.dot(tan[i])).normalize_or(n.any_orthonormal_vector());
-            let w = if n.cross(t).dot(bit[i]) < 0.0 {
+            // `bit` runs along +v, down the image.
+            let w = if n.cross(t).dot(bit[i]) > 0.0 {
                 -1.0
             } else {
                 1.0

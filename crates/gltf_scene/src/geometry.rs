@@ -72,6 +72,11 @@ impl Geometry {
     /// vertices. MikkTSpace sees only the triangles with three distinct corner positions;
     /// the others (and all of a geometry it rejects) get tangents orthogonal to their
     /// normals (`Vec3::any_orthonormal_vector`, handedness +1).
+    ///
+    /// MikkTSpace's bitangent follows +v of the coordinates it is given; glTF's runs up
+    /// the image (a normal map's +Y is up, glTF 2.0 §3.9.3, what Blender's exporter writes
+    /// and the Khronos viewer's derivative tangents give), where glTF's v runs down: so
+    /// MikkTSpace is given `(u, 1 − v)`, and `w · n × t` points up the image.
     pub(crate) fn generate_tangents(&mut self) {
         struct Faces<'a> {
             g: &'a Geometry,
@@ -98,7 +103,8 @@ impl Geometry {
                 self.g.normals[self.corner(face, vert)].to_array()
             }
             fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-                self.g.uvs[self.corner(face, vert)].to_array()
+                let uv = self.g.uvs[self.corner(face, vert)];
+                [uv.x, 1.0 - uv.y]
             }
             fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
                 let at = self.tris[face] * 3 + vert;
@@ -168,11 +174,7 @@ impl Geometry {
         self.uvs.extend_from_within(..);
         let back_normals: Vec<Vec3> = self.normals.iter().map(|&v| -v).collect();
         self.normals.extend(back_normals);
-        let back_tangents: Vec<Vec4> = self
-            .tangents
-            .iter()
-            .map(|&t| -t)
-            .collect();
+        let back_tangents: Vec<Vec4> = self.tangents.iter().map(|&t| -t).collect();
         self.tangents.extend(back_tangents);
         let back: Vec<u32> = self
             .indices
@@ -338,9 +340,10 @@ mod tests {
         g.generate_tangents();
         assert_eq!(g.positions.len(), 4, "one tangent per vertex: no split");
         for t in &g.tangents {
-            // Tangent along +u = +x; bitangent w·(n × t) = w·(+y) along +v = -y: w = -1.
+            // Tangent along +u = +x; bitangent w·(n × t) = w·(+y) up the image (−v, +y):
+            // w = +1.
             assert!((t.truncate() - Vec3::X).length() < 1e-5, "{t}");
-            assert_eq!(t.w, -1.0);
+            assert_eq!(t.w, 1.0);
         }
     }
 }

@@ -10,8 +10,8 @@ use crate::geometry::Geometry;
 use crate::nodes::walk;
 use crate::primitive::primitive_geometry;
 use crate::{
-    Error, Imported, LoadOptions, Progress, SUPPORTED_EXTENSIONS, Stage, Summary,
-    accessor, material, source,
+    Error, Imported, LoadOptions, Progress, SUPPORTED_EXTENSIONS, Stage, Summary, accessor,
+    material, source,
 };
 
 /// The glTF schema check of gltf-json, minus its verdict on `extensionsRequired` (ours
@@ -243,10 +243,8 @@ pub(crate) fn import(
     let sized = |chosen: &[usize]| {
         let sources: Vec<&image::RgbaImage> =
             chosen.iter().filter_map(|i| decoded.get(i)).collect();
-        let size = material::layer_size(
-            sources.iter().map(|img| img.width().max(img.height())),
-            cap,
-        );
+        let size =
+            material::layer_size(sources.iter().map(|img| img.width().max(img.height())), cap);
         (sources, size)
     };
     let (albedo_sources, size) = sized(&albedo_images);

@@ -410,25 +410,46 @@ pub(crate) fn import(
     let finite: &dyn Fn(&str, &[f32]) -> Result<(), Error> = &finite;
     let base = texture
         .as_ref()
-        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .map(|i| {
+            texture_ref(
+                i.texture(),
+                i.tex_coord(),
+                i.texture_transform().map(Transform::of_info),
+                finite,
+            )
+        })
         .transpose()?;
     let normal = m
         .normal_texture()
         .map(|i| {
             finite("normalTexture.scale", &[i.scale()])?;
-            let t = i.extension_value("KHR_texture_transform").map(Transform::of_json);
-            Ok::<_, Error>((texture_ref(i.texture(), i.tex_coord(), t, finite)?, i.scale()))
+            let t = i
+                .extension_value("KHR_texture_transform")
+                .map(Transform::of_json);
+            Ok::<_, Error>((
+                texture_ref(i.texture(), i.tex_coord(), t, finite)?,
+                i.scale(),
+            ))
         })
         .transpose()?;
     let metallic_roughness = pbr
         .metallic_roughness_texture()
-        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .map(|i| {
+            texture_ref(
+                i.texture(),
+                i.tex_coord(),
+                i.texture_transform().map(Transform::of_info),
+                finite,
+            )
+        })
         .transpose()?;
     let occlusion = m
         .occlusion_texture()
         .map(|i| {
             finite("occlusionTexture.strength", &[i.strength()])?;
-            let t = i.extension_value("KHR_texture_transform").map(Transform::of_json);
+            let t = i
+                .extension_value("KHR_texture_transform")
+                .map(Transform::of_json);
             Ok::<_, Error>((
                 texture_ref(i.texture(), i.tex_coord(), t, finite)?,
                 i.strength(),
@@ -437,7 +458,14 @@ pub(crate) fn import(
         .transpose()?;
     let emissive_texture = m
         .emissive_texture()
-        .map(|i| texture_ref(i.texture(), i.tex_coord(), i.texture_transform().map(Transform::of_info), finite))
+        .map(|i| {
+            texture_ref(
+                i.texture(),
+                i.tex_coord(),
+                i.texture_transform().map(Transform::of_info),
+                finite,
+            )
+        })
         .transpose()?;
     let emissive_factor = m.emissive_factor();
     finite("emissiveFactor", &emissive_factor)?;

@@ -911,8 +911,16 @@ fn every_material_map_is_imported() {
         image::Rgba([(x * 60) as u8, (y * 60) as u8, 255, 255])
     });
     let normal = doc.png(&bumps);
-    let mr = doc.png(&image::RgbaImage::from_pixel(4, 4, image::Rgba([0, 200, 100, 255])));
-    let glow = doc.png(&image::RgbaImage::from_pixel(8, 8, image::Rgba([255, 128, 0, 255])));
+    let mr = doc.png(&image::RgbaImage::from_pixel(
+        4,
+        4,
+        image::Rgba([0, 200, 100, 255]),
+    ));
+    let glow = doc.png(&image::RgbaImage::from_pixel(
+        8,
+        8,
+        image::Rgba([255, 128, 0, 255]),
+    ));
     let [tc, tn, tmr, tg] = [colour, normal, mr, glow].map(|i| doc.texture(i));
     doc.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
     let full = doc.push(
@@ -952,14 +960,20 @@ fn every_material_map_is_imported() {
     let data = &s.data_layers[n.layer as usize];
     assert_eq!(data.size, 4);
     assert_eq!(data.texels, bumps.pixels().map(|p| p.0).collect::<Vec<_>>());
-    assert_eq!(s.data_layers[o.layer as usize].texels[0], [0, 200, 100, 255]);
+    assert_eq!(
+        s.data_layers[o.layer as usize].texels[0],
+        [0, 200, 100, 255]
+    );
     // The emissive map is a colour layer beside the base colour.
     let e = m.maps.emissive.expect("emissive map") as usize;
     assert_ne!(e, m.albedo_layer as usize);
     assert_eq!(s.albedo_layers[e].texels[0], [255, 128, 0, 255]);
     assert_eq!(s.materials[1].maps.normal.map(|n| n.layer), Some(n.layer));
     assert_eq!((imp.summary.textures, imp.summary.data_textures), (2, 2));
-    assert_eq!((imp.summary.layer_size, imp.summary.data_layer_size), (8, 4));
+    assert_eq!(
+        (imp.summary.layer_size, imp.summary.data_layer_size),
+        (8, 4)
+    );
     use scene::MaterialFeatures as F;
     assert_eq!(
         m.features(),
@@ -990,24 +1004,44 @@ fn maps_on_other_sets_warn_and_bad_factors_are_errors() {
     let imp = import(&doc.glb());
     let w = imp.warnings.join("\n");
     assert!(w.contains("occlusion texture reads TEXCOORD_1"), "{w}");
-    assert!(w.contains("normal texture reads TEXCOORD_0 with a KHR_texture_transform"), "{w}");
+    assert!(
+        w.contains("normal texture reads TEXCOORD_0 with a KHR_texture_transform"),
+        "{w}"
+    );
     assert!(imp.scene.materials[0].maps.occlusion.is_some());
 
-    let second = doc.push("materials", json!({ "name": "fine", "pbrMetallicRoughness": { "metallicFactor": 0.25 } }));
+    let second = doc.push(
+        "materials",
+        json!({ "name": "fine", "pbrMetallicRoughness": { "metallicFactor": 0.25 } }),
+    );
     let mesh = triangle_mesh(&mut doc, Some(second));
     let node = doc.push("nodes", json!({ "mesh": mesh }));
     doc.json["scenes"][0]["nodes"] = json!([0, node]);
     for (field, material) in [
-        ("emissiveFactor", json!({ "name": "hot", "emissiveFactor": [1.0, 1e39, 0.0] })),
-        ("normalTexture.scale", json!({ "name": "hot", "normalTexture": { "index": tex, "scale": 1e39 } })),
+        (
+            "emissiveFactor",
+            json!({ "name": "hot", "emissiveFactor": [1.0, 1e39, 0.0] }),
+        ),
+        (
+            "normalTexture.scale",
+            json!({ "name": "hot", "normalTexture": { "index": tex, "scale": 1e39 } }),
+        ),
     ] {
         let mut bad = doc.json_with_buffer(None);
         bad["materials"][0] = material;
         let bytes = common::glb(&bad, &doc.bin);
         let imp = load_slice(&bytes, None, &LoadOptions::default()).unwrap();
         let w = imp.warnings.join("\n");
-        assert!(w.contains("material 0") && w.contains("hot") && w.contains(field), "{w}");
-        let names: Vec<_> = imp.scene.materials.iter().map(|m| m.name.as_str()).collect();
+        assert!(
+            w.contains("material 0") && w.contains("hot") && w.contains(field),
+            "{w}"
+        );
+        let names: Vec<_> = imp
+            .scene
+            .materials
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect();
         assert_eq!(names, ["hot", "fine"]);
         assert_eq!(imp.scene.materials[1].metallic, 0.25);
     }

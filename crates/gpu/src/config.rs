@@ -252,6 +252,14 @@ pub struct GeometryConfig {
     /// micro-batch IDs), quad commands from the classification, and the resolve shading
     /// one sample per quad command and broadcasting it through workgroup memory.
     pub vrs: Option<VrsConfig>,
+    /// HFW's resolve per material shader (the default): `tiling` splits passes by
+    /// [`Material::shader_key`](crate::Material::shader_key), and each pass of the
+    /// wave-command resolve dispatches a pipeline specialised for its permutation (only the
+    /// maps its materials have compiled in; pipelines cached by permutation, counted in
+    /// [`SceneSummary::resolve_pipelines`](crate::SceneSummary::resolve_pipelines)). Off:
+    /// one uber resolve for every pass, each map chosen per material at run time (the
+    /// measurement's baseline).
+    pub material_permutations: bool,
 }
 
 /// Lighting and shadows: the local lights' paths, the sun's cascades and baked term, the
@@ -509,6 +517,7 @@ impl Default for GeometryConfig {
             vertex_ring: None,
             ring_resolve: true,
             vrs: None,
+            material_permutations: true,
         }
     }
 }

@@ -508,8 +508,7 @@ fn f64_reference(r: &Renderer, frame: &FrameInput) -> Vec<[i32; 3]> {
                     } else {
                         DVec3::ZERO
                     };
-                    color +=
-                        light.color * falloff * (diffuse * n.dot(ll).max(0.0) + specular_term);
+                    color += light.color * falloff * (diffuse * n.dot(ll).max(0.0) + specular_term);
                 }
             }
             out.push(

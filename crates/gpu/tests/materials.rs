@@ -244,7 +244,11 @@ fn material_maps_reach_the_gbuffer() {
             continue;
         }
         checked += 1;
-        assert!((s.metallic - METALLIC).abs() < 2e-3, "metallic {}", s.metallic);
+        assert!(
+            (s.metallic - METALLIC).abs() < 2e-3,
+            "metallic {}",
+            s.metallic
+        );
         assert!(
             (s.roughness - ROUGHNESS * 128.0 / 255.0).abs() < 3e-3,
             "roughness {}",
@@ -274,15 +278,24 @@ fn every_path_writes_the_same_surfaces() {
             if uv.is_none() {
                 continue;
             }
-            worst.0 = worst.0.max(degrees(a.normal, b.normal.as_dvec3().normalize()));
+            worst.0 = worst
+                .0
+                .max(degrees(a.normal, b.normal.as_dvec3().normalize()));
             worst.1 = worst
                 .1
                 .max((a.lighting - b.lighting).abs().max_element())
                 .max((a.metallic - b.metallic).abs())
                 .max((a.roughness - b.roughness).abs());
         }
-        eprintln!("{path:?}: worst normal {:.3} degrees, worst value {}", worst.0, worst.1);
-        assert!(worst.0 <= 0.5, "{path:?}: normals {} degrees apart", worst.0);
+        eprintln!(
+            "{path:?}: worst normal {:.3} degrees, worst value {}",
+            worst.0, worst.1
+        );
+        assert!(
+            worst.0 <= 0.5,
+            "{path:?}: normals {} degrees apart",
+            worst.0
+        );
         assert!(worst.1 <= 2.0 / 255.0, "{path:?}: values {} apart", worst.1);
     }
 }

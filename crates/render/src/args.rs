@@ -25,6 +25,10 @@ pub enum SceneArg {
     /// The hillside's tall grass from 5 m above it, grass to the horizon: the talk's
     /// tall-grass case (not part of `all`).
     HillsideGrass,
+    /// glTF 2.0's materials: spheres over metallic x roughness, a normal- and
+    /// occlusion-mapped brick wall (half of it mirrored), an emissive panel, a
+    /// metallic-roughness-mapped plate, double-sided leaf cards (not part of `all`).
+    Materials,
     /// HZD's static city (`--instances` of them) through the GPU static query, with
     /// foliage batches along the streets.
     City,
@@ -419,6 +423,7 @@ impl Args {
             SceneArg::Grass => &[DemoScene::Grass],
             SceneArg::Hillside => &[DemoScene::Hillside],
             SceneArg::HillsideGrass => &[DemoScene::HillsideGrass],
+            SceneArg::Materials => &[DemoScene::Materials],
             SceneArg::City | SceneArg::River => &[],
             SceneArg::All => &DemoScene::ALL,
         }

@@ -212,6 +212,16 @@ fn render_gltf(
         .unwrap_or_else(|| "gltf".to_owned());
     println!("== {name} (glTF) ==");
     println!("{}", imported.summary);
+    // Each material's shader permutation (HFW's material shaders; glTF's maps).
+    for (i, m) in imported.scene.materials.iter().enumerate() {
+        println!(
+            "  material {i} {:?}: metallic {:.2}, roughness {:.2}, {}",
+            m.name,
+            m.metallic,
+            m.roughness,
+            m.features().names().join(", ")
+        );
+    }
     for w in &imported.warnings {
         println!("  warning: {w}");
     }

@@ -85,9 +85,8 @@ pub use error::{FrameError, SceneError, WaterError};
 pub use frame::{Camera, FrameInput, Lighting, MAX_LOCAL_LIGHTS, PointLight, SpotLight};
 pub use glam;
 pub use model::{
-    Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialFeatures,
-    MaterialId, MaterialMaps, Mesh, MeshId, NormalMap, OcclusionMap, Scene, ShaderKind,
-    StaticSetup, Wind,
+    Batch, MAX_PRIMITIVES_PER_MESH, MAX_VERTICES_PER_MESH, Material, MaterialFeatures, MaterialId,
+    MaterialMaps, Mesh, MeshId, NormalMap, OcclusionMap, Scene, ShaderKind, StaticSetup, Wind,
 };
 /// The `tiling` version [`Scene::tiling_batches`] answers in.
 pub use tiling;

@@ -7,10 +7,10 @@
 
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 
-use crate::{AlbedoLayer, DataLayer};
 #[cfg(doc)]
 use crate::FrameInput;
 use crate::error::SceneError;
+use crate::{AlbedoLayer, DataLayer};
 
 /// The most primitives one geometry may have: 16-bit indices, and the vis-buffer ID's
 /// primitive field (seed 000, "Only support 64k prims per geo").
@@ -132,7 +132,8 @@ pub enum ShaderKind {
 }
 
 impl ShaderKind {
-    /// A stable small integer, used as the shader hash in batch sorting.
+    /// A stable small integer: the GPU material row's shader (the wind sways the
+    /// alpha-tested). Passes are split by [`Material::shader_key`], which includes it.
     pub fn id(self) -> u32 {
         match self {
             ShaderKind::Opaque => 0,
@@ -249,6 +250,13 @@ pub struct OcclusionMap {
 }
 
 impl Material {
+    /// The key `tiling` sorts and splits passes by (HFW: one pass, and one resolve
+    /// shader, per material shader): [`Material::features`]' bits, so materials of one
+    /// permutation share passes and two permutations never do.
+    pub fn shader_key(&self) -> u32 {
+        self.features().0
+    }
+
     /// The permutation of the material's shader: which optional features it has
     /// ([`MaterialFeatures`]).
     pub fn features(&self) -> MaterialFeatures {
@@ -576,7 +584,13 @@ impl Scene {
                 .and(colour("emissive.g", m.emissive.y))
                 .and(colour("emissive.b", m.emissive.z))
                 .and(maps.normal.map_or(Ok(()), |n| {
-                    check_range(field("maps.normal.scale"), n.scale, -16.0, 16.0, "[-16, 16]")
+                    check_range(
+                        field("maps.normal.scale"),
+                        n.scale,
+                        -16.0,
+                        16.0,
+                        "[-16, 16]",
+                    )
                 }))
                 .and(
                     maps.occlusion
@@ -694,8 +708,7 @@ impl Scene {
                 shader: self
                     .materials
                     .get(b.material.0)
-                    .map_or(ShaderKind::Opaque, |m| m.shader)
-                    .id(),
+                    .map_or(0, Material::shader_key),
                 batch_data: b.material.0 as u64,
                 geometry: geometry(b.mesh.0),
                 instances: pos,

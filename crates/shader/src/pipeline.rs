@@ -245,6 +245,8 @@ pub struct ComputePass<P: 'static> {
     pub steps: Vec<ComputeStep<P>>,
     /// The values of the `override`s that size workgroups (by the description's names).
     size_overrides: Vec<(&'static str, f64)>,
+    /// The module the pipelines were made from (for [`ComputePass::variant`]).
+    module: wgpu::ShaderModule,
 }
 
 /// `pass`'s WGSL composed with `features`, as a shader module.
@@ -315,7 +317,37 @@ impl<P> ComputePass<P> {
             layouts,
             steps,
             size_overrides,
+            module,
         })
+    }
+
+    /// Another pipeline of the entry point `name`, on this pass's module and layout with
+    /// the `override` values `constants` (a specialisation: the pass's bind groups serve
+    /// it). `constants` must give the workgroup-size overrides the values [`ComputePass::new`]
+    /// had, or the pass's dispatch sizes are wrong for it.
+    ///
+    /// # Errors
+    /// [`Error::UnknownName`] for an entry point the pass does not have.
+    pub fn variant(
+        &self,
+        device: &wgpu::Device,
+        name: &str,
+        constants: &[(&str, f64)],
+    ) -> Result<wgpu::ComputePipeline, Error> {
+        let entry = self.step(name)?.entry;
+        Ok(
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&format!("{} {} (variant)", self.pass.name, entry.name)),
+                layout: Some(self.layouts.pipeline_layout()),
+                module: &self.module,
+                entry_point: Some(entry.name),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
+                cache: None,
+            }),
+        )
     }
 
     /// A bind group of the group named `group` (see [`Layouts::bind_group`]).

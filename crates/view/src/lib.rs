@@ -66,6 +66,9 @@ pub enum SceneArg {
     Forest,
     /// A tall-grass field of very high vertex density.
     Grass,
+    /// glTF 2.0's materials: spheres over metallic x roughness, a normal-mapped brick
+    /// wall, an emissive panel, a metallic-roughness-mapped plate, leaf cards.
+    Materials,
     /// HZD's static city (`--instances` of them) through the GPU static query, in front
     /// of every frame; `C` switches its occlusion.
     City,
@@ -330,6 +333,7 @@ impl Args {
             scene: match self.scene {
                 SceneArg::Forest => DemoScene::Forest,
                 SceneArg::Grass => DemoScene::Grass,
+                SceneArg::Materials => DemoScene::Materials,
                 SceneArg::City => return SceneSource::City(self.instances as usize),
             },
             seed: self.seed,

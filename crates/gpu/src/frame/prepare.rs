@@ -7,6 +7,7 @@ use glam::Vec3;
 use super::Pipelines;
 use crate::context::PrimitiveIdPath;
 use crate::error::{Error, Result, SceneError};
+use crate::passes::resolve::RESOLVE_FEATURE_BITS;
 use crate::resources::buffers::storage;
 use crate::resources::geometry::Geometry;
 use crate::resources::plan::{Draw, Plan};
@@ -39,6 +40,9 @@ pub(crate) struct PrepareContext<'a> {
     pub ring_resolve: bool,
     /// HFW's software VRS (`RendererConfig::geometry.vrs`): the plan uses visbuf's VRS layout.
     pub vrs: bool,
+    /// HFW's resolve per material shader
+    /// (`RendererConfig::geometry.material_permutations`).
+    pub material_permutations: bool,
 }
 
 /// The floating origin of `scene`: its instances' bounds centre snapped to 1 m (zero for
@@ -96,7 +100,7 @@ fn reserve_static(
     let mut order: Vec<usize> = (0..scene.static_setups.len()).collect();
     let key = |i: usize| {
         let m = &scene.materials[scene.static_setups[i].material.0];
-        (m.shader.id(), scene.static_setups[i].material.0)
+        (m.shader_key(), scene.static_setups[i].material.0)
     };
     order.sort_by_key(|&i| key(i));
     let reservations: Vec<tiling::Reservation> = order
@@ -105,7 +109,7 @@ fn reserve_static(
             let s = &scene.static_setups[i];
             let m = geometry.meshes[s.mesh.0];
             tiling::Reservation {
-                shader: scene.materials[s.material.0].shader.id(),
+                shader: scene.materials[s.material.0].shader_key(),
                 batch_data: s.material.0 as u64,
                 geometry: tiling::Geometry {
                     vertex_count: m.vertex_count,
@@ -392,6 +396,30 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
                 )
             })
             .transpose()?;
+        // HFW's resolve per material shader: each pass's permutation.
+        let pass_pipelines = if c.material_permutations {
+            tiling_plan
+                .passes
+                .iter()
+                .map(|pass| p.resolve.permutation(device, pass.shader))
+                .collect::<Result<Vec<_>>>()?
+        } else {
+            Vec::new()
+        };
+        let resolve_pipelines = {
+            let mut keys: Vec<u32> = tiling_plan
+                .passes
+                .iter()
+                .map(|pass| pass.shader & RESOLVE_FEATURE_BITS)
+                .collect();
+            keys.sort_unstable();
+            keys.dedup();
+            if c.material_permutations {
+                keys.len()
+            } else {
+                1
+            }
+        };
         let resolve = p.resolve.groups(
             device,
             &scene_group,
@@ -401,6 +429,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             &c.targets.vis_view,
             &classification,
             vertex_ring.as_ref().filter(|_| c.ring_resolve),
+            pass_pipelines,
         )?;
         let summary = SceneSummary {
             instances: scene.instance_count() as u64,
@@ -409,6 +438,7 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             micro_batches: tiling_plan.micro_batches.len(),
             passes: tiling_plan.passes.len(),
             batch_groups,
+            resolve_pipelines,
             added_vertices: geometry.added_vertices.iter().map(|&a| u64::from(a)).sum(),
             origin,
         };

@@ -2,7 +2,13 @@
 //! triangle's vertices pulled and transformed, analytic barycentrics and derivatives,
 //! textures sampled with gradients, the G-buffer written. By wave commands (one
 //! `dispatch_workgroups_indirect` per pass, one workgroup of wave-width lanes per wave
-//! command), or over every pixel (a diagnostic without classification).
+//! command), or over every pixel (a diagnostic without classification). HFW's resolve
+//! per material shader: each pass of the wave-command resolve may dispatch a pipeline
+//! specialised for its material permutation (`MATERIAL_FEATURES`, gpu::material), made
+//! from the same module and layout on first use and cached.
+
+use std::collections::HashMap;
+use std::sync::Mutex;
 
 use shader::pipeline::ComputePass;
 use shader::{Binding, Dispatch, Entry, Group, Kind, Pass, Sample, Size, Stage};
@@ -109,7 +115,15 @@ pub(crate) struct Resolve {
     /// Indices into `pass.steps`.
     waves: usize,
     full_screen: usize,
+    wave_width: u32,
+    /// The wave-command resolve specialised per material permutation (the map bits of
+    /// `scene::MaterialFeatures`), compiled on first use.
+    permutations: Mutex<HashMap<u32, wgpu::ComputePipeline>>,
 }
+
+/// The `scene::MaterialFeatures` bits the resolve specialises on: the maps and emission
+/// (the alpha test is the laydown's, not the resolve's).
+pub(crate) const RESOLVE_FEATURE_BITS: u32 = 0b1111;
 
 impl Resolve {
     /// The pipelines for wave commands of `wave_width` lanes, writing `layout`; `vrs`:
@@ -133,12 +147,41 @@ impl Resolve {
         Ok(Self {
             waves: pass.step_index("resolve_waves")?,
             full_screen: pass.step_index("resolve_fullscreen")?,
+            wave_width,
+            permutations: Mutex::new(HashMap::new()),
             pass,
             store: match layout {
                 GBufferLayout::Kz2 => &KZ2_STORE_BINDINGS,
                 GBufferLayout::Octahedral => &STORE_BINDINGS,
             },
         })
+    }
+
+    /// The wave-command resolve for material permutation `key` (`Material::shader_key`;
+    /// only its [`RESOLVE_FEATURE_BITS`] matter), from the cache or compiled now.
+    pub(crate) fn permutation(
+        &self,
+        device: &wgpu::Device,
+        key: u32,
+    ) -> Result<wgpu::ComputePipeline> {
+        let key = key & RESOLVE_FEATURE_BITS;
+        let mut cache = self
+            .permutations
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(p) = cache.get(&key) {
+            return Ok(p.clone());
+        }
+        let pipeline = self.pass.variant(
+            device,
+            "resolve_waves",
+            &[
+                ("RESOLVE_WAVE_WIDTH", f64::from(self.wave_width)),
+                ("MATERIAL_FEATURES", f64::from(key)),
+            ],
+        )?;
+        cache.insert(key, pipeline.clone());
+        Ok(pipeline)
     }
 
     /// The renderer's G-buffer group (storage views of RT0..RT3).
@@ -170,6 +213,7 @@ impl Resolve {
         vis_view: &wgpu::TextureView,
         classification: &crate::resources::groups::ClassifyBuffers,
         ring: Option<&crate::resources::groups::RingBuffers>,
+        pass_pipelines: Vec<wgpu::ComputePipeline>,
     ) -> Result<Groups> {
         let passes = classification.sizes.passes;
         // The pass's half of the ring, where the ring holds it.
@@ -240,6 +284,7 @@ impl Resolve {
                 ],
             )?,
             waves,
+            pass_pipelines,
             pass_stride: stride as u32,
             reads_ring: ring.is_some(),
             _pass_uniforms: pass_uniforms,
@@ -282,7 +327,7 @@ impl Resolve {
                     "resolve (wave commands)",
                 );
                 self.bind(&mut pass, f);
-                pass.set_pipeline(&self.pass.steps[self.waves].pipeline);
+                pass.set_pipeline(self.pass_pipeline(g, p));
                 pass.set_bind_group(3, &g.waves, &[p * g.pass_stride]);
                 pass.dispatch_workgroups_indirect(
                     &c.pass_dispatch,
@@ -297,15 +342,21 @@ impl Resolve {
             "resolve (wave commands)",
         );
         self.bind(&mut pass, f);
-        let step = &self.pass.steps[self.waves];
-        pass.set_pipeline(&step.pipeline);
         for p in 0..c.sizes.passes {
+            pass.set_pipeline(self.pass_pipeline(g, p));
             pass.set_bind_group(3, &g.waves, &[p * g.pass_stride]);
             pass.dispatch_workgroups_indirect(
                 &c.pass_dispatch,
                 u64::from(p) * size_of::<PassDispatch>() as u64,
             );
         }
+    }
+
+    /// Pass `p`'s wave-command pipeline: its permutation's, or the uber resolve.
+    fn pass_pipeline<'a>(&'a self, g: &'a Groups, p: u32) -> &'a wgpu::ComputePipeline {
+        g.pass_pipelines
+            .get(p as usize)
+            .unwrap_or(&self.pass.steps[self.waves].pipeline)
     }
 
     /// Records the full-screen resolve (every pixel, no classification).

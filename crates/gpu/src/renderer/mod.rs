@@ -331,6 +331,7 @@ impl Renderer {
                 baked_sun: self.config.lighting.baked_sun,
                 ring_bytes: self.config.geometry.vertex_ring,
                 ring_resolve: self.config.geometry.ring_resolve,
+                material_permutations: self.config.geometry.material_permutations,
                 vrs: self.config.geometry.vrs.is_some(),
             },
             scene,

@@ -133,6 +133,9 @@ pub(crate) struct ResolveGroups {
     pub(crate) scene: wgpu::BindGroup,
     pub(crate) inputs: wgpu::BindGroup,
     pub(crate) waves: wgpu::BindGroup,
+    /// Per pass: the wave-command resolve specialised for its material permutation
+    /// (empty: the uber resolve for every pass).
+    pub(crate) pass_pipelines: Vec<wgpu::ComputePipeline>,
     pub(crate) pass_stride: u32,
     /// Whether the wave-command resolve reads the vertex ring (its passes interleaved
     /// with the ring's transforms).

@@ -40,6 +40,10 @@ pub struct SceneSummary {
     pub passes: usize,
     /// Batch groups over all passes.
     pub batch_groups: usize,
+    /// Wave-command resolve pipelines the scene's passes use: one per material permutation
+    /// with `RendererConfig::geometry.material_permutations` (HFW's resolve per material
+    /// shader), else 1 (the uber resolve).
+    pub resolve_pipelines: usize,
     /// Vertices the primitive-ID encoding added (zero on the `primitive_index` path).
     pub added_vertices: u64,
     /// The floating origin instance transforms and lights are stored relative to (world,

@@ -327,7 +327,7 @@ mod tests {
         );
         assert_eq!(
             shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
-            Some(scene::ShaderKind::AlphaTested.id())
+            Some(ShaderKind::AlphaTested.id())
         );
     }
 

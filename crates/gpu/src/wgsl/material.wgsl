@@ -6,6 +6,23 @@
 #import deferred::gbuffer
 #import gpu::scene_bindings
 
+// HFW's resolve per material shader: the scene::MaterialFeatures bits whose maps this
+// pipeline compiles in. The per-shader resolve pipelines set it to their pass's
+// permutation, so a pass's code has no branch, sample or register of a map its materials
+// lack; the uber resolve and the raster paths keep the default, every map, chosen per
+// material at run time.
+override MATERIAL_FEATURES: u32 = 0xffffffffu;
+// Rust: scene::MaterialFeatures.
+const MATERIAL_NORMAL_MAP: u32 = 1u;
+const MATERIAL_METALLIC_ROUGHNESS_MAP: u32 = 2u;
+const MATERIAL_OCCLUSION_MAP: u32 = 4u;
+const MATERIAL_EMISSIVE: u32 = 8u;
+
+// Whether this pipeline compiles the feature `f` in.
+fn material_has(f: u32) -> bool {
+    return (MATERIAL_FEATURES & f) != 0u;
+}
+
 // Screen-space motion in pixels (current minus previous, +y down) of a point at
 // camera-relative position `p` this frame and `p_prev` at the previous frame's time (the
 // same for anything that does not animate): the camera's motion and the foliage's
@@ -94,25 +111,28 @@ fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>
     var s: DeferredSurface;
     s.albedo = saturate(texel.rgb * m.tint);
     var n = normalize(normal);
-    if (m.normal_layer != GPU_MATERIAL_NO_MAP) {
+    if (material_has(MATERIAL_NORMAL_MAP) && m.normal_layer != GPU_MATERIAL_NO_MAP) {
         let t = textureSampleGrad(data_maps, albedo_sampler, uv, m.normal_layer, duv_dx, duv_dy).xyz * 2.0 - 1.0;
         n = material_normal(n, tangent, vec3<f32>(t.xy * m.normal_scale, t.z));
     }
     s.normal = n;
     s.roughness = m.roughness;
     s.metallic = m.metallic;
-    if (m.metallic_roughness_layer != GPU_MATERIAL_NO_MAP) {
+    if (material_has(MATERIAL_METALLIC_ROUGHNESS_MAP) && m.metallic_roughness_layer != GPU_MATERIAL_NO_MAP) {
         let mr = textureSampleGrad(data_maps, albedo_sampler, uv, m.metallic_roughness_layer, duv_dx, duv_dy);
         s.roughness *= mr.g;
         s.metallic *= mr.b;
     }
     var occlusion = 1.0;
-    if (m.occlusion_layer != GPU_MATERIAL_NO_MAP) {
+    if (material_has(MATERIAL_OCCLUSION_MAP) && m.occlusion_layer != GPU_MATERIAL_NO_MAP) {
         let o = textureSampleGrad(data_maps, albedo_sampler, uv, m.occlusion_layer, duv_dx, duv_dy).r;
         occlusion = 1.0 + m.occlusion_strength * (o - 1.0);
     }
-    var emissive = m.emissive;
-    if (m.emissive_layer != GPU_MATERIAL_NO_MAP) {
+    var emissive = vec3<f32>(0.0);
+    if (material_has(MATERIAL_EMISSIVE)) {
+        emissive = m.emissive;
+    }
+    if (material_has(MATERIAL_EMISSIVE) && m.emissive_layer != GPU_MATERIAL_NO_MAP) {
         emissive *= textureSampleGrad(albedo, albedo_sampler, uv, m.emissive_layer, duv_dx, duv_dy).rgb;
     }
     let diffuse = s.albedo * (1.0 - s.metallic);
