@@ -45,21 +45,27 @@ fn bit_mask(v: u32, q: u32) -> u32 {
 fn undo_down<const N: usize>(mut x: [u32; N], bits: u32) -> [u32; N] {
     let mut level = bits - 1;
     while level > 0 {
-        let q = 1u32 << level;
-        let p = q - 1;
-        // Axis 0 against itself: invert the low bits when its bit is set.
-        x[0] ^= p & bit_mask(x[0], q);
-        let mut i = 1;
-        while i < N {
-            let set = bit_mask(x[i], q);
-            let t = (x[0] ^ x[i]) & p & !set; // exchange when the bit is clear
-            x[0] ^= (p & set) | t; // invert when set
-            x[i] ^= t;
-            i += 1;
-        }
+        undo_level(&mut x, level);
         level -= 1;
     }
     x
+}
+
+/// One level of [`undo_down`]: bit `level` of each axis against axis 0.
+#[inline(always)]
+fn undo_level<const N: usize>(x: &mut [u32; N], level: u32) {
+    let q = 1u32 << level;
+    let p = q - 1;
+    // Axis 0 against itself: invert the low bits when its bit is set.
+    x[0] ^= p & bit_mask(x[0], q);
+    let mut i = 1;
+    while i < N {
+        let set = bit_mask(x[i], q);
+        let t = (x[0] ^ x[i]) & p & !set; // exchange when the bit is clear
+        x[0] ^= (p & set) | t; // invert when set
+        x[i] ^= t;
+        i += 1;
+    }
 }
 
 /// The inverse of [`undo_down`]: from bit 1 up to the top bit, axes in reverse order.
@@ -409,24 +415,8 @@ pub fn decode3_u64(key: u64) -> [u32; 3] {
 mod skilling {
     use super::*;
 
-    /// One level of [`undo_down`].
-    #[inline(always)]
-    fn level<const N: usize>(x: &mut [u32; N], level: u32) {
-        let q = 1u32 << level;
-        let p = q - 1;
-        x[0] ^= p & bit_mask(x[0], q);
-        let mut i = 1;
-        while i < N {
-            let set = bit_mask(x[i], q);
-            let t = (x[0] ^ x[i]) & p & !set;
-            x[0] ^= (p & set) | t;
-            x[i] ^= t;
-            i += 1;
-        }
-    }
-
     macro_rules! levels {
-        ($x:ident; $($l:literal)*) => { $( level(&mut $x, $l); )* };
+        ($x:ident; $($l:literal)*) => { $( undo_level(&mut $x, $l); )* };
     }
 
     #[inline(always)]
