@@ -451,6 +451,23 @@ pub fn box_hiz(
     crate::HiZ::build(&depth, width, height, reversed)
 }
 
+/// A box's 12 triangles as indices of its corners, corner `i` taking the high x, y and z
+/// where bits 0, 1 and 2 of `i` are set.
+pub const BOX_TRIANGLES: [[usize; 3]; 12] = [
+    [0, 1, 3],
+    [0, 3, 2],
+    [4, 6, 7],
+    [4, 7, 5],
+    [0, 4, 5],
+    [0, 5, 1],
+    [2, 3, 7],
+    [2, 7, 6],
+    [0, 2, 6],
+    [0, 6, 4],
+    [1, 5, 7],
+    [1, 7, 3],
+];
+
 /// Rasterises boxes (world space, f64 corners) into a depth buffer with the wgpu
 /// conventions (see [`view`](crate::view)): 12 triangles per box, pixel centres at +0.5,
 /// depth = clip z / w, keeping the nearest; triangles with a vertex at `w <= near_w` are
@@ -468,20 +485,6 @@ pub fn raster_boxes(
 ) -> Vec<f32> {
     let mut depth = alloc::vec![if reversed { 0.0f32 } else { 1.0 }; (width * height) as usize];
     let o = origin.as_dvec3();
-    const TRIS: [[usize; 3]; 12] = [
-        [0, 1, 3],
-        [0, 3, 2],
-        [4, 6, 7],
-        [4, 7, 5],
-        [0, 4, 5],
-        [0, 5, 1],
-        [2, 3, 7],
-        [2, 7, 6],
-        [0, 2, 6],
-        [0, 6, 4],
-        [1, 5, 7],
-        [1, 7, 3],
-    ];
     for (lo, hi) in boxes {
         let (lo, hi) = ((*lo - o).as_vec3(), (*hi - o).as_vec3());
         let corners: [Vec4; 8] = core::array::from_fn(|i| {
@@ -492,7 +495,7 @@ pub fn raster_boxes(
             );
             *clip_from_floating * p.extend(1.0)
         });
-        for t in TRIS {
+        for t in BOX_TRIANGLES {
             let v = [corners[t[0]], corners[t[1]], corners[t[2]]];
             if v.iter().any(|c| c.w.is_nan() || c.w <= 1e-3) {
                 continue;
