@@ -179,20 +179,10 @@ fn deferred_texturing_looks_like_the_depth_equal_baseline() {
     }
 }
 
-/// Bounds against the committed golden images, which were blessed on llvmpipe (the CI
-/// driver): tight there. Other drivers rasterise alpha-tested foliage edges and filter
-/// textures differently; on the H100 (NVIDIA 580.159.04, Vulkan) forest measured mean
-/// 1.456 and p99 53, so other adapters get looser bounds (the strict check on every
-/// device is the deferred-vs-baseline comparison above, on one device).
-fn golden_bounds() -> GoldenBounds {
-    if ctx().info.device_type == wgpu::DeviceType::Cpu {
-        GoldenBounds { mean: 0.5, p99: 16 }
-    } else {
-        GoldenBounds { mean: 3.0, p99: 96 }
-    }
-}
-
-/// `GPU_BLESS=1 cargo test -p gpu --test frame` rewrites them from this device.
+/// Each scene against its committed golden image, within the bounds for images blessed on
+/// llvmpipe (the strict check on every device is the deferred-vs-baseline comparison
+/// above, on one device). `GPU_BLESS=1 cargo test -p gpu --test frame` rewrites them from
+/// this device.
 #[test]
 fn each_scene_matches_its_golden_image() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
@@ -201,7 +191,7 @@ fn each_scene_matches_its_golden_image() {
         check_golden(
             &dir.join(format!("{}_160x90.png", kind.name())),
             &deferred,
-            golden_bounds(),
+            GoldenBounds::blessed_on_llvmpipe(),
         );
     }
 }
