@@ -4,8 +4,8 @@
 use glam::{Affine3A, DMat4, DQuat, DVec3, DVec4, Mat3, Mat4, Vec3};
 use staticscene::demo::{BOX_TRIANGLES, CityConfig, city};
 use staticscene::{
-    Aabb, BuildConfig, Camera, FILTER_ALL, LodLevel, MeshNode, MeshPart, PlacedObject,
-    ResourceLibrary, Scene, StaticMesh, StreamingGroup, TileStreamer,
+    Aabb, BuildConfig, Camera, FILTER_ALL, MeshNode, MeshPart, PlacedObject, ResourceLibrary,
+    Scene, StaticMesh, StreamingGroup, TileStreamer,
 };
 
 /// Builds a scene from resources and groups.
@@ -48,13 +48,7 @@ pub fn mesh(handle: u64, min: Vec3, max: Vec3) -> MeshNode {
 
 /// A LOD switch.
 pub fn lod(bounds: Aabb, levels: Vec<(f32, f32, MeshNode)>) -> MeshNode {
-    MeshNode::Lod {
-        bounds,
-        levels: levels
-            .into_iter()
-            .map(|(min, max, node)| LodLevel { min, max, node })
-            .collect(),
-    }
+    MeshNode::lod(bounds, levels)
 }
 
 /// A one-part multi-mesh placing `node` with `t`.
