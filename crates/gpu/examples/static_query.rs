@@ -160,9 +160,7 @@ fn main() -> anyhow::Result<()> {
             wave_width: query.wave_width().unwrap_or(staticscene::WaveWidth::W64),
             ..QueryOptions::default()
         };
-        // Warm-up: the SM clock drops when idle.
-        let start = Instant::now();
-        while start.elapsed() < Duration::from_millis(500) {
+        let mut run = || {
             query.run(
                 device,
                 queue,
@@ -170,19 +168,17 @@ fn main() -> anyhow::Result<()> {
                 &params,
                 &options,
                 QueryReadback::Counters,
-            )?;
+            )
+        };
+        // Warm-up: the SM clock drops when idle.
+        let start = Instant::now();
+        while start.elapsed() < Duration::from_millis(500) {
+            run()?;
         }
         let mut gpu_ms = Vec::new();
         let mut last = None;
         for _ in 0..args.frames {
-            let out = query.run(
-                device,
-                queue,
-                &mut scene,
-                &params,
-                &options,
-                QueryReadback::Counters,
-            )?;
+            let out = run()?;
             gpu_ms.extend(out.gpu_ms);
             last = Some(out);
         }

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 use demo::{DemoOptions, DemoScene};
 use gpu::framealloc::PoolConfig;
-use gpu::inspect::diff_metrics;
+use gpu::inspect::{ClassificationStats, GpuClassification, diff_metrics};
 use gpu::{FrameInput, RenderPath, Rgba8Image, Scene};
 use testkit::device::{GoldenBounds, check_golden, ctx};
 use visbuf::{ShadingRate, VisFields, VisId, VisLayout};
@@ -37,6 +37,20 @@ fn subgroup_settings() -> Vec<bool> {
         .collect()
 }
 
+/// Renders `frame` deferred and asserts that its GPU classification equals the CPU twin
+/// (`what` names the case); the classification and its statistics.
+fn render_equals_twin(
+    r: &mut gpu::Renderer,
+    prepared: &gpu::PreparedScene,
+    frame: &FrameInput,
+    what: &str,
+) -> (GpuClassification, ClassificationStats) {
+    r.render(prepared, frame, RenderPath::Deferred).unwrap();
+    let gpu = r.inspect().read_classification(prepared).unwrap();
+    let stats = common::equals_twin(r, prepared, &gpu, what);
+    (gpu, stats)
+}
+
 #[test]
 fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
     for kind in DemoScene::ALL {
@@ -45,12 +59,10 @@ fn gpu_classification_equals_the_cpu_twin_on_both_demo_scenes() {
             // 300x200: partial tiles on the right and bottom edges.
             let mut r = common::renderer(300, 200, subgroups);
             let prepared = r.prepare(&scene).unwrap();
-            r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-            let gpu = r.inspect().read_classification(&prepared).unwrap();
-            let stats = common::equals_twin(
-                &r,
+            let (_, stats) = render_equals_twin(
+                &mut r,
                 &prepared,
-                &gpu,
+                &frame,
                 &format!("{} subgroups {subgroups}", kind.name()),
             );
             assert!(
@@ -179,20 +191,10 @@ fn deferred_texturing_looks_like_the_depth_equal_baseline() {
     }
 }
 
-/// Bounds against the committed golden images, which were blessed on llvmpipe (the CI
-/// driver): tight there. Other drivers rasterise alpha-tested foliage edges and filter
-/// textures differently; on the H100 (NVIDIA 580.159.04, Vulkan) forest measured mean
-/// 1.456 and p99 53, so other adapters get looser bounds (the strict check on every
-/// device is the deferred-vs-baseline comparison above, on one device).
-fn golden_bounds() -> GoldenBounds {
-    if ctx().info.device_type == wgpu::DeviceType::Cpu {
-        GoldenBounds { mean: 0.5, p99: 16 }
-    } else {
-        GoldenBounds { mean: 3.0, p99: 96 }
-    }
-}
-
-/// `GPU_BLESS=1 cargo test -p gpu --test frame` rewrites them from this device.
+/// Each scene against its committed golden image, within the bounds for images blessed on
+/// llvmpipe (the strict check on every device is the deferred-vs-baseline comparison
+/// above, on one device). `GPU_BLESS=1 cargo test -p gpu --test frame` rewrites them from
+/// this device.
 #[test]
 fn each_scene_matches_its_golden_image() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden");
@@ -201,7 +203,7 @@ fn each_scene_matches_its_golden_image() {
         check_golden(
             &dir.join(format!("{}_160x90.png", kind.name())),
             &deferred,
-            golden_bounds(),
+            GoldenBounds::blessed_on_llvmpipe(),
         );
     }
 }
@@ -474,9 +476,8 @@ fn the_compute_laydown_classifies_each_frame_afresh() {
         let mut masks = Vec::new();
         let mut culls = Vec::new();
         for f in [&frame, &turned] {
-            r.render(&prepared, f, RenderPath::Deferred).unwrap();
-            let gpu = r.inspect().read_classification(&prepared).unwrap();
-            common::equals_twin(&r, &prepared, &gpu, &format!("vertex ring {vertex_ring:?}"));
+            let what = format!("vertex ring {vertex_ring:?}");
+            let (gpu, _) = render_equals_twin(&mut r, &prepared, f, &what);
             masks.push(gpu.masks);
             culls.push(gpu.vertex_cull);
         }
@@ -525,12 +526,10 @@ fn the_compute_laydown_frame_matches_the_hardware_laydown_frame() {
             });
             assert_eq!(r.laydown(), laydown);
             let prepared = r.prepare(&scene).unwrap();
-            r.render(&prepared, &frame, RenderPath::Deferred).unwrap();
-            let gpu = r.inspect().read_classification(&prepared).unwrap();
-            let stats = common::equals_twin(
-                &r,
+            let (gpu, stats) = render_equals_twin(
+                &mut r,
                 &prepared,
-                &gpu,
+                &frame,
                 &format!("{} {}", kind.name(), laydown.name()),
             );
             let laydown_stats = r.inspect().read_laydown_stats(&prepared).unwrap();

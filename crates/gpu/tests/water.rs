@@ -244,16 +244,6 @@ fn displacement_equals_the_cpu_fbm_and_decals() {
     assert!(in_decal > 20, "{in_decal}");
 }
 
-/// Bounds against the committed golden image (blessed on llvmpipe): tight there, looser on
-/// other drivers, as frame.rs's.
-fn golden_bounds() -> GoldenBounds {
-    if ctx().info.device_type == wgpu::DeviceType::Cpu {
-        GoldenBounds { mean: 0.5, p99: 16 }
-    } else {
-        GoldenBounds { mean: 3.0, p99: 96 }
-    }
-}
-
 #[test]
 fn the_river_matches_its_golden_image() {
     let (mut r, p) = river_renderer(160, 90, true, WaterOptions::default());
@@ -262,7 +252,7 @@ fn the_river_matches_its_golden_image() {
     check_golden(
         &dir.join("river_160x90.png"),
         &r.read_output().unwrap(),
-        golden_bounds(),
+        GoldenBounds::blessed_on_llvmpipe(),
     );
 }
 

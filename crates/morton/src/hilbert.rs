@@ -45,21 +45,27 @@ fn bit_mask(v: u32, q: u32) -> u32 {
 fn undo_down<const N: usize>(mut x: [u32; N], bits: u32) -> [u32; N] {
     let mut level = bits - 1;
     while level > 0 {
-        let q = 1u32 << level;
-        let p = q - 1;
-        // Axis 0 against itself: invert the low bits when its bit is set.
-        x[0] ^= p & bit_mask(x[0], q);
-        let mut i = 1;
-        while i < N {
-            let set = bit_mask(x[i], q);
-            let t = (x[0] ^ x[i]) & p & !set; // exchange when the bit is clear
-            x[0] ^= (p & set) | t; // invert when set
-            x[i] ^= t;
-            i += 1;
-        }
+        undo_level(&mut x, level);
         level -= 1;
     }
     x
+}
+
+/// One level of [`undo_down`]: bit `level` of each axis against axis 0.
+#[inline(always)]
+fn undo_level<const N: usize>(x: &mut [u32; N], level: u32) {
+    let q = 1u32 << level;
+    let p = q - 1;
+    // Axis 0 against itself: invert the low bits when its bit is set.
+    x[0] ^= p & bit_mask(x[0], q);
+    let mut i = 1;
+    while i < N {
+        let set = bit_mask(x[i], q);
+        let t = (x[0] ^ x[i]) & p & !set; // exchange when the bit is clear
+        x[0] ^= (p & set) | t; // invert when set
+        x[i] ^= t;
+        i += 1;
+    }
 }
 
 /// The inverse of [`undo_down`]: from bit 1 up to the top bit, axes in reverse order.
@@ -85,13 +91,9 @@ fn undo_up<const N: usize>(mut x: [u32; N], bits: u32) -> [u32; N] {
 
 /// Gray decode of a whole key: bit `j` becomes the XOR of bits `j` and above.
 #[inline(always)]
-fn gray_decode_u32(mut k: u32) -> u32 {
-    k ^= k >> 1;
-    k ^= k >> 2;
-    k ^= k >> 4;
-    k ^= k >> 8;
-    k ^= k >> 16;
-    k
+fn gray_decode_u32(k: u32) -> u32 {
+    // The bits above 31 are zero, so the 64-bit decode's top shift adds nothing.
+    gray_decode_u64(u64::from(k)) as u32
 }
 
 #[inline(always)]
@@ -259,10 +261,12 @@ const fn states(n: usize) -> usize {
     f << n
 }
 
-/// The encode table for `L` levels per lookup: index `state << (N*L) | octants` (the
-/// higher level's octant in the higher bits, each octant in Morton order, x lowest); entry
-/// `next_state << (N*L) | key digits`.
-const fn encode_table<const N: usize, const L: usize, const SIZE: usize>() -> [u16; SIZE] {
+/// The lookup table for `L` levels per lookup, index `state << (N*L) | chunk`, entry
+/// `next_state << (N*L) | digits`. The encode table (`DECODE = false`) takes octants (the
+/// higher level's octant in the higher bits, each octant in Morton order, x lowest) to key
+/// digits; the decode table takes transposed key digits (Gray-coded key) to Morton octants.
+const fn table<const N: usize, const L: usize, const SIZE: usize, const DECODE: bool>()
+-> [u16; SIZE] {
     let bits = N * L;
     let mut t = [0u16; SIZE];
     let mut s = 0;
@@ -273,9 +277,15 @@ const fn encode_table<const N: usize, const L: usize, const SIZE: usize>() -> [u
             let mut digits = 0u32;
             let mut l = 0;
             while l < L {
-                let o = (chunk >> (N * (L - 1 - l))) & ((1 << N) - 1);
-                let c = sigma.apply(o);
-                digits = (digits << N) | Sigma::<N>::key_digit(c);
+                let d = (chunk >> (N * (L - 1 - l))) & ((1 << N) - 1);
+                let (c, out) = if DECODE {
+                    let c = Sigma::<N>::from_key_digit(d);
+                    (c, sigma.unapply(c))
+                } else {
+                    let c = sigma.apply(d);
+                    (c, Sigma::<N>::key_digit(c))
+                };
+                digits = (digits << N) | out;
                 sigma = sigma.step(c);
                 l += 1;
             }
@@ -287,42 +297,15 @@ const fn encode_table<const N: usize, const L: usize, const SIZE: usize>() -> [u
     t
 }
 
-/// The decode table: index `state << (N*L) | transposed key digits` (Gray-coded key);
-/// entry `next_state << (N*L) | Morton octants`.
-const fn decode_table<const N: usize, const L: usize, const SIZE: usize>() -> [u16; SIZE] {
-    let bits = N * L;
-    let mut t = [0u16; SIZE];
-    let mut s = 0;
-    while s < states(N) {
-        let mut chunk = 0u32;
-        while chunk < (1 << bits) {
-            let mut sigma = Sigma::<N>::from_index(s);
-            let mut octants = 0u32;
-            let mut l = 0;
-            while l < L {
-                let d = (chunk >> (N * (L - 1 - l))) & ((1 << N) - 1);
-                let c = Sigma::<N>::from_key_digit(d);
-                octants = (octants << N) | sigma.unapply(c);
-                sigma = sigma.step(c);
-                l += 1;
-            }
-            t[(s << bits) | chunk as usize] = ((sigma.index() << bits) as u32 | octants) as u16;
-            chunk += 1;
-        }
-        s += 1;
-    }
-    t
-}
-
 /// 3D, two levels (6 bits) per lookup: 48 states x 64 = 6 KiB.
-static ENC3: [u16; 48 * 64] = encode_table::<3, 2, { 48 * 64 }>();
-static DEC3: [u16; 48 * 64] = decode_table::<3, 2, { 48 * 64 }>();
+static ENC3: [u16; 48 * 64] = table::<3, 2, { 48 * 64 }, false>();
+static DEC3: [u16; 48 * 64] = table::<3, 2, { 48 * 64 }, true>();
 /// 3D, one level per lookup (for the odd 21st level of u64 keys).
-static ENC3_1: [u16; 48 * 8] = encode_table::<3, 1, { 48 * 8 }>();
-static DEC3_1: [u16; 48 * 8] = decode_table::<3, 1, { 48 * 8 }>();
+static ENC3_1: [u16; 48 * 8] = table::<3, 1, { 48 * 8 }, false>();
+static DEC3_1: [u16; 48 * 8] = table::<3, 1, { 48 * 8 }, true>();
 /// 2D, four levels (8 bits) per lookup: 8 states x 256 = 4 KiB.
-static ENC2: [u16; 8 * 256] = encode_table::<2, 4, { 8 * 256 }>();
-static DEC2: [u16; 8 * 256] = decode_table::<2, 4, { 8 * 256 }>();
+static ENC2: [u16; 8 * 256] = table::<2, 4, { 8 * 256 }, false>();
+static DEC2: [u16; 8 * 256] = table::<2, 4, { 8 * 256 }, true>();
 
 // The walks start in state 0: it must be the identity.
 const _: () = assert!(states(3) == 48 && states(2) == 8);
@@ -432,24 +415,8 @@ pub fn decode3_u64(key: u64) -> [u32; 3] {
 mod skilling {
     use super::*;
 
-    /// One level of [`undo_down`].
-    #[inline(always)]
-    fn level<const N: usize>(x: &mut [u32; N], level: u32) {
-        let q = 1u32 << level;
-        let p = q - 1;
-        x[0] ^= p & bit_mask(x[0], q);
-        let mut i = 1;
-        while i < N {
-            let set = bit_mask(x[i], q);
-            let t = (x[0] ^ x[i]) & p & !set;
-            x[0] ^= (p & set) | t;
-            x[i] ^= t;
-            i += 1;
-        }
-    }
-
     macro_rules! levels {
-        ($x:ident; $($l:literal)*) => { $( level(&mut $x, $l); )* };
+        ($x:ident; $($l:literal)*) => { $( undo_level(&mut $x, $l); )* };
     }
 
     #[inline(always)]

@@ -57,37 +57,36 @@ fn full_walks_are_face_adjacent() {
 #[test]
 fn fixed_widths_walk_adjacent_at_the_top_too() {
     for start in [0u32, 12_345, (1 << 30) - 5_000] {
-        let mut prev = hilbert::decode3_u32(start);
-        for key in start + 1..(start + 5_000).min(1 << 30) {
+        assert_walk_adjacent(start..(start + 5_000).min(1 << 30), |key| {
             let c = hilbert::decode3_u32(key);
-            assert_eq!(manhattan(prev, c), 1, "key {key}");
             assert_eq!(hilbert::encode3_u32(c[0], c[1], c[2]), key);
-            prev = c;
-        }
+            c
+        });
     }
     for start in [0u64, 1 << 40, (1 << 63) - 3_000] {
-        let mut prev = hilbert::decode3_u64(start);
-        for key in start + 1..start + 2_999 {
-            let c = hilbert::decode3_u64(key);
-            assert_eq!(manhattan(prev, c), 1, "key {key}");
-            prev = c;
-        }
+        assert_walk_adjacent(start..start + 2_999, hilbert::decode3_u64);
     }
     for start in [0u32, u32::MAX - 3_000] {
-        let mut prev = hilbert::decode2_u32(start);
-        for key in start + 1..start + 2_999 {
-            let c = hilbert::decode2_u32(key);
-            assert_eq!(manhattan(prev, c), 1, "key {key}");
-            prev = c;
-        }
+        assert_walk_adjacent(start..start + 2_999, hilbert::decode2_u32);
     }
     for start in [0u64, u64::MAX - 3_000] {
-        let mut prev = hilbert::decode2_u64(start);
-        for key in start + 1..start + 2_999 {
-            let c = hilbert::decode2_u64(key);
-            assert_eq!(manhattan(prev, c), 1, "key {key}");
-            prev = c;
-        }
+        assert_walk_adjacent(start..start + 2_999, hilbert::decode2_u64);
+    }
+}
+
+/// Asserts that each of `keys` after the first decodes to a cell one step from the
+/// previous key's.
+fn assert_walk_adjacent<K, const N: usize>(
+    mut keys: impl Iterator<Item = K>,
+    decode: impl Fn(K) -> [u32; N],
+) where
+    K: Copy + std::fmt::Display,
+{
+    let mut prev = decode(keys.next().unwrap());
+    for key in keys {
+        let c = decode(key);
+        assert_eq!(manhattan(prev, c), 1, "key {key}");
+        prev = c;
     }
 }
 

@@ -1,7 +1,7 @@
 //! The parallel functions equal the sequential ones exactly.
 
 use glam::Vec3;
-use morton::{Error, Quantizer3, parallel, sort_permutation};
+use morton::{Error, Quantizer3, SortKey, parallel, sort_permutation};
 
 fn points(n: usize, seed: u64) -> Vec<Vec3> {
     let mut rng = testkit::Rng::new(seed);
@@ -40,6 +40,14 @@ fn nan_error_names_the_same_point() {
     assert!(q.par_morton_u32_slice(&pts, &mut short).is_err());
 }
 
+/// Asserts that the parallel sort permutation of `keys` equals the sequential one.
+fn assert_par_sort_equal<K: SortKey>(keys: &[K]) {
+    assert_eq!(
+        parallel::par_sort_permutation(keys).unwrap(),
+        sort_permutation(keys).unwrap()
+    );
+}
+
 #[test]
 fn sort_equals_sequential() {
     let pts = points(300_000, 11);
@@ -49,26 +57,16 @@ fn sort_equals_sequential() {
     // Coarse keys have many ties: stability matters.
     let coarse: Vec<u32> = k32.iter().map(|k| k >> 12).collect();
     for keys in [&k32, &coarse] {
-        assert_eq!(
-            parallel::par_sort_permutation(keys).unwrap(),
-            sort_permutation(keys).unwrap()
-        );
+        assert_par_sort_equal(keys);
     }
     let q = Quantizer3::new(Vec3::splat(-100.0), Vec3::splat(100.0), 21).unwrap();
     let mut k64 = vec![0u64; pts.len()];
     q.morton_u64_slice(&pts, &mut k64).unwrap();
     let coarse: Vec<u64> = k64.iter().map(|k| k >> 40).collect();
     for keys in [&k64, &coarse] {
-        assert_eq!(
-            parallel::par_sort_permutation(keys).unwrap(),
-            sort_permutation(keys).unwrap()
-        );
+        assert_par_sort_equal(keys);
     }
-    let same = vec![5u64; 100_000];
-    assert_eq!(
-        parallel::par_sort_permutation(&same).unwrap(),
-        sort_permutation(&same).unwrap()
-    );
+    assert_par_sort_equal(&vec![5u64; 100_000]);
     let small = [3u32, 1, 2];
     assert_eq!(parallel::par_sort_permutation(&small).unwrap(), [1, 2, 0]);
 }

@@ -734,16 +734,7 @@ mod tests {
     /// bias, spelled in wgpu by hand.
     #[test]
     fn depth_and_blend_convert_field_by_field() {
-        let shade = Depth::test(
-            DepthFormat::Depth24PlusStencil8,
-            Compare::GreaterEqual,
-            false,
-        )
-        .stencil(Stencil::both(StencilFace::new(
-            Compare::Equal,
-            StencilOp::Zero,
-            StencilOp::Zero,
-        )));
+        let shade = crate::raster::tests::SHADE.depth.unwrap();
         let face = wgpu::StencilFaceState {
             compare: wgpu::CompareFunction::Equal,
             fail_op: wgpu::StencilOperation::Keep,

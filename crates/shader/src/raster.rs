@@ -552,7 +552,7 @@ pub const fn integer_target(format: Format) -> bool {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     const VOLUME: &[VertexBuffer<'static>] = &[VertexBuffer {
@@ -565,7 +565,9 @@ mod tests {
         }],
     }];
 
-    const SHADE: Raster<'static> = Raster::new("shade", "vs_volume")
+    /// The light volumes' shading pipeline, its depth state given in full (the pipeline
+    /// tests convert it to wgpu's).
+    pub(crate) const SHADE: Raster<'static> = Raster::new("shade", "vs_volume")
         .fragment("fs_shade")
         .buffers(VOLUME)
         .targets(&[Target::additive(Format::Rgba16Float)])

@@ -17,12 +17,27 @@ use staticscene::demo::{
     City, CityConfig, aerial_camera, box_hiz, city, raster_boxes, street_camera,
 };
 use staticscene::{
-    BuildConfig, Camera, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput, QueryParams,
-    ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
+    BuildConfig, Camera, DrawableSetupBatch, DrawableSetupInstance, HiZ, QueryOptions, QueryOutput,
+    QueryParams, ResourceLibrary, Scene, TileStreamer, ViewDesc, snap_origin,
 };
 
 const INSTANCES: usize = 1_500_000;
 const VIEWPORT: [u32; 2] = [1920, 1080];
+
+/// One sequential frame of the flat baseline over `flat` into `fo` and `fb` (cleared
+/// first), the records in world space.
+fn flat_frame(
+    flat: &[Flat],
+    fade: &mut [u8],
+    params: &QueryParams,
+    hiz: &HiZ,
+    fo: &mut Vec<DrawableSetupInstance>,
+    fb: &mut Vec<DrawableSetupBatch>,
+) {
+    fo.clear();
+    fb.clear();
+    flat_query(flat, fade, params, glam::IVec3::ZERO, Some(hiz), fo, fb, 0);
+}
 
 fn build_scene(c: &City) -> Scene {
     let mut streamer =
@@ -121,18 +136,7 @@ fn bench(c: &mut Criterion) {
         let (mut fo, mut fb) = (Vec::new(), Vec::new());
         g.bench_function(BenchmarkId::new("flat_loop", "sequential"), |b| {
             b.iter(|| {
-                fo.clear();
-                fb.clear();
-                flat_query(
-                    &flat,
-                    &mut fade,
-                    &params,
-                    glam::IVec3::ZERO,
-                    Some(&hiz),
-                    &mut fo,
-                    &mut fb,
-                    0,
-                );
+                flat_frame(&flat, &mut fade, &params, &hiz, &mut fo, &mut fb);
                 black_box(fo.len())
             })
         });
@@ -161,18 +165,7 @@ fn bench(c: &mut Criterion) {
             })
         });
         g.finish();
-        fo.clear();
-        fb.clear();
-        flat_query(
-            &flat,
-            &mut fade,
-            &params,
-            glam::IVec3::ZERO,
-            Some(&hiz),
-            &mut fo,
-            &mut fb,
-            0,
-        );
+        flat_frame(&flat, &mut fade, &params, &hiz, &mut fo, &mut fb);
         println!(
             "{name}: flat baseline draws {} items ({} bytes of records per instance)",
             fb.len(),

@@ -15,7 +15,7 @@ use alloc::vec::Vec;
 
 use glam::{Affine3A, DVec3, Mat3, Mat4, Vec3, Vec4};
 
-use crate::resource::{Aabb, LodLevel, MeshNode, MeshPart, StaticMesh};
+use crate::resource::{Aabb, MeshNode, MeshPart, StaticMesh};
 use crate::tile::{PlacedObject, StreamingGroup};
 use crate::{FILTER_LOCAL_SHADOW, FILTER_SUN_SHADOW, FILTER_VISUAL};
 
@@ -164,16 +164,6 @@ fn leaf(setup: u64, min: Vec3, max: Vec3, filter: u8) -> MeshNode {
     })
 }
 
-fn lod(bounds: Aabb, levels: Vec<(f32, f32, MeshNode)>) -> MeshNode {
-    MeshNode::Lod {
-        bounds,
-        levels: levels
-            .into_iter()
-            .map(|(min, max, node)| LodLevel { min, max, node })
-            .collect(),
-    }
-}
-
 const ALL: u8 = FILTER_VISUAL | FILTER_SUN_SHADOW | FILTER_LOCAL_SHADOW;
 const BLOCK_W: f32 = 4.0;
 const BLOCK_H: f32 = 3.5;
@@ -220,7 +210,7 @@ fn block(ty: u64) -> MeshNode {
             ),
         },
     ]);
-    lod(
+    MeshNode::lod(
         b,
         alloc::vec![
             (0.0, 60.0, detail),
@@ -254,7 +244,7 @@ fn building(ty: u64, sides: u32, floors: u32) -> MeshNode {
         }
     }
     let collapsed = leaf(ty << 8 | 0xff, bounds.min, bounds.max, ALL);
-    lod(
+    MeshNode::lod(
         bounds,
         alloc::vec![
             (0.0, 300.0, MeshNode::Multi(parts)),
@@ -269,7 +259,7 @@ fn prop(handle: u64, size: Vec3, near: f32, far: f32) -> MeshNode {
         Vec3::new(-size.x * 0.5, 0.0, -size.z * 0.5),
         Vec3::new(size.x * 0.5, size.y, size.z * 0.5),
     );
-    lod(
+    MeshNode::lod(
         b,
         alloc::vec![
             (0.0, near, leaf(handle, b.min, b.max, ALL)),
@@ -306,17 +296,17 @@ pub fn city(config: &CityConfig) -> City {
     resources.push(prop(0x10_020, Vec3::new(5.0, 9.0, 5.0), 120.0, 1500.0)); // tree
     resources.push(prop(0x10_030, Vec3::new(4.5, 1.5, 2.0), 60.0, 600.0)); // parked car
     // Misfits: a fountain with three nested LOD switches, a skinned flag.
-    let fountain = lod(
+    let fountain = MeshNode::lod(
         Aabb::new(Vec3::splat(-3.0), Vec3::splat(3.0)),
         alloc::vec![(
             0.0,
             200.0,
-            lod(
+            MeshNode::lod(
                 Aabb::new(Vec3::splat(-3.0), Vec3::splat(3.0)),
                 alloc::vec![(
                     0.0,
                     100.0,
-                    lod(
+                    MeshNode::lod(
                         Aabb::new(Vec3::splat(-1.0), Vec3::splat(1.0)),
                         alloc::vec![(
                             0.0,
@@ -451,6 +441,23 @@ pub fn box_hiz(
     crate::HiZ::build(&depth, width, height, reversed)
 }
 
+/// A box's 12 triangles as indices of its corners, corner `i` taking the high x, y and z
+/// where bits 0, 1 and 2 of `i` are set.
+pub const BOX_TRIANGLES: [[usize; 3]; 12] = [
+    [0, 1, 3],
+    [0, 3, 2],
+    [4, 6, 7],
+    [4, 7, 5],
+    [0, 4, 5],
+    [0, 5, 1],
+    [2, 3, 7],
+    [2, 7, 6],
+    [0, 2, 6],
+    [0, 6, 4],
+    [1, 5, 7],
+    [1, 7, 3],
+];
+
 /// Rasterises boxes (world space, f64 corners) into a depth buffer with the wgpu
 /// conventions (see [`view`](crate::view)): 12 triangles per box, pixel centres at +0.5,
 /// depth = clip z / w, keeping the nearest; triangles with a vertex at `w <= near_w` are
@@ -468,20 +475,6 @@ pub fn raster_boxes(
 ) -> Vec<f32> {
     let mut depth = alloc::vec![if reversed { 0.0f32 } else { 1.0 }; (width * height) as usize];
     let o = origin.as_dvec3();
-    const TRIS: [[usize; 3]; 12] = [
-        [0, 1, 3],
-        [0, 3, 2],
-        [4, 6, 7],
-        [4, 7, 5],
-        [0, 4, 5],
-        [0, 5, 1],
-        [2, 3, 7],
-        [2, 7, 6],
-        [0, 2, 6],
-        [0, 6, 4],
-        [1, 5, 7],
-        [1, 7, 3],
-    ];
     for (lo, hi) in boxes {
         let (lo, hi) = ((*lo - o).as_vec3(), (*hi - o).as_vec3());
         let corners: [Vec4; 8] = core::array::from_fn(|i| {
@@ -492,7 +485,7 @@ pub fn raster_boxes(
             );
             *clip_from_floating * p.extend(1.0)
         });
-        for t in TRIS {
+        for t in BOX_TRIANGLES {
             let v = [corners[t[0]], corners[t[1]], corners[t[2]]];
             if v.iter().any(|c| c.w.is_nan() || c.w <= 1e-3) {
                 continue;

@@ -129,6 +129,21 @@ pub enum MeshNode {
     },
 }
 
+impl MeshNode {
+    /// A LOD switch over `bounds` (local space), one branch per `(min, max, node)`
+    /// distance bracket.
+    #[must_use]
+    pub fn lod(bounds: Aabb, levels: impl IntoIterator<Item = (f32, f32, MeshNode)>) -> Self {
+        MeshNode::Lod {
+            bounds,
+            levels: levels
+                .into_iter()
+                .map(|(min, max, node)| LodLevel { min, max, node })
+                .collect(),
+        }
+    }
+}
+
 /// Why a placed tree did not fit the static scene and went to the dynamic list.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DynamicReason {
@@ -435,13 +450,7 @@ mod tests {
     }
 
     fn lod(levels: Vec<(f32, f32, MeshNode)>) -> MeshNode {
-        MeshNode::Lod {
-            bounds: Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0)),
-            levels: levels
-                .into_iter()
-                .map(|(min, max, node)| LodLevel { min, max, node })
-                .collect(),
-        }
+        MeshNode::lod(Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0)), levels)
     }
 
     #[test]

@@ -71,39 +71,35 @@ fn looking(origin: DVec3, d: f64, away: bool) -> Camera {
     c
 }
 
+/// A camera view's frame, `d` in front of `origin` looking at it or (`away`) away from it.
+fn camera_frame(
+    scene: &mut Scene,
+    origin: DVec3,
+    d: f64,
+    away: bool,
+    precull: bool,
+) -> BTreeMap<u64, (f32, u32)> {
+    frame(scene, looking(origin, d, away), ViewKind::Camera, precull)
+}
+
 #[test]
 fn cross_fade_sums_to_one() {
     for precull in [true, false] {
         let (mut scene, o) = switch_scene(0);
         // A fresh tile: the near level fades in.
         for k in 1..=N {
-            let f = frame(
-                &mut scene,
-                looking(o, 40.0, false),
-                ViewKind::Camera,
-                precull,
-            );
+            let f = camera_frame(&mut scene, o, 40.0, false, precull);
             let want = k as f32 / N as f32;
             let flags = if k < N { STATE_FADING } else { 0 };
             assert_eq!(f, BTreeMap::from([(1, (want, flags))]), "fade-in frame {k}");
         }
         assert_eq!(
-            frame(
-                &mut scene,
-                looking(o, 40.0, false),
-                ViewKind::Camera,
-                precull
-            ),
+            camera_frame(&mut scene, o, 40.0, false, precull),
             BTreeMap::from([(1, (1.0, 0))])
         );
         // Cross the boundary: 1 fades out while 2 fades in.
         for k in 1..N {
-            let f = frame(
-                &mut scene,
-                looking(o, 60.0, false),
-                ViewKind::Camera,
-                precull,
-            );
+            let f = camera_frame(&mut scene, o, 60.0, false, precull);
             let (a, fa) = f[&1];
             let (b, fb) = f[&2];
             assert_eq!(a, (N - k) as f32 / N as f32, "frame {k}");
@@ -112,12 +108,7 @@ fn cross_fade_sums_to_one() {
             assert_eq!((fa, fb), (STATE_FADING | STATE_FADING_OUT, STATE_FADING));
         }
         assert_eq!(
-            frame(
-                &mut scene,
-                looking(o, 60.0, false),
-                ViewKind::Camera,
-                precull
-            ),
+            camera_frame(&mut scene, o, 60.0, false, precull),
             BTreeMap::from([(2, (1.0, 0))])
         );
         let id = scene.tiles()[0].id();
@@ -132,39 +123,13 @@ fn switches_off_screen_snap() {
     for precull in [true, false] {
         let (mut scene, o) = switch_scene(0);
         for _ in 0..N + 1 {
-            frame(
-                &mut scene,
-                looking(o, 60.0, false),
-                ViewKind::Camera,
-                precull,
-            );
+            camera_frame(&mut scene, o, 60.0, false, precull);
         }
         // Turn away, cross the boundary, turn back: the near level is simply there.
-        assert!(
-            frame(
-                &mut scene,
-                looking(o, 60.0, true),
-                ViewKind::Camera,
-                precull
-            )
-            .is_empty()
-        );
-        assert!(
-            frame(
-                &mut scene,
-                looking(o, 40.0, true),
-                ViewKind::Camera,
-                precull
-            )
-            .is_empty()
-        );
+        assert!(camera_frame(&mut scene, o, 60.0, true, precull).is_empty());
+        assert!(camera_frame(&mut scene, o, 40.0, true, precull).is_empty());
         assert_eq!(
-            frame(
-                &mut scene,
-                looking(o, 40.0, false),
-                ViewKind::Camera,
-                precull
-            ),
+            camera_frame(&mut scene, o, 40.0, false, precull),
             BTreeMap::from([(1, (1.0, 0))]),
             "precull {precull}"
         );
@@ -175,11 +140,11 @@ fn switches_off_screen_snap() {
 fn flagged_instances_and_shadow_views_pop() {
     let (mut scene, o) = switch_scene(INSTANCE_FLAG_NO_FADE);
     assert_eq!(
-        frame(&mut scene, looking(o, 40.0, false), ViewKind::Camera, true),
+        camera_frame(&mut scene, o, 40.0, false, true),
         BTreeMap::from([(1, (1.0, 0))])
     );
     assert_eq!(
-        frame(&mut scene, looking(o, 60.0, false), ViewKind::Camera, true),
+        camera_frame(&mut scene, o, 60.0, false, true),
         BTreeMap::from([(2, (1.0, 0))])
     );
     let (mut scene, o) = switch_scene(0);

@@ -22,6 +22,7 @@ use alloc::vec::Vec;
 use glam::{Affine3A, Quat, Vec2, Vec3};
 
 use crate::Error;
+use crate::grid::{clamped_index, size_getters};
 use crate::math;
 
 /// The value a displacement target is cleared to before the max blend.
@@ -80,17 +81,7 @@ impl DecalTexture {
         self.frames
     }
 
-    /// Width in texels.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Height in texels.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
+    size_getters!("Width in texels.", "Height in texels.");
 
     /// The texels, frame-major then row-major (what a renderer uploads).
     #[must_use]
@@ -99,10 +90,9 @@ impl DecalTexture {
     }
 
     fn texel(&self, frame: u32, x: i64, y: i64) -> Vec3 {
-        let x = x.clamp(0, i64::from(self.width) - 1) as usize;
-        let y = y.clamp(0, i64::from(self.height) - 1) as usize;
         let f = (frame % self.frames) as usize;
-        self.texels[(f * self.height as usize + y) * self.width as usize + x]
+        let frame_texels = self.width as usize * self.height as usize;
+        self.texels[f * frame_texels + clamped_index(self.width, self.height, x, y)]
     }
 
     /// Bilinear sample of frame `frame` at `uv` in `[0, 1]^2` (texel centres at

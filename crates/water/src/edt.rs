@@ -36,6 +36,7 @@ use core::ops::ControlFlow;
 use glam::Vec2;
 
 use crate::Error;
+use crate::grid::{clamped_index, size_getters};
 use crate::math;
 use crate::progress::{Progress, Stage, report};
 
@@ -64,17 +65,7 @@ impl DistanceField {
         })
     }
 
-    /// Width in texels.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-
-    /// Height in texels.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
+    size_getters!("Width in texels.", "Height in texels.");
 
     /// The values, row-major.
     #[must_use]
@@ -86,9 +77,7 @@ impl DistanceField {
     #[inline]
     #[must_use]
     pub fn at(&self, x: i64, y: i64) -> f32 {
-        let x = x.clamp(0, i64::from(self.width) - 1) as usize;
-        let y = y.clamp(0, i64::from(self.height) - 1) as usize;
-        self.values[y * self.width as usize + x]
+        self.values[clamped_index(self.width, self.height, x, y)]
     }
 
     /// Whether texel `(x, y)` is water (non-negative).

@@ -50,6 +50,7 @@ use glam::Vec2;
 
 use crate::Error;
 use crate::edt::DistanceField;
+use crate::grid::{clamped_index, size_getters};
 use crate::math;
 use crate::progress::{Progress, Stage, report};
 use crate::world::{River, spline};
@@ -154,16 +155,7 @@ impl FlowField {
         })
     }
 
-    /// Width in texels.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-    /// Height in texels.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
+    size_getters!("Width in texels.", "Height in texels.");
     /// Metres per texel.
     #[must_use]
     pub fn texel_size(&self) -> f32 {
@@ -182,9 +174,7 @@ impl FlowField {
     /// Velocity of texel `(x, y)` (clamped to the grid).
     #[must_use]
     pub fn texel(&self, x: i64, y: i64) -> Vec2 {
-        let x = x.clamp(0, i64::from(self.width) - 1) as usize;
-        let y = y.clamp(0, i64::from(self.height) - 1) as usize;
-        self.flow[y * self.width as usize + x]
+        self.flow[clamped_index(self.width, self.height, x, y)]
     }
     /// Bilinear velocity at world position `p` (clamped at the edges; zero for NaN).
     #[must_use]

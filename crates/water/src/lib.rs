@@ -131,6 +131,7 @@ pub mod flow;
 pub mod flowbake;
 pub mod foam;
 pub mod gbuffer;
+mod grid;
 pub mod hash;
 pub mod material;
 pub mod math;

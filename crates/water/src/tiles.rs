@@ -48,6 +48,7 @@ use glam::UVec2;
 
 use crate::Error;
 use crate::gbuffer::DataWord;
+use crate::grid::size_getters;
 
 /// The talk's tile size in pixels.
 pub const TILE_SIZE: u32 = 32;
@@ -127,16 +128,7 @@ impl TileGrid {
         })
     }
 
-    /// Buffer width in pixels.
-    #[must_use]
-    pub fn width(&self) -> u32 {
-        self.width
-    }
-    /// Buffer height in pixels.
-    #[must_use]
-    pub fn height(&self) -> u32 {
-        self.height
-    }
+    size_getters!("Buffer width in pixels.", "Buffer height in pixels.");
     /// Tile side in pixels.
     #[must_use]
     pub fn tile_size(&self) -> u32 {

@@ -30,7 +30,7 @@ pub(crate) use crate::resources::groups::LightVolumeGroups as Groups;
 use crate::resources::lights::GpuLightVolume;
 use crate::resources::lights::GpuLocalLights;
 use crate::resources::rows::FrameUniforms;
-use crate::resources::targets::{accumulation, depth_stencil};
+use crate::resources::targets::{accumulation, cleared_color, depth_stencil};
 use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 use deferred::GBufferLayout;
@@ -488,15 +488,7 @@ impl LightVolumes {
         let t = &f.targets.light_volumes;
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("light volumes"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.accumulation_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[cleared_color(&t.accumulation_view)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_stencil_view,
                 depth_ops: Some(wgpu::Operations {

@@ -119,28 +119,21 @@ impl StaticPlace {
         )?)
     }
 
-    /// Records the placement after the query: counters (and, without a count buffer, the
-    /// draw lists) zeroed, the dispatch arguments, the placement, the draws. `late`: the
-    /// frame's second run (two-pass occlusion): placed counts kept, the lists' counts
-    /// zeroed, full and late lists written.
-    pub(crate) fn record(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        b: &StaticBuffers,
-        group: &wgpu::BindGroup,
-        timer: &mut GpuTimer,
-        late: bool,
-    ) {
-        let label = if late {
+    /// The camera view's placement's timer label; `late`: its second run.
+    pub(crate) const fn camera_label(late: bool) -> &'static str {
+        if late {
             "static placement (late)"
         } else {
             "static placement"
-        };
-        self.record_labelled(encoder, b, group, timer, late, label);
+        }
     }
 
-    /// [`StaticPlace::record`] timed under `label` (a shadow view's placement).
-    pub(crate) fn record_labelled(
+    /// Records the placement after the query, timed under `label` (a shadow view's, or
+    /// [`StaticPlace::camera_label`]): counters (and, without a count buffer, the draw
+    /// lists) zeroed, the dispatch arguments, the placement, the draws. `late`: the
+    /// frame's second run (two-pass occlusion): placed counts kept, the lists' counts
+    /// zeroed, full and late lists written.
+    pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         b: &StaticBuffers,

@@ -249,7 +249,7 @@ impl Renderer {
                 .group(device, buffers, rows, &query.view_outputs(view))?;
         pipelines
             .static_place
-            .record_labelled(encoder, buffers, &group, timer, false, place_label);
+            .record(encoder, buffers, &group, timer, false, place_label);
         Ok(())
     }
 
@@ -307,9 +307,14 @@ impl Renderer {
             &scene.instances,
             &query.outputs(second),
         )?;
-        self.pipelines
-            .static_place
-            .record(encoder, b, &group, &mut self.timer, second);
+        self.pipelines.static_place.record(
+            encoder,
+            b,
+            &group,
+            &mut self.timer,
+            second,
+            passes::static_place::StaticPlace::camera_label(second),
+        );
         Ok(())
     }
 

@@ -7,7 +7,9 @@ use glam::{UVec2, Vec2, Vec3};
 use super::Renderer;
 use crate::context::scoped;
 use crate::error::{Error, Result};
-use crate::passes::water::{Built, Shared, WaterData, WaterPasses, WaterState, WaterTargets};
+use crate::passes::water::{
+    Built, Shared, WaterData, WaterGroups, WaterPasses, WaterState, WaterTargets,
+};
 use crate::resources::uniforms::Camera;
 
 use crate::passes::water::targets::buffer_size;
@@ -183,27 +185,7 @@ impl Renderer {
                 &targets,
                 [width, height],
             )?;
-            let hdr_layout = self
-                .pipelines
-                .lighting
-                .water_layout()
-                .ok_or(Error::Validation(
-                    "the lighting pass has no water variant".into(),
-                ))?;
-            let groups = WaterState::groups(
-                &device,
-                &passes,
-                &targets,
-                &data,
-                &Shared {
-                    frame: &self.frame,
-                    depth: &self.targets.depth_view,
-                    output: &self.targets.output_view,
-                    local: &self.light.local,
-                    lights: &self.light.buffers,
-                    hdr_layout,
-                },
-            )?;
+            let groups = self.water_groups(&passes, &targets, &data)?;
             Ok(WaterState {
                 passes,
                 targets,
@@ -222,17 +204,36 @@ impl Renderer {
 
     /// Rebuilds the water's bind groups (after the light buffers grew).
     pub(super) fn refresh_water_groups(&mut self) -> Result<()> {
-        let Some(w) = &mut self.water else {
+        let (Some(w), Some(_)) = (&self.water, self.pipelines.lighting.water_layout()) else {
             return Ok(());
         };
-        let Some(hdr_layout) = self.pipelines.lighting.water_layout() else {
-            return Ok(());
-        };
-        w.groups = WaterState::groups(
+        let groups = self.water_groups(&w.passes, &w.targets, &w.data)?;
+        if let Some(w) = &mut self.water {
+            w.groups = groups;
+        }
+        Ok(())
+    }
+
+    /// The water's bind groups over `passes`, `targets` and `data` and the renderer's
+    /// frame uniforms, depth, output, lights and lighting's water layouts.
+    fn water_groups(
+        &self,
+        passes: &WaterPasses,
+        targets: &WaterTargets,
+        data: &WaterData,
+    ) -> Result<WaterGroups> {
+        let hdr_layout = self
+            .pipelines
+            .lighting
+            .water_layout()
+            .ok_or(Error::Validation(
+                "the lighting pass has no water variant".into(),
+            ))?;
+        WaterState::groups(
             &self.device,
-            &w.passes,
-            &w.targets,
-            &w.data,
+            passes,
+            targets,
+            data,
             &Shared {
                 frame: &self.frame,
                 depth: &self.targets.depth_view,
@@ -241,8 +242,7 @@ impl Renderer {
                 lights: &self.light.buffers,
                 hdr_layout,
             },
-        )?;
-        Ok(())
+        )
     }
 
     /// This frame's (and the next frames') displacement decals, in water coordinates; at

@@ -78,14 +78,7 @@ impl StaticBuffers {
             .max()
             .unwrap_or(0);
         let alpha = setups.len() as u32 - opaque;
-        let make = |label: &str, size: u64, usage: U| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(16).next_multiple_of(4),
-                usage: usage | U::COPY_DST | U::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
+        let make = |label: &str, size: u64, usage: U| buffer(device, label, size, usage);
         Self {
             setups: crate::resources::buffers::buffer_init(
                 device,
@@ -131,14 +124,7 @@ impl StaticBuffers {
     /// 16-byte stand-in the placement never writes: its `debug_base` is `u32::MAX`).
     pub(crate) fn for_shadow_view(&self, device: &wgpu::Device) -> Self {
         use wgpu::BufferUsages as U;
-        let make = |label: &str, size: u64, usage: U| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size.max(16).next_multiple_of(4),
-                usage: usage | U::COPY_DST | U::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
+        let make = |label: &str, size: u64, usage: U| buffer(device, label, size, usage);
         Self {
             setups: self.setups.clone(),
             params: make(
@@ -192,4 +178,21 @@ impl StaticBuffers {
             ..GpuStaticParams::default()
         }
     }
+}
+
+/// A buffer of the static draws: `size` bytes (at least 16, whole words) with `usage`,
+/// copied to and from.
+fn buffer(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    use wgpu::BufferUsages as U;
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(4),
+        usage: usage | U::COPY_DST | U::COPY_SRC,
+        mapped_at_creation: false,
+    })
 }

@@ -116,6 +116,21 @@ impl MsaaTargets {
     }
 }
 
+/// `view` as a colour attachment cleared to transparent black and stored.
+pub(crate) fn cleared_color(
+    view: &wgpu::TextureView,
+) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
 /// A single-sample 2D texture of `width` × `height` and its default view.
 pub(crate) fn texture(
     device: &wgpu::Device,

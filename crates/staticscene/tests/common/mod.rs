@@ -2,10 +2,10 @@
 #![allow(dead_code)]
 
 use glam::{Affine3A, DMat4, DQuat, DVec3, DVec4, Mat3, Mat4, Vec3};
-use staticscene::demo::{CityConfig, city};
+use staticscene::demo::{BOX_TRIANGLES, CityConfig, city};
 use staticscene::{
-    Aabb, BuildConfig, Camera, FILTER_ALL, LodLevel, MeshNode, MeshPart, PlacedObject,
-    ResourceLibrary, Scene, StaticMesh, StreamingGroup, TileStreamer,
+    Aabb, BuildConfig, Camera, FILTER_ALL, MeshNode, MeshPart, PlacedObject, ResourceLibrary,
+    Scene, StaticMesh, StreamingGroup, TileStreamer,
 };
 
 /// Builds a scene from resources and groups.
@@ -48,13 +48,7 @@ pub fn mesh(handle: u64, min: Vec3, max: Vec3) -> MeshNode {
 
 /// A LOD switch.
 pub fn lod(bounds: Aabb, levels: Vec<(f32, f32, MeshNode)>) -> MeshNode {
-    MeshNode::Lod {
-        bounds,
-        levels: levels
-            .into_iter()
-            .map(|(min, max, node)| LodLevel { min, max, node })
-            .collect(),
-    }
+    MeshNode::lod(bounds, levels)
 }
 
 /// A one-part multi-mesh placing `node` with `t`.
@@ -164,21 +158,7 @@ pub fn raster_visible_f64(
             )
         })
         .collect();
-    const TRIS: [[usize; 3]; 12] = [
-        [0, 1, 3],
-        [0, 3, 2],
-        [4, 6, 7],
-        [4, 7, 5],
-        [0, 4, 5],
-        [0, 5, 1],
-        [2, 3, 7],
-        [2, 7, 6],
-        [0, 2, 6],
-        [0, 6, 4],
-        [1, 5, 7],
-        [1, 7, 3],
-    ];
-    for t in TRIS {
+    for t in BOX_TRIANGLES {
         let (a, b, cc) = (s[t[0]], s[t[1]], s[t[2]]);
         let area = (b.x - a.x) * (cc.y - a.y) - (cc.x - a.x) * (b.y - a.y);
         if area == 0.0 {

@@ -12,6 +12,7 @@ use super::groups::WaterGroups;
 use super::rows::{FRAME, MATERIALS, WATER, water_group};
 use super::targets::WaterTargets;
 use crate::error::Result;
+use crate::resources::targets::cleared_color;
 use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
@@ -98,20 +99,13 @@ impl Position {
         g: &WaterGroups,
         timer: &mut GpuTimer,
     ) {
-        let clear = |view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
         let mut pass = e.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("water position"),
-            color_attachments: &[clear(&t.data.1), clear(&t.normal.1), clear(&t.linear.1)],
+            color_attachments: &[
+                cleared_color(&t.data.1),
+                cleared_color(&t.normal.1),
+                cleared_color(&t.linear.1),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth,
                 depth_ops: Some(wgpu::Operations {

@@ -10,6 +10,7 @@ use super::groups::WaterGroups;
 use super::rows::{FRAME, WATER, water_group};
 use super::targets::WaterTargets;
 use crate::error::Result;
+use crate::resources::targets::cleared_color;
 use crate::shaders::LIBRARY;
 use crate::timing::GpuTimer;
 
@@ -64,15 +65,7 @@ impl Tessellation {
     ) {
         let mut pass = e.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("water tessellation"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.surface.1,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[cleared_color(&t.surface.1)],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &t.depth_water.1,
                 depth_ops: Some(wgpu::Operations {
