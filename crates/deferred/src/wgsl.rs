@@ -93,6 +93,7 @@ mod tests {
                 "normal",
                 "roughness",
                 "specular",
+                "metallic",
                 "sun_shadow",
                 "motion"
             ]

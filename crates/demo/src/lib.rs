@@ -35,6 +35,7 @@ pub mod city;
 mod hillside;
 mod layers;
 mod materials;
+pub use materials::{add_material_maps, brick_height};
 mod mesh;
 pub mod river;
 

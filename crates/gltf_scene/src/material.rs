@@ -408,65 +408,34 @@ pub(crate) fn import(
     };
     // Every map reads the mesh's one UV set: the base colour's, else the first map's.
     let finite: &dyn Fn(&str, &[f32]) -> Result<(), Error> = &finite;
-    let base = texture
-        .as_ref()
-        .map(|i| {
-            texture_ref(
-                i.texture(),
-                i.tex_coord(),
-                i.texture_transform().map(Transform::of_info),
-                finite,
-            )
-        })
-        .transpose()?;
+    // A `textureInfo` (base colour, metallic-roughness, emissive), whose transform the gltf
+    // crate reads, and a normal or occlusion texture's, read from the JSON.
+    let info = |i: &gltf::texture::Info<'_>| {
+        let t = i.texture_transform().map(Transform::of_info);
+        texture_ref(i.texture(), i.tex_coord(), t, finite)
+    };
+    let other = |texture: gltf::Texture<'_>, tex_coord: u32, ext: Option<&gltf::json::Value>| {
+        texture_ref(texture, tex_coord, ext.map(Transform::of_json), finite)
+    };
+    let base = texture.as_ref().map(info).transpose()?;
     let normal = m
         .normal_texture()
         .map(|i| {
             finite("normalTexture.scale", &[i.scale()])?;
-            let t = i
-                .extension_value("KHR_texture_transform")
-                .map(Transform::of_json);
-            Ok::<_, Error>((
-                texture_ref(i.texture(), i.tex_coord(), t, finite)?,
-                i.scale(),
-            ))
+            let ext = i.extension_value("KHR_texture_transform");
+            Ok::<_, Error>((other(i.texture(), i.tex_coord(), ext)?, i.scale()))
         })
         .transpose()?;
-    let metallic_roughness = pbr
-        .metallic_roughness_texture()
-        .map(|i| {
-            texture_ref(
-                i.texture(),
-                i.tex_coord(),
-                i.texture_transform().map(Transform::of_info),
-                finite,
-            )
-        })
-        .transpose()?;
+    let metallic_roughness = pbr.metallic_roughness_texture().as_ref().map(info).transpose()?;
     let occlusion = m
         .occlusion_texture()
         .map(|i| {
             finite("occlusionTexture.strength", &[i.strength()])?;
-            let t = i
-                .extension_value("KHR_texture_transform")
-                .map(Transform::of_json);
-            Ok::<_, Error>((
-                texture_ref(i.texture(), i.tex_coord(), t, finite)?,
-                i.strength(),
-            ))
+            let ext = i.extension_value("KHR_texture_transform");
+            Ok::<_, Error>((other(i.texture(), i.tex_coord(), ext)?, i.strength()))
         })
         .transpose()?;
-    let emissive_texture = m
-        .emissive_texture()
-        .map(|i| {
-            texture_ref(
-                i.texture(),
-                i.tex_coord(),
-                i.texture_transform().map(Transform::of_info),
-                finite,
-            )
-        })
-        .transpose()?;
+    let emissive_texture = m.emissive_texture().as_ref().map(info).transpose()?;
     let emissive_factor = m.emissive_factor();
     finite("emissiveFactor", &emissive_factor)?;
     let strength = m.emissive_strength().unwrap_or(1.0);

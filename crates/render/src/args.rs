@@ -40,6 +40,15 @@ pub enum SceneArg {
     All,
 }
 
+/// `--material-shaders`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MaterialShadersArg {
+    /// A resolve pipeline per material permutation (the default).
+    PerShader,
+    /// One uber resolve.
+    Uber,
+}
+
 /// `--path`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum PathArg {
@@ -246,6 +255,10 @@ pub struct Args {
     /// transform its vertices per pixel, for comparison.
     #[arg(long)]
     pub per_pixel_transform: bool,
+    /// The material resolve: one pipeline per material permutation (HFW's resolve per
+    /// material shader), or one uber pipeline choosing every map at run time.
+    #[arg(long, value_enum, default_value = "per-shader")]
+    pub material_shaders: MaterialShadersArg,
     /// HFW's software VRS on the deferred path: a shading rate per triangle from distance
     /// and screen speed (`gpu::config::VrsConfig::default`), quad commands, one shaded sample per
     /// quad broadcast to its pixels. `all-2x2` rates everything 2x2, what HFW's rule gives
@@ -256,6 +269,11 @@ pub struct Args {
     /// sways every alpha-tested instance otherwise).
     #[arg(long)]
     pub no_wind: bool,
+    /// Give every demo material every map of glTF's model, derived from its albedo
+    /// (`demo::add_material_maps`: normal, metallic-roughness, occlusion, emissive), to
+    /// measure the resolve with all maps.
+    #[arg(long)]
+    pub material_maps: bool,
     /// Skip writing the debug views.
     #[arg(long)]
     pub no_debug_views: bool,

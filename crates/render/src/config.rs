@@ -4,7 +4,8 @@ use gpu::config::PrimitiveIdPath;
 use gpu::{HeadlessOptions, RendererConfig};
 
 use crate::args::{
-    Args, GBufferArg, LaydownArg, LaydownTargetArg, MsaaArg, PrimitiveIdArg, VertexRingArg, VrsArg,
+    Args, GBufferArg, LaydownArg, LaydownTargetArg, MaterialShadersArg, MsaaArg, PrimitiveIdArg,
+    VertexRingArg, VrsArg,
 };
 
 impl Args {
@@ -64,6 +65,8 @@ impl Args {
                 VertexRingArg::Ps5 => Some(gpu::config::RING_BYTES_PS5),
             };
             rc.geometry.ring_resolve = !self.per_pixel_transform;
+            rc.geometry.material_permutations =
+                self.material_shaders == MaterialShadersArg::PerShader;
             rc.geometry.vrs = match self.vrs {
                 VrsArg::Off => None,
                 VrsArg::On => Some(gpu::config::VrsConfig::default()),

@@ -93,6 +93,18 @@ impl Report {
         r.row("triangles", group_digits(s.triangles));
         r.row("micro batches", group_digits(s.micro_batches as u64));
         r.row(
+            "resolve pipelines",
+            format!(
+                "{} ({})",
+                s.resolve_pipelines,
+                if c.geometry.material_permutations {
+                    "one per material permutation"
+                } else {
+                    "the uber resolve"
+                }
+            ),
+        );
+        r.row(
             "vertices added by the primitive-ID encoding",
             group_digits(s.added_vertices),
         );

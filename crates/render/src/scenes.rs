@@ -67,6 +67,9 @@ pub(crate) fn render_chosen(
             density: args.density,
         });
         scene.wind = (!args.no_wind).then(gpu::scene::Wind::default);
+        if args.material_maps {
+            demo::add_material_maps(&mut scene);
+        }
         let frame = with_lights(args, frame, 25.0);
         let build_ms = t0.elapsed().as_secs_f64() * 1e3;
         let built = Built {

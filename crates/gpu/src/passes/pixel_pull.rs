@@ -235,6 +235,15 @@ mod tests {
         )
         .validate(&module)
         .unwrap();
+        // The overrides (the material's MATERIAL_FEATURES) at their defaults, as a
+        // pipeline that sets none has them.
+        let (module, info) = naga::back::pipeline_constants::process_overrides(
+            &module,
+            &info,
+            None,
+            &naga::back::PipelineConstants::default(),
+        )
+        .unwrap();
         let words = naga::back::spv::write_vec(
             &module,
             &info,

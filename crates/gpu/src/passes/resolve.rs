@@ -390,4 +390,15 @@ mod tests {
             shadercheck::Caps::CORE
         });
     }
+
+    /// The resolve specialises on the maps and emission, not on the alpha test (the
+    /// laydown's).
+    #[test]
+    fn specialised_features_are_the_maps_and_emission() {
+        use crate::scene::MaterialFeatures as F;
+        assert_eq!(
+            super::RESOLVE_FEATURE_BITS,
+            F::NORMAL_MAP.0 | F::METALLIC_ROUGHNESS_MAP.0 | F::OCCLUSION_MAP.0 | F::EMISSIVE.0
+        );
+    }
 }

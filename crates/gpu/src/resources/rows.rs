@@ -329,6 +329,23 @@ mod tests {
             shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
             Some(ShaderKind::AlphaTested.id())
         );
+        assert_eq!(shadercheck::const_u32(&m, "GPU_MATERIAL_NO_MAP"), Some(NO_MAP));
+        // The material's permutation bits are scene::MaterialFeatures'.
+        let m = shadercheck::assert_composed(
+            LIBRARY,
+            "gpu::material",
+            &[],
+            shadercheck::Caps::CORE,
+        );
+        use crate::scene::MaterialFeatures as F;
+        for (name, f) in [
+            ("MATERIAL_NORMAL_MAP", F::NORMAL_MAP),
+            ("MATERIAL_METALLIC_ROUGHNESS_MAP", F::METALLIC_ROUGHNESS_MAP),
+            ("MATERIAL_OCCLUSION_MAP", F::OCCLUSION_MAP),
+            ("MATERIAL_EMISSIVE", F::EMISSIVE),
+        ] {
+            assert_eq!(shadercheck::const_u32(&m, name), Some(f.0), "{name}");
+        }
     }
 
     #[test]

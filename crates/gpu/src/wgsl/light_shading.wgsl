@@ -33,8 +33,9 @@ fn light_shading_position(inv_view_proj: mat4x4<f32>, texel: vec2<f32>, pixel: v
     return light_shading_position_at(inv_view_proj, texel, vec2<f32>(pixel) + 0.5, d);
 }
 
-// GGX normal distribution with Schlick Fresnel and a Smith-style visibility term.
-fn light_shading_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
+// The GGX lobe without its Fresnel: x = D * V * n.l (GGX normal distribution, a
+// Smith-style visibility term), y = Schlick's weight (1 - v.h)^5.
+fn light_shading_lobe(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32) -> vec2<f32> {
     let h = normalize(v + l);
     let nh = max(dot(n, h), 0.0);
     let nl = max(dot(n, l), 0.0);
@@ -48,29 +49,22 @@ fn light_shading_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f
     // Schlick's (1 - v.h)^5 by multiplications (pow is exp2(log2) on GPUs).
     let m = 1.0 - max(dot(v, h), 0.0);
     let m2 = m * m;
-    let f = f0 + (1.0 - f0) * (m2 * m2 * m);
-    return ndf * vis * f * nl;
+    return vec2<f32>(ndf * vis * nl, m2 * m2 * m);
+}
+
+// GGX with Schlick's Fresnel from the reflectance `f0` at normal incidence.
+fn light_shading_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, roughness: f32, f0: f32) -> f32 {
+    let g = light_shading_lobe(n, v, l, roughness);
+    return (f0 + (1.0 - f0) * g.y) * g.x;
 }
 
 // The same lobe for a G-buffer surface in the metallic workflow: Fresnel
 // mix(specular * F(0.04), F(albedo), metallic) with Schlick's F (deferred::Surface).
 fn light_shading_surface_specular(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, s: DeferredSurface) -> vec3<f32> {
-    let h = normalize(v + l);
-    let nh = max(dot(n, h), 0.0);
-    let nl = max(dot(n, l), 0.0);
-    let nv = max(dot(n, v), 1e-4);
-    let a = max(s.roughness * s.roughness, 0.02);
-    let a2 = a * a;
-    let dd = nh * nh * (a2 - 1.0) + 1.0;
-    let ndf = a2 / (LIGHT_SHADING_PI * dd * dd);
-    let k = a * 0.5;
-    let vis = 1.0 / ((nl * (1.0 - k) + k) * (nv * (1.0 - k) + k) * 4.0);
-    let m = 1.0 - max(dot(v, h), 0.0);
-    let m2 = m * m;
-    let w = m2 * m2 * m;
-    let dielectric = s.specular * (0.04 + 0.96 * w);
-    let metal = s.albedo + (vec3<f32>(1.0) - s.albedo) * w;
-    return mix(vec3<f32>(dielectric), metal, s.metallic) * (ndf * vis * nl);
+    let g = light_shading_lobe(n, v, l, s.roughness);
+    let dielectric = s.specular * (0.04 + 0.96 * g.y);
+    let metal = s.albedo + (vec3<f32>(1.0) - s.albedo) * g.y;
+    return mix(vec3<f32>(dielectric), metal, s.metallic) * g.x;
 }
 
 // A surface as the local lights see it: view-space position, normal and direction to the
