@@ -15,10 +15,12 @@
 //! | RT2 | `Rgba8Unorm` | motion `x`, [`KZ2_MOTION_STEP_PX`] steps + 128 | motion `y` | specular power, log range ([`spec_power_code`]) | specular intensity |
 //! | RT3 | `Rgba8Unorm` | albedo R (linear) | G | B | baked sun shadow |
 //!
-//! # The improved layout: [`GBufferLayout::Octahedral`], 20 bytes per sample + depth
+//! # The improved layout: [`GBufferLayout::Octahedral`], 24 bytes per sample + depth
 //!
 //! World-space normals in 12+12-bit octahedral code with the precise encoder
-//! ([`crate::normal`]), albedo in sRGB transfer, motion vectors in f16, no lost sign. Every
+//! ([`crate::normal`]), albedo in sRGB transfer, motion vectors in f16, no lost sign, the
+//! geometry pass's light (ambient with occlusion, emission) in f16 HDR instead of KZ2's
+//! 8 bits and glow (8-bit ambient bands on flat shaded surfaces). Every
 //! target format is one wgpu guarantees for 4x multisampling, storage binding (compute
 //! writes) and render attachment at once: `Rgba8Unorm`, `Rgba8Uint`, `Rgba16Float`. Depth
 //! is the `gpu` crate's reversed-Z `Depth32Float`.
@@ -26,7 +28,7 @@
 //! | target | wgpu format | R | G | B | A |
 //! | --- | --- | --- | --- | --- | --- |
 //! | depth | `Depth32Float` (reversed Z) | depth | | | |
-//! | RT0 | `Rgba8Unorm` | lighting accumulation R (clamped to 1) | G | B | glow: luminance / [`KZ2_GLOW_RANGE`] |
+//! | RT0 | `Rgba16Float` | lighting accumulation R (HDR, to 65504) | G | B | 0 (reserved) |
 //! | RT1 | `Rgba8Uint` | normal code bits 0..8 | bits 8..16 | bits 16..24 | roughness, unorm8 |
 //! | RT2 | `Rgba16Float` | motion `x` (pixels) | motion `y` (pixels) | specular intensity | metallic |
 //! | RT3 | `Rgba8Unorm` | albedo R (sRGB transfer) | G | B | baked sun shadow |
@@ -157,7 +159,7 @@ pub enum GBufferLayout {
 
 const KZ2_COLOR: [TargetFormat; 4] = [TargetFormat::Rgba8Unorm; 4];
 const OCT_COLOR: [TargetFormat; 4] = [
-    TargetFormat::Rgba8Unorm,
+    TargetFormat::Rgba16Float,
     TargetFormat::Rgba8Uint,
     TargetFormat::Rgba16Float,
     TargetFormat::Rgba8Unorm,
@@ -183,7 +185,7 @@ impl GBufferLayout {
         }
     }
 
-    /// Bytes of colour targets per sample (16 for KZ2, 20 for the octahedral layout).
+    /// Bytes of colour targets per sample (16 for KZ2, 24 for the octahedral layout).
     pub const fn color_bytes_per_sample(self) -> u32 {
         let f = self.color_formats();
         let mut i = 0;
@@ -204,9 +206,9 @@ impl GBufferLayout {
     }
 
     /// Packs into the layout's texel bytes (colour targets concatenated, RT0 first): 16 or
-    /// 20 bytes, see [`Kz2Texels`] and [`OctTexels`].
-    pub fn pack_bytes(self, s: &Surface) -> ([u8; 20], usize) {
-        let mut out = [0u8; 20];
+    /// 24 bytes, see [`Kz2Texels`] and [`OctTexels`].
+    pub fn pack_bytes(self, s: &Surface) -> ([u8; 24], usize) {
+        let mut out = [0u8; 24];
         match self {
             GBufferLayout::Kz2 => {
                 out[..16].copy_from_slice(bytemuck::bytes_of(&Kz2Texels::pack(s)));
@@ -214,7 +216,7 @@ impl GBufferLayout {
             }
             GBufferLayout::Octahedral => {
                 out.copy_from_slice(bytemuck::bytes_of(&OctTexels::pack(s)));
-                (out, 20)
+                (out, 24)
             }
         }
     }
@@ -544,13 +546,13 @@ impl Kz2Texels {
     }
 }
 
-/// One sample of the octahedral layout: the bytes of RT0..RT3 (20 bytes, see the module
+/// One sample of the octahedral layout: the bytes of RT0..RT3 (24 bytes, see the module
 /// table).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Pod, Zeroable)]
 pub struct OctTexels {
-    /// Lighting accumulation RGB + glow (`Rgba8Unorm`).
-    pub rt0: [u8; 4],
+    /// Lighting accumulation RGB (HDR) and a reserved 0, as binary16 bits (`Rgba16Float`).
+    pub rt0: [u16; 4],
     /// Normal code bytes 0..3 + roughness (`Rgba8Uint`).
     pub rt1: [u8; 4],
     /// Motion `x`, `y`, specular intensity, metallic, as binary16 bits (`Rgba16Float`).
@@ -558,7 +560,7 @@ pub struct OctTexels {
     /// Albedo RGB (sRGB transfer) + sun shadow (`Rgba8Unorm`).
     pub rt3: [u8; 4],
 }
-const _: () = assert!(size_of::<OctTexels>() == 20);
+const _: () = assert!(size_of::<OctTexels>() == 24);
 
 impl OctTexels {
     /// Packs a surface whose normal is in world space, with the precise encoder.
@@ -566,7 +568,10 @@ impl OctTexels {
         let code = normal::oct_encode_precise(sanitize_unit(s.normal));
         let rt1 = (code | (u32::from(unorm8(s.roughness)) << 24)).to_le_bytes();
         OctTexels {
-            rt0: rt0(s),
+            rt0: {
+                let l = sanitize_hdr(s.lighting);
+                [half_bits(l.x), half_bits(l.y), half_bits(l.z), 0]
+            },
             rt1,
             rt2: [
                 half_bits(s.motion.x),
@@ -588,7 +593,12 @@ impl OctTexels {
         let t = self;
         let word = u32::from_le_bytes(t.rt1);
         Surface {
-            lighting: rt0_lighting(t.rt0),
+            lighting: Vec3::new(
+                half_value(t.rt0[0]),
+                half_value(t.rt0[1]),
+                half_value(t.rt0[2]),
+            )
+            .max(Vec3::ZERO),
             albedo: Vec3::new(
                 srgb8_value(t.rt3[0]),
                 srgb8_value(t.rt3[1]),

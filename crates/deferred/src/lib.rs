@@ -75,9 +75,9 @@
 //!
 //! ```wgsl
 //! #import deferred::gbuffer
-//! @group(1) @binding(0) var rt0: texture_storage_2d<rgba8unorm, write>;  // RT0: lighting rgb + glow
+//! @group(1) @binding(0) var rt0: texture_storage_2d<rgba16float, write>; // RT0: lighting rgb (HDR)
 //! @group(1) @binding(1) var rt1: texture_storage_2d<rgba8uint, write>;   // RT1: normal code + roughness
-//! @group(1) @binding(2) var rt2: texture_storage_2d<rgba16float, write>; // RT2: motion xy, specular
+//! @group(1) @binding(2) var rt2: texture_storage_2d<rgba16float, write>; // RT2: motion xy, specular, metallic
 //! @group(1) @binding(3) var rt3: texture_storage_2d<rgba8unorm, write>;  // RT3: albedo (sRGB) + sun shadow
 //!
 //! fn write_gbuffer(pixel: vec2<u32>, s: DeferredSurface) {

@@ -144,18 +144,19 @@ fn gbuffer_pack_matches_the_cpu() {
     let s = read_surface(i);
     let k = deferred_gbuffer_kz2_pack(s);
     let o = deferred_gbuffer_oct_pack(s);
-    let b = i * 9u;
+    let b = i * 10u;
     output[b] = pack4x8unorm(k.rt0); output[b + 1u] = pack4x8unorm(k.rt1);
     output[b + 2u] = pack4x8unorm(k.rt2); output[b + 3u] = pack4x8unorm(k.rt3);
-    output[b + 4u] = pack4x8unorm(o.rt0);
+    output[b + 4u] = deferred_pack_half(o.rt0.x) | (deferred_pack_half(o.rt0.y) << 16u);
+    output[b + 9u] = deferred_pack_half(o.rt0.z) | (deferred_pack_half(o.rt0.w) << 16u);
     output[b + 5u] = o.rt1.x | (o.rt1.y << 8u) | (o.rt1.z << 16u) | (o.rt1.w << 24u);
     output[b + 6u] = deferred_pack_half(o.rt2.x) | (deferred_pack_half(o.rt2.y) << 16u);
     output[b + 7u] = deferred_pack_half(o.rt2.z) | (deferred_pack_half(o.rt2.w) << 16u);
     output[b + 8u] = pack4x8unorm(o.rt3);";
-    let out = run(&prelude, body, &input, s.len() as u32, 9);
+    let out = run(&prelude, body, &input, s.len() as u32, 10);
     let (mut srgb_off, mut spec_off, mut glow_off, mut normal_ties) = (0, 0, 0, 0);
     for (i, s) in s.iter().enumerate() {
-        let g = &out[i * 9..(i + 1) * 9];
+        let g = &out[i * 10..(i + 1) * 10];
         let k = Kz2Texels::pack(s);
         let o = OctTexels::pack(s);
         let gb = |w: u32| w.to_le_bytes();
@@ -177,14 +178,21 @@ fn gbuffer_pack_matches_the_cpu() {
             );
             spec_off += 1;
         }
-        for (rt, (gw, cw)) in [(g[0], k.rt0), (g[4], o.rt0)].into_iter().enumerate() {
-            let gw = gb(gw);
-            assert_eq!(gw[..3], cw[..3], "{i} RT0 ({rt})");
-            if gw[3] != cw[3] {
-                assert!(gw[3].abs_diff(cw[3]) == 1);
-                glow_off += 1;
-            }
+        let gw = gb(g[0]);
+        assert_eq!(gw[..3], k.rt0[..3], "{i} KZ2 RT0");
+        if gw[3] != k.rt0[3] {
+            assert!(gw[3].abs_diff(k.rt0[3]) == 1);
+            glow_off += 1;
         }
+        // Octahedral RT0: f16 lighting, exact.
+        assert_eq!(
+            [g[4], g[9]],
+            [
+                u32::from(o.rt0[0]) | u32::from(o.rt0[1]) << 16,
+                u32::from(o.rt0[2]) | u32::from(o.rt0[3]) << 16
+            ],
+            "{i} octahedral RT0"
+        );
         // Octahedral: the normal code may differ only between two equally good codes.
         let g1 = gb(g[5]);
         assert_eq!(g1[3], o.rt1[3], "{i} roughness");
@@ -230,18 +238,22 @@ fn gbuffer_pack_matches_the_cpu() {
 fn gbuffer_unpack_matches_the_cpu() {
     let mut rng = Rng::new(99);
     let n = 20_000u32;
-    let input: Vec<u32> = (0..n * 5).map(|_| rng.next_u32()).collect();
+    // Six words an item: the octahedral layout's 24 bytes (RT0 two words, RT1, RT2 two,
+    // RT3); KZ2 reads words 0, 2, 3 and 5 as its four RGBA8 targets.
+    let input: Vec<u32> = (0..n * 6).map(|_| rng.next_u32()).collect();
     let prelude = format!("#import deferred::gbuffer\n{SURFACE_WGSL_READ}");
     // Texture reads: unorm channels as textureLoad returns them, f16 channels as floats.
     let body = "
-    let b = i * 5u;
-    let k = deferred_gbuffer_kz2_unpack(unpack4x8unorm(input[b]), unpack4x8unorm(input[b + 1u]),
-        unpack4x8unorm(input[b + 2u]), unpack4x8unorm(input[b + 4u]));
-    let r1 = input[b + 1u];
+    let b = i * 6u;
+    let k = deferred_gbuffer_kz2_unpack(unpack4x8unorm(input[b]), unpack4x8unorm(input[b + 2u]),
+        unpack4x8unorm(input[b + 3u]), unpack4x8unorm(input[b + 5u]));
+    let r1 = input[b + 2u];
     let rt1 = vec4<u32>(r1 & 0xffu, (r1 >> 8u) & 0xffu, (r1 >> 16u) & 0xffu, r1 >> 24u);
-    let rt2 = vec4<f32>(deferred_unpack_half(input[b + 2u] & 0xffffu), deferred_unpack_half(input[b + 2u] >> 16u),
-        deferred_unpack_half(input[b + 3u] & 0xffffu), deferred_unpack_half(input[b + 3u] >> 16u));
-    let o = deferred_gbuffer_oct_unpack(unpack4x8unorm(input[b]), rt1, rt2, unpack4x8unorm(input[b + 4u]));
+    let halves = vec4<f32>(deferred_unpack_half(input[b] & 0xffffu), deferred_unpack_half(input[b] >> 16u),
+        deferred_unpack_half(input[b + 1u] & 0xffffu), deferred_unpack_half(input[b + 1u] >> 16u));
+    let rt2 = vec4<f32>(deferred_unpack_half(input[b + 3u] & 0xffffu), deferred_unpack_half(input[b + 3u] >> 16u),
+        deferred_unpack_half(input[b + 4u] & 0xffffu), deferred_unpack_half(input[b + 4u] >> 16u));
+    let o = deferred_gbuffer_oct_unpack(halves, rt1, rt2, unpack4x8unorm(input[b + 5u]));
     write_surface(i * 30u, k);
     write_surface(i * 30u + 15u, o);";
     let out = run(&prelude, body, &input, n, 30);
@@ -252,10 +264,11 @@ fn gbuffer_unpack_matches_the_cpu() {
         );
     };
     for i in 0..n as usize {
-        let w = &input[i * 5..(i + 1) * 5];
+        let w = &input[i * 6..(i + 1) * 6];
         let bytes: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let kz2: Kz2Texels =
-            bytemuck::pod_read_unaligned(&[&bytes[..8], &bytes[8..12], &bytes[16..20]].concat());
+        let kz2: Kz2Texels = bytemuck::pod_read_unaligned(
+            &[&bytes[..4], &bytes[8..16], &bytes[20..24]].concat(),
+        );
         let oct: OctTexels = bytemuck::pod_read_unaligned(&bytes);
         for (cpu, gpu) in [
             (kz2.unpack(), surface_from(&out[i * 30..])),

@@ -63,10 +63,11 @@ fn oct_fixed_vector() {
     let mut s = surface();
     s.normal = Vec3::X;
     let t = OctTexels::pack(&s);
-    assert_eq!(t.rt0, [255, 128, 0, 25]);
+    // f16 bits of the lighting (2, 0.5, 0) and the reserved zero: HDR, no glow.
+    assert_eq!(t.rt0, [0x4000, 0x3800, 0, 0]);
     // +X projects to (1, 0): codes (4094, 2047) -> 0x7ff_ffe; roughness 0.5 -> 128.
     assert_eq!(t.rt1, [0xfe, 0xff, 0x7f, 128]);
-    // f16 bits of 1.5, -0.25, 0.5 and the reserved zero.
+    // f16 bits of 1.5, -0.25, 0.5 and metallic 0.
     assert_eq!(t.rt2, [0x3e00, 0xb400, 0x3800, 0]);
     // sRGB(0.5) = 0.735357 -> 187.52 -> 188.
     assert_eq!(t.rt3, [255, 188, 0, 255]);
@@ -85,9 +86,9 @@ fn layouts_describe_their_targets() {
     assert_eq!(GBufferLayout::Kz2.color_bytes_per_sample(), 16);
     assert_eq!(
         GBufferLayout::Octahedral.color_formats(),
-        [Rgba8Unorm, Rgba8Uint, Rgba16Float, Rgba8Unorm]
+        [Rgba16Float, Rgba8Uint, Rgba16Float, Rgba8Unorm]
     );
-    assert_eq!(GBufferLayout::Octahedral.color_bytes_per_sample(), 20);
+    assert_eq!(GBufferLayout::Octahedral.color_bytes_per_sample(), 24);
     for layout in GBufferLayout::ALL {
         for f in layout.color_formats() {
             assert!(f.msaa_x4_guaranteed() && f.storage_guaranteed(), "{f:?}");
@@ -108,12 +109,12 @@ fn pack_bytes_matches_the_texel_structs() {
         Some(Kz2Texels::pack(&s).unpack())
     );
     let (b, n) = GBufferLayout::Octahedral.pack_bytes(&s);
-    assert_eq!(n, 20);
+    assert_eq!(n, 24);
     assert_eq!(
         GBufferLayout::Octahedral.unpack_bytes(&b[..n]),
         Some(OctTexels::pack(&s).unpack())
     );
-    assert_eq!(GBufferLayout::Octahedral.unpack_bytes(&b[..19]), None);
+    assert_eq!(GBufferLayout::Octahedral.unpack_bytes(&b[..23]), None);
 }
 
 #[test]
@@ -280,12 +281,14 @@ proptest! {
         r in 0.0f32..=1.0,
         spec in 0.0f32..=1.0,
         metal in 0.0f32..=1.0,
+        lighting in prop::array::uniform3(0.0f32..=60000.0),
         mx in -1000.0f32..1000.0,
         my in -1000.0f32..1000.0,
         d in direction(),
     ) {
         let s = Surface { albedo: albedo.into(), normal: d.as_vec3(), roughness: r,
-            specular: spec, metallic: metal, motion: Vec2::new(mx, my), ..Surface::default() };
+            specular: spec, metallic: metal, motion: Vec2::new(mx, my),
+            lighting: lighting.into(), ..Surface::default() };
         let b = OctTexels::pack(&s).unpack();
         prop_assert!(angle(d, b.normal) <= 0.0397);
         // sRGB: half a code times the decode's steepest slope (2.4 / 1.055 at 1).
@@ -294,12 +297,15 @@ proptest! {
         // f16: relative half-ulp 2^-11.
         prop_assert!((b.specular - spec).abs() <= 2f32.powi(-12));
         prop_assert!((b.metallic - metal).abs() <= 2f32.powi(-12));
+        // HDR lighting in f16: relative half-ulp (and the smallest normal's where tiny).
+        let l = s.lighting;
+        prop_assert!((b.lighting - l).abs().max_element() <= l.max_element() * 2f32.powi(-11) + 2f32.powi(-25));
         prop_assert!((b.motion - s.motion).abs().max_element() <= s.motion.abs().max_element() * 2f32.powi(-11));
     }
 
     /// Arbitrary bytes decode to finite values in range, for both layouts.
     #[test]
-    fn any_bytes_decode(bytes in prop::array::uniform20(any::<u8>())) {
+    fn any_bytes_decode(bytes in prop::array::uniform24(any::<u8>())) {
         for layout in GBufferLayout::ALL {
             let n = layout.color_bytes_per_sample() as usize;
             let s = layout.unpack_bytes(&bytes[..n]).unwrap();

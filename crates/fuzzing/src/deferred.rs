@@ -34,12 +34,12 @@ fn check_surface(s: &Surface) {
     assert!(s.motion.is_finite(), "{s:?}");
 }
 
-/// G-buffer decode: any 20 bytes unpack in both layouts to finite in-range surfaces; the
+/// G-buffer decode: any 24 bytes unpack in both layouts to finite in-range surfaces; the
 /// decoded surface packs and unpacks again to the same values (within one quantisation
 /// step where the layout re-rounds: the glow channel, and KZ2's f16 normal).
 pub fn deferred_gbuffer_decode(data: &[u8]) {
     let mut input = Input::new(data);
-    let bytes: [u8; 20] = input.bytes();
+    let bytes: [u8; 24] = input.bytes();
     for layout in GBufferLayout::ALL {
         let n = layout.color_bytes_per_sample() as usize;
         let s = layout.unpack_bytes(&bytes[..n]).expect("exact length");

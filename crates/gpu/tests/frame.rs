@@ -384,7 +384,7 @@ fn the_kz2_gbuffer_preset_renders_the_same_scene() {
             GBufferLayout::Kz2.color_bytes_per_sample(),
             GBufferLayout::Octahedral.color_bytes_per_sample()
         ),
-        (16, 20)
+        (16, 24)
     );
     let (scene, mut frame) = scene(DemoScene::Forest);
     let target = frame.camera.target;

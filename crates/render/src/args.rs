@@ -101,7 +101,7 @@ pub enum OcclusionArg {
 /// `--gbuffer`: the G-buffer layout.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum GBufferArg {
-    /// deferred's octahedral layout: world-space 12+12-bit normal, 20 bytes a pixel.
+    /// deferred's octahedral layout: world-space 12+12-bit normal, f16 lighting, 24 bytes a pixel.
     Octahedral,
     /// KZ2's four RGBA8 targets: view-space normal xy as f16, 16 bytes a pixel.
     Kz2,

@@ -8,7 +8,7 @@
 //
 //   KZ2   RT0 rgba8unorm  lighting rgb, glow       RT1 rgba8unorm  view normal x, y as f16 bytes
 //         RT2 rgba8unorm  motion xy, spec power, spec intensity    RT3 rgba8unorm  albedo (linear), sun shadow
-//   Oct   RT0 rgba8unorm  lighting rgb, glow       RT1 rgba8uint   normal code (24 bits), roughness
+//   Oct   RT0 rgba16float lighting rgb (HDR), 0    RT1 rgba8uint   normal code (24 bits), roughness
 //         RT2 rgba16float motion xy (px), specular, metallic       RT3 rgba8unorm  albedo (sRGB), sun shadow
 
 const DEFERRED_OCT_BITS: u32 = 12u;
@@ -53,7 +53,7 @@ struct DeferredKz2Targets {
     rt3: vec4<f32>,
 }
 
-// Target values of the octahedral layout: rt1 is rgba8uint, rt2 rgba16float.
+// Target values of the octahedral layout: rt0 and rt2 are rgba16float, rt1 rgba8uint.
 struct DeferredOctTargets {
     rt0: vec4<f32>,
     rt1: vec4<u32>,
@@ -397,7 +397,8 @@ fn deferred_gbuffer_kz2_unpack(rt0: vec4<f32>, rt1: vec4<f32>, rt2: vec4<f32>, r
 
 fn deferred_gbuffer_oct_pack(s: DeferredSurface) -> DeferredOctTargets {
     var t: DeferredOctTargets;
-    t.rt0 = deferred_pack_lighting(s.lighting);
+    let l = deferred_sanitize_hdr(s.lighting);
+    t.rt0 = vec4<f32>(deferred_f16_round(l.x), deferred_f16_round(l.y), deferred_f16_round(l.z), 0.0);
     let code = deferred_oct_encode(deferred_sanitize_normal(s.normal));
     t.rt1 = vec4<u32>(code & 0xffu, (code >> 8u) & 0xffu, (code >> 16u) & 0xffu,
                       deferred_unorm8_code(s.roughness));
@@ -414,7 +415,14 @@ fn deferred_gbuffer_oct_pack(s: DeferredSurface) -> DeferredOctTargets {
 // Takes the values as textureLoad returns them (rt1 from the rgba8uint target).
 fn deferred_gbuffer_oct_unpack(rt0: vec4<f32>, rt1: vec4<u32>, rt2: vec4<f32>, rt3: vec4<f32>) -> DeferredSurface {
     var s: DeferredSurface;
-    s.lighting = deferred_unpack_lighting(rt0);
+    // f16 values as textureLoad returns them: NaN -> 0, clamped to [0, 65504].
+    var l = rt0.rgb;
+    for (var i = 0u; i < 3u; i++) {
+        if deferred_is_nan(l[i]) {
+            l[i] = 0.0;
+        }
+    }
+    s.lighting = clamp(l, vec3<f32>(0.0), vec3<f32>(DEFERRED_F16_MAX));
     let b = rt1 & vec4<u32>(0xffu);
     s.normal = deferred_oct_decode(b.x | (b.y << 8u) | (b.z << 16u));
     s.roughness = f32(b.w) / 255.0;

@@ -11,7 +11,7 @@
 @group(2) @binding(2) var gbuffer_rt2: texture_storage_2d<rgba8unorm, write>;
 @group(2) @binding(3) var gbuffer_rt3: texture_storage_2d<rgba8unorm, write>;
 #else
-@group(2) @binding(0) var gbuffer_rt0: texture_storage_2d<rgba8unorm, write>;
+@group(2) @binding(0) var gbuffer_rt0: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(1) var gbuffer_rt1: texture_storage_2d<rgba8uint, write>;
 @group(2) @binding(2) var gbuffer_rt2: texture_storage_2d<rgba16float, write>;
 @group(2) @binding(3) var gbuffer_rt3: texture_storage_2d<rgba8unorm, write>;
