@@ -266,9 +266,8 @@ fn gbuffer_unpack_matches_the_cpu() {
     for i in 0..n as usize {
         let w = &input[i * 6..(i + 1) * 6];
         let bytes: Vec<u8> = w.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let kz2: Kz2Texels = bytemuck::pod_read_unaligned(
-            &[&bytes[..4], &bytes[8..16], &bytes[20..24]].concat(),
-        );
+        let kz2: Kz2Texels =
+            bytemuck::pod_read_unaligned(&[&bytes[..4], &bytes[8..16], &bytes[20..24]].concat());
         let oct: OctTexels = bytemuck::pod_read_unaligned(&bytes);
         for (cpu, gpu) in [
             (kz2.unpack(), surface_from(&out[i * 30..])),

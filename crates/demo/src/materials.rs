@@ -347,7 +347,12 @@ mod tests {
         add_material_maps(&mut forest);
         forest.validate().unwrap();
         assert_eq!(forest.data_layers.len(), 2 * forest.albedo_layers.len());
-        assert!(forest.materials.iter().all(|m| m.features().0 & 0b1111 == 0b1111));
+        assert!(
+            forest
+                .materials
+                .iter()
+                .all(|m| m.features().0 & 0b1111 == 0b1111)
+        );
         frame.validate().unwrap();
         use scene::MaterialFeatures as F;
         let all = scene
@@ -381,8 +386,7 @@ pub fn add_material_maps(scene: &mut Scene) {
         let n = layer.size as usize;
         let height = |x: usize, y: usize| {
             let p = layer.texels[(y % n) * n + x % n];
-            (0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2]))
-                / 255.0
+            (0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2])) / 255.0
         };
         let mut normal = Vec::with_capacity(n * n);
         let mut orm = Vec::with_capacity(n * n);

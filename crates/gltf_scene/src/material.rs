@@ -426,7 +426,11 @@ pub(crate) fn import(
             Ok::<_, Error>((other(i.texture(), i.tex_coord(), ext)?, i.scale()))
         })
         .transpose()?;
-    let metallic_roughness = pbr.metallic_roughness_texture().as_ref().map(info).transpose()?;
+    let metallic_roughness = pbr
+        .metallic_roughness_texture()
+        .as_ref()
+        .map(info)
+        .transpose()?;
     let occlusion = m
         .occlusion_texture()
         .map(|i| {

@@ -137,9 +137,20 @@ mod tests {
     fn data_mips_average_each_channel() {
         let size = 8u32;
         let texels: Vec<[u8; 4]> = (0..size * size)
-            .map(|i| [(i * 37 % 256) as u8, (i * 11 % 256) as u8, 255, (i % 2 * 255) as u8])
+            .map(|i| {
+                [
+                    (i * 37 % 256) as u8,
+                    (i * 11 % 256) as u8,
+                    255,
+                    (i % 2 * 255) as u8,
+                ]
+            })
             .collect();
-        let chain = DataLayer { size, texels: texels.clone() }.mip_chain();
+        let chain = DataLayer {
+            size,
+            texels: texels.clone(),
+        }
+        .mip_chain();
         assert_eq!(chain.len(), 4);
         assert_eq!(chain[0], texels);
         for y in 0..4 {

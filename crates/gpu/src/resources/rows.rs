@@ -329,14 +329,13 @@ mod tests {
             shadercheck::const_u32(&m, "GPU_SHADER_ALPHA_TESTED"),
             Some(ShaderKind::AlphaTested.id())
         );
-        assert_eq!(shadercheck::const_u32(&m, "GPU_MATERIAL_NO_MAP"), Some(NO_MAP));
-        // The material's permutation bits are scene::MaterialFeatures'.
-        let m = shadercheck::assert_composed(
-            LIBRARY,
-            "gpu::material",
-            &[],
-            shadercheck::Caps::CORE,
+        assert_eq!(
+            shadercheck::const_u32(&m, "GPU_MATERIAL_NO_MAP"),
+            Some(NO_MAP)
         );
+        // The material's permutation bits are scene::MaterialFeatures'.
+        let m =
+            shadercheck::assert_composed(LIBRARY, "gpu::material", &[], shadercheck::Caps::CORE);
         use crate::scene::MaterialFeatures as F;
         for (name, f) in [
             ("MATERIAL_NORMAL_MAP", F::NORMAL_MAP),
