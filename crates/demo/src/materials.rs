@@ -320,6 +320,59 @@ pub(crate) fn materials(paint: bool) -> (Scene, FrameInput) {
     )
 }
 
+/// Gives every material of `scene` every map of glTF's model, derived from its albedo
+/// layer (for measuring the resolve with all maps on the demo scenes): a normal map from
+/// the layer's luminance as a height field (central differences, wrapping), an
+/// occlusion-roughness-metallic layer (R occlusion darkening with depth, G and B 1: the
+/// factors unchanged) and the albedo layer itself as an emissive map under a zero factor
+/// (sampled, adding nothing). Two data layers are appended per albedo layer.
+pub fn add_material_maps(scene: &mut Scene) {
+    let first = scene.data_layers.len() as u32;
+    for layer in &scene.albedo_layers {
+        let n = layer.size as usize;
+        let height = |x: usize, y: usize| {
+            let p = layer.texels[(y % n) * n + x % n];
+            (0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2])) / 255.0
+        };
+        let mut normal = Vec::with_capacity(n * n);
+        let mut orm = Vec::with_capacity(n * n);
+        for y in 0..n {
+            for x in 0..n {
+                let dx = height(x + 1, y) - height(x + n - 1, y);
+                let dy = height(x, y + n - 1) - height(x, y + 1);
+                let v = Vec3::new(-dx * 2.0, -dy * 2.0, 1.0).normalize();
+                let c = |x: f32| ((x * 0.5 + 0.5) * 255.0).round() as u8;
+                normal.push([c(v.x), c(v.y), c(v.z), 255]);
+                let o = (0.5 + 0.5 * height(x, y)).min(1.0);
+                orm.push([(o * 255.0).round() as u8, 255, 255, 255]);
+            }
+        }
+        scene.data_layers.push(DataLayer {
+            size: layer.size,
+            texels: normal,
+        });
+        scene.data_layers.push(DataLayer {
+            size: layer.size,
+            texels: orm,
+        });
+    }
+    for m in &mut scene.materials {
+        let (normal, orm) = (first + 2 * m.albedo_layer, first + 2 * m.albedo_layer + 1);
+        m.maps = MaterialMaps {
+            normal: Some(NormalMap {
+                layer: normal,
+                scale: 1.0,
+            }),
+            metallic_roughness: Some(orm),
+            occlusion: Some(OcclusionMap {
+                layer: orm,
+                strength: 1.0,
+            }),
+            emissive: Some(m.albedo_layer),
+        };
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -371,58 +424,5 @@ mod tests {
         let wall = &scene.meshes[1];
         assert!(wall.tangents[..4].iter().all(|t| t.w > 0.0));
         assert!(wall.tangents[4..].iter().all(|t| t.w < 0.0));
-    }
-}
-
-/// Gives every material of `scene` every map of glTF's model, derived from its albedo
-/// layer (for measuring the resolve with all maps on the demo scenes): a normal map from
-/// the layer's luminance as a height field (central differences, wrapping), an
-/// occlusion-roughness-metallic layer (R occlusion darkening with depth, G and B 1: the
-/// factors unchanged) and the albedo layer itself as an emissive map under a zero factor
-/// (sampled, adding nothing). Two data layers are appended per albedo layer.
-pub fn add_material_maps(scene: &mut Scene) {
-    let first = scene.data_layers.len() as u32;
-    for layer in &scene.albedo_layers {
-        let n = layer.size as usize;
-        let height = |x: usize, y: usize| {
-            let p = layer.texels[(y % n) * n + x % n];
-            (0.2126 * f32::from(p[0]) + 0.7152 * f32::from(p[1]) + 0.0722 * f32::from(p[2])) / 255.0
-        };
-        let mut normal = Vec::with_capacity(n * n);
-        let mut orm = Vec::with_capacity(n * n);
-        for y in 0..n {
-            for x in 0..n {
-                let dx = height(x + 1, y) - height(x + n - 1, y);
-                let dy = height(x, y + n - 1) - height(x, y + 1);
-                let v = Vec3::new(-dx * 2.0, -dy * 2.0, 1.0).normalize();
-                let c = |x: f32| ((x * 0.5 + 0.5) * 255.0).round() as u8;
-                normal.push([c(v.x), c(v.y), c(v.z), 255]);
-                let o = (0.5 + 0.5 * height(x, y)).min(1.0);
-                orm.push([(o * 255.0).round() as u8, 255, 255, 255]);
-            }
-        }
-        scene.data_layers.push(DataLayer {
-            size: layer.size,
-            texels: normal,
-        });
-        scene.data_layers.push(DataLayer {
-            size: layer.size,
-            texels: orm,
-        });
-    }
-    for m in &mut scene.materials {
-        let (normal, orm) = (first + 2 * m.albedo_layer, first + 2 * m.albedo_layer + 1);
-        m.maps = MaterialMaps {
-            normal: Some(NormalMap {
-                layer: normal,
-                scale: 1.0,
-            }),
-            metallic_roughness: Some(orm),
-            occlusion: Some(OcclusionMap {
-                layer: orm,
-                strength: 1.0,
-            }),
-            emissive: Some(m.albedo_layer),
-        };
     }
 }

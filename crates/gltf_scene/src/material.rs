@@ -302,12 +302,15 @@ impl Transform {
     }
 }
 
+/// Checks that the values of a named field are finite (an error naming the material).
+type FiniteCheck<'a> = dyn Fn(&str, &[f32]) -> Result<(), Error> + 'a;
+
 /// The image, set and transform of a texture reference, the transform checked finite.
 fn texture_ref(
     texture: gltf::Texture<'_>,
     tex_coord: u32,
     transform: Option<Transform>,
-    finite: &dyn Fn(&str, &[f32]) -> Result<(), Error>,
+    finite: &FiniteCheck<'_>,
 ) -> Result<TextureRef, Error> {
     use gltf::texture::WrappingMode::Repeat;
     let sampler = texture.sampler();
@@ -407,7 +410,7 @@ pub(crate) fn import(
         raw_cutoff
     };
     // Every map reads the mesh's one UV set: the base colour's, else the first map's.
-    let finite: &dyn Fn(&str, &[f32]) -> Result<(), Error> = &finite;
+    let finite: &FiniteCheck<'_> = &finite;
     // A `textureInfo` (base colour, metallic-roughness, emissive), whose transform the gltf
     // crate reads, and a normal or occlusion texture's, read from the JSON.
     let info = |i: &gltf::texture::Info<'_>| {
