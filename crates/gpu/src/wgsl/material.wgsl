@@ -118,14 +118,21 @@ fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>
     s.normal = n;
     s.roughness = m.roughness;
     s.metallic = m.metallic;
-    if (material_has(MATERIAL_METALLIC_ROUGHNESS_MAP) && m.metallic_roughness_layer != GPU_MATERIAL_NO_MAP) {
-        let mr = textureSampleGrad(data_maps, albedo_sampler, uv, m.metallic_roughness_layer, duv_dx, duv_dy);
+    // glTF's usual packing puts occlusion in the red of the metallic-roughness texture
+    // (ORM): one layer, sampled once.
+    var mr = vec4<f32>(1.0);
+    let has_mr = material_has(MATERIAL_METALLIC_ROUGHNESS_MAP) && m.metallic_roughness_layer != GPU_MATERIAL_NO_MAP;
+    if (has_mr) {
+        mr = textureSampleGrad(data_maps, albedo_sampler, uv, m.metallic_roughness_layer, duv_dx, duv_dy);
         s.roughness *= mr.g;
         s.metallic *= mr.b;
     }
     var occlusion = 1.0;
     if (material_has(MATERIAL_OCCLUSION_MAP) && m.occlusion_layer != GPU_MATERIAL_NO_MAP) {
-        let o = textureSampleGrad(data_maps, albedo_sampler, uv, m.occlusion_layer, duv_dx, duv_dy).r;
+        var o = mr.r;
+        if (!(has_mr && m.occlusion_layer == m.metallic_roughness_layer)) {
+            o = textureSampleGrad(data_maps, albedo_sampler, uv, m.occlusion_layer, duv_dx, duv_dy).r;
+        }
         occlusion = 1.0 + m.occlusion_strength * (o - 1.0);
     }
     var emissive = vec3<f32>(0.0);
@@ -133,7 +140,12 @@ fn material_surface_motion(material_index: u32, uv: vec2<f32>, duv_dx: vec2<f32>
         emissive = m.emissive;
     }
     if (material_has(MATERIAL_EMISSIVE) && m.emissive_layer != GPU_MATERIAL_NO_MAP) {
-        emissive *= textureSampleGrad(albedo, albedo_sampler, uv, m.emissive_layer, duv_dx, duv_dy).rgb;
+        // The base colour's texture doubling as the emissive map is sampled once.
+        var glow = texel.rgb;
+        if (m.emissive_layer != m.albedo_layer) {
+            glow = textureSampleGrad(albedo, albedo_sampler, uv, m.emissive_layer, duv_dx, duv_dy).rgb;
+        }
+        emissive *= glow;
     }
     let diffuse = s.albedo * (1.0 - s.metallic);
     s.lighting = emissive + diffuse * frame.ambient.rgb * ((0.6 + 0.4 * n.y) * occlusion);
