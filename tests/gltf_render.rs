@@ -1,8 +1,9 @@
-//! The glTF importer into the renderer. A generated medium scene, thousands of instances of a foliage card over a ground quad,
-//! written to `.glb`, imported and rendered by `gpu::Renderer` on the test device
-//! (lavapipe in CI), against the same scene built directly as a `gpu::Scene` from the
-//! generating parameters: the scenes are equal, and both paths give identical images and
-//! classification statistics (tolerance: none).
+//! The glTF importer into the renderer: a generated medium scene (thousands of instances
+//! of a foliage card over a ground quad) and a wall with every map of glTF's material
+//! model, each written to `.glb`, imported and rendered by `gpu::Renderer` on the test
+//! device (lavapipe in CI), against the same scene built directly as a `gpu::Scene` from
+//! the generating values: the scenes are equal, and both give identical images (and, for
+//! the field, classification statistics; tolerance: none).
 
 // The test glTF writer lives once, beside the importer's own tests.
 #[path = "../crates/gltf_scene/tests/common/mod.rs"]
@@ -247,5 +248,157 @@ fn an_imported_foliage_field_renders_like_the_scene_built_directly() {
     assert!(a.2 == b.2, "classification statistics differ");
     // The cards are drawn and cut out: sky, ground and leaves all show.
     let distinct: std::collections::HashSet<[u8; 4]> = a.0.pixels.iter().copied().collect();
+    assert!(distinct.len() > 50, "{} colours", distinct.len());
+}
+
+/// A 16x16 test image: `f(x, y)` per texel.
+fn image16(f: impl Fn(u32, u32) -> [u8; 4]) -> image::RgbaImage {
+    image::RgbaImage::from_fn(16, 16, |x, y| image::Rgba(f(x, y)))
+}
+
+/// Every map of glTF's metallic-roughness model on a double-sided wall, written as `.glb`
+/// by the test: it imports to the scene built directly from the same values (layers in
+/// the documented order, the back faces' tangent frame negated) and both render the same
+/// images on the deferred and baseline paths.
+#[test]
+fn every_material_feature_imports_to_the_scene_built_directly() {
+    use gpu::scene::{DataLayer, MaterialMaps, NormalMap, OcclusionMap};
+    let colour = image16(|x, y| [(x * 15) as u8, (y * 15) as u8, 120, 255]);
+    let normal = image16(|x, _| {
+        let a = (x as f32 / 16.0 * std::f32::consts::TAU).sin() * 0.4;
+        let c = |v: f32| ((v * 0.5 + 0.5) * 255.0).round() as u8;
+        [c(a.sin()), 128, c(a.cos()), 255]
+    });
+    let orm = image16(|x, y| {
+        [
+            (128 + x * 8) as u8,
+            (60 + y * 10) as u8,
+            if x < 8 { 255 } else { 0 },
+            255,
+        ]
+    });
+    let glow = image16(|x, _| {
+        if x % 4 == 0 {
+            [255, 200, 100, 255]
+        } else {
+            [0, 0, 0, 255]
+        }
+    });
+    let wall: [[f32; 3]; 4] = [
+        [-1.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [-1.0, 1.0, 0.0],
+    ];
+
+    let mut doc = Doc::new();
+    let [tc, tn, to, tg] = [&colour, &normal, &orm, &glow].map(|i| {
+        let image = doc.png(i);
+        doc.texture(image)
+    });
+    doc.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    let mat = doc.push(
+        "materials",
+        json!({ "doubleSided": true,
+            "pbrMetallicRoughness": { "baseColorTexture": { "index": tc },
+                "metallicFactor": 0.9, "roughnessFactor": 0.6, "metallicRoughnessTexture": { "index": to } },
+            "normalTexture": { "index": tn, "scale": 0.8 },
+            "occlusionTexture": { "index": to, "strength": 0.7 },
+            "emissiveTexture": { "index": tg }, "emissiveFactor": [0.5, 0.2, 0.1],
+            "extensions": { "KHR_materials_emissive_strength": { "emissiveStrength": 2.0 } } }),
+    );
+    let p = doc.floats(&wall);
+    let n = doc.floats(&[[0.0, 0.0, 1.0]; 4]);
+    let t = doc.floats(&[[1.0, 0.0, 0.0, 1.0]; 4]);
+    let u = doc.floats(&GROUND_UV);
+    let i = doc.indices(&QUAD, 5123);
+    let mesh = doc.push(
+        "meshes",
+        json!({ "primitives": [{ "attributes": { "POSITION": p, "NORMAL": n, "TANGENT": t, "TEXCOORD_0": u },
+            "indices": i, "material": mat }] }),
+    );
+    let node = doc.push("nodes", json!({ "mesh": mesh }));
+    scene(&mut doc, &[node]);
+    let imported = gltf_scene::load_slice(&doc.glb(), None, &gltf_scene::LoadOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(imported.warnings.is_empty(), "{:?}", imported.warnings);
+
+    let texels = |i: &image::RgbaImage| i.pixels().map(|p| p.0).collect::<Vec<_>>();
+    let mut mesh = Mesh {
+        name: String::new(),
+        positions: v3(&wall).repeat(2),
+        normals: [vec![Vec3::Z; 4], vec![Vec3::NEG_Z; 4]].concat(),
+        uvs: v2(&GROUND_UV).repeat(2),
+        tangents: [
+            vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
+            vec![Vec4::new(-1.0, 0.0, 0.0, -1.0); 4],
+        ]
+        .concat(),
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    mesh.indices.extend_from_slice(&[4, 6, 5, 4, 7, 6]);
+    let direct = gpu::Scene {
+        meshes: vec![mesh],
+        materials: vec![Material {
+            roughness: 0.6,
+            metallic: 0.9,
+            specular: gltf_scene::SPECULAR,
+            emissive: Vec3::new(1.0, 0.4, 0.2),
+            // Colour layers: base colour, then emissive; data layers: normal, then the
+            // ORM image that metallic-roughness and occlusion share.
+            maps: MaterialMaps {
+                normal: Some(NormalMap {
+                    layer: 0,
+                    scale: 0.8,
+                }),
+                metallic_roughness: Some(1),
+                occlusion: Some(OcclusionMap {
+                    layer: 1,
+                    strength: 0.7,
+                }),
+                emissive: Some(1),
+            },
+            ..Material::default()
+        }],
+        albedo_layers: [&colour, &glow]
+            .map(|i| AlbedoLayer {
+                size: 16,
+                texels: texels(i),
+            })
+            .to_vec(),
+        data_layers: [&normal, &orm]
+            .map(|i| DataLayer {
+                size: 16,
+                texels: texels(i),
+            })
+            .to_vec(),
+        batches: vec![Batch {
+            mesh: MeshId(0),
+            material: MaterialId(0),
+            instances: vec![Affine3A::IDENTITY],
+        }],
+        ..gpu::Scene::default()
+    };
+    assert!(
+        without_names(imported.scene.clone()) == direct,
+        "the imported scene differs from the one built directly:\n{:?}\n{:?}",
+        without_names(imported.scene.clone()).materials,
+        direct.materials
+    );
+
+    let c = testkit::device::ctx();
+    let mut r = Renderer::new(&c.device, &c.queue, RendererConfig::sized(128, 96)).unwrap();
+    let frame = FrameInput::new(Camera::look_at(Vec3::new(0.3, 0.2, 2.5), Vec3::ZERO));
+    let mut images = Vec::new();
+    for s in [&imported.scene, &direct] {
+        let p = r.prepare(s).unwrap();
+        for path in [RenderPath::Deferred, RenderPath::Baseline] {
+            r.render(&p, &frame, path).unwrap();
+            images.push(r.read_output().unwrap());
+        }
+    }
+    assert!(images[0] == images[2], "deferred images differ");
+    assert!(images[1] == images[3], "baseline images differ");
+    let distinct: std::collections::HashSet<[u8; 4]> = images[0].pixels.iter().copied().collect();
     assert!(distinct.len() > 50, "{} colours", distinct.len());
 }
