@@ -336,3 +336,36 @@ fn per_shader_resolves_equal_the_uber_resolve() {
     assert!(gbuffer == uber_gbuffer, "the G-buffers differ");
     assert_eq!(common::differing_pixels(&image, &uber_image), 0);
 }
+
+/// A scene with more data layers than the device's texture arrays hold is refused with an
+/// error naming the limit and the scene field, and the renderer goes on to prepare a
+/// scene that fits.
+#[test]
+fn data_layers_over_the_device_limit_are_an_error_naming_it() {
+    let r = common::renderer_with(config());
+    let layers = testkit::device::ctx()
+        .device
+        .limits()
+        .max_texture_array_layers as usize;
+    let mut over = scene(false);
+    over.data_layers = vec![
+        DataLayer {
+            size: 1,
+            texels: vec![[128, 128, 255, 255]],
+        };
+        layers + 1
+    ];
+    match r.prepare(&over) {
+        Err(gpu::Error::DeviceLimit {
+            limit,
+            needed,
+            available,
+        }) => {
+            assert!(limit.contains("max_texture_array_layers") && limit.contains("data_layers"));
+            assert_eq!((needed, available), (layers as u64 + 1, layers as u64));
+        }
+        Err(e) => panic!("another error: {e}"),
+        Ok(_) => panic!("{} data layers accepted", layers + 1),
+    }
+    assert!(r.prepare(&scene(false)).is_ok());
+}

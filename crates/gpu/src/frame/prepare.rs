@@ -321,12 +321,12 @@ pub(crate) fn prepare(c: &PrepareContext<'_>, scene: &Scene) -> Result<PreparedS
             size_of::<GpuMicroBatch>(),
             none,
         )?;
-        let albedo = albedo::albedo_texture(device, c.queue, &scene.albedo_layers);
+        let albedo = albedo::albedo_texture(device, c.queue, &scene.albedo_layers)?;
         let albedo_view = albedo.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let data = albedo::data_texture(device, c.queue, &scene.data_layers);
+        let data = albedo::data_texture(device, c.queue, &scene.data_layers)?;
         let data_view = data.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()

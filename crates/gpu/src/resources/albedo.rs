@@ -2,6 +2,7 @@
 //! keeps its coverage with distance) and the data layers (linear: normal,
 //! metallic-roughness and occlusion maps), each with a full mip chain.
 
+use crate::error::{Error, Result};
 use crate::scene::{AlbedoLayer, DataLayer};
 
 /// Uploads the albedo layers as an `Rgba8UnormSrgb` 2D array with a full mip chain.
@@ -9,12 +10,13 @@ pub(crate) fn albedo_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     layers: &[AlbedoLayer],
-) -> wgpu::Texture {
+) -> Result<wgpu::Texture> {
     let size = layers.first().map_or(1, |l| l.size);
     let chains: Vec<_> = layers.iter().map(AlbedoLayer::mip_chain).collect();
     layer_array(
         device,
         queue,
+        ALBEDO_LIMITS,
         "albedo array",
         wgpu::TextureFormat::Rgba8UnormSrgb,
         size,
@@ -33,7 +35,7 @@ pub(crate) fn data_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     layers: &[DataLayer],
-) -> wgpu::Texture {
+) -> Result<wgpu::Texture> {
     let size = layers.first().map_or(1, |l| l.size);
     let mut chains: Vec<_> = layers.iter().map(DataLayer::mip_chain).collect();
     if chains.is_empty() {
@@ -42,6 +44,7 @@ pub(crate) fn data_texture(
     layer_array(
         device,
         queue,
+        DATA_LIMITS,
         "data array",
         wgpu::TextureFormat::Rgba8Unorm,
         size,
@@ -49,17 +52,56 @@ pub(crate) fn data_texture(
     )
 }
 
+/// The device limits an array's layers must fit, named with the scene field they bound:
+/// its side, then its layer count.
+type ArrayLimits = [&'static str; 2];
+const ALBEDO_LIMITS: ArrayLimits = [
+    "max_texture_dimension_2d (Scene::albedo_layers' size)",
+    "max_texture_array_layers (Scene::albedo_layers)",
+];
+const DATA_LIMITS: ArrayLimits = [
+    "max_texture_dimension_2d (Scene::data_layers' size)",
+    "max_texture_array_layers (Scene::data_layers)",
+];
+
 /// A `size` × `size` 2D array of `format` (4 bytes a texel) holding `chains` (one mip chain
 /// a layer, level 0 first; at least one layer is allocated).
+///
+/// # Errors
+/// [`Error::DeviceLimit`] naming the limit and the scene field where the side or the layer
+/// count is over the device's.
 fn layer_array(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
+    limits: ArrayLimits,
     label: &str,
     format: wgpu::TextureFormat,
     size: u32,
     chains: &[Vec<Vec<[u8; 4]>>],
-) -> wgpu::Texture {
-    let count = chains.len().max(1) as u32;
+) -> Result<wgpu::Texture> {
+    let count = chains.len().max(1);
+    let device_limits = device.limits();
+    for (limit, needed, available) in [
+        (
+            limits[0],
+            size as u64,
+            device_limits.max_texture_dimension_2d,
+        ),
+        (
+            limits[1],
+            count as u64,
+            device_limits.max_texture_array_layers,
+        ),
+    ] {
+        if needed > u64::from(available) {
+            return Err(Error::DeviceLimit {
+                limit,
+                needed,
+                available: u64::from(available),
+            });
+        }
+    }
+    let count = count as u32;
     let mip_level_count = size.max(1).ilog2() + 1;
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -103,5 +145,5 @@ fn layer_array(
             );
         }
     }
-    texture
+    Ok(texture)
 }
