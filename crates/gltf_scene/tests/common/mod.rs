@@ -220,3 +220,16 @@ pub fn scene(doc: &mut Doc, nodes: &[usize]) {
     doc.push("scenes", json!({ "nodes": nodes }));
     doc.json["scene"] = json!(0);
 }
+
+/// A `size` × `size` checker of opaque and transparent texels, with colour ramps.
+pub fn checker(size: u32) -> image::RgbaImage {
+    image::RgbaImage::from_fn(size, size, |x, y| {
+        let on = (x + y) % 2 == 0;
+        image::Rgba([
+            if on { 250 } else { 10 },
+            (x * 7) as u8,
+            (y * 5) as u8,
+            if on { 255 } else { 0 },
+        ])
+    })
+}
