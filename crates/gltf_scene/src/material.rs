@@ -417,16 +417,26 @@ pub(crate) fn import(
         let t = i.texture_transform().map(Transform::of_info);
         texture_ref(i.texture(), i.tex_coord(), t, finite)
     };
-    let other = |texture: gltf::Texture<'_>, tex_coord: u32, ext: Option<&gltf::json::Value>| {
-        texture_ref(texture, tex_coord, ext.map(Transform::of_json), finite)
+    // A normal or occlusion texture with its factor (scale, strength), checked finite.
+    let other = |texture: gltf::Texture<'_>,
+                 tex_coord: u32,
+                 ext: Option<&gltf::json::Value>,
+                 factor: (&str, f32)| {
+        finite(factor.0, &[factor.1])?;
+        let r = texture_ref(texture, tex_coord, ext.map(Transform::of_json), finite)?;
+        Ok::<_, Error>((r, factor.1))
     };
     let base = texture.as_ref().map(info).transpose()?;
     let normal = m
         .normal_texture()
         .map(|i| {
-            finite("normalTexture.scale", &[i.scale()])?;
             let ext = i.extension_value("KHR_texture_transform");
-            Ok::<_, Error>((other(i.texture(), i.tex_coord(), ext)?, i.scale()))
+            other(
+                i.texture(),
+                i.tex_coord(),
+                ext,
+                ("normalTexture.scale", i.scale()),
+            )
         })
         .transpose()?;
     let metallic_roughness = pbr
@@ -437,9 +447,9 @@ pub(crate) fn import(
     let occlusion = m
         .occlusion_texture()
         .map(|i| {
-            finite("occlusionTexture.strength", &[i.strength()])?;
             let ext = i.extension_value("KHR_texture_transform");
-            Ok::<_, Error>((other(i.texture(), i.tex_coord(), ext)?, i.strength()))
+            let factor = ("occlusionTexture.strength", i.strength());
+            other(i.texture(), i.tex_coord(), ext, factor)
         })
         .transpose()?;
     let emissive_texture = m.emissive_texture().as_ref().map(info).transpose()?;

@@ -313,7 +313,11 @@ fn per_shader_resolves_equal_the_uber_resolve() {
     let permutations: std::collections::BTreeSet<u32> = scene
         .materials
         .iter()
-        .map(|m| m.shader_key() & 0b1111)
+        .map(|m| {
+            use gpu::scene::MaterialFeatures as F;
+            let maps = F::NORMAL_MAP.0 | F::METALLIC_ROUGHNESS_MAP.0 | F::OCCLUSION_MAP.0;
+            m.shader_key() & (maps | F::EMISSIVE.0)
+        })
         .collect();
     let run = |specialised: bool| {
         let mut rc = config();
