@@ -85,10 +85,11 @@ pub(crate) fn primitive_geometry(
             uv
         }
         None => {
-            if mat.texture.is_some() {
+            if mat.texture.is_some() || mat.maps != material::MapImages::default() {
                 warnings.push(format!(
-                    "{label}: no TEXCOORD_{set} for its base colour texture; it is sampled at \
-                     (0, 0)"
+                    "{label}: no TEXCOORD_{set} for the textures of its material `{}` (base \
+                     colour or maps); they are sampled at (0, 0)",
+                    mat.material.name
                 ));
             }
             vec![Vec2::ZERO; n]

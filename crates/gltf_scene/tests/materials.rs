@@ -336,3 +336,29 @@ fn maps_on_other_sets_warn_and_bad_factors_are_errors() {
         assert_eq!(imp.scene.materials[1].metallic, 0.25);
     }
 }
+
+/// A normal map on a primitive without texture coordinates is imported (sampled at
+/// (0, 0), the mesh's coordinates all zero) with a warning naming the material and the
+/// missing set.
+#[test]
+fn a_normal_map_without_texture_coordinates_is_warned() {
+    let mut doc = Doc::new();
+    let image = doc.png(&checker(4));
+    let tex = doc.texture(image);
+    let m = doc.push(
+        "materials",
+        json!({ "name": "bumpy", "normalTexture": { "index": tex } }),
+    );
+    let pos = doc.floats(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let mesh = doc.push(
+        "meshes",
+        json!({ "primitives": [{ "attributes": { "POSITION": pos }, "material": m }] }),
+    );
+    let node = doc.push("nodes", json!({ "mesh": mesh }));
+    scene(&mut doc, &[node]);
+    let imp = import(&doc.glb());
+    let w = imp.warnings.join("\n");
+    assert!(w.contains("bumpy") && w.contains("no TEXCOORD_0"), "{w}");
+    assert!(imp.scene.materials[0].maps.normal.is_some());
+    assert!(imp.scene.meshes[0].uvs.iter().all(|uv| *uv == Vec2::ZERO));
+}
